@@ -1,0 +1,34 @@
+# The two commands of the README. Both install what is missing from Debian 12, then build.
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc)
+DEBIAN_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimageio-tools \
+    libopenexr-dev libopencolorio-dev libembree-dev libtbb-dev libcli11-dev nlohmann-json3-dev \
+    doctest-dev libfmt-dev libtinygltf-dev libtinyobjloader-dev
+FRAMEPASS = $(BUILD_DIR)/cli/framepass
+
+.PHONY: demo test deps build
+
+deps:
+	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  if [ "$$(id -u)" = 0 ]; then \
+	    echo "Installing Debian packages:" $$missing; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; \
+	  else \
+	    echo "framepass needs these Debian packages. Run:"; \
+	    echo "  sudo apt-get install -y" $$missing; exit 1; \
+	  fi; \
+	fi
+
+build: deps
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+demo: build
+	$(FRAMEPASS) capture examples/cornell/scene.json -o out/demo/cornell.exr
+	$(FRAMEPASS) plan examples/cornell/config.json
+	$(FRAMEPASS) run examples/cornell/config.json -o out/demo --report out/demo/report.json
+	@echo "framepass wrote:"; find out/demo -type f | sort | sed 's/^/  /'
+
+test: build
+	cd $(BUILD_DIR) && ctest --output-on-failure

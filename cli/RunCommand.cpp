@@ -1,0 +1,109 @@
+// framepass run: execute the chain over the frames and write outputs, dumps and a report.
+#include "cli/Commands.h"
+#include "cli/RunSession.h"
+#include "io/CaptureSource.h"
+#include "io/OutputWriter.h"
+#include "passes/core/Error.h"
+#include "passes/core/Executor.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+
+namespace fp::cli {
+
+Command addRunCommand(CLI::App& app) {
+    struct Options {
+        SessionOptions session;
+        std::string outputDir = "out", report;
+        bool strict = false;
+    };
+    auto opt = std::make_shared<Options>();
+    CLI::App* sub = app.add_subcommand("run", "run the chain and write the requested outputs");
+    opt->session.addTo(*sub);
+    sub->add_option("-o,--output-dir", opt->outputDir, "folder for outputs (default: out)");
+    sub->add_option("--report", opt->report, "write a JSON report: per-pass time and work counts");
+    sub->add_flag("--strict", opt->strict, "fail on NaN/Inf/negative input pixels instead of "
+                                           "sanitizing them");
+
+    return [opt]() {
+        const RunSession session(opt->session);
+        const Plan& plan = session.plan();
+        for (const auto& w : plan.warnings)
+            std::cerr << fmt::format("warning: {}: {}\n", w.pointer, w.message);
+
+        io::OutputWriter::Options wo;
+        wo.outputDir = opt->outputDir;
+        wo.compression = io::parseCompression(session.config().compression);
+        wo.protectedPaths.insert(opt->session.config);
+        for (int f : session.frames()) wo.protectedPaths.insert(session.capturePath(f));
+        io::OutputWriter writer(wo);
+
+        // The scene file is parsed once, on first use, and only if a live pass needs geometry.
+        std::optional<io::SceneFile> scene;
+        auto sceneLoader = [&]() -> const io::SceneFile& {
+            if (!scene) {
+                if (session.config().scene.empty())
+                    throw UsageError(fmt::format("{}: /scene: a pass needs geometry; name the "
+                                                 "scene JSON",
+                                                 opt->session.config));
+                scene = io::loadScene(session.config().scene);
+            }
+            return *scene;
+        };
+
+        nlohmann::json report = {{"config", opt->session.config}, {"frames", nlohmann::json::array()}};
+        const auto& frames = session.frames();
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            io::CaptureSource::Options so;
+            so.path = session.capturePath(frames[i]);
+            so.frame = frames[i];
+            so.cameraSidecar = session.cameraPath(frames[i]);
+            so.scene = sceneLoader;
+            so.ocioConfig = session.config().ocioConfig;
+            so.strict = opt->strict;
+            so.firstInSequence = i == 0;
+            io::CaptureSource source(so, session.profile());
+            FP_CHECK(!plan.needsCamera || source.frameInfo().hasCamera,
+                     "{}: frame {}: no camera in the header and no sidecar ({}.camera.json)",
+                     so.path, frames[i], so.path);
+            const std::size_t before = writer.written().size();
+            const FrameReport fr = executePlan(plan, source, writer, [&](int done, int total) {
+                const double progress = (double(i) + double(done) / std::max(total, 1)) / frames.size();
+                std::cout << fmt::format("Progress: {}%\n", int(progress * 100.0)) << std::flush;
+            });
+            const auto& s = source.sanitized();
+            if (s.total() > 0)
+                std::cerr << fmt::format("warning: {}: sanitized {} non-finite, {} negative colour "
+                                         "and {} non-unit normal values\n",
+                                         so.path, s.nonFinite, s.negative, s.nonUnitNormals);
+            nlohmann::json fj = fr.toJson();
+            fj["capture"] = so.path;
+            fj["channelsRead"] = source.reader().readLog();
+            fj["written"] = std::vector<std::string>(writer.written().begin() + before,
+                                                     writer.written().end());
+            report["frames"].push_back(fj);
+            std::cout << fmt::format("frame {}: {} passes in {:.3f} s, peak {:.1f} MiB\n",
+                                     frames[i], fr.passes.size(), fr.seconds,
+                                     fr.peakBytes / 1048576.0);
+            for (const auto& p : fr.passes) {
+                std::string work;
+                for (const auto& [k, v] : p.work) work += fmt::format(" {}={}", k, v);
+                std::cout << fmt::format("  {:<24} {:>9.2f} ms{}\n", p.name, p.seconds * 1e3, work);
+            }
+            for (std::size_t w = before; w < writer.written().size(); ++w)
+                std::cout << "  wrote " << writer.written()[w] << "\n";
+        }
+        if (!opt->report.empty()) {
+            report["plan"] = plan.toJson(session.extent());
+            const auto parent = std::filesystem::path(opt->report).parent_path();
+            if (!parent.empty()) std::filesystem::create_directories(parent);
+            std::ofstream(opt->report) << report.dump(2) << "\n";
+            std::cout << "  wrote " << opt->report << "\n";
+        }
+        return 0;
+    };
+}
+
+}  // namespace fp::cli

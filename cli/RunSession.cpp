@@ -1,0 +1,86 @@
+#include "cli/RunSession.h"
+
+#include "io/ExrReader.h"
+#include "io/FramePattern.h"
+#include "passes/core/Error.h"
+
+#include <OpenEXR/ImfIntAttribute.h>
+
+#include <filesystem>
+
+namespace fp::cli {
+
+namespace {
+std::pair<std::string, std::string> splitAssignment(const std::string& text, const char* flag) {
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0)
+        throw UsageError(fmt::format("{} {}: expected NAME=VALUE", flag, text));
+    return {text.substr(0, eq), text.substr(eq + 1)};
+}
+}  // namespace
+
+void SessionOptions::addTo(CLI::App& sub) {
+    sub.add_option("config", config, "run config (JSON)")->required();
+    sub.add_option("--cvar", cvars, "set an Unreal cvar, e.g. --cvar r.SSGI.LeakFreeReprojection=0");
+    sub.add_option("--set", sets, "set a pass parameter, e.g. --set hzb.halfPrecision=false");
+    sub.add_option("--dump", dumps, "also write PASS.PORT (or 'all') to <out>/dump/");
+    sub.add_option("--frames", frames, "frame spec (overrides the config), e.g. 1001-1010");
+}
+
+RunSession::RunSession(const SessionOptions& o) {
+    mConfig = io::loadRunConfig(o.config);
+    if (mConfig.capture.empty())
+        throw UsageError(fmt::format("{}: /capture: the config names no capture", o.config));
+    mProfile = io::CaptureProfile::fromJson(mConfig.profile, o.config + ": /profile");
+
+    PlanInputs inputs;
+    for (const auto& c : o.cvars) {
+        auto [name, value] = splitAssignment(c, "--cvar");
+        inputs.overrides.cvars[name] = io::parseCliValue(value);
+    }
+    for (const auto& s : o.sets) {
+        auto [name, value] = splitAssignment(s, "--set");
+        inputs.overrides.sets.emplace_back(name, io::parseCliValue(value));
+    }
+    inputs.overrides.dumps = o.dumps;
+
+    const io::FramePattern pattern(mConfig.capture);
+    const std::string spec = !o.frames.empty() ? o.frames
+                             : !mConfig.frames.empty() ? mConfig.frames
+                                                       : pattern.inlineFrames();
+    if (!spec.empty()) {
+        mFrames = io::parseFrameSpec(spec);
+    } else if (pattern.hasFrameToken()) {
+        throw UsageError(fmt::format("{}: capture '{}' is a frame pattern; give --frames or "
+                                     "\"frames\"",
+                                     o.config, mConfig.capture));
+    }
+    const std::string first = mFrames.empty() ? mConfig.capture : pattern.path(mFrames.front());
+    if (std::filesystem::exists(first)) {
+        io::ExrReader reader(first);
+        mExtent = reader.extent();
+        inputs.availableBuffers = mProfile.availableBuffers(reader);
+        if (mFrames.empty()) {
+            // A single capture keeps the frame number it was captured at.
+            const auto* f = reader.header().findTypedAttribute<Imf::IntAttribute>("framepass:frame");
+            mFrames = {f ? f->value() : 1};
+        }
+    } else if (mFrames.empty()) {
+        mFrames = {1};
+    }
+    try {
+        mPlan = makePlan(mConfig.graph, builtinPasses(), inputs);
+    } catch (const UsageError& e) {
+        throw UsageError(fmt::format("{}: {}", o.config, e.what()));
+    }
+}
+
+std::string RunSession::capturePath(int frame) const {
+    return io::FramePattern(mConfig.capture).path(frame);
+}
+
+std::string RunSession::cameraPath(int frame) const {
+    return mConfig.camera.empty() ? "" : io::FramePattern(mConfig.camera).path(frame);
+}
+
+}  // namespace fp::cli

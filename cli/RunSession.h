@@ -1,0 +1,48 @@
+#pragma once
+// What `plan` and `run` share: the config with the command line applied, the frames to process
+// and the plan, made after reading only the first capture's header.
+#include "io/CaptureProfile.h"
+#include "io/ConfigLoader.h"
+#include "passes/core/Planner.h"
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace fp::cli {
+
+struct SessionOptions {
+    std::string config;
+    std::vector<std::string> cvars;  //!< NAME=VALUE
+    std::vector<std::string> sets;   //!< PASS.PARAM=VALUE
+    std::vector<std::string> dumps;  //!< PASS.PORT or all
+    std::string frames;
+
+    /// Registers --cvar, --set, --dump and --frames on a subcommand.
+    void addTo(CLI::App& sub);
+};
+
+class RunSession {
+public:
+    explicit RunSession(const SessionOptions& options);
+
+    const io::RunConfig& config() const { return mConfig; }
+    const Plan& plan() const { return mPlan; }
+    const io::CaptureProfile& profile() const { return mProfile; }
+    const std::vector<int>& frames() const { return mFrames; }
+    std::string capturePath(int frame) const;
+    std::string cameraPath(int frame) const;
+    /// Size of the first frame (0×0 when its capture does not exist yet).
+    Extent extent() const { return mExtent; }
+
+private:
+    io::RunConfig mConfig;
+    io::CaptureProfile mProfile;
+    std::vector<int> mFrames;
+    Extent mExtent;
+    Plan mPlan;
+};
+
+}  // namespace fp::cli

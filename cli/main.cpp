@@ -1,0 +1,63 @@
+// framepass: re-runs Unreal's deferred lighting passes on captured GBuffers.
+#include "cli/Commands.h"
+#include "passes/core/Error.h"
+
+#include <OpenEXR/ImfThreading.h>
+#include <OpenImageIO/imageio.h>
+#include <tbb/global_control.h>
+
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+int main(int argc, char** argv) {
+    CLI::App app{"framepass — re-run Unreal's screen-space and ray-traced lighting passes on "
+                 "captured GBuffers, pass by pass, from a JSON config"};
+    app.require_subcommand(1);
+    int threads = 0;
+    app.add_option("--threads", threads, "worker threads (0 = all cores); output is identical "
+                                         "for any value")
+        ->check(CLI::NonNegativeNumber);
+    app.set_version_flag("--version", "framepass 0.1.0");
+
+    std::vector<std::pair<CLI::App*, fp::cli::Command>> commands;
+    auto add = [&](fp::cli::Command (*fn)(CLI::App&)) {
+        const std::size_t before = app.get_subcommands({}).size();
+        fp::cli::Command cmd = fn(app);
+        commands.emplace_back(app.get_subcommands({})[before], cmd);
+    };
+    add(fp::cli::addCaptureCommand);
+    add(fp::cli::addInspectCommand);
+    add(fp::cli::addPlanCommand);
+    add(fp::cli::addRunCommand);
+    add(fp::cli::addPassesCommand);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? 0 : int(fp::ExitCode::Usage);
+    }
+
+    std::unique_ptr<tbb::global_control> limit;
+    if (threads > 0) {
+        limit = std::make_unique<tbb::global_control>(
+            tbb::global_control::max_allowed_parallelism, threads);
+        OIIO::attribute("threads", threads);
+        Imf::setGlobalThreadCount(threads);
+    }
+    try {
+        for (auto& [sub, run] : commands)
+            if (sub->parsed()) return run();
+    } catch (const fp::Error& e) {
+        std::ostringstream cmd;
+        for (int i = 0; i < argc; ++i) cmd << (i ? " " : "") << argv[i];
+        std::cerr << "framepass error: " << e.what() << (std::string(e.what()).back() == '\n' ? "" : "\n")
+                  << "Full command line was:\n> " << cmd.str() << "\n";
+        return int(e.code());
+    } catch (const std::exception& e) {
+        std::cerr << "framepass internal error: " << e.what() << "\n";
+        return int(fp::ExitCode::FrameFailed);
+    }
+    return 0;
+}

@@ -1,0 +1,201 @@
+#include "io/ConfigLoader.h"
+
+#include "passes/core/Diagnostics.h"
+#include "passes/core/Error.h"
+#include "passes/core/Suggest.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+namespace fp::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::vector<std::string> kTopKeys = {"version", "engine", "capture", "profile", "camera",
+                                           "scene", "frames", "cvars", "passes", "outputs",
+                                           "color", "exr", "$schema", "description"};
+const std::vector<std::string> kPassKeys = {"name", "type", "params", "inputs", "description"};
+const std::vector<std::string> kEngines = {"ue4.27", "ue5"};
+
+nlohmann::json readJsonFile(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw UsageError(fmt::format("{}: cannot open the config", path));
+    try {
+        return nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw UsageError(fmt::format("{}: not valid JSON: {}", path, e.what()));
+    }
+}
+
+std::string resolvePath(const std::string& baseDir, const std::string& p) {
+    if (p.empty() || fs::path(p).is_absolute() || baseDir.empty()) return p;
+    return (fs::path(baseDir) / p).lexically_normal().string();
+}
+
+void checkKeys(const nlohmann::json& obj, const std::vector<std::string>& allowed,
+               const std::string& pointer, const std::string& what, Diagnostics& diag) {
+    for (const auto& [k, v] : obj.items())
+        if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
+            diag.error(pointer + "/" + jsonPointerEscape(k),
+                       fmt::format("unknown {} key '{}'{}", what, k, didYouMean(k, allowed)));
+}
+
+std::string stringAt(const nlohmann::json& j, const char* key, const std::string& pointer,
+                     Diagnostics& diag) {
+    if (!j.contains(key)) return "";
+    if (!j[key].is_string()) {
+        diag.error(pointer + "/" + key, fmt::format("'{}' must be a string", key));
+        return "";
+    }
+    return j[key].get<std::string>();
+}
+
+void parsePasses(const nlohmann::json& passes, GraphDesc& g, Diagnostics& diag) {
+    if (!passes.is_array()) {
+        diag.error("/passes", "'passes' must be an array of {\"type\": ...} objects");
+        return;
+    }
+    for (std::size_t i = 0; i < passes.size(); ++i) {
+        const std::string ptr = "/passes/" + std::to_string(i);
+        const auto& p = passes[i];
+        if (!p.is_object()) {
+            diag.error(ptr, "a pass must be an object with at least 'type'");
+            continue;
+        }
+        checkKeys(p, kPassKeys, ptr, "pass", diag);
+        NodeDesc n;
+        n.pointer = ptr;
+        n.type = stringAt(p, "type", ptr, diag);
+        if (!p.contains("type")) diag.error(ptr, "missing 'type'");
+        n.name = p.contains("name") ? stringAt(p, "name", ptr, diag) : n.type;
+        if (p.contains("params")) {
+            if (p["params"].is_object()) n.params = p["params"];
+            else diag.error(ptr + "/params", "'params' must be an object");
+        }
+        if (p.contains("inputs")) {
+            if (!p["inputs"].is_object()) {
+                diag.error(ptr + "/inputs", "'inputs' must be an object of port → source");
+            } else {
+                for (const auto& [port, src] : p["inputs"].items()) {
+                    if (src.is_string()) n.inputs[port] = src.get<std::string>();
+                    else diag.error(ptr + "/inputs/" + jsonPointerEscape(port),
+                                    "a source must be a string ('capture:Buffer' or 'pass.port')");
+                }
+            }
+        }
+        g.nodes.push_back(std::move(n));
+    }
+}
+
+void parseOutputs(const nlohmann::json& outputs, GraphDesc& g, Diagnostics& diag) {
+    if (!outputs.is_object()) {
+        diag.error("/outputs", "'outputs' must be an object of file → source(s)");
+        return;
+    }
+    for (const auto& [file, src] : outputs.items()) {
+        const std::string ptr = "/outputs/" + jsonPointerEscape(file);
+        OutputDesc o;
+        o.file = file;
+        o.pointer = ptr;
+        if (src.is_string()) {
+            o.sources.push_back(src.get<std::string>());
+        } else if (src.is_array() && !src.empty()) {
+            for (const auto& s : src)
+                if (s.is_string()) o.sources.push_back(s.get<std::string>());
+                else diag.error(ptr, "sources must be strings");
+        } else {
+            diag.error(ptr, "an output names a source ('pass.port') or a list of them");
+            continue;
+        }
+        const bool png = fs::path(file).extension() == ".png";
+        if (!png && fs::path(file).extension() != ".exr")
+            diag.error(ptr, fmt::format("'{}' must end in .exr or .png", file));
+        if (png && o.sources.size() != 1)
+            diag.error(ptr, "a .png output shows exactly one source");
+        g.outputs.push_back(std::move(o));
+    }
+}
+
+}  // namespace
+
+std::string configDirectory() {
+    if (const char* env = std::getenv("FRAMEPASS_CONFIG_DIR"); env && *env) return env;
+    return FP_CONFIG_DIR;
+}
+
+nlohmann::json parseCliValue(const std::string& text) {
+    try {
+        return nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error&) {
+        return text;
+    }
+}
+
+RunConfig parseRunConfig(const nlohmann::json& j, const std::string& source,
+                         const std::string& baseDir) {
+    Diagnostics diag;
+    RunConfig rc;
+    rc.path = source;
+    rc.baseDir = baseDir;
+    if (!j.is_object()) throw UsageError(fmt::format("{}: the config must be a JSON object", source));
+    checkKeys(j, kTopKeys, "", "config", diag);
+    if (!j.contains("version")) diag.error("/version", "missing 'version' (use 1)");
+    else if (j["version"] != 1) diag.error("/version", "only version 1 is understood");
+    rc.graph.engine = j.contains("engine") ? stringAt(j, "engine", "", diag) : "ue4.27";
+    if (std::find(kEngines.begin(), kEngines.end(), rc.graph.engine) == kEngines.end())
+        diag.error("/engine", fmt::format("unknown engine '{}'{}; known: ue4.27, ue5",
+                                          rc.graph.engine, didYouMean(rc.graph.engine, kEngines)));
+    rc.capture = resolvePath(baseDir, stringAt(j, "capture", "", diag));
+    rc.camera = resolvePath(baseDir, stringAt(j, "camera", "", diag));
+    rc.scene = resolvePath(baseDir, stringAt(j, "scene", "", diag));
+    if (j.contains("frames")) {
+        if (j["frames"].is_number_integer()) rc.frames = std::to_string(j["frames"].get<int>());
+        else rc.frames = stringAt(j, "frames", "", diag);
+    }
+    if (j.contains("profile")) rc.profile = j["profile"];
+    if (j.contains("color")) {
+        if (!j["color"].is_object()) diag.error("/color", "'color' must be an object");
+        else {
+            checkKeys(j["color"], {"ocioConfig"}, "/color", "color", diag);
+            rc.ocioConfig = resolvePath(baseDir, stringAt(j["color"], "ocioConfig", "/color", diag));
+        }
+    }
+    if (j.contains("exr")) {
+        if (!j["exr"].is_object()) diag.error("/exr", "'exr' must be an object");
+        else {
+            checkKeys(j["exr"], {"compression"}, "/exr", "exr", diag);
+            if (j["exr"].contains("compression"))
+                rc.compression = stringAt(j["exr"], "compression", "/exr", diag);
+        }
+    }
+    if (j.contains("cvars")) {
+        if (j["cvars"].is_object()) rc.graph.cvars = j["cvars"];
+        else diag.error("/cvars", "'cvars' must be an object of Unreal console variables");
+    }
+    if (j.contains("passes")) {
+        parsePasses(j["passes"], rc.graph, diag);
+        if (j.contains("outputs")) parseOutputs(j["outputs"], rc.graph, diag);
+    } else if (!diag.hasErrors()) {
+        // No chain of its own: the engine's preset supplies passes and outputs.
+        const std::string preset = (fs::path(configDirectory()) / (rc.graph.engine + ".json")).string();
+        const nlohmann::json pj = readJsonFile(preset);
+        Diagnostics presetDiag;
+        parsePasses(pj.at("passes"), rc.graph, presetDiag);
+        parseOutputs(j.contains("outputs") ? j["outputs"] : pj.at("outputs"), rc.graph,
+                     j.contains("outputs") ? diag : presetDiag);
+        presetDiag.throwIfErrors(preset);
+        for (auto& n : rc.graph.nodes) n.pointer = "(preset " + rc.graph.engine + ")" + n.pointer;
+    }
+    diag.throwIfErrors(source);
+    return rc;
+}
+
+RunConfig loadRunConfig(const std::string& path) {
+    const nlohmann::json j = readJsonFile(path);
+    return parseRunConfig(j, path, fs::path(path).parent_path().string());
+}
+
+}  // namespace fp::io

@@ -1,0 +1,59 @@
+#include "io/OutputWriter.h"
+
+#include "io/FramePattern.h"
+#include "io/PngWriter.h"
+#include "passes/core/Error.h"
+
+#include <filesystem>
+
+namespace fp::io {
+
+namespace fs = std::filesystem;
+
+std::string OutputWriter::pathFor(const OutputDesc& output, int64_t frame) const {
+    const std::string dir = output.isDump ? (mOptions.dumpDir.empty()
+                                                 ? (fs::path(mOptions.outputDir) / "dump").string()
+                                                 : mOptions.dumpDir)
+                                          : mOptions.outputDir;
+    std::string file = FramePattern(output.file).path(int(frame));
+    // Dumps of a sequence get the frame number so frames do not overwrite each other.
+    if (output.isDump) file = fs::path(file).stem().string() + fmt::format(".{:04d}.exr", frame);
+    return (fs::path(dir) / file).lexically_normal().string();
+}
+
+void OutputWriter::write(const OutputDesc& output, const std::vector<OutputLayer>& layers,
+                         const FrameInfo& frame) {
+    const std::string path = pathFor(output, frame.number);
+    std::error_code ec;
+    for (const auto& in : mOptions.protectedPaths)
+        if (fs::exists(path) && fs::equivalent(path, in, ec))
+            throw Error(fmt::format("{}: refusing to overwrite an input of this run", path));
+    if (fs::path(path).extension() == ".png") {
+        writePng(path, layers.front().texture->image());
+        mWritten.push_back(path);
+        return;
+    }
+    ExrMetadata meta;
+    if (frame.hasCamera) meta.camera = frame.camera;
+    meta.frame = frame.number;
+    meta.strings["framepass:software"] = "framepass";
+    std::vector<ExrPart> parts;
+    bool anyMips = false;
+    for (const auto& l : layers) anyMips |= l.texture->mipCount() > 1;
+    if (!anyMips) {
+        ExrPart part{"rgba", {}};
+        for (const auto& l : layers)
+            part.layers.push_back({l.name, &l.texture->image(), l.kind == PortKind::Color});
+        parts.push_back(std::move(part));
+    } else {
+        // Mip levels differ in size, so each gets a part of its own: "<layer>.mip<k>".
+        for (const auto& l : layers)
+            for (int m = 0; m < l.texture->mipCount(); ++m)
+                parts.push_back({fmt::format("{}.mip{}", l.name, m),
+                                 {{l.name, &l.texture->mip(m), l.kind == PortKind::Color}}});
+    }
+    writeExr(path, parts, meta, mOptions.compression);
+    mWritten.push_back(path);
+}
+
+}  // namespace fp::io

@@ -1,0 +1,34 @@
+#pragma once
+// Writes a frame's outputs: EXR (one part; or one part per mip for mip chains) or PNG previews,
+// named by the output's file pattern under the output folder, never over an input.
+#include "io/ExrWriter.h"
+#include "passes/core/Executor.h"
+
+#include <set>
+#include <string>
+#include <vector>
+
+namespace fp::io {
+
+class OutputWriter final : public FrameSink {
+public:
+    struct Options {
+        std::string outputDir = ".";
+        std::string dumpDir;               //!< "" = <outputDir>/dump
+        ExrCompression compression = ExrCompression::Zip;
+        std::set<std::string> protectedPaths;  //!< inputs: never overwritten
+    };
+    explicit OutputWriter(Options options) : mOptions(std::move(options)) {}
+
+    void write(const OutputDesc& output, const std::vector<OutputLayer>& layers,
+               const FrameInfo& frame) override;
+    /// The path an output takes for `frame`.
+    std::string pathFor(const OutputDesc& output, int64_t frame) const;
+    const std::vector<std::string>& written() const { return mWritten; }
+
+private:
+    Options mOptions;
+    std::vector<std::string> mWritten;
+};
+
+}  // namespace fp::io

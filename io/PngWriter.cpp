@@ -1,0 +1,38 @@
+#include "io/PngWriter.h"
+
+#include "io/ExrWriter.h"
+#include "passes/core/Error.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+namespace fp::io {
+
+void writePng(const std::string& path, const Image& rgb) {
+    FP_CHECK(rgb.channelCount() >= 3, "{}: a PNG preview needs 3 channels", path);
+    const int w = rgb.width(), h = rgb.height();
+    std::vector<unsigned char> pixels(std::size_t(w) * h * 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float v = std::clamp(rgb.plane(c).at(x, y), 0.0f, 1.0f);
+                pixels[(std::size_t(y) * w + x) * 3 + c] = (unsigned char)std::lround(v * 255.0f);
+            }
+    const auto parent = std::filesystem::path(path).parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
+    const std::string tmp = temporaryPathFor(path);
+    auto out = OIIO::ImageOutput::create("png");
+    FP_CHECK(out, "{}: OpenImageIO has no PNG writer", path);
+    OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+    if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) ||
+        !out->close()) {
+        std::filesystem::remove(tmp);
+        throw Error(fmt::format("{}: could not write PNG: {}", path, out->geterror()));
+    }
+    commitFile(tmp, path);
+}
+
+}  // namespace fp::io

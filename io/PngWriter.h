@@ -1,0 +1,11 @@
+#pragma once
+#include "passes/core/Image.h"
+
+#include <string>
+
+namespace fp::io {
+
+/// Writes a display-referred RGB image (values in [0, 1]) as an 8-bit PNG, atomically.
+void writePng(const std::string& path, const Image& rgb);
+
+}  // namespace fp::io

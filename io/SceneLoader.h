@@ -1,0 +1,36 @@
+#pragma once
+// Loads a framepass scene: a small JSON that names a geometry file (glTF 2.0 .gltf/.glb through
+// tinygltf, or OBJ/MTL through tinyobjloader) and adds cameras, lights and material overrides.
+// Everything is kept in double-precision world space; an "offset" moves the whole scene (geometry,
+// lights, cameras), which is how the hard-case scene puts its camera 10⁷ units from the origin.
+#include "passes/core/Camera.h"
+#include "passes/core/Image.h"
+#include "passes/core/Scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace fp::io {
+
+class SceneFile {
+public:
+    Scene scene;
+    Extent resolution{320, 240};  //!< "resolution" of the scene JSON, used when capture gets none
+    std::string path;
+
+    /// This frame's camera and the previous frame's: "camera" moved by "cameraMotion" per frame
+    /// after frame 1; the previous camera is "previousCamera" when given, else frame − 1's.
+    FrameCamera cameraForFrame(int64_t frame, Extent extent) const;
+
+    nlohmann::json cameraJson, previousCameraJson;  //!< as written (or from the glTF camera)
+    Vec3d cameraMotion;
+    Vec3d offset;
+};
+
+/// Throws fp::Error naming the file (and the JSON pointer, mesh or accessor) on bad input.
+SceneFile loadScene(const std::string& path);
+
+}  // namespace fp::io

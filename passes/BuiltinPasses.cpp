@@ -1,0 +1,22 @@
+// The explicit list of built-in pass types (architecture anchors B3): one line per pass.
+#include "passes/core/PassRegistry.h"
+#include "passes/display/DisplayPass.h"
+#include "passes/hzb/HZBPass.h"
+#include "passes/prevcolor/PrevColorReductionPass.h"
+
+namespace fp {
+
+const PassRegistry& builtinPasses() {
+    static const PassRegistry registry = [] {
+        PassRegistry r;
+        r.add<HZBPass>("hzb", "furthest and closest hierarchical Z of device depth (reference §2)");
+        r.add<PrevColorReductionPass>(
+            "prev_color_reduction",
+            "previous-frame colour reprojected and reduced to 5 mips, leak-free (reference §3)");
+        r.add<DisplayPass>("display", "OpenColorIO display transform of a buffer for a PNG preview");
+        return r;
+    }();
+    return registry;
+}
+
+}  // namespace fp

@@ -1,0 +1,30 @@
+#pragma once
+// Unreal console variables, accepted verbatim in a config's "cvars" section and mapped onto pass
+// parameters (users_and_conventions §5: names and defaults from Unreal's code, not help strings).
+// A cvar framepass knows but does not emulate is a warning that names it; an unknown one too.
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace fp {
+
+struct CvarMapping {
+    std::string cvar;       //!< Unreal name, e.g. r.SSGI.LeakFreeReprojection
+    std::string passType;   //!< pass type the value is for ("" = recognised but not emulated)
+    std::string param;      //!< that pass's parameter
+    std::string note;       //!< shown by `framepass passes` and in warnings
+};
+
+class CvarTable {
+public:
+    CvarTable();
+    const CvarMapping* find(const std::string& cvar) const;
+    const std::vector<CvarMapping>& all() const { return mEntries; }
+    std::vector<std::string> names() const;
+
+private:
+    std::vector<CvarMapping> mEntries;
+};
+
+}  // namespace fp

@@ -1,0 +1,42 @@
+#pragma once
+// Errors for bad input are exceptions with context (STYLE.md); asserts are for bugs.
+#include <fmt/format.h>
+
+#include <cassert>
+#include <stdexcept>
+#include <string>
+
+namespace fp {
+
+/// Process exit codes, documented in the README ("Exit codes").
+enum class ExitCode : int {
+    Ok = 0,
+    FrameFailed = 1,  //!< a frame could not be processed (bad pixels, I/O error, ...)
+    Usage = 2,        //!< bad command line, config or plan: nothing was computed
+};
+
+/// A runtime or input error. The message names the file, channel, JSON pointer or frame.
+class Error : public std::runtime_error {
+public:
+    explicit Error(const std::string& message, ExitCode code = ExitCode::FrameFailed)
+        : std::runtime_error(message), mCode(code) {}
+    ExitCode code() const { return mCode; }
+
+private:
+    ExitCode mCode;
+};
+
+/// A usage or configuration error (exit code 2).
+class UsageError : public Error {
+public:
+    explicit UsageError(const std::string& message) : Error(message, ExitCode::Usage) {}
+};
+
+}  // namespace fp
+
+#define FP_CHECK(cond, ...)                                  \
+    do {                                                     \
+        if (!(cond)) throw ::fp::Error(fmt::format(__VA_ARGS__)); \
+    } while (0)
+
+#define FP_ASSERT(cond) assert(cond)

@@ -1,0 +1,186 @@
+#include "passes/core/Executor.h"
+
+#include "passes/core/Error.h"
+
+#include <chrono>
+#include <mutex>
+
+namespace fp {
+
+namespace {
+
+// The store of images alive during one frame, keyed "pass.port" or "capture:Buffer".
+class ImageStore {
+public:
+    explicit ImageStore(FrameSource& source) : mSource(source) {}
+
+    void load(const std::string& buffer, int channels) {
+        mImages["capture:" + buffer] = mSource.loadBuffer(buffer, channels);
+        track();
+    }
+    Texture& put(const std::string& key, Texture t) {
+        Texture& slot = mImages[key] = std::move(t);
+        track();
+        return slot;
+    }
+    const Texture* find(const std::string& key) const {
+        auto it = mImages.find(key);
+        return it == mImages.end() ? nullptr : &it->second;
+    }
+    void release(const std::string& key) { mImages.erase(key); }
+    std::size_t peak() const { return mPeak; }
+
+private:
+    void track() {
+        std::size_t total = 0;
+        for (const auto& [k, t] : mImages) total += t.bytes();
+        mPeak = std::max(mPeak, total);
+    }
+    FrameSource& mSource;
+    std::map<std::string, Texture> mImages;
+    std::size_t mPeak = 0;
+};
+
+class StepContext final : public PassContext {
+public:
+    StepContext(const PlanStep& step, ImageStore& store, FrameSource& source, const FrameInfo& frame,
+                PassReport& report)
+        : mStep(step), mStore(store), mSource(source), mFrame(frame), mReport(report) {}
+
+    const Texture* input(std::string_view port) const override {
+        auto it = mStep.inputs.find(std::string(port));
+        if (it == mStep.inputs.end()) {
+            checkDeclared(mStep.io.inputs, port, "input");
+            return nullptr;  // unbound optional input
+        }
+        const Texture* t = mStore.find(it->second.key);
+        FP_ASSERT(t);
+        return t;
+    }
+    PortKind inputKind(std::string_view port) const override {
+        auto it = mStep.inputs.find(std::string(port));
+        return it == mStep.inputs.end() ? PortKind::Data : it->second.kind;
+    }
+    bool isRequested(std::string_view port) const override {
+        return mStep.requestedOutputs.count(std::string(port)) > 0;
+    }
+    Texture& output(std::string_view port, const std::vector<Extent>& mips) override {
+        const PortSpec& spec = checkDeclared(mStep.io.outputs, port, "output");
+        std::vector<Image> levels;
+        for (const Extent& e : mips) levels.emplace_back(e.width, e.height, spec.channels);
+        return mStore.put(mStep.name + "." + std::string(port), Texture(std::move(levels)));
+    }
+    const FrameInfo& frame() const override { return mFrame; }
+    const RayScene& scene() override {
+        FP_CHECK(mStep.io.needsScene, "pass '{}' uses the scene without declaring needsScene",
+                 mStep.name);
+        return mSource.scene();
+    }
+    OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mSource.colorConfig(); }
+    void addWork(std::string_view counter, uint64_t amount) override {
+        std::lock_guard<std::mutex> lock(mMutex);
+        mReport.work[std::string(counter)] += amount;
+    }
+
+private:
+    // Filament's rule: a pass may only touch what it declared.
+    const PortSpec& checkDeclared(const std::vector<PortSpec>& ports, std::string_view port,
+                                  const char* what) const {
+        for (const auto& p : ports)
+            if (p.name == port) return p;
+        throw Error(fmt::format("pass '{}' used undeclared {} '{}'", mStep.name, what, port));
+    }
+
+    const PlanStep& mStep;
+    ImageStore& mStore;
+    FrameSource& mSource;
+    const FrameInfo& mFrame;
+    PassReport& mReport;
+    std::mutex mMutex;
+};
+
+}  // namespace
+
+FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
+                        const ProgressFn& progress) {
+    using Clock = std::chrono::steady_clock;
+    const auto frameStart = Clock::now();
+    const FrameInfo frame = source.frameInfo();
+    FrameReport report;
+    report.frame = frame.number;
+    ImageStore store(source);
+
+    auto channelsOf = [&](const std::string& buffer) {
+        for (const auto& r : plan.captureReads)
+            if (r.buffer == buffer) return r.channels;
+        return 0;
+    };
+    auto writeOutputs = [&](int step) {
+        auto it = plan.writesAfter.find(step);
+        if (it == plan.writesAfter.end()) return;
+        for (int o : it->second) {
+            const OutputDesc& out = plan.outputs[o];
+            std::vector<OutputLayer> layers;
+            for (const auto& src : out.sources) {
+                const bool capture = src.rfind("capture:", 0) == 0;
+                if (capture && !store.find(src)) store.load(src.substr(8), channelsOf(src.substr(8)));
+                const Texture* t = store.find(src);
+                FP_CHECK(t && !t->empty(), "frame {}: '{}' was not produced by its pass",
+                         frame.number, src);
+                PortKind kind = PortKind::Data;
+                for (const auto& s : plan.steps)
+                    for (const auto& o2 : s.io.outputs)
+                        if (s.name + "." + o2.name == src) kind = o2.kind;
+                for (const auto& r : plan.captureReads)
+                    if ("capture:" + r.buffer == src) kind = r.kind;
+                layers.push_back({capture ? src.substr(8) : src, t, kind});
+            }
+            sink.write(out, layers, frame);
+        }
+    };
+    auto releaseAfter = [&](int step) {
+        for (const auto& [key, last] : plan.releaseAfter)
+            if (last == step) store.release(key);
+    };
+
+    const int total = int(plan.steps.size());
+    for (int s = 0; s < total; ++s) {
+        const PlanStep& step = plan.steps[s];
+        if (auto it = plan.loadsBefore.find(s); it != plan.loadsBefore.end())
+            for (const auto& b : it->second)
+                if (!store.find("capture:" + b)) store.load(b, channelsOf(b));
+        PassReport pr{step.name, step.type, 0, {}};
+        StepContext ctx(step, store, source, frame, pr);
+        const auto t0 = Clock::now();
+        try {
+            step.pass->execute(ctx);
+        } catch (const Error& e) {
+            throw Error(fmt::format("frame {}: pass '{}' ({}): {}", frame.number, step.name,
+                                    step.type, e.what()),
+                        e.code());
+        }
+        pr.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        for (const auto& port : step.requestedOutputs)
+            FP_CHECK(store.find(step.name + "." + port), "frame {}: pass '{}' did not write its "
+                     "requested output '{}'", frame.number, step.name, port);
+        report.passes.push_back(std::move(pr));
+        writeOutputs(s);
+        releaseAfter(s);
+        if (progress) progress(s + 1, total);
+    }
+    writeOutputs(-1);  // outputs that only copy capture buffers, in a plan with no steps
+    report.peakBytes = store.peak();
+    report.seconds = std::chrono::duration<double>(Clock::now() - frameStart).count();
+    return report;
+}
+
+nlohmann::json FrameReport::toJson() const {
+    nlohmann::json j = {{"frame", frame}, {"seconds", seconds}, {"peakBytes", peakBytes}};
+    j["passes"] = nlohmann::json::array();
+    for (const auto& p : passes)
+        j["passes"].push_back({{"name", p.name}, {"type", p.type}, {"seconds", p.seconds},
+                               {"work", p.work}});
+    return j;
+}
+
+}  // namespace fp

@@ -1,0 +1,47 @@
+#include "passes/core/Image.h"
+
+#include <algorithm>
+#include <new>
+
+namespace fp {
+
+namespace {
+constexpr std::ptrdiff_t kRowAlignFloats = 16;  // 64 bytes
+}
+
+void Plane::AlignedDelete::operator()(float* p) const {
+    ::operator delete[](p, std::align_val_t{64});
+}
+
+Plane::Plane(int width, int height, float fill) : mWidth(width), mHeight(height) {
+    mStride = (std::ptrdiff_t(width) + kRowAlignFloats - 1) / kRowAlignFloats * kRowAlignFloats;
+    std::size_t count = std::max<std::size_t>(1, std::size_t(mStride) * std::size_t(height));
+    float* p = static_cast<float*>(::operator new[](count * sizeof(float), std::align_val_t{64}));
+    std::fill(p, p + count, fill);
+    mData = std::shared_ptr<float>(p, AlignedDelete{});
+}
+
+float Plane::clampedAt(int x, int y) const {
+    x = std::clamp(x, 0, mWidth - 1);
+    y = std::clamp(y, 0, mHeight - 1);
+    return row(y)[x];
+}
+
+Image::Image(int width, int height, std::vector<std::string> channels, float fill)
+    : mWidth(width), mHeight(height), mChannels(std::move(channels)) {
+    for (std::size_t i = 0; i < mChannels.size(); ++i) mPlanes.emplace_back(width, height, fill);
+}
+
+std::size_t Image::bytes() const {
+    std::size_t b = 0;
+    for (const auto& p : mPlanes) b += p.bytes();
+    return b;
+}
+
+std::size_t Texture::bytes() const {
+    std::size_t b = 0;
+    for (const auto& m : mMips) b += m.bytes();
+    return b;
+}
+
+}  // namespace fp

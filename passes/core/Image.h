@@ -1,0 +1,84 @@
+#pragma once
+// Planar float32 images (architecture anchors B6): one 64-byte-aligned plane per channel, rows
+// padded to 16 floats so every row starts on a cache line and inner loops vectorize.
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fp {
+
+/// One channel of floats, `width × height`, rows `stride` floats apart.
+class Plane {
+public:
+    Plane() = default;
+    Plane(int width, int height, float fill = 0.0f);
+
+    int width() const { return mWidth; }
+    int height() const { return mHeight; }
+    std::ptrdiff_t stride() const { return mStride; }
+    bool empty() const { return !mData; }
+    float* row(int y) { return mData.get() + y * mStride; }
+    const float* row(int y) const { return mData.get() + y * mStride; }
+    float& at(int x, int y) { return row(y)[x]; }
+    float at(int x, int y) const { return row(y)[x]; }
+    /// Reads with coordinates clamped to the plane (the GPU's clamp addressing).
+    float clampedAt(int x, int y) const;
+    std::size_t bytes() const { return std::size_t(mStride) * mHeight * sizeof(float); }
+
+private:
+    struct AlignedDelete {
+        void operator()(float* p) const;
+    };
+    std::shared_ptr<float> mData;
+    int mWidth = 0, mHeight = 0;
+    std::ptrdiff_t mStride = 0;
+};
+
+/// A set of equally sized planes with channel names (e.g. R G B, or X Y Z).
+class Image {
+public:
+    Image() = default;
+    Image(int width, int height, std::vector<std::string> channels, float fill = 0.0f);
+
+    int width() const { return mWidth; }
+    int height() const { return mHeight; }
+    int channelCount() const { return int(mPlanes.size()); }
+    const std::vector<std::string>& channels() const { return mChannels; }
+    Plane& plane(int c) { return mPlanes[c]; }
+    const Plane& plane(int c) const { return mPlanes[c]; }
+    std::size_t bytes() const;
+
+private:
+    int mWidth = 0, mHeight = 0;
+    std::vector<std::string> mChannels;
+    std::vector<Plane> mPlanes;
+};
+
+/// What flows along a graph edge: one image, or a mip chain (HZB, reduced colour) whose level 0
+/// may be smaller than the frame.
+class Texture {
+public:
+    Texture() = default;
+    explicit Texture(Image level0) { mMips.push_back(std::move(level0)); }
+    explicit Texture(std::vector<Image> mips) : mMips(std::move(mips)) {}
+
+    int mipCount() const { return int(mMips.size()); }
+    Image& mip(int level) { return mMips[level]; }
+    const Image& mip(int level) const { return mMips[level]; }
+    const Image& image() const { return mMips.front(); }
+    Image& image() { return mMips.front(); }
+    bool empty() const { return mMips.empty(); }
+    std::size_t bytes() const;
+
+private:
+    std::vector<Image> mMips;
+};
+
+/// Width × height of an image; used to declare output sizes before pixels exist.
+struct Extent {
+    int width = 0, height = 0;
+    bool operator==(const Extent&) const = default;
+};
+
+}  // namespace fp

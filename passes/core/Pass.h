@@ -1,0 +1,94 @@
+#pragma once
+// The pass contract.
+//
+// Common principles, for every pass:
+// - Declare, then execute (Falcor reflect/execute, Filament setup/execute). `describe()` names the
+//   input and output ports, their channels and whether the pass needs the camera, the scene's
+//   geometry or the colour configuration. It may depend on the parameters and is called once per
+//   plan, before any pixel is read.
+// - Ports are addressed as "pass.port" in the config; capture buffers as "capture:SceneDepth". An
+//   input with a `defaultSource` binds itself when the config says nothing.
+// - Optional inputs that nobody bound come back as nullptr; outputs nobody asked for report
+//   `isRequested() == false`, and a pass skips the work behind them.
+// - A pass only computes: it never includes io/, never opens files, never creates threads. It
+//   fans out through forEachTile (Tiles.h) on the shared oneTBB pool.
+// - Random numbers come from Rng(frame, x, y, seed) (Random.h), so output is bit-identical for
+//   any thread count and any frame chunking.
+// - Bad input is an fp::Error with context; a bug is an FP_ASSERT.
+// - Work counts ("pixels", "skippedPixels", "rays", ...) go through addWork so the run report can
+//   show throughput next to wall time.
+#include "passes/core/Camera.h"
+#include "passes/core/Image.h"
+
+#include <OpenColorIO/OpenColorIO.h>
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace fp {
+
+class RayScene;
+
+/// Colour buffers may be colour-managed and stored as half; data buffers never are.
+enum class PortKind { Color, Data };
+
+struct PortSpec {
+    std::string name;
+    std::vector<std::string> channels;  //!< channel suffixes, e.g. {"R","G","B"} or {"Z"}
+    PortKind kind = PortKind::Data;
+    bool optional = false;
+    std::string defaultSource;          //!< binding used when the config gives none
+    std::string doc;
+};
+
+struct PassIO {
+    std::vector<PortSpec> inputs, outputs;
+    bool needsCamera = false;       //!< frame().camera must be known
+    bool needsScene = false;        //!< geometry is loaded and a BVH built only if a live pass says so
+    bool needsColorConfig = false;  //!< an OCIO config must be loaded
+    std::string workUnit = "pixels";  //!< the counter that measures throughput
+};
+
+/// What a pass knows about the frame it runs on.
+struct FrameInfo {
+    int64_t number = 1;  //!< absolute frame number (seeds the RNG)
+    Extent extent;       //!< full-resolution size of the capture
+    FrameCamera camera;
+    bool hasCamera = false;
+    bool firstInSequence = true;  //!< no history from an earlier frame
+};
+
+class PassContext {
+public:
+    virtual ~PassContext() = default;
+    /// The texture bound to an input port; nullptr for an unbound optional input.
+    virtual const Texture* input(std::string_view port) const = 0;
+    virtual PortKind inputKind(std::string_view port) const = 0;
+    /// False when nothing downstream reads this output: skip the work behind it.
+    virtual bool isRequested(std::string_view port) const = 0;
+    /// Allocates (zero-filled) the output with the given mip extents and the port's channels.
+    virtual Texture& output(std::string_view port, const std::vector<Extent>& mips) = 0;
+    virtual const FrameInfo& frame() const = 0;
+    /// The ray-traceable scene, built on first use (only passes with needsScene may call it).
+    virtual const RayScene& scene() = 0;
+    /// The OCIO config (only passes with needsColorConfig may call it).
+    virtual OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() = 0;
+    /// Adds to a named work counter; thread-safe, call once per tile rather than per pixel.
+    virtual void addWork(std::string_view counter, uint64_t amount) = 0;
+};
+
+class Pass {
+public:
+    virtual ~Pass() = default;
+    virtual PassIO describe() const = 0;
+    virtual void execute(PassContext& ctx) = 0;
+    /// Sizes of each mip of an output for a frame of `frame` pixels; the planner uses it for the
+    /// memory estimate and the pass for allocation, so the two never disagree.
+    virtual std::vector<Extent> outputExtents(std::string_view port, Extent frame) const {
+        return {frame};
+    }
+};
+
+}  // namespace fp

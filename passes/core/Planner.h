@@ -1,0 +1,82 @@
+#pragma once
+// Planner: config → Plan, pure and pixel-free (architecture anchors B5): instantiate and validate
+// every pass, bind ports, mark the requested outputs as roots, cull what no root needs, order the
+// rest topologically (declaration order breaks ties), compute when each image can be freed, and
+// derive exactly which capture buffers, geometry and colour config the frame needs.
+#include "passes/core/Diagnostics.h"
+#include "passes/core/GraphDesc.h"
+#include "passes/core/Pass.h"
+#include "passes/core/PassRegistry.h"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace fp {
+
+/// Where an input comes from: a capture buffer or another pass's output.
+struct SourceRef {
+    bool fromCapture = false;
+    std::string buffer;  //!< capture buffer name when fromCapture
+    int step = -1;       //!< producing step otherwise
+    std::string port;    //!< producing port
+    std::string key;     //!< "capture:Buffer" or "pass.port"
+    PortKind kind = PortKind::Data;
+    int channels = 0;
+};
+
+struct PlanStep {
+    std::string name, type, pointer;
+    std::shared_ptr<Pass> pass;
+    PassIO io;
+    nlohmann::json params;                    //!< resolved parameter values
+    std::map<std::string, SourceRef> inputs;  //!< bound input ports
+    std::set<std::string> requestedOutputs;
+};
+
+struct CulledPass {
+    std::string name, type, reason;
+};
+
+struct CaptureRead {
+    std::string buffer;
+    int channels = 0;
+    PortKind kind = PortKind::Data;
+};
+
+struct Plan {
+    std::vector<PlanStep> steps;  //!< live passes in execution order
+    std::vector<CulledPass> culled;
+    std::vector<OutputDesc> outputs;        //!< files to write, dumps included
+    std::vector<CaptureRead> captureReads;  //!< capture buffers the live passes read
+    bool needsCamera = false, needsScene = false, needsColorConfig = false;
+    std::vector<Diagnostic> warnings;
+    /// Key ("pass.port" / "capture:X") → last step after which it is no longer needed (read or
+    /// written out). Images are freed right after that step.
+    std::map<std::string, int> releaseAfter;
+    /// Step → indices into `outputs` that are complete after it.
+    std::map<int, std::vector<int>> writesAfter;
+    /// Step → capture buffers first read by it (loaded just before it runs).
+    std::map<int, std::vector<std::string>> loadsBefore;
+
+    const PlanStep* findStep(const std::string& name) const;
+    /// Peak bytes held at once for a frame of `frame` pixels (planes, mips, capture reads).
+    std::size_t estimatePeakBytes(Extent frame) const;
+    nlohmann::json toJson(Extent frame) const;
+};
+
+struct PlanInputs {
+    PlanOverrides overrides;
+    /// Capture buffers the file has (from its header); absent = not checked.
+    std::optional<std::set<std::string>> availableBuffers;
+};
+
+/// Builds the plan; throws fp::UsageError listing every problem when the config is invalid.
+Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanInputs& inputs);
+
+}  // namespace fp

@@ -1,0 +1,34 @@
+#pragma once
+// Counter-based per-pixel random numbers (DESIGN §5): the stream of a pixel depends only on
+// (frame, x, y, pass seed), never on which thread ran it or how frames were chunked.
+#include <cstdint>
+
+namespace fp {
+
+/// PCG output permutation used as a 32-bit integer hash (Jarzynski & Olano 2020, "pcg").
+constexpr uint32_t pcgHash(uint32_t v) {
+    uint32_t state = v * 747796405u + 2891336453u;
+    uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+class Rng {
+public:
+    /// `frame` is the absolute frame number so a chunked farm run equals a sequential one.
+    constexpr Rng(int64_t frame, int x, int y, uint32_t seed)
+        : mState(pcgHash(uint32_t(x) ^ pcgHash(uint32_t(y) ^
+                         pcgHash(uint32_t(frame) ^ pcgHash(seed ^ uint32_t(uint64_t(frame) >> 32)))))) {}
+
+    constexpr uint32_t nextUint() {
+        mState = mState * 747796405u + 2891336453u;
+        uint32_t word = ((mState >> ((mState >> 28u) + 4u)) ^ mState) * 277803737u;
+        return (word >> 22u) ^ word;
+    }
+    /// Uniform in [0, 1): the top 24 bits, so the result is exactly representable.
+    constexpr float nextFloat() { return float(nextUint() >> 8) * (1.0f / 16777216.0f); }
+
+private:
+    uint32_t mState;
+};
+
+}  // namespace fp

@@ -1,0 +1,49 @@
+#pragma once
+// The ray-traceable scene: an Embree 3 BVH over the scene's triangles. Vertices are stored as
+// float offsets from `origin` (usually the camera), computed in double, so rays near a camera far
+// from the world origin keep full precision (reference §1.2–1.3, "translated world"). Every Embree
+// call of framepass lives in RayScene.cpp, so moving to Embree 4 touches one file.
+#include "passes/core/Math.h"
+#include "passes/core/Scene.h"
+
+#include <cstdint>
+
+namespace fp {
+
+struct RayHit {
+    bool hit = false;
+    float t = 0;
+    unsigned mesh = 0, triangle = 0;
+    float u = 0, v = 0;  //!< barycentrics of vertices 1 and 2
+    Vec3f geometricNormal;  //!< unit, as wound (not facing-corrected)
+};
+
+class RayScene {
+public:
+    /// Builds the BVH (Embree's high build quality: offline, static geometry).
+    RayScene(const Scene& scene, const Vec3d& origin);
+    ~RayScene();
+    RayScene(const RayScene&) = delete;
+    RayScene& operator=(const RayScene&) = delete;
+
+    const Scene& scene() const { return mScene; }
+    const Vec3d& origin() const { return mOrigin; }
+
+    /// Closest hit along org + t·dir, t in [tnear, tfar]; org is relative to origin().
+    RayHit intersect(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const;
+    /// True when anything blocks org + t·dir for t in [tnear, tfar].
+    bool occluded(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const;
+
+    /// Interpolated vertex normal (or the geometric normal for flat meshes), unit length.
+    Vec3f shadingNormal(const RayHit& hit) const;
+    const Material& material(const RayHit& hit) const;
+    const Mesh& mesh(const RayHit& hit) const { return mScene.meshes[hit.mesh]; }
+
+private:
+    const Scene& mScene;
+    Vec3d mOrigin;
+    void* mDevice = nullptr;  // RTCDevice, kept opaque so passes need no Embree headers
+    void* mRtcScene = nullptr;
+};
+
+}  // namespace fp

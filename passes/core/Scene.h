@@ -1,0 +1,61 @@
+#pragma once
+// The scene as passes see it: triangle meshes in double-precision world space, materials in
+// Unreal's GBuffer terms, and lights. io/SceneLoader fills it from glTF or OBJ plus a scene JSON.
+#include "passes/core/Camera.h"
+#include "passes/core/Math.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace fp {
+
+struct Material {
+    std::string name;
+    Vec3f baseColor{0.8f, 0.8f, 0.8f};  //!< linear albedo
+    float metallic = 0.0f;              //!< [0, 1]
+    float specular = 0.5f;              //!< [0, 1]; F0 = 0.08·specular for dielectrics
+    float roughness = 0.5f;             //!< [0, 1] perceptual (α = roughness²)
+    Vec3f emission{0, 0, 0};            //!< emitted radiance
+    int shadingModel = 1;               //!< reference §1.6 (1 = default lit)
+    Vec3f subsurfaceColor{1, 1, 1};     //!< for subsurface-type models
+    float opacity = 1.0f;
+    float clearCoat = 0.0f;
+    float clearCoatRoughness = 0.1f;
+};
+
+struct Mesh {
+    std::string name;
+    std::vector<Vec3d> positions;  //!< world space
+    std::vector<Vec3f> normals;    //!< per vertex, optional (empty = flat shading)
+    std::vector<uint32_t> indices;  //!< three per triangle
+    int material = 0;
+    uint32_t instanceId = 1;        //!< written to the InstanceId buffer (0 = sky)
+};
+
+enum class LightType { Directional, Point, Spot, Rect };
+
+struct Light {
+    std::string name;
+    LightType type = LightType::Point;
+    Vec3f color{1, 1, 1};
+    /// Directional: irradiance at normal incidence. Point/spot: radiant intensity (I, so the
+    /// irradiance at distance r is I·cosθ/r²). Rect: emitted radiance.
+    float intensity = 1.0f;
+    Vec3d position;                //!< point, spot, rect centre
+    Vec3d direction{0, -1, 0};     //!< direction the light travels (directional, spot axis)
+    float sourceAngleDegrees = 0;  //!< directional: angular diameter of the source
+    float radius = 0;              //!< point/spot: sphere radius (soft shadows)
+    float innerConeDegrees = 0, outerConeDegrees = 45;  //!< spot half angles
+    Vec3d halfU{0.5, 0, 0}, halfV{0, 0, 0.5};  //!< rect: half-extent axes; emits along halfU × halfV
+};
+
+struct Scene {
+    std::vector<Mesh> meshes;
+    std::vector<Material> materials;
+    std::vector<Light> lights;
+    Vec3f skyColor{0, 0, 0};         //!< radiance of rays that leave the scene
+    double sceneUnitsPerMeter = 100.0;
+};
+
+}  // namespace fp

@@ -1,0 +1,30 @@
+#pragma once
+// A display preview of any buffer through an OpenColorIO display/view transform. Colour buffers
+// are converted from the working space; data buffers (depth, normals, HZB) are never
+// colour-converted, only exposed, so the numbers in the preview are the numbers in the buffer.
+#include "passes/core/Params.h"
+#include "passes/core/Pass.h"
+
+namespace fp {
+
+struct DisplayParams {
+    std::string inputSpace = "scene_linear";    //!< OCIO colour space or role of the input
+    std::string display;                        //!< "" = the config's default display
+    std::string view;                           //!< "" = the display's default view
+    float exposure = 0.0f;                      //!< stops applied before the transform, [-20, 20]
+};
+
+class DisplayPass final : public Pass {
+public:
+    using Params = DisplayParams;
+    static ParamSpec<Params> paramSpec();
+    explicit DisplayPass(const Params& params) : mParams(params) {}
+
+    PassIO describe() const override;
+    void execute(PassContext& ctx) override;
+
+private:
+    Params mParams;
+};
+
+}  // namespace fp

@@ -1,0 +1,35 @@
+#pragma once
+// The previous-frame colour mip chain that SSGI samples at its hits (reference §3,
+// "SSRTPrevFrameReduction"): last frame's colour reprojected into this frame's pixel grid, with
+// leak-free weighting that drops colour whose previous surface is not this pixel's surface.
+#include "passes/core/Params.h"
+#include "passes/core/Pass.h"
+
+namespace fp {
+
+struct PrevColorReductionParams {
+    bool leakFree = true;  //!< r.SSGI.LeakFreeReprojection: previous colour + depth (1) or TAA history (0)
+    float preExposureCorrection = 1.0f;  //!< PreExposure_current / PreExposure_previous, (0, 1e6]
+    bool removeSky = false;  //!< UE5 only: colour beyond skyDistance is zeroed (4.27 keeps it)
+    float skyDistance = 1e7f;  //!< r.SSGI.SkyDistance in scene units (UE5)
+};
+
+class PrevColorReductionPass final : public Pass {
+public:
+    using Params = PrevColorReductionParams;
+    static constexpr int kMipCount = 5;
+    static ParamSpec<Params> paramSpec();
+    explicit PrevColorReductionPass(const Params& params) : mParams(params) {}
+
+    PassIO describe() const override;
+    void execute(PassContext& ctx) override;
+    std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
+
+    /// Mip 0 is half resolution rounded up to a multiple of 16; five mips (reference §3.1).
+    static std::vector<Extent> mipExtents(Extent frame);
+
+private:
+    Params mParams;
+};
+
+}  // namespace fp
