@@ -154,9 +154,12 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
                           diag);
             for (const auto& [k, v] : setLayers[int(i)].items()) merged[k] = v;
         }
-        if (diag.errors().size() != errorsBefore) continue;
-        Diagnostics ignored;  // every layer was validated above
-        n.pass = n.type->create(merged, paramsPtr, ignored, n.params);
+        // Every layer was validated above. With errors, the pass is still made from its
+        // defaults so that its ports can be checked too: all problems come out in one round.
+        Diagnostics ignored;
+        const bool paramsOk = diag.errors().size() == errorsBefore;
+        n.pass = n.type->create(paramsOk ? merged : nlohmann::json::object(), paramsPtr, ignored,
+                                n.params);
         n.io = n.pass->describe();
     }
 

@@ -1,0 +1,94 @@
+#pragma once
+// Small scenes and in-memory frame sources for tests: no files, exact geometry.
+#include "passes/capture/GBufferRenderer.h"
+#include "passes/core/Executor.h"
+#include "passes/core/RayScene.h"
+#include "passes/core/Scene.h"
+
+#include <cstring>
+#include <map>
+#include <memory>
+#include <string>
+
+namespace fp::test {
+
+/// A square of side 2·half centred at `centre`, spanned by unit axes u and v (normal u × v).
+inline Mesh quad(const Vec3d& centre, const Vec3d& u, const Vec3d& v, double half, int material = 0,
+                 uint32_t instance = 1) {
+    Mesh m;
+    m.positions = {centre - u * half - v * half, centre + u * half - v * half,
+                   centre + u * half + v * half, centre - u * half + v * half};
+    m.indices = {0, 1, 2, 0, 2, 3};
+    m.material = material;
+    m.instanceId = instance;
+    return m;
+}
+
+/// A Lambert floor (y = 0, 200 units wide) lit by nothing.
+inline Scene floorScene(const Vec3d& offset = {}) {
+    Scene s;
+    Material m;
+    m.baseColor = {0.5f, 0.5f, 0.5f};
+    m.specular = 0.0f;
+    m.roughness = 1.0f;
+    s.materials.push_back(m);
+    s.meshes.push_back(quad(offset, {1, 0, 0}, {0, 0, -1}, 100.0));
+    return s;
+}
+
+/// Everything a pass can ask for, held in memory.
+class MemorySource final : public FrameSource {
+public:
+    FrameInfo info;
+    std::map<std::string, Image> buffers;
+    const Scene* sceneData = nullptr;
+    std::vector<std::string> loaded;  //!< buffers read, in order
+
+    FrameInfo frameInfo() override { return info; }
+    Texture loadBuffer(const std::string& buffer, int) override {
+        loaded.push_back(buffer);
+        return Texture(buffers.at(buffer));
+    }
+    const RayScene& scene() override {
+        if (!mRayScene) mRayScene = std::make_unique<RayScene>(*sceneData, info.camera.current.position);
+        return *mRayScene;
+    }
+    OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override;
+
+private:
+    std::unique_ptr<RayScene> mRayScene;
+};
+
+/// Keeps copies of everything written.
+class MemorySink final : public FrameSink {
+public:
+    std::map<std::string, Texture> layers;  //!< layer name → texture
+    void write(const OutputDesc&, const std::vector<OutputLayer>& ls, const FrameInfo&) override {
+        for (const auto& l : ls) layers[l.name] = *l.texture;
+    }
+};
+
+/// Captures a scene in memory with the real renderer.
+inline MemorySource captureToMemory(const Scene& scene, const FrameCamera& cam, int64_t frame = 1) {
+    MemorySource src;
+    CaptureSettings settings;
+    settings.frame = frame;
+    settings.lightSamples = 4;
+    src.buffers = GBufferRenderer(scene, cam, settings).render().buffers;
+    src.info.number = frame;
+    src.info.extent = {cam.current.width, cam.current.height};
+    src.info.camera = cam;
+    src.info.hasCamera = true;
+    src.sceneData = &scene;
+    return src;
+}
+
+/// True when two planes hold the same bits in every pixel.
+inline bool sameBits(const Plane& a, const Plane& b) {
+    if (a.width() != b.width() || a.height() != b.height()) return false;
+    for (int y = 0; y < a.height(); ++y)
+        if (std::memcmp(a.row(y), b.row(y), sizeof(float) * a.width()) != 0) return false;
+    return true;
+}
+
+}  // namespace fp::test
