@@ -5,6 +5,8 @@
 #include "io/ExrReader.h"
 #include "passes/core/Error.h"
 
+#include <OpenEXR/ImfHeader.h>
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -41,7 +43,7 @@ Command addInspectCommand(CLI::App& app) {
         j["channels"] = nlohmann::json::array();
         for (const auto& c : reader.channels()) {
             // One channel at a time keeps memory at one plane whatever the file's size.
-            const Image img = reader.read({c.name}, {"v"});
+            const Image img = reader.read(std::vector<const io::ExrChannel*>{&c}, {"v"});
             double lo = INFINITY, hi = -INFINITY, sum = 0;
             uint64_t nan = 0, inf = 0, finite = 0;
             for (int y = 0; y < img.height(); ++y)
@@ -56,7 +58,11 @@ Command addInspectCommand(CLI::App& app) {
                         ++finite;
                     }
                 }
-            j["channels"].push_back({{"name", c.name}, {"type", typeName(c.type)},
+            // In a mip chain every part repeats the channel names: show "<part>/<channel>".
+            const Imf::Header& h = reader.header(c.part);
+            const std::string shown = reader.partCount() > 1 && h.hasName()
+                                          ? h.name() + "/" + c.name : c.name;
+            j["channels"].push_back({{"name", shown}, {"type", typeName(c.type)}, {"part", c.part},
                                      {"buffer", profile.bufferOfChannel(c.name)},
                                      {"min", finite ? lo : 0.0}, {"max", finite ? hi : 0.0},
                                      {"mean", finite ? sum / finite : 0.0}, {"nan", nan},
@@ -76,10 +82,10 @@ Command addInspectCommand(CLI::App& app) {
         std::cout << fmt::format("{}: {}×{}, {} part(s), {} channels\n", opt->capture,
                                  reader.extent().width, reader.extent().height, reader.partCount(),
                                  reader.channels().size());
-        std::cout << fmt::format("  {:<28} {:<6} {:<16} {:>12} {:>12} {:>12} {:>6} {:>6}\n",
+        std::cout << fmt::format("  {:<36} {:<6} {:<16} {:>12} {:>12} {:>12} {:>6} {:>6}\n",
                                  "channel", "type", "buffer", "min", "max", "mean", "NaN", "Inf");
         for (const auto& c : j["channels"])
-            std::cout << fmt::format("  {:<28} {:<6} {:<16} {:>12.5g} {:>12.5g} {:>12.5g} {:>6} {:>6}\n",
+            std::cout << fmt::format("  {:<36} {:<6} {:<16} {:>12.5g} {:>12.5g} {:>12.5g} {:>6} {:>6}\n",
                                      c["name"].get<std::string>(), c["type"].get<std::string>(),
                                      c["buffer"].get<std::string>(), c["min"].get<double>(),
                                      c["max"].get<double>(), c["mean"].get<double>(),

@@ -29,11 +29,12 @@ void SessionOptions::addTo(CLI::App& sub) {
 
 RunSession::RunSession(const SessionOptions& o) {
     mConfig = io::loadRunConfig(o.config);
-    if (mConfig.capture.empty())
-        throw UsageError(fmt::format("{}: /capture: the config names no capture", o.config));
     mProfile = io::CaptureProfile::fromJson(mConfig.profile, o.config + ": /profile");
 
     PlanInputs inputs;
+    inputs.priorErrors = mConfig.errors;
+    if (mConfig.capture.empty())
+        inputs.priorErrors.push_back({"/capture", "the config names no capture (a file or pattern)"});
     for (const auto& c : o.cvars) {
         auto [name, value] = splitAssignment(c, "--cvar");
         inputs.overrides.cvars[name] = io::parseCliValue(value);
@@ -56,7 +57,7 @@ RunSession::RunSession(const SessionOptions& o) {
                                      o.config, mConfig.capture));
     }
     const std::string first = mFrames.empty() ? mConfig.capture : pattern.path(mFrames.front());
-    if (std::filesystem::exists(first)) {
+    if (!first.empty() && std::filesystem::exists(first)) {
         io::ExrReader reader(first);
         mExtent = reader.extent();
         inputs.availableBuffers = mProfile.availableBuffers(reader);

@@ -61,6 +61,10 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
         FP_CHECK(mReader.findChannel(c), "{}: frame {}: buffer '{}' needs channel '{}', which the "
                  "file does not have", mOptions.path, mOptions.frame, buffer, c);
     Image img = mReader.read(fileChannels, names);
+    FP_CHECK(img.width() == mReader.extent().width && img.height() == mReader.extent().height,
+             "{}: frame {}: buffer '{}' is {}×{}, the capture is {}×{}", mOptions.path,
+             mOptions.frame, buffer, img.width(), img.height(), mReader.extent().width,
+             mReader.extent().height);
 
     // DESIGN §5: no NaN ever reaches an output. Colour: non-finite or negative → 0. Depth: NaN or
     // negative → sky. Normals: renormalised when off unit length by more than half precision.

@@ -189,7 +189,7 @@ RunConfig parseRunConfig(const nlohmann::json& j, const std::string& source,
         presetDiag.throwIfErrors(preset);
         for (auto& n : rc.graph.nodes) n.pointer = "(preset " + rc.graph.engine + ")" + n.pointer;
     }
-    diag.throwIfErrors(source);
+    rc.errors = diag.errors();
     return rc;
 }
 

@@ -2,6 +2,7 @@
 // Loads a run config (DESIGN §3): JSON with comments, versioned, every key checked, every problem
 // reported at once with its JSON pointer. A config without "passes" takes the whole chain of its
 // engine's preset (configs/<engine>.json), so a user's config can be three lines.
+#include "passes/core/Diagnostics.h"
 #include "passes/core/GraphDesc.h"
 
 #include <nlohmann/json.hpp>
@@ -21,9 +22,12 @@ struct RunConfig {
     std::string ocioConfig;  //!< "" = $OCIO, else the shipped configs/ocio/config.ocio
     std::string compression = "zip";
     GraphDesc graph;
+    /// Problems found while reading; the planner reports them together with its own.
+    std::vector<Diagnostic> errors;
 };
 
-/// Reads and validates a config file; throws fp::UsageError listing every problem.
+/// Reads a config file. Unreadable JSON throws fp::UsageError; every other problem is listed in
+/// RunConfig::errors for the planner to report with its own.
 RunConfig loadRunConfig(const std::string& path);
 /// Same, from parsed JSON (relative paths against `baseDir`).
 RunConfig parseRunConfig(const nlohmann::json& j, const std::string& source,

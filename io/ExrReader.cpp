@@ -28,9 +28,7 @@ ExrReader::ExrReader(const std::string& path) : mPath(path) {
         const auto dw = h.dataWindow();
         const Extent e{dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1};
         if (p == 0) mExtent = e;
-        else if (!(e == mExtent))
-            throw Error(fmt::format("{}: part {} is {}×{} but part 0 is {}×{}", path, p, e.width,
-                                    e.height, mExtent.width, mExtent.height));
+        mPartExtents.push_back(e);
         for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
             if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
                 throw Error(fmt::format("{}: channel '{}' is subsampled, which is not supported",
@@ -54,11 +52,29 @@ int ExrReader::partCount() const { return mFile->parts(); }
 Image ExrReader::read(const std::vector<std::string>& fileChannels,
                       const std::vector<std::string>& names) {
     FP_ASSERT(fileChannels.size() == names.size());
-    Image image(mExtent.width, mExtent.height, names);
+    std::vector<const ExrChannel*> found;
+    for (const auto& name : fileChannels) {
+        const ExrChannel* ch = findChannel(name);
+        FP_CHECK(ch, "{}: no channel '{}'", mPath, name);
+        found.push_back(ch);
+    }
+    return read(found, names);
+}
+
+Image ExrReader::read(const std::vector<const ExrChannel*>& found,
+                      const std::vector<std::string>& names) {
+    const Extent size = found.empty() ? mExtent : mPartExtents[found.front()->part];
+    std::vector<std::string> fileChannels;
+    for (const ExrChannel* ch : found) {
+        fileChannels.push_back(ch->name);
+        const Extent e = mPartExtents[ch->part];
+        FP_CHECK(e == size, "{}: channel '{}' (part {}) is {}×{}, the others are {}×{}", mPath,
+                 ch->name, ch->part, e.width, e.height, size.width, size.height);
+    }
+    Image image(size.width, size.height, names);
     std::map<int, Imf::FrameBuffer> perPart;
-    for (std::size_t i = 0; i < fileChannels.size(); ++i) {
-        const ExrChannel* ch = findChannel(fileChannels[i]);
-        FP_CHECK(ch, "{}: no channel '{}'", mPath, fileChannels[i]);
+    for (std::size_t i = 0; i < found.size(); ++i) {
+        const ExrChannel* ch = found[i];
         const auto dw = mFile->header(ch->part).dataWindow();
         Plane& plane = image.plane(int(i));
         // OpenEXR addresses the slice by absolute pixel coordinates: shift the base pointer so

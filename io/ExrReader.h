@@ -37,6 +37,10 @@ public:
     /// Reads the named channels (all from one part or several) into one image whose channels
     /// are called `names`. Half and uint data are converted to float while decoding.
     Image read(const std::vector<std::string>& fileChannels, const std::vector<std::string>& names);
+    /// Same, for channels picked from channels() (names repeat across the parts of a mip chain).
+    Image read(const std::vector<const ExrChannel*>& channels, const std::vector<std::string>& names);
+    /// Size of one part (parts of a mip chain differ; a capture's parts must not).
+    Extent partExtent(int part) const { return mPartExtents[part]; }
 
     /// Every channel decoded so far, in order: the proof that reads are lazy.
     const std::vector<std::string>& readLog() const { return mReadLog; }
@@ -46,6 +50,7 @@ private:
     std::unique_ptr<Imf::MultiPartInputFile> mFile;
     std::vector<ExrChannel> mChannels;
     Extent mExtent;
+    std::vector<Extent> mPartExtents;
     std::vector<std::string> mReadLog;
 };
 

@@ -63,6 +63,7 @@ const PlanStep* Plan::findStep(const std::string& name) const {
 
 Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanInputs& in) {
     Diagnostics diag;
+    for (const auto& e : in.priorErrors) diag.error(e.pointer, e.message);
     Plan plan;
     const CvarTable cvarTable;
     std::vector<NodeState> nodes(graph.nodes.size());

@@ -74,6 +74,8 @@ struct PlanInputs {
     PlanOverrides overrides;
     /// Capture buffers the file has (from its header); absent = not checked.
     std::optional<std::set<std::string>> availableBuffers;
+    /// Problems already found (by the config loader), reported together with the planner's.
+    std::vector<Diagnostic> priorErrors;
 };
 
 /// Builds the plan; throws fp::UsageError listing every problem when the config is invalid.
