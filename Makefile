@@ -25,6 +25,7 @@ build: deps
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
 demo: build
+	rm -rf out/demo
 	$(FRAMEPASS) capture examples/cornell/scene.json -o out/demo/cornell.exr
 	$(FRAMEPASS) plan examples/cornell/config.json
 	$(FRAMEPASS) run examples/cornell/config.json -o out/demo --report out/demo/report.json

@@ -54,20 +54,22 @@ Command addCaptureCommand(CLI::App& app) {
             settings.frame = frame;
             settings.lightSamples = opt->lightSamples;
             const CaptureResult result = GBufferRenderer(sf.scene, camera, settings).render();
-            io::ExrPart part{"capture", {}};
+            // One EXR part per buffer: a reader decodes only the parts of the buffers it needs
+            // (in a single-part file every read would decompress every channel).
+            std::vector<io::ExrPart> parts;
             for (const auto& b : semanticBuffers())
-                part.layers.push_back({b.name, &result.buffers.at(b.name), false});
+                parts.push_back({b.name, {{b.name, &result.buffers.at(b.name), false}}});
             io::ExrMetadata meta;
             meta.camera = camera;
             meta.frame = frame;
             meta.strings["framepass:scene"] = opt->scene;
             meta.strings["framepass:software"] = "framepass capture";
             const std::string path = pattern.path(frame);
-            io::writeExr(path, {part}, meta);
+            io::writeExr(path, parts, meta);
             const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             std::cout << fmt::format("wrote {} ({}×{}, {} buffers, frame {}) in {:.2f} s: {} primary "
                                      "+ {} shadow rays ({:.2f} Mrays/s)\n",
-                                     path, extent.width, extent.height, part.layers.size(), frame, s,
+                                     path, extent.width, extent.height, parts.size(), frame, s,
                                      result.primaryRays, result.shadowRays,
                                      (result.primaryRays + result.shadowRays) / s * 1e-6);
             if (frames.size() > 1)

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <thread>
 
 int main(int argc, char** argv) {
     CLI::App app{"framepass — re-run Unreal's screen-space and ray-traced lighting passes on "
@@ -40,11 +41,12 @@ int main(int argc, char** argv) {
     }
 
     std::unique_ptr<tbb::global_control> limit;
+    // OpenEXR compresses and decompresses on its own pool, which is off unless sized.
+    Imf::setGlobalThreadCount(threads > 0 ? threads : int(std::thread::hardware_concurrency()));
     if (threads > 0) {
         limit = std::make_unique<tbb::global_control>(
             tbb::global_control::max_allowed_parallelism, threads);
         OIIO::attribute("threads", threads);
-        Imf::setGlobalThreadCount(threads);
     }
     try {
         for (auto& [sub, run] : commands)
