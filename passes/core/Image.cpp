@@ -38,6 +38,15 @@ std::size_t Image::bytes() const {
     return b;
 }
 
+std::vector<Extent> mipChain(Extent level0, int levels) {
+    std::vector<Extent> list;
+    for (int m = 0; m < levels; ++m) {
+        list.push_back(level0);
+        level0 = {std::max(1, level0.width / 2), std::max(1, level0.height / 2)};
+    }
+    return list;
+}
+
 std::size_t Texture::bytes() const {
     std::size_t b = 0;
     for (const auto& m : mMips) b += m.bytes();

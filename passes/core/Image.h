@@ -81,4 +81,8 @@ struct Extent {
     bool operator==(const Extent&) const = default;
 };
 
+/// `levels` extents starting at `level0`, each half the previous (rounded down, at least 1), as
+/// GPU mip chains are sized.
+std::vector<Extent> mipChain(Extent level0, int levels);
+
 }  // namespace fp

@@ -36,14 +36,8 @@ PassIO HZBPass::describe() const {
 
 std::vector<Extent> HZBPass::mipExtents(Extent frame) {
     const int ex = ceilLog2(frame.width), ey = ceilLog2(frame.height);
-    Extent e{1 << std::max(ex - 1, 0), 1 << std::max(ey - 1, 0)};
     const int mips = std::max({ex - 1, ey - 1, 1});  // log2 of the larger mip-0 side
-    std::vector<Extent> list;
-    for (int m = 0; m < mips; ++m) {
-        list.push_back(e);
-        e = {std::max(1, e.width / 2), std::max(1, e.height / 2)};
-    }
-    return list;
+    return mipChain({1 << std::max(ex - 1, 0), 1 << std::max(ey - 1, 0)}, mips);
 }
 
 std::vector<Extent> HZBPass::outputExtents(std::string_view, Extent frame) const {

@@ -89,13 +89,8 @@ PassIO PrevColorReductionPass::describe() const {
 
 std::vector<Extent> PrevColorReductionPass::mipExtents(Extent frame) {
     auto roundUp16 = [](int v) { return (v + 15) / 16 * 16; };
-    Extent e{roundUp16((frame.width + 1) / 2), roundUp16((frame.height + 1) / 2)};
-    std::vector<Extent> list;
-    for (int m = 0; m < kMipCount; ++m) {
-        list.push_back(e);
-        e = {std::max(1, e.width / 2), std::max(1, e.height / 2)};
-    }
-    return list;
+    return mipChain({roundUp16((frame.width + 1) / 2), roundUp16((frame.height + 1) / 2)},
+                    kMipCount);
 }
 
 std::vector<Extent> PrevColorReductionPass::outputExtents(std::string_view, Extent frame) const {
