@@ -1,0 +1,74 @@
+#include "io/CameraIO.h"
+#include "io/SceneLoader.h"
+#include "passes/core/Error.h"
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace fp;
+
+TEST_SUITE("io") {
+
+TEST_CASE("the Cornell OBJ loads with its published materials and a rect light") {
+    const auto sf = io::loadScene(std::string(FP_SOURCE_DIR) + "/examples/cornell/scene.json");
+    CHECK(sf.scene.meshes.size() == 8);  // floor, ceiling, 3 walls, light, 2 blocks
+    CHECK(sf.scene.sceneUnitsPerMeter == 1000.0);
+    REQUIRE(sf.scene.lights.size() == 1);
+    CHECK(sf.scene.lights[0].type == LightType::Rect);
+    bool red = false;
+    for (const auto& m : sf.scene.materials)
+        if (m.name == "red") {
+            red = true;
+            CHECK(m.baseColor.x == doctest::Approx(0.63f));
+            CHECK(m.specular == 0.0f);  // override from scene.json
+        }
+    CHECK(red);
+    const FrameCamera cam = sf.cameraForFrame(1, {64, 64});
+    CHECK(cam.current.position.x == doctest::Approx(278.0));
+    REQUIRE(cam.previous);
+    CHECK(cam.previous->position.x == doctest::Approx(248.0));  // cameraMotion 30 mm per frame
+    CHECK(sf.cameraForFrame(3, {64, 64}).previous->position.x == doctest::Approx(308.0));
+}
+
+TEST_CASE("the hard-case glTF loads meshes, its camera and KHR_lights_punctual, offset by 10^7") {
+    const auto sf = io::loadScene(std::string(FP_SOURCE_DIR) + "/examples/hard/scene.json");
+    CHECK(sf.scene.meshes.size() == 4);
+    REQUIRE(sf.scene.lights.size() == 2);
+    CHECK(sf.scene.lights[0].type == LightType::Directional);  // glTF sun
+    CHECK(sf.scene.lights[0].direction.y < 0.0);                // shines downwards
+    CHECK(sf.scene.lights[1].position.x == doctest::Approx(1e7));
+    const FrameCamera cam = sf.cameraForFrame(1, {64, 64});
+    CHECK(cam.current.position.x == doctest::Approx(1e7));
+    CHECK(cam.current.position.y == doctest::Approx(20.0));
+    CHECK(cam.current.forward.z == doctest::Approx(1.0));  // glTF −Z turned to +Z by the node
+    CHECK(cam.current.nearPlane == doctest::Approx(10.0));
+}
+
+TEST_CASE("a sidecar camera with OpenGL axes equals the same look-at camera") {
+    const CameraView ref = CameraView::lookAt({1, 2, 3}, {1, 2, 13}, {0, 1, 0}, 50.0, 80, 60, 5.0);
+    // OpenGL camera-to-world: columns right, up, −forward, position.
+    const nlohmann::json j = {
+        {"cameraToWorld", {ref.right.x, ref.up.x, -ref.forward.x, 1.0, ref.right.y, ref.up.y,
+                           -ref.forward.y, 2.0, ref.right.z, ref.up.z, -ref.forward.z, 3.0, 0, 0, 0, 1}},
+        {"axes", "opengl"}, {"fovYDegrees", 50.0}, {"near", 5.0}};
+    const CameraView c = io::cameraViewFromJson(j, {80, 60}, "test");
+    CHECK(length(c.forward - ref.forward) < 1e-12);
+    CHECK(length(c.right - ref.right) < 1e-12);
+    CHECK(c.fx == doctest::Approx(ref.fx));
+    CHECK_THROWS_AS(io::cameraViewFromJson({{"axes", "opengl"}}, {8, 8}, "x"), UsageError);
+}
+
+TEST_CASE("a scene with a bad key or a degenerate index is a clear error") {
+    const std::string dir = std::string(FP_TEST_SCRATCH) + "/scenes";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/bad.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";
+    std::ofstream(dir + "/bad.json") << R"({"version": 1, "geometry": "bad.obj"})";
+    CHECK_THROWS_WITH_AS(io::loadScene(dir + "/bad.json"), doctest::Contains("bad.obj"), Error);
+    std::ofstream(dir + "/typo.json") << R"({"version": 1, "geometry": "bad.obj", "lihgts": []})";
+    CHECK_THROWS_WITH_AS(io::loadScene(dir + "/typo.json"), doctest::Contains("did you mean 'lights'?"),
+                         Error);
+}
+
+}
