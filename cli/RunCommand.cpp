@@ -53,6 +53,13 @@ Command addRunCommand(CLI::App& app) {
             return *scene;
         };
 
+        // Likewise the OCIO config: parsed once for the whole run, if a pass asks for it.
+        OCIO_NAMESPACE::ConstConfigRcPtr colorConfig;
+        auto colorLoader = [&]() {
+            if (!colorConfig) colorConfig = io::loadColorConfig(session.config().ocioConfig);
+            return colorConfig;
+        };
+
         nlohmann::json report = {{"config", opt->session.config}, {"frames", nlohmann::json::array()}};
         const auto& frames = session.frames();
         for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -61,7 +68,7 @@ Command addRunCommand(CLI::App& app) {
             so.frame = frames[i];
             so.cameraSidecar = session.cameraPath(frames[i]);
             so.scene = sceneLoader;
-            so.ocioConfig = session.config().ocioConfig;
+            so.colorConfig = colorLoader;
             so.strict = opt->strict;
             so.firstInSequence = i == 0;
             io::CaptureSource source(so, session.profile());

@@ -119,6 +119,9 @@ const RayScene& CaptureSource::scene() {
     return *mRayScene;
 }
 
-OCIO::ConstConfigRcPtr CaptureSource::colorConfig() { return loadColorConfig(mOptions.ocioConfig); }
+OCIO::ConstConfigRcPtr CaptureSource::colorConfig() {
+    FP_CHECK(mOptions.colorConfig, "a pass needs an OCIO config but none was provided");
+    return mOptions.colorConfig();
+}
 
 }  // namespace fp::io

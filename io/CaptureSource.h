@@ -27,7 +27,7 @@ public:
         int64_t frame = 1;
         std::string cameraSidecar;   //!< "" = header, then <path>.camera.json
         std::function<const SceneFile&()> scene;  //!< loads the scene file on first call
-        std::string ocioConfig;      //!< "" = $OCIO, then the shipped config
+        std::function<OCIO_NAMESPACE::ConstConfigRcPtr()> colorConfig;  //!< loads on first call
         bool strict = false;         //!< bad input pixels are an error instead of sanitized
         bool firstInSequence = true;
     };
@@ -40,7 +40,6 @@ public:
 
     ExrReader& reader() { return mReader; }
     const SanitizeCounts& sanitized() const { return mSanitized; }
-    std::set<std::string> availableBuffers() const { return mProfile.availableBuffers(mReader); }
 
 private:
     Options mOptions;

@@ -39,8 +39,6 @@ public:
     Image read(const std::vector<std::string>& fileChannels, const std::vector<std::string>& names);
     /// Same, for channels picked from channels() (names repeat across the parts of a mip chain).
     Image read(const std::vector<const ExrChannel*>& channels, const std::vector<std::string>& names);
-    /// Size of one part (parts of a mip chain differ; a capture's parts must not).
-    Extent partExtent(int part) const { return mPartExtents[part]; }
 
     /// Every channel decoded so far, in order: the proof that reads are lazy.
     const std::vector<std::string>& readLog() const { return mReadLog; }

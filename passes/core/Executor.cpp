@@ -127,13 +127,7 @@ FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
                 const Texture* t = store.find(src);
                 FP_CHECK(t && !t->empty(), "frame {}: '{}' was not produced by its pass",
                          frame.number, src);
-                PortKind kind = PortKind::Data;
-                for (const auto& s : plan.steps)
-                    for (const auto& o2 : s.io.outputs)
-                        if (s.name + "." + o2.name == src) kind = o2.kind;
-                for (const auto& r : plan.captureReads)
-                    if ("capture:" + r.buffer == src) kind = r.kind;
-                layers.push_back({capture ? src.substr(8) : src, t, kind});
+                layers.push_back({capture ? src.substr(8) : src, t, plan.outputKinds.at(src)});
             }
             sink.write(out, layers, frame);
         }

@@ -55,12 +55,6 @@ void validateLayer(const PassType& type, const nlohmann::json& layer, const std:
 
 }  // namespace
 
-const PlanStep* Plan::findStep(const std::string& name) const {
-    for (const auto& s : steps)
-        if (s.name == name) return &s;
-    return nullptr;
-}
-
 Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanInputs& in) {
     Diagnostics diag;
     for (const auto& e : in.priorErrors) diag.error(e.pointer, e.message);
@@ -417,6 +411,7 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
         plan.writesAfter[ready].push_back(o);
         for (const auto& src : plan.outputs[o].sources) {
             const SourceRef& ref = outputSources.at(src);
+            plan.outputKinds[src] = ref.kind;
             noteCaptureRead(ref, std::max(ready, 0));
             auto it = plan.releaseAfter.find(ref.key);
             plan.releaseAfter[ref.key] = it == plan.releaseAfter.end() ? ready

@@ -63,8 +63,9 @@ struct Plan {
     std::map<int, std::vector<int>> writesAfter;
     /// Step → capture buffers first read by it (loaded just before it runs).
     std::map<int, std::vector<std::string>> loadsBefore;
+    /// Output source key → colour or data, as resolved when the outputs were bound.
+    std::map<std::string, PortKind> outputKinds;
 
-    const PlanStep* findStep(const std::string& name) const;
     /// Peak bytes held at once for a frame of `frame` pixels (planes, mips, capture reads).
     std::size_t estimatePeakBytes(Extent frame) const;
     nlohmann::json toJson(Extent frame) const;
