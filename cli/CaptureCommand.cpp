@@ -4,6 +4,7 @@
 #include "io/FramePattern.h"
 #include "io/SceneLoader.h"
 #include "passes/capture/GBufferRenderer.h"
+#include "passes/reference/TruthRenderer.h"
 #include "passes/core/Error.h"
 #include "passes/core/SemanticBuffers.h"
 
@@ -17,6 +18,9 @@ Command addCaptureCommand(CLI::App& app) {
         std::string scene, output, frames;
         int width = 0, height = 0, lightSamples = 16;
         int64_t frame = 1;
+        bool truth = false;
+        int truthSpp = 64;
+        double aoRadiusMeters = 1.0;
     };
     auto opt = std::make_shared<Options>();
     CLI::App* sub = app.add_subcommand(
@@ -34,6 +38,13 @@ Command addCaptureCommand(CLI::App& app) {
     sub->add_option("--light-samples", opt->lightSamples,
                     "shadow samples per pixel for lights with size")
         ->check(CLI::Range(1, 4096));
+    sub->add_flag("--truth", opt->truth, "add Truth.* layers (and their .StdErr) from the "
+                                          "reference path tracer");
+    sub->add_option("--truth-spp", opt->truthSpp, "reference samples per pixel (default 64)")
+        ->check(CLI::Range(1, 1 << 20));
+    sub->add_option("--truth-ao-radius", opt->aoRadiusMeters,
+                    "Truth.AO radius in metres (default 1)")
+        ->check(CLI::PositiveNumber);
 
     return [opt]() {
         const io::SceneFile sf = io::loadScene(opt->scene);
@@ -46,6 +57,10 @@ Command addCaptureCommand(CLI::App& app) {
         if (frames.size() > 1 && !pattern.hasFrameToken())
             throw UsageError(fmt::format("-o {}: several frames need a frame token (#### or %04d)",
                                          opt->output));
+        auto seconds = [](std::chrono::steady_clock::time_point t) {
+            return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+        };
+        int lastProgress = -1;
         for (std::size_t i = 0; i < frames.size(); ++i) {
             const int frame = frames[i];
             const auto t0 = std::chrono::steady_clock::now();
@@ -54,6 +69,7 @@ Command addCaptureCommand(CLI::App& app) {
             settings.frame = frame;
             settings.lightSamples = opt->lightSamples;
             const CaptureResult result = GBufferRenderer(sf.scene, camera, settings).render();
+            const double gbufferSeconds = seconds(t0);
             // One EXR part per buffer: a reader decodes only the parts of the buffers it needs
             // (in a single-part file every read would decompress every channel).
             std::vector<io::ExrPart> parts;
@@ -64,16 +80,44 @@ Command addCaptureCommand(CLI::App& app) {
             meta.frame = frame;
             meta.strings["framepass:scene"] = opt->scene;
             meta.strings["framepass:software"] = "framepass capture";
+
+            auto progress = [&](double within) {
+                const int pct = int(100.0 * (double(i) + within) / double(frames.size()));
+                if (pct / 10 > lastProgress / 10 || (pct == 100 && lastProgress != 100)) {
+                    std::cout << fmt::format("Progress: {}%\n", pct) << std::flush;
+                    lastProgress = pct;
+                }
+            };
+            TruthResult truth;
+            std::string truthLine;
+            if (opt->truth) {
+                TruthSettings ts;
+                ts.frame = frame;
+                ts.samplesPerPixel = opt->truthSpp;
+                ts.aoRadius = opt->aoRadiusMeters * sf.scene.sceneUnitsPerMeter;
+                const auto tt = std::chrono::steady_clock::now();
+                truth = TruthRenderer(sf.scene, camera, ts).render([&](int done, int total) {
+                    progress(double(done) / total);
+                });
+                const double st = seconds(tt);
+                truthLine = fmt::format("; truth {} spp in {:.2f} s ({:.2f} Mrays/s)", opt->truthSpp,
+                                        st, truth.rays / st * 1e-6);
+                for (const auto& name : truth.names)
+                    for (const std::string& layer : {name, name + ".StdErr"})
+                        parts.push_back({layer, {{layer, &truth.layers.at(layer), false}}});
+                meta.strings["framepass:truthSamplesPerPixel"] = std::to_string(opt->truthSpp);
+                meta.strings["framepass:truthAoRadius"] = fmt::format("{}", ts.aoRadius);
+            }
             const std::string path = pattern.path(frame);
             io::writeExr(path, parts, meta);
-            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            std::cout << fmt::format("wrote {} ({}×{}, {} buffers, frame {}) in {:.2f} s: {} primary "
-                                     "+ {} shadow rays ({:.2f} Mrays/s)\n",
-                                     path, extent.width, extent.height, parts.size(), frame, s,
-                                     result.primaryRays, result.shadowRays,
-                                     (result.primaryRays + result.shadowRays) / s * 1e-6);
-            if (frames.size() > 1)
-                std::cout << fmt::format("Progress: {}%\n", int(100 * (i + 1) / frames.size()));
+            std::cout << fmt::format("wrote {} ({}×{}, {} parts, frame {}) in {:.2f} s: GBuffer {} "
+                                     "primary + {} shadow rays in {:.2f} s ({:.2f} Mrays/s){}\n",
+                                     path, extent.width, extent.height, parts.size(), frame,
+                                     seconds(t0), result.primaryRays, result.shadowRays,
+                                     gbufferSeconds,
+                                     (result.primaryRays + result.shadowRays) / gbufferSeconds * 1e-6,
+                                     truthLine);
+            progress(1.0);
         }
         return 0;
     };

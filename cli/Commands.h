@@ -11,6 +11,7 @@ namespace fp::cli {
 using Command = std::function<int()>;
 
 Command addCaptureCommand(CLI::App& app);
+Command addCompareCommand(CLI::App& app);
 Command addInspectCommand(CLI::App& app);
 Command addPassesCommand(CLI::App& app);
 Command addPlanCommand(CLI::App& app);

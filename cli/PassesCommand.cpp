@@ -33,7 +33,8 @@ nlohmann::json describeType(const PassType& t) {
         params.push_back(pj);
     }
     nlohmann::json cvars = nlohmann::json::array();
-    for (const auto& c : CvarTable().all())
+    const CvarTable table;  // a named object: a range-for over a temporary's member dangles
+    for (const auto& c : table.all())
         if (c.passType == t.id) cvars.push_back({{"cvar", c.cvar}, {"param", c.param}, {"note", c.note}});
     return {{"type", t.id}, {"doc", t.doc}, {"inputs", ports(io.inputs)},
             {"outputs", ports(io.outputs)}, {"params", params}, {"cvars", cvars},

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
     };
     add(fp::cli::addCaptureCommand);
     add(fp::cli::addInspectCommand);
+    add(fp::cli::addCompareCommand);
     add(fp::cli::addPlanCommand);
     add(fp::cli::addRunCommand);
     add(fp::cli::addPassesCommand);

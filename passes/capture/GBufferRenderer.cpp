@@ -1,6 +1,6 @@
 #include "passes/capture/GBufferRenderer.h"
 
-#include "passes/capture/DirectLighting.h"
+#include "passes/lighting/DirectLighting.h"
 #include "passes/core/RayScene.h"
 #include "passes/core/Random.h"
 #include "passes/core/SemanticBuffers.h"
@@ -41,15 +41,9 @@ ShadedHit tracePixel(const RayScene& rs, const CameraView& cam, const Vec3f& eye
     out.hit = true;
     out.offset = Vec3d(eyeOffset) + dirD * double(out.ray.t);
     out.depth = dot(dirD, cam.forward) * double(out.ray.t);
-    // Two-sided shading: both normals face the viewer.
-    Vec3f ng = out.ray.geometricNormal, n = rs.shadingNormal(out.ray);
-    if (dot(ng, dir) > 0.0f) ng = -ng;
-    if (dot(n, ng) < 0.0f) n = -n;
-    out.normal = n;
-    const Material& m = rs.material(out.ray);
-    SurfacePoint sp{Vec3f(out.offset), n, ng, -dir,
-                    SurfaceBRDF::fromMaterial(m.baseColor, m.metallic, m.specular, m.roughness)};
-    out.color = m.emission + lighting.shade(sp, rng, shadowRays);
+    const SurfacePoint sp = surfaceAt(rs, out.ray, eyeOffset, dir);
+    out.normal = sp.normal;
+    out.color = sp.emission + lighting.shade(sp, rng, shadowRays);
     return out;
 }
 

@@ -1,14 +1,8 @@
 #include "passes/display/DisplayPass.h"
 
-#include "passes/core/Error.h"
-#include "passes/core/Tiles.h"
-
-#include <algorithm>
-#include <cmath>
+#include "passes/display/DisplayTransform.h"
 
 namespace fp {
-
-namespace OCIO = OCIO_NAMESPACE;
 
 namespace {
 constexpr const char* kColor = "color";
@@ -35,64 +29,13 @@ PassIO DisplayPass::describe() const {
 }
 
 void DisplayPass::execute(PassContext& ctx) {
-    const Texture& in = *ctx.input(kColor);
-    const Image& src = in.image();
-    const bool isData = ctx.inputKind(kColor) == PortKind::Data;
+    const Image& src = ctx.input(kColor)->image();
+    const bool colorManaged = ctx.inputKind(kColor) == PortKind::Color;
     Texture& out = ctx.output(kImage, {{src.width(), src.height()}});
-    Image& dst = out.image();
-    const float gain = std::exp2(mParams.exposure);
-
-    OCIO::ConstCPUProcessorRcPtr cpu;
-    if (!isData) {
-        OCIO::ConstConfigRcPtr config = ctx.colorConfig();
-        try {
-            const std::string display =
-                mParams.display.empty() ? config->getDefaultDisplay() : mParams.display;
-            const std::string view =
-                mParams.view.empty() ? config->getDefaultView(display.c_str()) : mParams.view;
-            auto transform = OCIO::DisplayViewTransform::Create();
-            transform->setSrc(mParams.inputSpace.c_str());
-            transform->setDisplay(display.c_str());
-            transform->setView(view.c_str());
-            cpu = config->getProcessor(transform)->getDefaultCPUProcessor();
-        } catch (const OCIO::Exception& e) {
-            throw Error(fmt::format("OCIO display transform (space '{}', display '{}', view "
-                                    "'{}'): {}",
-                                    mParams.inputSpace, mParams.display, mParams.view, e.what()));
-        }
-    }
-    const int channels = src.channelCount();
-    forEachTile(src.width(), src.height(), [&](const Tile& t) {
-        for (int y = t.y0; y < t.y1; ++y)
-            for (int c = 0; c < 3; ++c) {
-                // 1 channel → grey; 2 channels → R, G and a black B.
-                const int from = channels == 1 ? 0 : c;
-                float* d = dst.plane(c).row(y);
-                if (from >= channels) {
-                    std::fill(d + t.x0, d + t.x1, 0.0f);
-                    continue;
-                }
-                const float* s = src.plane(from).row(y);
-                for (int x = t.x0; x < t.x1; ++x) {
-                    const float v = s[x] * gain;
-                    d[x] = std::isfinite(v) ? v : 0.0f;  // no NaN/Inf reaches a preview
-                }
-            }
-        if (cpu) {
-            const long w = t.x1 - t.x0, h = t.y1 - t.y0;
-            const std::ptrdiff_t yStride = dst.plane(0).stride() * std::ptrdiff_t(sizeof(float));
-            OCIO::PlanarImageDesc desc(dst.plane(0).row(t.y0) + t.x0, dst.plane(1).row(t.y0) + t.x0,
-                                       dst.plane(2).row(t.y0) + t.x0, nullptr, w, h,
-                                       OCIO::BIT_DEPTH_F32, sizeof(float), yStride);
-            cpu->apply(desc);
-        }
-        for (int c = 0; c < 3; ++c)
-            for (int y = t.y0; y < t.y1; ++y) {
-                float* d = dst.plane(c).row(y);
-                for (int x = t.x0; x < t.x1; ++x) d[x] = std::clamp(d[x], 0.0f, 1.0f);
-            }
-        ctx.addWork("pixels", uint64_t(t.x1 - t.x0) * (t.y1 - t.y0));
-    });
+    const DisplayTransform transform(colorManaged ? ctx.colorConfig() : nullptr, mParams.inputSpace,
+                                     mParams.display, mParams.view, mParams.exposure, colorManaged);
+    transform.apply(src, out.image());
+    ctx.addWork("pixels", uint64_t(src.width()) * src.height());
 }
 
 }  // namespace fp

@@ -1,0 +1,72 @@
+#include "passes/display/DisplayTransform.h"
+
+#include "passes/core/Error.h"
+#include "passes/core/Tiles.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fp {
+
+namespace OCIO = OCIO_NAMESPACE;
+
+DisplayTransform::DisplayTransform(const OCIO::ConstConfigRcPtr& config,
+                                   const std::string& inputSpace, const std::string& display,
+                                   const std::string& view, float exposureStops, bool colorManaged)
+    : mGain(std::exp2(exposureStops)) {
+    if (!colorManaged) return;
+    try {
+        const std::string d = display.empty() ? config->getDefaultDisplay() : display;
+        const std::string v = view.empty() ? config->getDefaultView(d.c_str()) : view;
+        auto transform = OCIO::DisplayViewTransform::Create();
+        transform->setSrc(inputSpace.c_str());
+        transform->setDisplay(d.c_str());
+        transform->setView(v.c_str());
+        mCpu = config->getProcessor(transform)->getDefaultCPUProcessor();
+    } catch (const OCIO::Exception& e) {
+        throw Error(fmt::format("OCIO display transform (space '{}', display '{}', view '{}'): {}",
+                                inputSpace, display, view, e.what()));
+    }
+}
+
+Image DisplayTransform::apply(const Image& src) const {
+    Image dst(src.width(), src.height(), {"R", "G", "B"});
+    apply(src, dst);
+    return dst;
+}
+
+void DisplayTransform::apply(const Image& src, Image& dst) const {
+    const int channels = src.channelCount();
+    forEachTile(src.width(), src.height(), [&](const Tile& t) {
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int c = 0; c < 3; ++c) {
+                // 1 channel → grey; 2 channels → R, G and a black B.
+                const int from = channels == 1 ? 0 : c;
+                float* d = dst.plane(c).row(y);
+                if (from >= channels) {
+                    std::fill(d + t.x0, d + t.x1, 0.0f);
+                    continue;
+                }
+                const float* s = src.plane(from).row(y);
+                for (int x = t.x0; x < t.x1; ++x) {
+                    const float v = s[x] * mGain;
+                    d[x] = std::isfinite(v) ? v : 0.0f;  // no NaN/Inf reaches a preview
+                }
+            }
+        if (mCpu) {
+            const long w = t.x1 - t.x0, h = t.y1 - t.y0;
+            const std::ptrdiff_t yStride = dst.plane(0).stride() * std::ptrdiff_t(sizeof(float));
+            OCIO::PlanarImageDesc desc(dst.plane(0).row(t.y0) + t.x0, dst.plane(1).row(t.y0) + t.x0,
+                                       dst.plane(2).row(t.y0) + t.x0, nullptr, w, h,
+                                       OCIO::BIT_DEPTH_F32, sizeof(float), yStride);
+            mCpu->apply(desc);
+        }
+        for (int c = 0; c < 3; ++c)
+            for (int y = t.y0; y < t.y1; ++y) {
+                float* d = dst.plane(c).row(y);
+                for (int x = t.x0; x < t.x1; ++x) d[x] = std::clamp(d[x], 0.0f, 1.0f);
+            }
+    });
+}
+
+}  // namespace fp

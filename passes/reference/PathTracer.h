@@ -1,0 +1,54 @@
+#pragma once
+// The reference path tracer behind the truth layers (DESIGN §6). It handles what framepass
+// captures: Lambert diffuse plus Unreal's GGX specular (metallic/specular/roughness) and emission.
+// Analytic lights are sampled by next-event estimation (DirectLighting, as the capture does);
+// emissive triangles by next-event estimation combined with lobe sampling through the balance
+// heuristic. Russian roulette divides by its survival probability, so it adds no bias. The sky
+// colour is a backdrop that lights nothing, exactly as in the capture's SceneColor, so rays that
+// leave the scene carry zero radiance.
+#include "passes/core/RayScene.h"
+#include "passes/core/Random.h"
+#include "passes/lighting/DirectLighting.h"
+#include "passes/reference/EmitterSampler.h"
+#include "passes/reference/ScatterLobe.h"
+
+#include <cstdint>
+
+namespace fp {
+
+/// One sample of ∫ L_in(ω)·g(ω) dω at a surface point, for the lobe g.
+struct Gathered {
+    Vec3f oneBounce;     //!< L_in holds emission + direct light only (the capture's SceneColor)
+    Vec3f full;          //!< L_in holds every bounce
+    bool sampled = false;  //!< the lobe produced a direction above the surface
+    bool hit = false;      //!< ... and it met a surface
+    float distance = 0;    //!< ... at this distance
+};
+
+class PathTracer {
+public:
+    /// `maxBounces` only guards against albedo-1 scenes that would never end; with Russian
+    /// roulette a path of albedo a reaches it with probability a^maxBounces.
+    explicit PathTracer(const RayScene& scene, int maxBounces = 256)
+        : mScene(scene), mLighting(scene, 1), mEmitters(scene), mMaxBounces(maxBounces) {}
+
+    const DirectLighting& lighting() const { return mLighting; }
+
+    Gathered gather(const SurfacePoint& s, ScatterLobe::Kind lobe, Rng& rng, uint64_t& rays) const;
+
+private:
+    /// Light s reflects towards its viewer from emissive and lit surfaces (everything except
+    /// the analytic lights' direct light), by a path continued until Russian roulette ends it.
+    Vec3f reflectedIndirect(const SurfacePoint& s, Rng& rng, uint64_t& rays) const;
+    /// Emission reaching s through `lobe` by one sample of the emitters, MIS-weighted.
+    Vec3f sampleEmitters(const SurfacePoint& s, const ScatterLobe& lobe, Rng& rng, uint64_t& rays) const;
+    /// Balance-heuristic weight of emission found by a lobe sample of density `lobePdf`.
+    float lobeHitWeight(const RayHit& hit, const Vec3f& dir, float lobePdf) const;
+
+    const RayScene& mScene;
+    DirectLighting mLighting;
+    EmitterSampler mEmitters;
+    int mMaxBounces;
+};
+
+}  // namespace fp

@@ -1,0 +1,62 @@
+#pragma once
+// Renders the truth layers of a capture (DESIGN §2 and §6) with the reference path tracer, for
+// the same pixels and camera as the GBuffer: one primary ray through each pixel centre, then
+// `spp` independent samples per pixel. Every layer comes with a `.StdErr` layer, the standard
+// error of its per-pixel mean, so a comparison can tell when the reference itself is the limit.
+//
+//   Truth.DiffuseIndirectOneBounce  RGB  cosine-weighted mean of the radiance arriving from other
+//                                        surfaces, each holding emission + direct light (what
+//                                        SSGI reads from last frame's colour; reference §4.8:
+//                                        irradiance/π, so DiffuseColor × this = indirect diffuse)
+//   Truth.DiffuseIndirectFull       RGB  the same with every bounce
+//   Truth.AO                        Y    fraction of cosine-distributed rays that travel further
+//                                        than the AO radius (1 = open, 0 = enclosed)
+//   Truth.Specular                  RGB  indirect specular radiance reflected to the camera by
+//                                        the pixel's GGX lobe (Unreal's F·D·Vis), all bounces
+//   Truth.Shadow.<light>            Y    visibility of each light, averaged over its extent
+//
+// Sky pixels hold 0 in every layer.
+#include "passes/core/Camera.h"
+#include "passes/core/Image.h"
+#include "passes/core/Scene.h"
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace fp {
+
+struct TruthSettings {
+    int64_t frame = 1;        //!< absolute frame number (seeds every pixel's samples)
+    int samplesPerPixel = 64;
+    double aoRadius = 100.0;  //!< scene units
+    int maxBounces = 256;
+};
+
+struct TruthResult {
+    std::map<std::string, Image> layers;  //!< "Truth.<Name>" and "Truth.<Name>.StdErr"
+    std::vector<std::string> names;       //!< the truth layers in order, without .StdErr
+    uint64_t samples = 0, rays = 0;
+};
+
+class TruthRenderer {
+public:
+    TruthRenderer(const Scene& scene, const FrameCamera& camera, const TruthSettings& settings)
+        : mScene(scene), mCamera(camera), mSettings(settings) {}
+
+    /// `progress(done, total)` is called (from worker threads, serialised) as tiles finish.
+    TruthResult render(const std::function<void(int, int)>& progress = {}) const;
+
+    /// The layer name of each light's shadow truth: Truth.Shadow.<name>, with the light's name
+    /// reduced to letters, digits and '_' ("Light<i>" when unnamed), made unique.
+    static std::vector<std::string> shadowLayerNames(const Scene& scene);
+
+private:
+    const Scene& mScene;
+    const FrameCamera& mCamera;
+    TruthSettings mSettings;
+};
+
+}  // namespace fp
