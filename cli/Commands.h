@@ -10,6 +10,7 @@ namespace fp::cli {
 
 using Command = std::function<int()>;
 
+Command addBenchCommand(CLI::App& app);
 Command addCaptureCommand(CLI::App& app);
 Command addCompareCommand(CLI::App& app);
 Command addInspectCommand(CLI::App& app);

@@ -98,6 +98,11 @@ Command addRunCommand(CLI::App& app) {
                 std::string work;
                 for (const auto& [k, v] : p.work) work += fmt::format(" {}={}", k, v);
                 std::cout << fmt::format("  {:<24} {:>9.2f} ms{}\n", p.name, p.seconds * 1e3, work);
+                if (!p.metrics.empty()) {
+                    std::string m;
+                    for (const auto& [k, v] : p.metrics) m += fmt::format(" {}={:.5g}", k, v);
+                    std::cout << fmt::format("  {:<24} {}\n", "", m);
+                }
             }
             for (std::size_t w = before; w < writer.written().size(); ++w)
                 std::cout << "  wrote " << writer.written()[w] << "\n";

@@ -61,6 +61,7 @@ RunSession::RunSession(const SessionOptions& o) {
         io::ExrReader reader(first);
         mExtent = reader.extent();
         inputs.availableBuffers = mProfile.availableBuffers(reader);
+        inputs.truthChannels = io::CaptureProfile::truthChannels(reader);
         if (mFrames.empty()) {
             // A single capture keeps the frame number it was captured at.
             const auto* f = reader.header().findTypedAttribute<Imf::IntAttribute>("framepass:frame");

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
     add(fp::cli::addPlanCommand);
     add(fp::cli::addRunCommand);
     add(fp::cli::addPassesCommand);
+    add(fp::cli::addBenchCommand);
 
     try {
         app.parse(argc, argv);

@@ -89,6 +89,18 @@ std::set<std::string> CaptureProfile::availableBuffers(const ExrReader& file) co
     return out;
 }
 
+std::map<std::string, int> CaptureProfile::truthChannels(const ExrReader& file) {
+    std::map<std::string, std::set<std::string>> suffixes;
+    for (const auto& c : file.channels()) {
+        if (!isTruthBuffer(c.name)) continue;
+        const auto dot = c.name.rfind('.');
+        suffixes[c.name.substr(0, dot)].insert(c.name.substr(dot + 1));
+    }
+    std::map<std::string, int> out;
+    for (const auto& [layer, s] : suffixes) out[layer] = int(s.size());
+    return out;
+}
+
 std::string CaptureProfile::bufferOfChannel(const std::string& channel) const {
     for (const auto& [buffer, names] : mOverrides)
         for (const auto& n : names)

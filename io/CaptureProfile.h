@@ -27,6 +27,8 @@ public:
     std::vector<std::string> channelsFor(const std::string& buffer, int channels) const;
     /// Every buffer whose channels are all present in the file.
     std::set<std::string> availableBuffers(const ExrReader& file) const;
+    /// Channel count of every Truth.* layer of the file.
+    static std::map<std::string, int> truthChannels(const ExrReader& file);
     /// Which buffer a file channel belongs to ("" when none): for `framepass inspect`.
     std::string bufferOfChannel(const std::string& channel) const;
 

@@ -8,6 +8,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <unistd.h>
 
 namespace fp::io {
 
@@ -33,6 +37,23 @@ void writePng(const std::string& path, const Image& rgb) {
         throw Error(fmt::format("{}: could not write PNG: {}", path, out->geterror()));
     }
     commitFile(tmp, path);
+}
+
+}  // namespace fp::io
+
+namespace fp::io {
+
+std::string encodePng(const Image& rgb) {
+    // OpenImageIO writes through a file; a private temporary keeps this simple and portable.
+    const auto dir = std::filesystem::temp_directory_path();
+    const std::string path =
+        (dir / fmt::format("framepass-{}-{}.png", ::getpid(), static_cast<const void*>(&rgb))).string();
+    writePng(path, rgb);
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    std::filesystem::remove(path);
+    return bytes;
 }
 
 }  // namespace fp::io

@@ -9,3 +9,10 @@ namespace fp::io {
 void writePng(const std::string& path, const Image& rgb);
 
 }  // namespace fp::io
+
+namespace fp::io {
+
+/// The PNG file bytes of a display-referred RGB image (for embedding in an HTML report).
+std::string encodePng(const Image& rgb);
+
+}  // namespace fp::io

@@ -2,6 +2,7 @@
 #include "passes/core/PassRegistry.h"
 #include "passes/display/DisplayPass.h"
 #include "passes/hzb/HZBPass.h"
+#include "passes/metrics/ErrorMeasurePass.h"
 #include "passes/prevcolor/PrevColorReductionPass.h"
 
 namespace fp {
@@ -14,6 +15,8 @@ const PassRegistry& builtinPasses() {
             "prev_color_reduction",
             "previous-frame colour reprojected and reduced to 5 mips, leak-free (reference §3)");
         r.add<DisplayPass>("display", "OpenColorIO display transform of a buffer for a PNG preview");
+        r.add<ErrorMeasurePass>("error_measure", "error of any output against a reference (a "
+                                                 "Truth.* layer): metrics in the report, heat map");
         return r;
     }();
     return registry;

@@ -81,6 +81,10 @@ public:
         std::lock_guard<std::mutex> lock(mMutex);
         mReport.work[std::string(counter)] += amount;
     }
+    void addMetric(std::string_view name, double value) override {
+        std::lock_guard<std::mutex> lock(mMutex);
+        mReport.metrics[std::string(name)] = value;
+    }
 
 private:
     // Filament's rule: a pass may only touch what it declared.
@@ -143,7 +147,7 @@ FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
         if (auto it = plan.loadsBefore.find(s); it != plan.loadsBefore.end())
             for (const auto& b : it->second)
                 if (!store.find("capture:" + b)) store.load(b, channelsOf(b));
-        PassReport pr{step.name, step.type, 0, {}};
+        PassReport pr{step.name, step.type, 0, {}, {}};
         StepContext ctx(step, store, source, frame, pr);
         const auto t0 = Clock::now();
         try {
@@ -171,9 +175,12 @@ FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
 nlohmann::json FrameReport::toJson() const {
     nlohmann::json j = {{"frame", frame}, {"seconds", seconds}, {"peakBytes", peakBytes}};
     j["passes"] = nlohmann::json::array();
-    for (const auto& p : passes)
-        j["passes"].push_back({{"name", p.name}, {"type", p.type}, {"seconds", p.seconds},
-                               {"work", p.work}});
+    for (const auto& p : passes) {
+        nlohmann::json pj = {{"name", p.name}, {"type", p.type}, {"seconds", p.seconds},
+                             {"work", p.work}};
+        if (!p.metrics.empty()) pj["metrics"] = p.metrics;
+        j["passes"].push_back(pj);
+    }
     return j;
 }
 

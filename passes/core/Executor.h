@@ -44,6 +44,7 @@ struct PassReport {
     std::string name, type;
     double seconds = 0;
     std::map<std::string, uint64_t> work;
+    std::map<std::string, double> metrics;  //!< what error_measure-like passes measured
 };
 
 struct FrameReport {

@@ -77,6 +77,8 @@ public:
     virtual OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() = 0;
     /// Adds to a named work counter; thread-safe, call once per tile rather than per pixel.
     virtual void addWork(std::string_view counter, uint64_t amount) = 0;
+    /// Reports a measured figure (error_measure's RMSE, ...) for the run report.
+    virtual void addMetric(std::string_view name, double value) = 0;
 };
 
 class Pass {

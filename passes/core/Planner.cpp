@@ -171,8 +171,11 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
                 ref.kind = b->kind;
                 ref.channels = int(b->channels.size());
             } else if (isTruthBuffer(ref.buffer)) {
-                ref.kind = PortKind::Color;
-                ref.channels = wantChannels > 0 ? wantChannels : 3;
+                // Truth layers are data: a reference is compared as stored, never converted.
+                ref.kind = PortKind::Data;
+                auto known = in.truthChannels.find(ref.buffer);
+                ref.channels = known != in.truthChannels.end() ? known->second
+                                                               : (wantChannels > 0 ? wantChannels : 3);
             } else {
                 diag.error(where, fmt::format("unknown capture buffer '{}'{}", ref.buffer,
                                               didYouMean(ref.buffer, captureBufferNames())));

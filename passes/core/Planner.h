@@ -75,6 +75,8 @@ struct PlanInputs {
     PlanOverrides overrides;
     /// Capture buffers the file has (from its header); absent = not checked.
     std::optional<std::set<std::string>> availableBuffers;
+    /// Channel counts of the capture's Truth.* layers (1 = Y, 3 = RGB), from its header.
+    std::map<std::string, int> truthChannels;
     /// Problems already found (by the config loader), reported together with the planner's.
     std::vector<Diagnostic> priorErrors;
 };

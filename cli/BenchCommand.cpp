@@ -1,0 +1,308 @@
+// framepass bench: runs a chain several times on one frame and reports each pass's median time
+// and throughput; --sweep varies cvars or parameters over a grid and, where the chain measures
+// error against truth (error_measure passes), produces the speed-against-error table, its Pareto
+// front, and an HTML report.
+#include "cli/BenchResult.h"
+#include "cli/Commands.h"
+#include "cli/RunSession.h"
+#include "io/CaptureSource.h"
+#include "io/PngWriter.h"
+#include "passes/core/Error.h"
+#include "passes/core/Executor.h"
+#include "passes/display/DisplayTransform.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <thread>
+
+#include <tbb/global_control.h>
+
+namespace fp::cli {
+
+namespace {
+
+constexpr const char* kErrorPassType = "error_measure";
+
+/// A frame source that reads each buffer from the capture once and serves copies afterwards,
+/// so repeated runs time the passes, not the disk.
+class CachedSource final : public FrameSource {
+public:
+    explicit CachedSource(FrameSource& inner) : mInner(inner) {}
+    FrameInfo frameInfo() override { return mInner.frameInfo(); }
+    Texture loadBuffer(const std::string& buffer, int channels) override {
+        auto it = mCache.find(buffer);
+        if (it == mCache.end()) it = mCache.emplace(buffer, mInner.loadBuffer(buffer, channels)).first;
+        return it->second;
+    }
+    const RayScene& scene() override { return mInner.scene(); }
+    OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mInner.colorConfig(); }
+    const Texture* cached(const std::string& buffer) const {
+        auto it = mCache.find(buffer);
+        return it == mCache.end() ? nullptr : &it->second;
+    }
+
+private:
+    FrameSource& mInner;
+    std::map<std::string, Texture> mCache;
+};
+
+/// Discards outputs, except on the run that keeps the images for the report.
+class KeepingSink final : public FrameSink {
+public:
+    bool keep = false;
+    std::map<std::string, Image> images;
+    void write(const OutputDesc&, const std::vector<OutputLayer>& layers, const FrameInfo&) override {
+        if (!keep) return;
+        for (const auto& l : layers) images[l.name] = l.texture->image();
+    }
+};
+
+struct SweepAxis {
+    std::string name;
+    std::vector<std::string> values;
+};
+
+// "NAME=V1,V2,..." or "NAME=A..B" (integers).
+SweepAxis parseSweep(const std::string& text) {
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+        throw UsageError(fmt::format("--sweep {}: expected NAME=V1,V2,... or NAME=A..B", text));
+    SweepAxis axis{text.substr(0, eq), {}};
+    const std::string list = text.substr(eq + 1);
+    if (const auto dots = list.find(".."); dots != std::string::npos) {
+        try {
+            std::size_t endA = 0, endB = 0;
+            const int a = std::stoi(list.substr(0, dots), &endA);
+            const int b = std::stoi(list.substr(dots + 2), &endB);
+            if (endA != dots || endB != list.size() - dots - 2 || b < a) throw std::invalid_argument("");
+            for (int v = a; v <= b; ++v) axis.values.push_back(std::to_string(v));
+        } catch (const std::exception&) {
+            throw UsageError(fmt::format("--sweep {}: a range is two integers A..B with A ≤ B", text));
+        }
+        return axis;
+    }
+    std::size_t start = 0;
+    while (start <= list.size()) {
+        const auto comma = list.find(',', start);
+        const std::string v = list.substr(start, comma == std::string::npos ? std::string::npos
+                                                                          : comma - start);
+        if (v.empty()) throw UsageError(fmt::format("--sweep {}: empty value", text));
+        axis.values.push_back(v);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return axis;
+}
+
+std::string base64(const std::string& bytes) {
+    static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    std::size_t i = 0;
+    for (; i + 2 < bytes.size(); i += 3) {
+        const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 |
+                           (unsigned char)bytes[i + 2];
+        out += {k[v >> 18 & 63], k[v >> 12 & 63], k[v >> 6 & 63], k[v & 63]};
+    }
+    if (i + 1 == bytes.size()) {
+        const unsigned v = (unsigned char)bytes[i] << 16;
+        out += {k[v >> 18 & 63], k[v >> 12 & 63], '=', '='};
+    } else if (i + 2 == bytes.size()) {
+        const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8;
+        out += {k[v >> 18 & 63], k[v >> 12 & 63], k[v >> 6 & 63], '='};
+    }
+    return out;
+}
+
+}  // namespace
+
+Command addBenchCommand(CLI::App& app) {
+    struct Options {
+        SessionOptions session;
+        int runs = 5, warmup = 1;
+        std::vector<std::string> sweeps;
+        bool json = false;
+        std::string html;
+    };
+    auto opt = std::make_shared<Options>();
+    CLI::App* sub = app.add_subcommand(
+        "bench", "time the chain over several runs (median, min, max, throughput per pass); "
+                 "--sweep gives the speed-against-error table");
+    opt->session.addTo(*sub);
+    sub->add_option("--runs", opt->runs, "timed runs per setting (default 5)")->check(CLI::Range(1, 1000));
+    sub->add_option("--warmup", opt->warmup, "untimed runs first (default 1)")->check(CLI::Range(0, 100));
+    sub->add_option("--sweep", opt->sweeps,
+                    "vary a cvar or PASS.PARAM: NAME=V1,V2,... or NAME=A..B; several make a grid");
+    sub->add_flag("--json", opt->json, "print the results as JSON");
+    sub->add_option("--html", opt->html, "write a self-contained HTML report here");
+
+    return [opt]() {
+        std::vector<SweepAxis> axes;
+        for (const auto& s : opt->sweeps) axes.push_back(parseSweep(s));
+        // The grid, first axis slowest.
+        std::vector<std::vector<std::pair<std::string, std::string>>> grid = {{}};
+        for (const auto& axis : axes) {
+            std::vector<std::vector<std::pair<std::string, std::string>>> next;
+            for (const auto& g : grid)
+                for (const auto& v : axis.values) {
+                    auto e = g;
+                    e.emplace_back(axis.name, v);
+                    next.push_back(e);
+                }
+            grid = next;
+        }
+
+        // error_measure passes are roots here even when the config writes none of their outputs;
+        // the ports they compare are kept for the report's images.
+        const io::RunConfig probe = io::loadRunConfig(opt->session.config);
+        std::vector<const NodeDesc*> errorNodes;
+        SessionOptions base = opt->session;
+        for (const auto& n : probe.graph.nodes) {
+            if (n.type != kErrorPassType) continue;
+            errorNodes.push_back(&n);
+            base.dumps.push_back(n.name + ".heat");
+            for (const char* port : {"source", "reference"})
+                if (auto it = n.inputs.find(port); it != n.inputs.end() &&
+                                                   it->second.rfind("capture:", 0) != 0)
+                    base.dumps.push_back(it->second);
+        }
+
+        BenchResult result;
+        result.config = opt->session.config;
+        result.runs = opt->runs;
+        result.warmup = opt->warmup;
+        result.sweeps = opt->sweeps;
+        result.threads = int(tbb::global_control::active_value(
+            tbb::global_control::max_allowed_parallelism));
+        OCIO_NAMESPACE::ConstConfigRcPtr colorConfig;
+        auto colorLoader = [&]() {
+            if (!colorConfig) colorConfig = io::loadColorConfig(probe.ocioConfig);
+            return colorConfig;
+        };
+        std::optional<io::SceneFile> scene;
+        auto sceneLoader = [&]() -> const io::SceneFile& {
+            if (!scene) {
+                FP_CHECK(!probe.scene.empty(), "{}: /scene: a pass needs geometry; name the scene JSON",
+                         opt->session.config);
+                scene = io::loadScene(probe.scene);
+            }
+            return *scene;
+        };
+
+        const int totalRuns = int(grid.size()) * (opt->warmup + opt->runs);
+        int runsDone = 0;
+        for (const auto& point : grid) {
+            SessionOptions so = base;
+            std::string label;
+            for (const auto& [name, value] : point) {
+                (name.rfind("r.", 0) == 0 ? so.cvars : so.sets).push_back(name + "=" + value);
+                label += (label.empty() ? "" : " ") + name + "=" + value;
+            }
+            const RunSession session(so);
+            const Plan& plan = session.plan();
+            const int frame = session.frames().front();
+            io::CaptureSource::Options co;
+            co.path = session.capturePath(frame);
+            co.frame = frame;
+            co.cameraSidecar = session.cameraPath(frame);
+            co.scene = sceneLoader;
+            co.colorConfig = colorLoader;
+            io::CaptureSource capture(co, session.profile());
+            CachedSource source(capture);
+            KeepingSink sink;
+            result.capture = co.path;
+            result.frame = frame;
+            result.extent = session.extent();
+
+            std::vector<std::vector<double>> stepSeconds(plan.steps.size());
+            std::vector<double> frameSeconds;
+            FrameReport last;
+            for (int r = 0; r < opt->warmup + opt->runs; ++r) {
+                sink.keep = r + 1 == opt->warmup + opt->runs;
+                last = executePlan(plan, source, sink);
+                if (r >= opt->warmup) {
+                    frameSeconds.push_back(last.seconds);
+                    for (std::size_t s = 0; s < last.passes.size(); ++s)
+                        stepSeconds[s].push_back(last.passes[s].seconds);
+                }
+                std::cout << fmt::format("Progress: {}%\n", 100 * ++runsDone / totalRuns) << std::flush;
+            }
+
+            BenchSetting setting;
+            setting.label = label.empty() ? "default" : label;
+            setting.frame = TimingStats::of(frameSeconds);
+            for (std::size_t s = 0; s < plan.steps.size(); ++s) {
+                const PlanStep& step = plan.steps[s];
+                PassTiming t{step.name, step.type, step.io.workUnit, 0, TimingStats::of(stepSeconds[s])};
+                if (auto it = last.passes[s].work.find(t.unit); it != last.passes[s].work.end())
+                    t.work = it->second;
+                setting.passes.push_back(t);
+                if (step.type != kErrorPassType) continue;
+                ErrorNodeResult e;
+                e.name = step.name;
+                e.metrics = last.passes[s].metrics;
+                e.source = step.inputs.at("source").key;
+                e.reference = step.inputs.at("reference").key;
+                if (!opt->html.empty()) {
+                    const DisplayTransform display(colorLoader(), "scene_linear", "", "", 0.0f, true);
+                    auto preview = [&](const std::string& key) -> std::string {
+                        const Image* img = nullptr;
+                        if (key.rfind("capture:", 0) == 0) {
+                            if (const Texture* t = source.cached(key.substr(8))) img = &t->image();
+                        } else if (auto it = sink.images.find(key); it != sink.images.end()) {
+                            img = &it->second;
+                        }
+                        return img ? base64(io::encodePng(display.apply(*img))) : std::string();
+                    };
+                    e.images.result = preview(e.source);
+                    e.images.truth = preview(e.reference);
+                    e.images.heat = preview(step.name + ".heat");
+                }
+                setting.errors.push_back(e);
+            }
+            result.settings.push_back(setting);
+        }
+        result.markPareto();
+
+        if (opt->json) {
+            std::cout << result.toJson().dump(2) << "\n";
+        } else {
+            std::cout << fmt::format("{} on {} (frame {}, {}×{}): median of {} runs after {} warm-up, "
+                                     "{} threads\n",
+                                     result.config, result.capture, result.frame,
+                                     result.extent.width, result.extent.height, result.runs,
+                                     result.warmup, result.threads);
+            for (const auto& s : result.settings) {
+                std::cout << fmt::format("{}: frame {:.2f} ms (min {:.2f}, max {:.2f})", s.label,
+                                         s.frame.median * 1e3, s.frame.min * 1e3, s.frame.max * 1e3);
+                if (s.hasError())
+                    std::cout << fmt::format(", RMSE {:.5g}{}", s.error(), s.pareto ? " [Pareto]" : "");
+                std::cout << "\n";
+                for (const auto& p : s.passes) {
+                    std::cout << fmt::format("  {:<24} {:>9.2f} ms  (min {:.2f}, max {:.2f})",
+                                             p.name, p.seconds.median * 1e3, p.seconds.min * 1e3,
+                                             p.seconds.max * 1e3);
+                    if (p.work) std::cout << fmt::format("  {:.2f} M{}/s", p.throughput() * 1e-6, p.unit);
+                    std::cout << "\n";
+                }
+                for (const auto& e : s.errors) {
+                    std::string m;
+                    for (const auto& [k, v] : e.metrics) m += fmt::format(" {}={:.5g}", k, v);
+                    std::cout << fmt::format("  {} ({} against {}):{}\n", e.name, e.source,
+                                             e.reference, m);
+                }
+            }
+        }
+        if (!opt->html.empty()) {
+            const auto parent = std::filesystem::path(opt->html).parent_path();
+            if (!parent.empty()) std::filesystem::create_directories(parent);
+            const std::string tmp = opt->html + ".tmp";
+            std::ofstream(tmp) << benchHtml(result);
+            std::filesystem::rename(tmp, opt->html);
+            if (!opt->json) std::cout << "wrote " << opt->html << "\n";
+        }
+        return 0;
+    };
+}
+
+}  // namespace fp::cli

@@ -1,0 +1,242 @@
+// The HTML bench report: one self-contained page (inline CSS, SVG and base64 PNGs) that opens
+// anywhere, including a farm's artefact browser with no network.
+#include "cli/BenchResult.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace fp::cli {
+
+namespace {
+
+std::string escape(const std::string& s) {
+    std::string out;
+    for (char c : s) {
+        switch (c) {
+        case '&': out += "&amp;"; break;
+        case '<': out += "&lt;"; break;
+        case '>': out += "&gt;"; break;
+        case '"': out += "&quot;"; break;
+        default: out += c;
+        }
+    }
+    return out;
+}
+
+std::string ms(double seconds) { return fmt::format("{:.2f}", seconds * 1e3); }
+
+std::string unitRate(double perSecond, const std::string& unit) {
+    const char* prefix = "";
+    double v = perSecond;
+    if (v >= 1e9) v /= 1e9, prefix = "G";
+    else if (v >= 1e6) v /= 1e6, prefix = "M";
+    else if (v >= 1e3) v /= 1e3, prefix = "k";
+    return fmt::format("{:.2f} {}{}/s", v, prefix, unit);
+}
+
+// "Nice" tick spacing for an axis covering [lo, hi].
+double tickStep(double lo, double hi) {
+    const double span = std::max(hi - lo, 1e-12);
+    const double raw = span / 5.0, mag = std::pow(10.0, std::floor(std::log10(raw)));
+    for (double m : {1.0, 2.0, 5.0, 10.0})
+        if (raw <= m * mag) return m * mag;
+    return 10.0 * mag;
+}
+
+// Time (x) against error (y), Pareto front joined; or frame time bars when nothing has an error.
+std::string plot(const BenchResult& r) {
+    const double W = 640, H = 360, L = 70, R = 20, T = 20, B = 50;
+    std::ostringstream svg;
+    svg << fmt::format(R"(<svg id="plot" xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" )"
+                       R"(viewBox="0 0 {} {}" role="img">)",
+                       W, H, W, H);
+    std::vector<const BenchSetting*> pts;
+    for (const auto& s : r.settings)
+        if (s.hasError()) pts.push_back(&s);
+    if (pts.empty()) {
+        // Bars: frame median per setting.
+        double top = 0;
+        for (const auto& s : r.settings) top = std::max(top, s.frame.max);
+        top = top > 0 ? top : 1;
+        const double bh = std::min(40.0, (H - T - B) / std::max<std::size_t>(1, r.settings.size()));
+        for (std::size_t i = 0; i < r.settings.size(); ++i) {
+            const auto& s = r.settings[i];
+            const double y = T + i * bh;
+            const double w = (W - L - R - 160) * s.frame.median / top;
+            svg << fmt::format(R"(<rect x="{}" y="{}" width="{:.1f}" height="{:.1f}" fill="#4a7fb0"/>)",
+                               L + 150, y + 4, w, bh - 8);
+            svg << fmt::format(R"(<text x="{}" y="{:.1f}" font-size="12" text-anchor="end">{}</text>)",
+                               L + 140, y + bh / 2 + 4, escape(s.label));
+            svg << fmt::format(R"(<text x="{:.1f}" y="{:.1f}" font-size="12">{} ms</text>)",
+                               L + 156 + w, y + bh / 2 + 4, ms(s.frame.median));
+        }
+        svg << "</svg>";
+        return svg.str();
+    }
+    double x0 = 1e300, x1 = -1e300, y0 = 0, y1 = -1e300;
+    for (const auto* s : pts) {
+        x0 = std::min(x0, s->frame.median * 1e3);
+        x1 = std::max(x1, s->frame.median * 1e3);
+        y1 = std::max(y1, s->error());
+    }
+    const double pad = std::max((x1 - x0) * 0.1, 0.05 * std::max(x1, 1e-3));
+    x0 = std::max(0.0, x0 - pad);
+    x1 += pad;
+    y1 = y1 > 0 ? y1 * 1.15 : 1.0;
+    auto X = [&](double v) { return L + (v - x0) / (x1 - x0) * (W - L - R); };
+    auto Y = [&](double v) { return H - B - (v - y0) / (y1 - y0) * (H - T - B); };
+    svg << fmt::format(R"(<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="#333"/>)", L, H - B, W - R, H - B);
+    svg << fmt::format(R"(<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="#333"/>)", L, T, L, H - B);
+    for (double t = std::ceil(x0 / tickStep(x0, x1)) * tickStep(x0, x1); t <= x1; t += tickStep(x0, x1))
+        svg << fmt::format(R"(<text x="{:.1f}" y="{}" font-size="11" text-anchor="middle">{:g}</text>)",
+                           X(t), H - B + 16, t);
+    for (double t = 0; t <= y1; t += tickStep(y0, y1))
+        svg << fmt::format(R"(<text x="{}" y="{:.1f}" font-size="11" text-anchor="end">{:.3g}</text>)"
+                           R"(<line x1="{}" x2="{}" y1="{:.1f}" y2="{:.1f}" stroke="#ddd"/>)",
+                           L - 6, Y(t) + 4, t, L, W - R, Y(t), Y(t));
+    svg << fmt::format(R"(<text x="{}" y="{}" font-size="12" text-anchor="middle">frame time, ms )"
+                       R"((median of {} runs)</text>)",
+                       (L + W - R) / 2, H - 12, r.runs);
+    svg << fmt::format(R"~(<text x="16" y="{}" font-size="12" text-anchor="middle" )~"
+                       R"~(transform="rotate(-90 16 {})">RMSE against truth</text>)~",
+                       (T + H - B) / 2, (T + H - B) / 2);
+    std::vector<const BenchSetting*> front;
+    for (const auto* s : pts)
+        if (s->pareto) front.push_back(s);
+    std::sort(front.begin(), front.end(),
+              [](auto* a, auto* b) { return a->frame.median < b->frame.median; });
+    std::string line;
+    for (const auto* s : front) line += fmt::format("{:.1f},{:.1f} ", X(s->frame.median * 1e3), Y(s->error()));
+    if (front.size() > 1)
+        svg << R"(<polyline fill="none" stroke="#d0702a" stroke-width="2" points=")" << line << "\"/>";
+    for (const auto* s : pts) {
+        const double px = X(s->frame.median * 1e3), py = Y(s->error());
+        const std::size_t index = std::size_t(s - r.settings.data()) + 1;
+        svg << fmt::format(R"(<circle cx="{:.1f}" cy="{:.1f}" r="5" fill="{}"><title>{}: {} ms, )"
+                           R"(RMSE {:.4g}</title></circle>)",
+                           px, py, s->pareto ? "#d0702a" : "#4a7fb0", escape(s->label),
+                           ms(s->frame.median), s->error());
+        svg << fmt::format(R"(<text x="{:.1f}" y="{:.1f}" font-size="11">{}</text>)", px + 7, py - 7,
+                           index);
+    }
+    svg << "</svg>";
+    return svg.str();
+}
+
+}  // namespace
+
+std::string benchHtml(const BenchResult& r) {
+    std::ostringstream h;
+    h << R"(<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>framepass bench</title>
+<style>
+body{font-family:system-ui,sans-serif;margin:24px;color:#222;max-width:1200px}
+table{border-collapse:collapse;margin:12px 0;font-size:13px}td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}
+th{background:#f2f2f2}td.l,th.l{text-align:left}tr.front td{background:#fff4ea}
+figure{display:inline-block;margin:0 12px 12px 0}figcaption{font-size:12px;color:#555}
+img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
+.meta{color:#555;font-size:13px}
+</style></head><body>
+)";
+    h << "<h1>framepass bench</h1>\n";
+    h << fmt::format("<p class=\"meta\">config <code>{}</code> · capture <code>{}</code> · frame {} "
+                     "· {}×{} · median of {} runs after {} warm-up · {} threads</p>\n",
+                     escape(r.config), escape(r.capture), r.frame, r.extent.width, r.extent.height,
+                     r.runs, r.warmup, r.threads);
+
+    // The table: one row per setting.
+    std::vector<std::string> passNames;
+    for (const auto& s : r.settings)
+        for (const auto& p : s.passes)
+            if (std::find(passNames.begin(), passNames.end(), p.name) == passNames.end())
+                passNames.push_back(p.name);
+    const bool anyError = std::any_of(r.settings.begin(), r.settings.end(),
+                                      [](const BenchSetting& s) { return s.hasError(); });
+    h << "<h2>Speed against error</h2>\n<table id=\"table\"><tr><th>#</th><th class=\"l\">setting</th>"
+         "<th>frame ms (min–max)</th>";
+    for (const auto& n : passNames) h << "<th>" << escape(n) << " ms</th>";
+    if (anyError) h << "<th>RMSE</th><th>relMSE</th><th>SMAPE</th><th>reference noise</th><th>Pareto</th>";
+    h << "</tr>\n";
+    for (const auto& s : r.settings) {
+        h << (s.pareto ? "<tr class=\"front\">" : "<tr>") << "<td>" << (&s - r.settings.data()) + 1
+          << "</td><td class=\"l\">" << escape(s.label)
+          << "</td>"
+          << fmt::format("<td>{} ({}–{})</td>", ms(s.frame.median), ms(s.frame.min), ms(s.frame.max));
+        for (const auto& n : passNames) {
+            auto it = std::find_if(s.passes.begin(), s.passes.end(),
+                                   [&](const PassTiming& p) { return p.name == n; });
+            h << "<td>" << (it == s.passes.end() ? "culled" : ms(it->seconds.median)) << "</td>";
+        }
+        if (anyError) {
+            if (s.hasError()) {
+                const auto& m = s.errors.front().metrics;
+                auto get = [&](const char* k) {
+                    auto it = m.find(k);
+                    return it == m.end() ? std::string("—") : fmt::format("{:.4g}", it->second);
+                };
+                h << "<td>" << get("rmse") << "</td><td>" << get("relMse") << "</td><td>"
+                  << get("smape") << "</td><td>" << get("referenceNoiseRmse") << "</td><td>"
+                  << (s.pareto ? "✓" : "") << "</td>";
+            } else {
+                h << "<td colspan=\"5\">no error measured</td>";
+            }
+        }
+        h << "</tr>\n";
+    }
+    h << "</table>\n";
+    if (anyError)
+        h << "<p class=\"meta\">Error: the first error_measure pass of the chain ("
+          << escape(r.settings.front().errors.empty() ? "" : r.settings.front().errors.front().name)
+          << "). Pareto: no other setting is both faster and more accurate.</p>\n";
+    h << plot(r) << "\n";
+
+    h << "<h2>Passes</h2>\n";
+    for (const auto& s : r.settings) {
+        h << "<details" << (&s == &r.settings.front() ? " open" : "") << "><summary>"
+          << escape(s.label) << "</summary><table><tr><th class=\"l\">pass</th><th class=\"l\">"
+                                 "type</th><th>median ms</th><th>min ms</th><th>max ms</th>"
+                                 "<th>throughput</th></tr>\n";
+        for (const auto& p : s.passes)
+            h << "<tr><td class=\"l\">" << escape(p.name) << "</td><td class=\"l\">" << escape(p.type)
+              << "</td><td>" << ms(p.seconds.median) << "</td><td>" << ms(p.seconds.min)
+              << "</td><td>" << ms(p.seconds.max) << "</td><td>"
+              << (p.work ? unitRate(p.throughput(), p.unit) : std::string("—")) << "</td></tr>\n";
+        h << "</table></details>\n";
+    }
+
+    // Images of the settings on the Pareto front (of every setting when none has an error).
+    bool imagesHeader = false;
+    for (const auto& s : r.settings)
+        for (const auto& e : s.errors) {
+            if (anyError && !s.pareto) continue;
+            if (e.images.result.empty() && e.images.truth.empty() && e.images.heat.empty()) continue;
+            if (!imagesHeader) h << "<h2>Images</h2>\n";
+            imagesHeader = true;
+            h << "<h3>" << escape(s.label) << " · " << escape(e.name) << "</h3><div>";
+            auto fig = [&](const std::string& png, const std::string& caption) {
+                if (png.empty()) return;
+                h << "<figure><img alt=\"" << escape(caption) << "\" src=\"data:image/png;base64,"
+                  << png << "\"><figcaption>" << escape(caption) << "</figcaption></figure>";
+            };
+            fig(e.images.result, "result: " + e.source);
+            fig(e.images.truth, "truth: " + e.reference);
+            fig(e.images.heat, "|error| heat map (viridis, grey = sky)");
+            h << "</div>\n";
+        }
+
+    // Lets a headless browser (and the test) confirm the page really rendered.
+    h << R"(<script>
+window.addEventListener('load', () => {
+  const imgs = [...document.images];
+  const ok = imgs.every(i => i.complete && i.naturalWidth > 0) && document.getElementById('plot');
+  document.body.setAttribute('data-rendered', ok ? 'ok' : 'broken');
+  document.body.setAttribute('data-images', String(imgs.length));
+});
+</script></body></html>
+)";
+    return h.str();
+}
+
+}  // namespace fp::cli

@@ -1,0 +1,60 @@
+#include "cli/BenchResult.h"
+
+#include <algorithm>
+
+namespace fp::cli {
+
+TimingStats TimingStats::of(std::vector<double> s) {
+    TimingStats t;
+    if (s.empty()) return t;
+    std::sort(s.begin(), s.end());
+    const std::size_t n = s.size();
+    t.median = n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
+    t.min = s.front();
+    t.max = s.back();
+    return t;
+}
+
+void BenchResult::markPareto() {
+    for (auto& a : settings) {
+        a.pareto = a.hasError();
+        if (!a.pareto) continue;
+        for (const auto& b : settings) {
+            if (&a == &b || !b.hasError()) continue;
+            const bool noWorse = b.frame.median <= a.frame.median && b.error() <= a.error();
+            const bool better = b.frame.median < a.frame.median || b.error() < a.error();
+            if (noWorse && better) a.pareto = false;
+        }
+    }
+}
+
+nlohmann::json BenchResult::toJson() const {
+    nlohmann::json j = {{"config", config}, {"capture", capture}, {"frame", frame},
+                        {"width", extent.width}, {"height", extent.height}, {"runs", runs},
+                        {"warmup", warmup}, {"threads", threads}, {"sweeps", sweeps}};
+    j["settings"] = nlohmann::json::array();
+    for (const auto& s : settings) {
+        nlohmann::json sj = {{"label", s.label},
+                             {"frameSeconds",
+                              {{"median", s.frame.median}, {"min", s.frame.min}, {"max", s.frame.max}}}};
+        sj["passes"] = nlohmann::json::array();
+        for (const auto& p : s.passes)
+            sj["passes"].push_back({{"name", p.name},
+                                    {"type", p.type},
+                                    {"median", p.seconds.median},
+                                    {"min", p.seconds.min},
+                                    {"max", p.seconds.max},
+                                    {"unit", p.unit},
+                                    {"work", p.work},
+                                    {"throughput", p.throughput()}});
+        sj["errors"] = nlohmann::json::array();
+        for (const auto& e : s.errors)
+            sj["errors"].push_back({{"name", e.name}, {"source", e.source},
+                                    {"reference", e.reference}, {"metrics", e.metrics}});
+        if (s.hasError()) sj["pareto"] = s.pareto;
+        j["settings"].push_back(sj);
+    }
+    return j;
+}
+
+}  // namespace fp::cli

@@ -1,0 +1,64 @@
+#pragma once
+// What `framepass bench` measured: per setting of the sweep grid, each pass's wall times over the
+// runs (median, min, max, throughput in the pass's own unit), the frame's, and what every
+// error_measure pass reported. Printed as a table, written as JSON or as an HTML report.
+#include "passes/core/Image.h"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace fp::cli {
+
+struct TimingStats {
+    double median = 0, min = 0, max = 0;
+    static TimingStats of(std::vector<double> seconds);
+};
+
+struct PassTiming {
+    std::string name, type, unit;  //!< unit: the work counter that measures throughput
+    uint64_t work = 0;             //!< of one run
+    TimingStats seconds;
+    double throughput() const { return seconds.median > 0 ? double(work) / seconds.median : 0; }
+};
+
+struct ErrorImages {
+    std::string result, truth, heat;  //!< PNG files as base64 (empty when not available)
+};
+
+struct ErrorNodeResult {
+    std::string name, source, reference;
+    std::map<std::string, double> metrics;  //!< rmse, relMse, ... (ErrorMetrics.h)
+    ErrorImages images;
+};
+
+struct BenchSetting {
+    std::string label;  //!< "r.SSGI.Quality=2 ssgi.halfRes=true", or "default"
+    std::vector<PassTiming> passes;
+    TimingStats frame;  //!< all passes of the frame, inputs cached in memory
+    std::vector<ErrorNodeResult> errors;
+    bool pareto = false;  //!< no other setting is both faster and more accurate
+    /// The error the speed-against-error table sorts by: the first error node's RMSE.
+    bool hasError() const { return !errors.empty() && errors.front().metrics.count("rmse"); }
+    double error() const { return errors.front().metrics.at("rmse"); }
+};
+
+struct BenchResult {
+    std::string config, capture;
+    int64_t frame = 0;
+    Extent extent;
+    int runs = 0, warmup = 0, threads = 0;
+    std::vector<std::string> sweeps;  //!< as given: NAME=V1,V2
+    std::vector<BenchSetting> settings;
+
+    /// Marks the settings on the Pareto front of (frame median time, error).
+    void markPareto();
+    nlohmann::json toJson() const;
+};
+
+/// A self-contained HTML page: the table, an SVG plot of time against error, the images.
+std::string benchHtml(const BenchResult& result);
+
+}  // namespace fp::cli

@@ -1,0 +1,88 @@
+#include "passes/metrics/ErrorMeasurePass.h"
+
+#include "passes/core/Error.h"
+#include "passes/metrics/ErrorMetrics.h"
+#include "passes/metrics/Heatmap.h"
+
+#include <limits>
+#include <optional>
+
+namespace fp {
+
+namespace {
+constexpr const char* kSource = "source";
+constexpr const char* kReference = "reference";
+constexpr const char* kReferenceStdErr = "referenceStdErr";
+constexpr const char* kDepth = "depth";
+constexpr const char* kHeat = "heat";
+constexpr const char* kAbsError = "absError";
+}  // namespace
+
+ParamSpec<ErrorMeasureParams> ErrorMeasurePass::paramSpec() {
+    ParamSpec<ErrorMeasureParams> s;
+    s.add("tolerance", &Params::tolerance, "relative tolerance for the over-tolerance fraction")
+        .range(0, 1e6);
+    s.add("skyDistance", &Params::skyDistance, "depths at or beyond this are sky; 0 = only +inf")
+        .range(0, 1e30);
+    s.add("heatScale", &Params::heatScale, "|error| at the top of the heat map; 0 = 99th percentile")
+        .range(0, 1e30);
+    return s;
+}
+
+PassIO ErrorMeasurePass::describe() const {
+    PassIO io;
+    io.inputs = {
+        {kSource, {}, PortKind::Data, false, "", "the result to measure (any pass output)"},
+        {kReference, {}, PortKind::Data, false, "", "the reference, e.g. capture:Truth.AO"},
+        {kReferenceStdErr, {}, PortKind::Data, true, "",
+         "the reference's standard error (capture:Truth.<Name>.StdErr): reports its noise floor"},
+        {kDepth, {"Z"}, PortKind::Data, true, "capture:SceneDepth", "sky pixels are left out"},
+    };
+    io.outputs = {
+        {kHeat, {"R", "G", "B"}, PortKind::Color, false, "", "|error| as a viridis heat map"},
+        {kAbsError, {"Y"}, PortKind::Data, false, "", "per-pixel mean |error| over the channels"},
+    };
+    return io;
+}
+
+void ErrorMeasurePass::execute(PassContext& ctx) {
+    const Image& a = ctx.input(kSource)->image();
+    const Image& b = ctx.input(kReference)->image();
+    const Texture* sigma = ctx.input(kReferenceStdErr);
+    const Texture* depth = ctx.input(kDepth);
+    std::optional<Image> mask;
+    if (depth) {
+        const float sky = mParams.skyDistance > 0.0f ? mParams.skyDistance
+                                                     : std::numeric_limits<float>::infinity();
+        mask = notSkyMask(depth->image(), sky);
+    }
+    Image absError(a.width(), a.height(), {"Y"});
+    ErrorInputs in;
+    in.result = &a;
+    in.reference = &b;
+    in.referenceStdErr = sigma ? &sigma->image() : nullptr;
+    in.mask = mask ? &*mask : nullptr;
+    in.tolerance = mParams.tolerance;
+    const ErrorStats s = measureError(in, &absError);
+
+    ctx.addMetric("rmse", s.rmse);
+    ctx.addMetric("relMse", s.relMse);
+    ctx.addMetric("smape", s.smape);
+    ctx.addMetric("mae", s.mae);
+    ctx.addMetric("bias", s.bias);
+    ctx.addMetric("maxError", s.maxError);
+    ctx.addMetric("overTolerance", s.overTolerance);
+    if (s.noiseRmse) ctx.addMetric("referenceNoiseRmse", *s.noiseRmse);
+    ctx.addWork("pixels", s.pixels);
+    ctx.addWork("skippedPixels", s.maskedPixels);
+
+    if (ctx.isRequested(kHeat)) {
+        const float scale = mParams.heatScale > 0.0f ? mParams.heatScale : heatScale(absError, in.mask);
+        ctx.output(kHeat, {{a.width(), a.height()}}).image() = heatmap(absError, in.mask, scale);
+        ctx.addMetric("heatScale", scale);
+    }
+    if (ctx.isRequested(kAbsError))
+        ctx.output(kAbsError, {{a.width(), a.height()}}).image() = std::move(absError);
+}
+
+}  // namespace fp
