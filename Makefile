@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 DEBIAN_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimageio-tools \
     libopenexr-dev libopencolorio-dev libembree-dev libtbb-dev libcli11-dev nlohmann-json3-dev \
-    doctest-dev libfmt-dev libtinygltf-dev libtinyobjloader-dev
+    doctest-dev libfmt-dev libtinygltf-dev libtinyobjloader-dev chromium
 FRAMEPASS = $(BUILD_DIR)/cli/framepass
 
 .PHONY: demo test deps build
@@ -26,9 +26,13 @@ build: deps
 
 demo: build
 	rm -rf out/demo
-	$(FRAMEPASS) capture examples/cornell/scene.json -o out/demo/cornell.exr
+	$(FRAMEPASS) capture examples/cornell/scene.json -o out/demo/cornell.exr --truth
 	$(FRAMEPASS) plan examples/cornell/config.json
 	$(FRAMEPASS) run examples/cornell/config.json -o out/demo --report out/demo/report.json
+	$(FRAMEPASS) compare out/demo/cornell.exr out/demo/cornell.exr --layer Truth.DiffuseIndirectOneBounce \
+	    --ref-layer Truth.DiffuseIndirectFull --heatmap out/demo/one_bounce_error.exr
+	$(FRAMEPASS) bench examples/cornell/bench.json --sweep hzb.halfPrecision=false,true \
+	    --html out/demo/bench.html | grep -v '^Progress'
 	@echo "framepass wrote:"; find out/demo -type f | sort | sed 's/^/  /'
 
 test: build

@@ -4,11 +4,14 @@
 #include "io/FramePattern.h"
 #include "io/SceneLoader.h"
 #include "passes/capture/GBufferRenderer.h"
+#include "passes/metrics/ErrorMetrics.h"
 #include "passes/reference/TruthRenderer.h"
 #include "passes/core/Error.h"
 #include "passes/core/SemanticBuffers.h"
 
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <iostream>
 
 namespace fp::cli {
@@ -102,9 +105,18 @@ Command addCaptureCommand(CLI::App& app) {
                 const double st = seconds(tt);
                 truthLine = fmt::format("; truth {} spp in {:.2f} s ({:.2f} Mrays/s)", opt->truthSpp,
                                         st, truth.rays / st * 1e-6);
-                for (const auto& name : truth.names)
+                // How noisy the reference is, layer by layer, over the pixels that are not sky.
+                const Image mask = notSkyMask(result.buffers.at("SceneDepth"),
+                                              std::numeric_limits<float>::infinity());
+                for (const auto& name : truth.names) {
                     for (const std::string& layer : {name, name + ".StdErr"})
                         parts.push_back({layer, {{layer, &truth.layers.at(layer), false}}});
+                    const double rel = medianRelativeStdErr(
+                        truth.layers.at(name), truth.layers.at(name + ".StdErr"), &mask);
+                    truthLine += fmt::format("\n  {:<34} median relative standard error {}", name,
+                                             std::isnan(rel) ? std::string("— (all zero)")
+                                                             : fmt::format("{:.2f} %", 100.0 * rel));
+                }
                 meta.strings["framepass:truthSamplesPerPixel"] = std::to_string(opt->truthSpp);
                 meta.strings["framepass:truthAoRadius"] = fmt::format("{}", ts.aoRadius);
             }

@@ -3,7 +3,7 @@
 # counts and reruns, exit codes and error messages. Usage: cli_test.sh FRAMEPASS SOURCE_DIR SCRATCH
 set -u
 FP="$1"; SRC="$2"; DIR="$3/cli"
-rm -rf "$DIR"; mkdir -p "$DIR"
+rm -rf "$DIR"; mkdir -p "$DIR"; DIR="$(cd "$DIR" && pwd)"  # absolute: file:// URLs need it
 passed=0; failed=0
 check() {  # check NAME COMMAND...
     local name="$1"; shift
@@ -55,6 +55,28 @@ check "outputs never overwrite an input" bash -c "cp '$DIR/cornell.exr' '$DIR/fi
 { \"version\": 1, \"capture\": \"final.0001.png\" }
 J
 ! '$FP' run '$DIR/self.json' -o '$DIR' >/dev/null 2>&1; cmp '$DIR/cornell.exr' '$DIR/final.0001.png'"
+
+# --- truth, compare, error_measure, bench (issue 3) ---------------------------------------------
+check "capture --truth adds Truth.* layers with standard errors" bash -c "'$FP' capture '$SRC/examples/cornell/scene.json' -o '$DIR/truth.exr' --width 48 --height 48 --truth --truth-spp 8 | grep -q 'truth 8 spp' && '$FP' inspect '$DIR/truth.exr' | grep -q 'Truth.DiffuseIndirectFull.StdErr.R' && '$FP' inspect '$DIR/truth.exr' | grep -q 'Truth.Shadow.ceiling.Y'"
+check "the same seed gives the same truth, byte for byte, on 1 or 2 threads" bash -c "'$FP' --threads 1 capture '$SRC/examples/cornell/scene.json' -o '$DIR/truth1.exr' --width 48 --height 48 --truth --truth-spp 8 >/dev/null && cmp '$DIR/truth.exr' '$DIR/truth1.exr'"
+check "compare of a layer with itself is exact" bash -c "'$FP' compare '$DIR/truth.exr' '$DIR/truth.exr' --layer Truth.AO --json > '$DIR/self.json.out' && grep -q '\"rmse\": 0.0' '$DIR/self.json.out' && grep -q '\"maxError\": 0.0' '$DIR/self.json.out'"
+check "compare reports the reference's noise floor and writes a heat map" bash -c "'$FP' compare '$DIR/truth.exr' '$DIR/truth.exr' --layer Truth.DiffuseIndirectOneBounce --ref-layer Truth.DiffuseIndirectFull --heatmap '$DIR/heat.exr' > '$DIR/cmp.txt' && grep -q 'reference noise' '$DIR/cmp.txt' && test -s '$DIR/heat.png' && '$FP' inspect '$DIR/heat.exr' | grep -q 'Heat.R'"
+check "compare names the layers when one is missing" expect_exit 2 "did you mean 'Truth.AO'?" "$FP" compare "$DIR/truth.exr" "$DIR/truth.exr" --layer Truth.A0
+check "compare --max-rmse fails a comparison above it" expect_exit 1 "above --max-rmse" "$FP" compare "$DIR/truth.exr" "$DIR/truth.exr" --layer Truth.DiffuseIndirectOneBounce --ref-layer Truth.DiffuseIndirectFull --max-rmse 0.000001
+cat > "$DIR/bench.json" <<JSON
+{ "version": 1, "capture": "truth.exr",
+  "passes": [ { "name": "hzb", "type": "hzb" },
+              { "name": "limit", "type": "error_measure",
+                "inputs": { "source": "capture:Truth.DiffuseIndirectOneBounce",
+                            "reference": "capture:Truth.DiffuseIndirectFull",
+                            "referenceStdErr": "capture:Truth.DiffuseIndirectFull.StdErr" } } ],
+  "outputs": { "hzb.####.exr": "hzb.furthest", "limit.####.exr": ["limit.heat", "limit.absError"] } }
+JSON
+check "run reports error_measure's metrics next to its time" bash -c "'$FP' run '$DIR/bench.json' -o '$DIR/b' --report '$DIR/b.json' | grep -q 'rmse=' && grep -q '\"referenceNoiseRmse\"' '$DIR/b.json'"
+check "error_measure and compare agree on the RMSE" bash -c "a=\$('$FP' compare '$DIR/truth.exr' '$DIR/truth.exr' --layer Truth.DiffuseIndirectOneBounce --ref-layer Truth.DiffuseIndirectFull --json | grep '\"rmse\"' | tr -dc '0-9.e-'); b=\$(grep '\"rmse\"' '$DIR/b.json' | head -1 | tr -dc '0-9.e-'); [ -n \"\$a\" ] && [ \"\$a\" = \"\$b\" ]"
+check "bench reports medians, throughput and a Pareto front over a sweep grid" bash -c "'$FP' bench '$DIR/bench.json' --runs 3 --warmup 1 --sweep hzb.halfPrecision=false,true --sweep r.SSGI.LeakFreeReprojection=0..1 --json > '$DIR/bench.out' && [ \$(grep -c '\"label\"' '$DIR/bench.out') = 4 ] && grep -q '\"throughput\"' '$DIR/bench.out' && grep -q '\"pareto\": true' '$DIR/bench.out'"
+check "bench rejects a malformed sweep" expect_exit 2 "--sweep hzb.halfPrecision: expected NAME=V1,V2" "$FP" bench "$DIR/bench.json" --sweep hzb.halfPrecision
+check "bench --html writes a report that renders in headless Chromium" bash -c "'$FP' bench '$DIR/bench.json' --runs 2 --sweep hzb.halfPrecision=false,true --html '$DIR/bench.html' >/dev/null && timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --dump-dom 'file://$DIR/bench.html' 2>/dev/null > '$DIR/dom.html' && grep -q 'data-rendered=\"ok\"' '$DIR/dom.html' && grep -q 'data-images=\"[3-9]' '$DIR/dom.html' && grep -q '<circle' '$DIR/dom.html'"
 
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]
