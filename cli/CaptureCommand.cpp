@@ -22,7 +22,7 @@ Command addCaptureCommand(CLI::App& app) {
         int width = 0, height = 0, lightSamples = 16;
         int64_t frame = 1;
         bool truth = false;
-        int truthSpp = 64;
+        int truthSpp = 256;
         double aoRadiusMeters = 1.0;
     };
     auto opt = std::make_shared<Options>();
@@ -43,7 +43,7 @@ Command addCaptureCommand(CLI::App& app) {
         ->check(CLI::Range(1, 4096));
     sub->add_flag("--truth", opt->truth, "add Truth.* layers (and their .StdErr) from the "
                                           "reference path tracer");
-    sub->add_option("--truth-spp", opt->truthSpp, "reference samples per pixel (default 64)")
+    sub->add_option("--truth-spp", opt->truthSpp, "reference samples per pixel (default 256)")
         ->check(CLI::Range(1, 1 << 20));
     sub->add_option("--truth-ao-radius", opt->aoRadiusMeters,
                     "Truth.AO radius in metres (default 1)")

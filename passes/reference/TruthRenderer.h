@@ -30,7 +30,7 @@ namespace fp {
 
 struct TruthSettings {
     int64_t frame = 1;        //!< absolute frame number (seeds every pixel's samples)
-    int samplesPerPixel = 64;
+    int samplesPerPixel = 256;
     double aoRadius = 100.0;  //!< scene units
     int maxBounces = 256;
 };
