@@ -211,6 +211,23 @@ TEST_CASE("an unbound optional input is accepted; channel counts must match") {
           std::string::npos);
 }
 
+TEST_CASE("truth layers bind with the channel count the capture header gives them") {
+    PlanInputs in;
+    in.truthChannels = {{"Truth.AO", 1}, {"Truth.DiffuseIndirectFull", 3}};
+    const Plan plan = makePlan(graph({node("d", "color_reader", {{"extra", "capture:Truth.AO"}})},
+                                     {"d.out"}),
+                               fakeRegistry(), in);
+    bool read = false;
+    for (const auto& r : plan.captureReads)
+        if (r.buffer == "Truth.AO") read = r.channels == 1 && r.kind == PortKind::Data;
+    CHECK(read);
+    const std::string err = planError(
+        graph({node("d", "color_reader", {{"extra", "capture:Truth.DiffuseIndirectFull"}})}, {"d.out"}),
+        in);
+    CHECK(err.find("'capture:Truth.DiffuseIndirectFull' has 3 channels, the input needs 1") !=
+          std::string::npos);
+}
+
 TEST_CASE("--set overrides config params, and its errors name the flag") {
     auto g = graph({node("a", "depth_reader", {}, {{"quality", 2}})}, {"a.out"});
     PlanInputs in;
