@@ -90,10 +90,11 @@ std::string plot(const BenchResult& r) {
     auto Y = [&](double v) { return H - B - (v - y0) / (y1 - y0) * (H - T - B); };
     svg << fmt::format(R"(<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="#333"/>)", L, H - B, W - R, H - B);
     svg << fmt::format(R"(<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="#333"/>)", L, T, L, H - B);
-    for (double t = std::ceil(x0 / tickStep(x0, x1)) * tickStep(x0, x1); t <= x1; t += tickStep(x0, x1))
+    const double xStep = tickStep(x0, x1), yStep = tickStep(y0, y1);
+    for (double t = std::ceil(x0 / xStep) * xStep; t <= x1; t += xStep)
         svg << fmt::format(R"(<text x="{:.1f}" y="{}" font-size="11" text-anchor="middle">{:g}</text>)",
                            X(t), H - B + 16, t);
-    for (double t = 0; t <= y1; t += tickStep(y0, y1))
+    for (double t = 0; t <= y1; t += yStep)
         svg << fmt::format(R"(<text x="{}" y="{:.1f}" font-size="11" text-anchor="end">{:.3g}</text>)"
                            R"(<line x1="{}" x2="{}" y1="{:.1f}" y2="{:.1f}" stroke="#ddd"/>)",
                            L - 6, Y(t) + 4, t, L, W - R, Y(t), Y(t));

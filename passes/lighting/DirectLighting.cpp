@@ -119,7 +119,7 @@ Vec3f DirectLighting::shade(const SurfacePoint& s, Rng& rng, uint64_t& shadowRay
             if (n > 1 || light.type == LightType::Rect) stratified(k, n, rng, u, v);
             const LightSample ls = sample(light, s, u, v);
             const float NoL = dot(s.normal, ls.L);
-            if (NoL <= 0.0f || ls.irradiance.x + ls.irradiance.y + ls.irradiance.z <= 0.0f) continue;
+            if (NoL <= 0.0f || !ls.reaches()) continue;
             ++shadowRays;
             if (!visible(s, ls)) continue;
             sum += s.brdf.evaluate(s.normal, s.toViewer, ls.L) * ls.irradiance * NoL;

@@ -33,6 +33,10 @@ struct LightSample {
     Vec3f irradiance;         //!< unshadowed, at normal incidence; zero when the light misses P
     Vec3f shadowDir;          //!< unit direction of the shadow ray (towards the sampled point)
     float shadowDistance = 0; //!< where the shadow ray stops (infinite for directional lights)
+
+    /// False when the light sends nothing to the point (behind a rect light, outside a spot's
+    /// cone): no shadow ray is worth tracing.
+    bool reaches() const { return irradiance.x + irradiance.y + irradiance.z > 0.0f; }
 };
 
 class DirectLighting {

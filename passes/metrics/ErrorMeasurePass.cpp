@@ -65,14 +65,7 @@ void ErrorMeasurePass::execute(PassContext& ctx) {
     in.tolerance = mParams.tolerance;
     const ErrorStats s = measureError(in, &absError);
 
-    ctx.addMetric("rmse", s.rmse);
-    ctx.addMetric("relMse", s.relMse);
-    ctx.addMetric("smape", s.smape);
-    ctx.addMetric("mae", s.mae);
-    ctx.addMetric("bias", s.bias);
-    ctx.addMetric("maxError", s.maxError);
-    ctx.addMetric("overTolerance", s.overTolerance);
-    if (s.noiseRmse) ctx.addMetric("referenceNoiseRmse", *s.noiseRmse);
+    for (const auto& [name, value] : s.figures()) ctx.addMetric(name, value);
     ctx.addWork("pixels", s.pixels);
     ctx.addWork("skippedPixels", s.maskedPixels);
 

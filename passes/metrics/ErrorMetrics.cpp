@@ -22,15 +22,20 @@ struct Sums {
 
 }  // namespace
 
+std::map<std::string, double> ErrorStats::figures() const {
+    std::map<std::string, double> f = {{"rmse", rmse}, {"relMse", relMse},     {"smape", smape},
+                                       {"mae", mae},   {"bias", bias},         {"maxError", maxError},
+                                       {"overTolerance", overTolerance}};
+    if (noiseRmse) f["referenceNoiseRmse"] = *noiseRmse;
+    return f;
+}
+
 nlohmann::json ErrorStats::toJson() const {
-    nlohmann::json j = {{"pixels", pixels}, {"maskedPixels", maskedPixels}, {"rmse", rmse},
-                        {"relMse", relMse}, {"smape", smape},       {"mae", mae},
-                        {"bias", bias},     {"maxError", maxError}, {"tolerance", tolerance},
-                        {"overTolerance", overTolerance}};
-    if (noiseRmse) {
-        j["referenceNoiseRmse"] = *noiseRmse;
-        j["noiseLimited"] = noiseLimited();
-    }
+    nlohmann::json j = figures();
+    j["pixels"] = pixels;
+    j["maskedPixels"] = maskedPixels;
+    j["tolerance"] = tolerance;
+    if (noiseRmse) j["noiseLimited"] = noiseLimited();
     return j;
 }
 

@@ -13,7 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <map>
 #include <optional>
+#include <string>
 
 namespace fp {
 
@@ -29,6 +31,9 @@ struct ErrorStats {
 
     /// True when the measured error is within twice the reference's noise.
     bool noiseLimited() const { return noiseRmse && rmse <= 2.0 * *noiseRmse; }
+    /// The figures by name (rmse, relMse, ..., referenceNoiseRmse when known): what compare's
+    /// JSON and error_measure's report share.
+    std::map<std::string, double> figures() const;
     nlohmann::json toJson() const;
 };
 

@@ -92,13 +92,13 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
     std::vector<Target> shadowT;
     for (const auto& n : shadowNames) shadowT.push_back(target(n));
 
-    std::atomic<uint64_t> samples{0}, rays{0};
+    std::atomic<uint64_t> rays{0};
     std::atomic<int> tilesDone{0};
     const int tilesTotal = ((W + kTileSize - 1) / kTileSize) * ((H + kTileSize - 1) / kTileSize);
     std::mutex progressMutex;
 
     forEachTile(W, H, [&](const Tile& t) {
-        uint64_t tileRays = 0, tileSamples = 0;
+        uint64_t tileRays = 0;
         std::vector<PixelStats> shadow(lights.size());
         std::vector<float> punctualVisibility(lights.size());
         for (int py = t.y0; py < t.y1; ++py)
@@ -129,9 +129,8 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                             continue;
                         }
                         const LightSample ls = lighting.sample(lights[l], s, lu, lv);
-                        const Vec3f& e = ls.irradiance;
                         float vis = 0.0f;
-                        if (e.x + e.y + e.z > 0.0f) {
+                        if (ls.reaches()) {
                             ++tileRays;
                             vis = lighting.visible(s, ls) ? 1.0f : 0.0f;
                         }
@@ -139,7 +138,6 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                         shadow[l].add(vis);
                     }
                 }
-                tileSamples += uint64_t(N);
                 one.store(*oneT.mean, *oneT.stdErr, px, py, N);
                 full.store(*fullT.mean, *fullT.stdErr, px, py, N);
                 ao.store(*aoT.mean, *aoT.stdErr, px, py, N);
@@ -147,7 +145,6 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                 for (std::size_t l = 0; l < lights.size(); ++l)
                     shadow[l].store(*shadowT[l].mean, *shadowT[l].stdErr, px, py, N);
             }
-        samples += tileSamples;
         rays += tileRays;
         const int done = ++tilesDone;
         if (progress) {
@@ -155,7 +152,6 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
             progress(done, tilesTotal);
         }
     });
-    result.samples = samples;
     result.rays = rays;
     return result;
 }

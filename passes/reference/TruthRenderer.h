@@ -38,7 +38,7 @@ struct TruthSettings {
 struct TruthResult {
     std::map<std::string, Image> layers;  //!< "Truth.<Name>" and "Truth.<Name>.StdErr"
     std::vector<std::string> names;       //!< the truth layers in order, without .StdErr
-    uint64_t samples = 0, rays = 0;
+    uint64_t rays = 0;
 };
 
 class TruthRenderer {
