@@ -174,20 +174,7 @@ Command addBenchCommand(CLI::App& app) {
         result.sweeps = opt->sweeps;
         result.threads = int(tbb::global_control::active_value(
             tbb::global_control::max_allowed_parallelism));
-        OCIO_NAMESPACE::ConstConfigRcPtr colorConfig;
-        auto colorLoader = [&]() {
-            if (!colorConfig) colorConfig = io::loadColorConfig(probe.ocioConfig);
-            return colorConfig;
-        };
-        std::optional<io::SceneFile> scene;
-        auto sceneLoader = [&]() -> const io::SceneFile& {
-            if (!scene) {
-                FP_CHECK(!probe.scene.empty(), "{}: /scene: a pass needs geometry; name the scene JSON",
-                         opt->session.config);
-                scene = io::loadScene(probe.scene);
-            }
-            return *scene;
-        };
+        SessionInputs inputs(opt->session.config, probe);  // shared by every setting
 
         const int totalRuns = int(grid.size()) * (opt->warmup + opt->runs);
         int runsDone = 0;
@@ -201,12 +188,7 @@ Command addBenchCommand(CLI::App& app) {
             const RunSession session(so);
             const Plan& plan = session.plan();
             const int frame = session.frames().front();
-            io::CaptureSource::Options co;
-            co.path = session.capturePath(frame);
-            co.frame = frame;
-            co.cameraSidecar = session.cameraPath(frame);
-            co.scene = sceneLoader;
-            co.colorConfig = colorLoader;
+            const io::CaptureSource::Options co = session.captureOptions(frame, inputs);
             io::CaptureSource capture(co, session.profile());
             CachedSource source(capture);
             KeepingSink sink;
@@ -244,7 +226,7 @@ Command addBenchCommand(CLI::App& app) {
                 e.source = step.inputs.at("source").key;
                 e.reference = step.inputs.at("reference").key;
                 if (!opt->html.empty()) {
-                    const DisplayTransform display(colorLoader(), "scene_linear", "", "", 0.0f, true);
+                    const DisplayTransform display(inputs.colorConfig(), "scene_linear", "", "", 0.0f, true);
                     auto preview = [&](const std::string& key) -> std::string {
                         const Image* img = nullptr;
                         if (key.rfind("capture:", 0) == 0) {

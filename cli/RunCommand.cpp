@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <optional>
 
 namespace fp::cli {
 
@@ -40,35 +39,12 @@ Command addRunCommand(CLI::App& app) {
         for (int f : session.frames()) wo.protectedPaths.insert(session.capturePath(f));
         io::OutputWriter writer(wo);
 
-        // The scene file is parsed once, on first use, and only if a live pass needs geometry.
-        std::optional<io::SceneFile> scene;
-        auto sceneLoader = [&]() -> const io::SceneFile& {
-            if (!scene) {
-                if (session.config().scene.empty())
-                    throw UsageError(fmt::format("{}: /scene: a pass needs geometry; name the "
-                                                 "scene JSON",
-                                                 opt->session.config));
-                scene = io::loadScene(session.config().scene);
-            }
-            return *scene;
-        };
-
-        // Likewise the OCIO config: parsed once for the whole run, if a pass asks for it.
-        OCIO_NAMESPACE::ConstConfigRcPtr colorConfig;
-        auto colorLoader = [&]() {
-            if (!colorConfig) colorConfig = io::loadColorConfig(session.config().ocioConfig);
-            return colorConfig;
-        };
+        SessionInputs inputs(opt->session.config, session.config());
 
         nlohmann::json report = {{"config", opt->session.config}, {"frames", nlohmann::json::array()}};
         const auto& frames = session.frames();
         for (std::size_t i = 0; i < frames.size(); ++i) {
-            io::CaptureSource::Options so;
-            so.path = session.capturePath(frames[i]);
-            so.frame = frames[i];
-            so.cameraSidecar = session.cameraPath(frames[i]);
-            so.scene = sceneLoader;
-            so.colorConfig = colorLoader;
+            io::CaptureSource::Options so = session.captureOptions(frames[i], inputs);
             so.strict = opt->strict;
             so.firstInSequence = i == 0;
             io::CaptureSource source(so, session.profile());

@@ -81,6 +81,16 @@ std::string RunSession::capturePath(int frame) const {
     return io::FramePattern(mConfig.capture).path(frame);
 }
 
+io::CaptureSource::Options RunSession::captureOptions(int frame, SessionInputs& inputs) const {
+    io::CaptureSource::Options o;
+    o.path = capturePath(frame);
+    o.frame = frame;
+    o.cameraSidecar = cameraPath(frame);
+    o.scene = [&inputs]() -> const io::SceneFile& { return inputs.scene(); };
+    o.colorConfig = [&inputs]() { return inputs.colorConfig(); };
+    return o;
+}
+
 std::string RunSession::cameraPath(int frame) const {
     return mConfig.camera.empty() ? "" : io::FramePattern(mConfig.camera).path(frame);
 }

@@ -1,7 +1,9 @@
 #pragma once
 // What `plan` and `run` share: the config with the command line applied, the frames to process
 // and the plan, made after reading only the first capture's header.
+#include "cli/SessionInputs.h"
 #include "io/CaptureProfile.h"
+#include "io/CaptureSource.h"
 #include "io/ConfigLoader.h"
 #include "passes/core/Planner.h"
 
@@ -34,6 +36,8 @@ public:
     const std::vector<int>& frames() const { return mFrames; }
     std::string capturePath(int frame) const;
     std::string cameraPath(int frame) const;
+    /// How to open `frame`'s capture, with scene and OCIO config coming from `inputs`.
+    io::CaptureSource::Options captureOptions(int frame, SessionInputs& inputs) const;
     /// Size of the first frame (0×0 when its capture does not exist yet).
     Extent extent() const { return mExtent; }
 
