@@ -13,14 +13,7 @@ using namespace fp;
 
 namespace {
 
-Material lambert(float albedo, float emission = 0.0f) {
-    Material m;
-    m.baseColor = {albedo, albedo, albedo};
-    m.specular = 0.0f;
-    m.roughness = 1.0f;
-    m.emission = {emission, emission, emission};
-    return m;
-}
+using test::lambert;
 
 /// The six faces of the cube [-h, h]³ around `c`, all with material `material`.
 void addCube(Scene& s, const Vec3d& c, double h, int material) {

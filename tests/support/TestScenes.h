@@ -24,14 +24,20 @@ inline Mesh quad(const Vec3d& centre, const Vec3d& u, const Vec3d& v, double hal
     return m;
 }
 
+/// A pure Lambert material (no specular lobe) of grey albedo, optionally glowing.
+inline Material lambert(float albedo, float emission = 0.0f) {
+    Material m;
+    m.baseColor = {albedo, albedo, albedo};
+    m.specular = 0.0f;
+    m.roughness = 1.0f;
+    m.emission = {emission, emission, emission};
+    return m;
+}
+
 /// A Lambert floor (y = 0, 200 units wide) lit by nothing.
 inline Scene floorScene(const Vec3d& offset = {}) {
     Scene s;
-    Material m;
-    m.baseColor = {0.5f, 0.5f, 0.5f};
-    m.specular = 0.0f;
-    m.roughness = 1.0f;
-    s.materials.push_back(m);
+    s.materials.push_back(lambert(0.5f));
     s.meshes.push_back(quad(offset, {1, 0, 0}, {0, 0, -1}, 100.0));
     return s;
 }
