@@ -12,11 +12,34 @@
 
 namespace fp::cli {
 
+namespace {
+// Warm-up frames produce history only.
+class DiscardSink final : public FrameSink {
+public:
+    void write(const OutputDesc&, const std::vector<OutputLayer>&, const FrameInfo&) override {}
+};
+
+// The `count` frames before the first, spaced like the sequence (its first step, else 1), that
+// have a capture on disk (a sequence's start cuts the warm-up short).
+std::vector<int> warmupFrames(const RunSession& session, int count) {
+    const auto& frames = session.frames();
+    if (count <= 0 || frames.empty()) return {};
+    const int step = frames.size() > 1 ? std::max(1, frames[1] - frames[0]) : 1;
+    std::vector<int> out;
+    for (int k = count; k >= 1; --k) {
+        const int f = frames.front() - k * step;
+        if (std::filesystem::exists(session.capturePath(f))) out.push_back(f);
+    }
+    return out;
+}
+}  // namespace
+
 Command addRunCommand(CLI::App& app) {
     struct Options {
         SessionOptions session;
         std::string outputDir = "out", report;
         bool strict = false;
+        int warmupFrames = 0;
     };
     auto opt = std::make_shared<Options>();
     CLI::App* sub = app.add_subcommand("run", "run the chain and write the requested outputs");
@@ -25,6 +48,10 @@ Command addRunCommand(CLI::App& app) {
     sub->add_option("--report", opt->report, "write a JSON report: per-pass time and work counts");
     sub->add_flag("--strict", opt->strict, "fail on NaN/Inf/negative input pixels instead of "
                                            "sanitizing them");
+    sub->add_option("--warmup-frames", opt->warmupFrames,
+                    "run N frames before the first one (writing nothing) so temporal passes "
+                    "start with history: a chunked farm run then equals a sequential one")
+        ->check(CLI::Range(0, 100000));
 
     return [opt]() {
         const RunSession session(opt->session);
@@ -43,19 +70,36 @@ Command addRunCommand(CLI::App& app) {
 
         nlohmann::json report = {{"config", opt->session.config}, {"frames", nlohmann::json::array()}};
         const auto& frames = session.frames();
+        HistoryStore history;
+        // Warm-up: the frames before the first, at the sequence's step, that exist on disk.
+        const std::vector<int> warmup = warmupFrames(session, opt->warmupFrames);
+        for (std::size_t i = 0; i < warmup.size(); ++i) {
+            io::CaptureSource::Options so = session.captureOptions(warmup[i], inputs);
+            so.strict = opt->strict;
+            so.firstInSequence = i == 0;
+            io::CaptureSource source(so, session.profile());
+            DiscardSink discard;
+            const FrameReport fr = executePlan(plan, source, discard, {}, &history);
+            std::cout << fmt::format("warm-up frame {}: {} passes in {:.3f} s\n", warmup[i],
+                                     fr.passes.size(), fr.seconds);
+        }
         for (std::size_t i = 0; i < frames.size(); ++i) {
             io::CaptureSource::Options so = session.captureOptions(frames[i], inputs);
             so.strict = opt->strict;
-            so.firstInSequence = i == 0;
+            so.firstInSequence = i == 0 && warmup.empty();
             io::CaptureSource source(so, session.profile());
             FP_CHECK(!plan.needsCamera || source.frameInfo().hasCamera,
                      "{}: frame {}: no camera in the header and no sidecar ({}.camera.json)",
                      so.path, frames[i], so.path);
             const std::size_t before = writer.written().size();
-            const FrameReport fr = executePlan(plan, source, writer, [&](int done, int total) {
-                const double progress = (double(i) + double(done) / std::max(total, 1)) / frames.size();
-                std::cout << fmt::format("Progress: {}%\n", int(progress * 100.0)) << std::flush;
-            });
+            const FrameReport fr = executePlan(
+                plan, source, writer,
+                [&](int done, int total) {
+                    const double progress =
+                        (double(i) + double(done) / std::max(total, 1)) / frames.size();
+                    std::cout << fmt::format("Progress: {}%\n", int(progress * 100.0)) << std::flush;
+                },
+                &history);
             const auto& s = source.sanitized();
             if (s.total() > 0)
                 std::cerr << fmt::format("warning: {}: sanitized {} non-finite, {} negative colour "

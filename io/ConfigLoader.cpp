@@ -187,6 +187,12 @@ RunConfig parseRunConfig(const nlohmann::json& j, const std::string& source,
         parseOutputs(j.contains("outputs") ? j["outputs"] : pj.at("outputs"), rc.graph,
                      j.contains("outputs") ? diag : presetDiag);
         presetDiag.throwIfErrors(preset);
+        // The preset's cvars are the engine's defaults; the user's own cvars win.
+        if (pj.contains("cvars")) {
+            nlohmann::json merged = pj["cvars"];
+            for (const auto& [k, v] : rc.graph.cvars.items()) merged[k] = v;
+            rc.graph.cvars = merged;
+        }
         for (auto& n : rc.graph.nodes) n.pointer = "(preset " + rc.graph.engine + ")" + n.pointer;
     }
     rc.errors = diag.errors();

@@ -1,5 +1,7 @@
 #include "passes/core/CvarTable.h"
 
+#include <algorithm>
+
 namespace fp {
 
 CvarTable::CvarTable() {
@@ -7,10 +9,15 @@ CvarTable::CvarTable() {
         {"r.SSGI.LeakFreeReprojection", "prev_color_reduction", "leakFree",
          "1 (default): leak-free previous colour + depth; 0: TAA history (reference §3.1)"},
         {"r.SSGI.Enable", "", "", "the SSGI chain is selected by the config's passes"},
-        {"r.SSGI.Quality", "", "", "SSGI ray march: not emulated yet"},
-        {"r.SSGI.HalfRes", "", "", "SSGI ray march: not emulated yet"},
-        {"r.DynamicGlobalIlluminationMethod", "", "", "UE5 GI method: not emulated yet"},
-        {"r.DiffuseIndirect.HalfRes", "", "", "UE5 half-resolution diffuse indirect: not emulated yet"},
+        {"r.SSGI.Quality", "ssgi", "quality", "1..4: 4/8/16/32 rays, 8/8/8/12 steps (reference §4.2)"},
+        {"r.SSGI.HalfRes", "ssgi", "halfRes", "trace (and denoise) at half resolution (4.27 name)"},
+        {"r.SSGI.HalfRes", "ssgi_denoise", "halfRes", "the denoiser runs at the trace resolution"},
+        {"r.DynamicGlobalIlluminationMethod", "", "",
+         "UE5 GI method: framepass's chain is 2 (screen-space GI); Lumen (1) is not emulated", 2},
+        {"r.DiffuseIndirect.HalfRes", "ssgi", "halfRes", "UE5's name for r.SSGI.HalfRes (UE5 default 1)"},
+        {"r.DiffuseIndirect.HalfRes", "ssgi_denoise", "halfRes", "the denoiser runs at the trace resolution"},
+        {"r.DiffuseIndirect.Denoiser", "ssgi_denoise", "denoiser", "0 off (raw trace), 1 on (2, a third-party denoiser, runs framepass's)"},
+        {"r.GlobalIllumination.Denoiser.TemporalAccumulation", "ssgi_denoise", "temporalAccumulation", "temporal accumulation of the SSGI denoiser"},
         {"r.SSR.Quality", "", "", "screen-space reflections: not emulated yet"},
         {"r.RayTracing.Shadows", "", "", "ray-traced shadows: not emulated yet"},
         {"r.Shadow.Denoiser", "", "", "shadow denoiser: not emulated yet"},
@@ -23,9 +30,16 @@ const CvarMapping* CvarTable::find(const std::string& cvar) const {
     return nullptr;
 }
 
+const CvarMapping* CvarTable::find(const std::string& cvar, const std::string& passType) const {
+    for (const auto& e : mEntries)
+        if (e.cvar == cvar && e.passType == passType) return &e;
+    return nullptr;
+}
+
 std::vector<std::string> CvarTable::names() const {
     std::vector<std::string> n;
-    for (const auto& e : mEntries) n.push_back(e.cvar);
+    for (const auto& e : mEntries)
+        if (std::find(n.begin(), n.end(), e.cvar) == n.end()) n.push_back(e.cvar);
     return n;
 }
 

@@ -14,12 +14,23 @@ struct CvarMapping {
     std::string passType;   //!< pass type the value is for ("" = recognised but not emulated)
     std::string param;      //!< that pass's parameter
     std::string note;       //!< shown by `framepass passes` and in warnings
+    nlohmann::json emulatedValue;  //!< for a cvar that sets nothing: the value framepass runs
 };
 
 class CvarTable {
 public:
     CvarTable();
+    /// The first mapping of `cvar` (a cvar may set parameters of several pass types).
     const CvarMapping* find(const std::string& cvar) const;
+    /// The mapping of `cvar` onto pass type `passType`, if it has one.
+    const CvarMapping* find(const std::string& cvar, const std::string& passType) const;
+    /// Whether any mapping of `cvar` targets one of `passTypes`.
+    template <class Pred>
+    bool anyTarget(const std::string& cvar, Pred&& isPresent) const {
+        for (const auto& e : mEntries)
+            if (e.cvar == cvar && isPresent(e.passType)) return true;
+        return false;
+    }
     const std::vector<CvarMapping>& all() const { return mEntries; }
     std::vector<std::string> names() const;
 

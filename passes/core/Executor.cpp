@@ -3,7 +3,9 @@
 #include "passes/core/Error.h"
 
 #include <chrono>
+#include <cmath>
 #include <mutex>
+#include <optional>
 
 namespace fp {
 
@@ -44,8 +46,22 @@ private:
 class StepContext final : public PassContext {
 public:
     StepContext(const PlanStep& step, ImageStore& store, FrameSource& source, const FrameInfo& frame,
-                PassReport& report)
-        : mStep(step), mStore(store), mSource(source), mFrame(frame), mReport(report) {}
+                PassReport& report, const PassHistory* history)
+        : mStep(step), mStore(store), mSource(source), mFrame(frame), mReport(report),
+          mHistory(history) {}
+
+    const PassHistory* history() const override {
+        FP_CHECK(mStep.io.temporal, "pass '{}' reads history without declaring temporal",
+                 mStep.name);
+        return mHistory;
+    }
+    void keepHistory(Texture state) override {
+        FP_CHECK(mStep.io.temporal, "pass '{}' keeps history without declaring temporal",
+                 mStep.name);
+        mKept = std::move(state);
+    }
+    /// The state the pass kept this frame, if any.
+    std::optional<Texture>& kept() { return mKept; }
 
     const Texture* input(std::string_view port) const override {
         auto it = mStep.inputs.find(std::string(port));
@@ -100,19 +116,34 @@ private:
     FrameSource& mSource;
     const FrameInfo& mFrame;
     PassReport& mReport;
+    const PassHistory* mHistory;
+    std::optional<Texture> mKept;
     std::mutex mMutex;
 };
 
 }  // namespace
 
+bool isCameraCut(const CameraView& h, const FrameCamera& frame) {
+    if (!frame.previous) return false;
+    const CameraView& p = *frame.previous;
+    // Cameras read back from files carry rounding: allow a relative 1e-5 of the distance from the
+    // origin (plus 1e-5 units), and direction cosines within 1e-6.
+    const Vec3d d = h.position - p.position;
+    const double scale = 1e-5 * (1.0 + std::sqrt(dot(p.position, p.position)));
+    return dot(d, d) > scale * scale || dot(h.forward, p.forward) < 1.0 - 1e-6 ||
+           dot(h.up, p.up) < 1.0 - 1e-6 || std::fabs(h.fx - p.fx) > 1e-6 * std::fabs(p.fx) ||
+           h.width != p.width || h.height != p.height;
+}
+
 FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
-                        const ProgressFn& progress) {
+                        const ProgressFn& progress, HistoryStore* history) {
     using Clock = std::chrono::steady_clock;
     const auto frameStart = Clock::now();
     const FrameInfo frame = source.frameInfo();
     FrameReport report;
     report.frame = frame.number;
     ImageStore store(source);
+    if (history && frame.firstInSequence) history->clear();
 
     auto channelsOf = [&](const std::string& buffer) {
         for (const auto& r : plan.captureReads)
@@ -148,7 +179,12 @@ FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
             for (const auto& b : it->second)
                 if (!store.find("capture:" + b)) store.load(b, channelsOf(b));
         PassReport pr{step.name, step.type, 0, {}, {}};
-        StepContext ctx(step, store, source, frame, pr);
+        const PassHistory* past = nullptr;
+        if (history && step.io.temporal && !frame.firstInSequence) {
+            past = history->find(step.name);
+            if (past && isCameraCut(past->camera, frame.camera)) past = nullptr;
+        }
+        StepContext ctx(step, store, source, frame, pr, past);
         const auto t0 = Clock::now();
         try {
             step.pass->execute(ctx);
@@ -158,6 +194,8 @@ FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
                         e.code());
         }
         pr.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        if (history && ctx.kept())
+            history->keep(step.name, {std::move(*ctx.kept()), frame.camera.current, frame.number});
         for (const auto& port : step.requestedOutputs)
             FP_CHECK(store.find(step.name + "." + port), "frame {}: pass '{}' did not write its "
                      "requested output '{}'", frame.number, step.name, port);

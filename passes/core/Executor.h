@@ -55,10 +55,30 @@ struct FrameReport {
     nlohmann::json toJson() const;
 };
 
+/// Temporal state carried between the frames of a sequence, owned by whoever runs the sequence.
+class HistoryStore {
+public:
+    const PassHistory* find(const std::string& pass) const {
+        auto it = mHistories.find(pass);
+        return it == mHistories.end() ? nullptr : &it->second;
+    }
+    void keep(const std::string& pass, PassHistory history) { mHistories[pass] = std::move(history); }
+    void clear() { mHistories.clear(); }
+
+private:
+    std::map<std::string, PassHistory> mHistories;
+};
+
+/// A camera cut: this frame's previous camera is not the camera the history was made with.
+/// (Without a previous camera in the capture, the history's own camera is trusted.)
+bool isCameraCut(const CameraView& historyCamera, const FrameCamera& frame);
+
 /// Called after each pass with (steps done, steps total) for progress lines.
 using ProgressFn = std::function<void(int, int)>;
 
+/// Runs one frame. Temporal passes read and update `history` when given (a sequence); without
+/// it every frame is a first frame.
 FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
-                        const ProgressFn& progress = {});
+                        const ProgressFn& progress = {}, HistoryStore* history = nullptr);
 
 }  // namespace fp

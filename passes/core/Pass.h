@@ -49,6 +49,7 @@ struct PassIO {
     bool needsScene = false;        //!< geometry is loaded and a BVH built only if a live pass says so
     bool needsColorConfig = false;  //!< an OCIO config must be loaded
     std::string workUnit = "pixels";  //!< the counter that measures throughput
+    bool temporal = false;          //!< keeps state from frame to frame (PassContext::history)
 };
 
 /// What a pass knows about the frame it runs on.
@@ -58,6 +59,14 @@ struct FrameInfo {
     FrameCamera camera;
     bool hasCamera = false;
     bool firstInSequence = true;  //!< no history from an earlier frame
+};
+
+/// What a temporal pass kept at the end of its last frame, with the camera it was made with (the
+/// pass reprojects through that camera, so a history is usable whatever the frame step).
+struct PassHistory {
+    Texture state;
+    CameraView camera;
+    int64_t frame = 0;
 };
 
 class PassContext {
@@ -77,6 +86,11 @@ public:
     virtual OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() = 0;
     /// Adds to a named work counter; thread-safe, call once per tile rather than per pixel.
     virtual void addWork(std::string_view counter, uint64_t amount) = 0;
+    /// Last frame's state of this (temporal) pass; nullptr on the first frame of a sequence, after
+    /// a camera cut, or when the frame size changed.
+    virtual const PassHistory* history() const = 0;
+    /// Keeps `state` (made with this frame's camera) for the next frame.
+    virtual void keepHistory(Texture state) = 0;
     /// Reports a measured figure (error_measure's RMSE, ...) for the run report.
     virtual void addMetric(std::string_view name, double value) = 0;
 };

@@ -95,11 +95,15 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
         if (!m) {
             diag.warning(cv.where, fmt::format("unknown cvar '{}' is ignored{}", name,
                                                didYouMean(name, cvarTable.names())));
+        } else if (m->passType.empty() && cv.value == m->emulatedValue) {
+            // The value the chain emulates: nothing to say.
         } else if (m->passType.empty()) {
             diag.warning(cv.where, fmt::format("cvar '{}' is not emulated by framepass ({})",
                                                name, m->note));
-        } else if (std::none_of(graph.nodes.begin(), graph.nodes.end(),
-                                [&](const NodeDesc& d) { return d.type == m->passType; })) {
+        } else if (!cvarTable.anyTarget(name, [&](const std::string& type) {
+                       return std::any_of(graph.nodes.begin(), graph.nodes.end(),
+                                          [&](const NodeDesc& d) { return d.type == type; });
+                   })) {
             diag.warning(cv.where, fmt::format("cvar '{}' sets {}.{}, but the chain has no '{}' "
                                                "pass",
                                                name, m->passType, m->param, m->passType));
@@ -134,8 +138,8 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
         const std::size_t errorsBefore = diag.errors().size();
         nlohmann::json merged = nlohmann::json::object();
         for (const auto& [name, cv] : cvars) {
-            const CvarMapping* m = cvarTable.find(name);
-            if (!m || m->passType != n.desc->type) continue;
+            const CvarMapping* m = cvarTable.find(name, n.desc->type);
+            if (!m) continue;
             nlohmann::json layer = {{m->param, cv.value}};
             validateLayer(*n.type, layer, paramsPtr, cv.where,
                           fmt::format("cvar {} sets {}.{}", name, n.desc->name, m->param), diag);

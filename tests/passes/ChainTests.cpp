@@ -16,21 +16,6 @@ using namespace fp;
 
 namespace {
 
-Plan planFor(std::vector<NodeDesc> nodes, std::vector<std::string> outputs,
-             nlohmann::json cvars = nlohmann::json::object()) {
-    GraphDesc g;
-    for (std::size_t i = 0; i < nodes.size(); ++i) nodes[i].pointer = "/passes/" + std::to_string(i);
-    g.nodes = nodes;
-    g.cvars = cvars;
-    for (const auto& o : outputs) g.outputs.push_back({o + ".exr", {o}, "/outputs", false});
-    return makePlan(g, builtinPasses(), {});
-}
-
-NodeDesc pass(std::string type, nlohmann::json params = nlohmann::json::object(),
-              std::map<std::string, std::string> inputs = {}) {
-    return {type, type, params, inputs, ""};
-}
-
 // A frame whose every pixel sees a plane at depth `depth`, facing the camera.
 test::MemorySource flatFrame(int w, int h, float depth, const Vec3f& prevColor, float prevDepth) {
     test::MemorySource src;
@@ -73,7 +58,7 @@ TEST_CASE("HZB texels equal a brute-force min/max of device Z over their footpri
             depth.plane(0).at(x, y) = (x * y) % 11 == 3 ? INFINITY : dist(gen);  // some sky
     src.buffers["SceneDepth"] = depth;
     for (bool half : {false, true}) {
-        const Plan plan = planFor({pass("hzb", {{"halfPrecision", half}})}, {"hzb.furthest", "hzb.closest"});
+        const Plan plan = test::planFor({test::node("hzb", {{"halfPrecision", half}})}, {"hzb.furthest", "hzb.closest"});
         test::MemorySink sink;
         executePlan(plan, src, sink);
         const Texture& far = sink.layers.at("hzb.furthest");
@@ -114,7 +99,7 @@ TEST_CASE("roundToHalf matches IEEE half rounding") {
 TEST_CASE("reduced previous colour: a static, matching surface keeps its colour at every mip") {
     const int w = 64, h = 64;
     auto src = flatFrame(w, h, 200.0f, {1.0f, 2.0f, 3.0f}, 200.0f);
-    const Plan plan = planFor({pass("hzb"), pass("prev_color_reduction")},
+    const Plan plan = test::planFor({test::node("hzb"), test::node("prev_color_reduction")},
                               {"prev_color_reduction.color", "prev_color_reduction.alpha"});
     CHECK(plan.captureReads.size() == 3);  // SceneDepth, PrevSceneColor, PrevSceneDepth
     test::MemorySink sink;
@@ -148,14 +133,14 @@ TEST_CASE("reduced previous colour: a static, matching surface keeps its colour 
 TEST_CASE("reduced previous colour: leak-free weighting drops colour from another surface") {
     // Last frame saw a surface twice as far: its colour must not leak into this frame.
     auto src = flatFrame(64, 64, 200.0f, {5.0f, 5.0f, 5.0f}, 400.0f);
-    const Plan plan = planFor({pass("hzb"), pass("prev_color_reduction")},
+    const Plan plan = test::planFor({test::node("hzb"), test::node("prev_color_reduction")},
                               {"prev_color_reduction.color"});
     test::MemorySink sink;
     executePlan(plan, src, sink);
     CHECK(sink.layers.at("prev_color_reduction.color").mip(0).plane(0).at(16, 16) == 0.0f);
 
     // r.SSGI.LeakFreeReprojection=0 reads the TAA history instead and keeps the colour.
-    const Plan history = planFor({pass("hzb"), pass("prev_color_reduction")},
+    const Plan history = test::planFor({test::node("hzb"), test::node("prev_color_reduction")},
                                  {"prev_color_reduction.color"},
                                  {{"r.SSGI.LeakFreeReprojection", 0}});
     CHECK(history.steps[1].inputs.count("history") == 1);
@@ -173,7 +158,7 @@ TEST_CASE("display: scene-linear 0.18 becomes sRGB 0.4614; data buffers are not 
     Image n(4, 4, {"X", "Y", "Z"}, 0.0f);
     n.plane(1) = Plane(4, 4, 0.5f);
     src.buffers["WorldNormal"] = n;
-    const Plan plan = planFor({pass("display"),
+    const Plan plan = test::planFor({test::node("display"),
                                {"normals", "display", {}, {{"color", "capture:WorldNormal"}}, ""}},
                               {"display.image", "normals.image"});
     test::MemorySink sink;
@@ -197,7 +182,7 @@ TEST_CASE("a whole chain is bit-identical with 1 and 2 threads") {
     auto run = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
         auto src = test::captureToMemory(scene, cam);
-        const Plan plan = planFor({pass("hzb"), pass("prev_color_reduction"), pass("display")},
+        const Plan plan = test::planFor({test::node("hzb"), test::node("prev_color_reduction"), test::node("display")},
                                   {"hzb.furthest", "prev_color_reduction.color", "display.image"});
         test::MemorySink sink;
         executePlan(plan, src, sink);

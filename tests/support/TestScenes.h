@@ -2,6 +2,7 @@
 // Small scenes and in-memory frame sources for tests: no files, exact geometry.
 #include "passes/capture/GBufferRenderer.h"
 #include "passes/core/Executor.h"
+#include "passes/core/Planner.h"
 #include "passes/core/RayScene.h"
 #include "passes/core/Scene.h"
 
@@ -87,6 +88,23 @@ inline MemorySource captureToMemory(const Scene& scene, const FrameCamera& cam, 
     src.info.hasCamera = true;
     src.sceneData = &scene;
     return src;
+}
+
+/// A plan of the built-in passes `nodes` writing each of `outputs` ("pass.port") to its own file.
+inline Plan planFor(std::vector<NodeDesc> nodes, std::vector<std::string> outputs,
+                    nlohmann::json cvars = nlohmann::json::object()) {
+    GraphDesc g;
+    for (std::size_t i = 0; i < nodes.size(); ++i) nodes[i].pointer = "/passes/" + std::to_string(i);
+    g.nodes = nodes;
+    g.cvars = cvars;
+    for (const auto& o : outputs) g.outputs.push_back({o + ".exr", {o}, "/outputs", false});
+    return makePlan(g, builtinPasses(), {});
+}
+
+/// A config node named after its pass type.
+inline NodeDesc node(std::string type, nlohmann::json params = nlohmann::json::object(),
+                     std::map<std::string, std::string> inputs = {}) {
+    return {type, type, params, inputs, ""};
 }
 
 /// True when two planes hold the same bits in every pixel.

@@ -1,0 +1,47 @@
+#pragma once
+// Screen-space diffuse indirect (reference §4, Unreal's SSRTDiffuseIndirect): per pixel, cosine-
+// distributed rays around the view-space normal are marched through the furthest HZB in device Z;
+// a hit gathers last frame's reduced colour (prev_color_reduction) at the HZB level the ray
+// reached. The result is the mean incoming radiance of the rays (irradiance/π) and an AO term,
+// 1 − the fraction of rays that found an occluder on screen.
+#include "passes/core/Math.h"
+#include "passes/core/Params.h"
+#include "passes/core/Pass.h"
+
+namespace fp {
+
+struct SsgiParams {
+    int quality = 4;       //!< r.SSGI.Quality: 1..4 → 4/8/16/32 rays, 8/8/8/12 steps
+    bool halfRes = false;  //!< r.SSGI.HalfRes (4.27) / r.DiffuseIndirect.HalfRes (UE5)
+    float indirectLightingColorScale = 1.0f;  //!< 4.27's PP IndirectLightingIntensity × colour
+};
+
+/// What one quality level costs (reference §4.2).
+struct SsgiQuality {
+    int rays;   //!< rays per pixel
+    int steps;  //!< HZB samples per ray, in batches of 4
+};
+
+class SsgiPass final : public Pass {
+public:
+    using Params = SsgiParams;
+    static ParamSpec<Params> paramSpec();
+    explicit SsgiPass(const Params& params) : mParams(params) {}
+
+    PassIO describe() const override;
+    void execute(PassContext& ctx) override;
+    std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
+
+    static SsgiQuality qualityTable(int quality);
+    /// Trace resolution: the frame, or half of it rounded up (reference §4.3).
+    static Extent traceExtent(Extent frame, bool halfRes);
+    /// Ray `index` of `count` of trace pixel (x, y) on frame index `frameMod8`, in view space around
+    /// unit view-space normal `n` (reference §4.4: PCG seed, Hammersley, concentric-disk cosine).
+    static Vec3f rayDirection(const Vec3f& n, int x, int y, uint32_t frameMod8, int index,
+                              int count);
+
+private:
+    Params mParams;
+};
+
+}  // namespace fp
