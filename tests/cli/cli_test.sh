@@ -35,6 +35,16 @@ check "the report lists the channels actually read" bash -c "grep -q 'WorldNorma
 check "mip chains are written one part per mip" bash -c "'$FP' inspect '$DIR/t1/dump/hzb.furthest.0001.exr' | grep -q '5 part(s)' && '$FP' inspect '$DIR/t1/dump/hzb.furthest.0001.exr' | grep -q 'hzb.furthest.mip4'"
 check "--cvar reaches the pass (TAA history instead of leak-free)" bash -c "'$FP' plan '$DIR/config.json' --cvar r.SSGI.LeakFreeReprojection=0 | grep -q 'history←capture:TAAHistory'"
 
+# Sequences: the denoiser's history goes from frame to frame; a chunk that warms up on the
+# frames before it writes the same bytes as a sequential run.
+check "capture a 6-frame sequence" "$FP" capture "$SRC/examples/cornell/scene.json" -o "$DIR/seq.####.exr" --frames 1-6 --width 48 --height 48
+echo '{ "version": 1, "capture": "seq.####.exr" }' > "$DIR/seq.json"
+check "sequential run over frames 1-6" "$FP" run "$DIR/seq.json" --frames 1-6 -o "$DIR/seq_all"
+check "chunk 1-3" "$FP" run "$DIR/seq.json" --frames 1-3 -o "$DIR/seq_chunks"
+check "chunk 4-6 warming up on 3 frames" bash -c "'$FP' run '$DIR/seq.json' --frames 4-6 --warmup-frames 3 -o '$DIR/seq_chunks' > '$DIR/chunk.log' && grep -q 'warm-up frame 1' '$DIR/chunk.log'"
+check "chunked and sequential runs are byte-identical" diff -r "$DIR/seq_all" "$DIR/seq_chunks"
+check "without warm-up frame 4 differs (the history is used)" bash -c "'$FP' run '$DIR/seq.json' --frames 4 -o '$DIR/seq_cold' >/dev/null && ! cmp -s '$DIR/seq_all/ssgi.0004.exr' '$DIR/seq_cold/ssgi.0004.exr'"
+
 cat > "$DIR/bad.json" <<JSON
 { "version": 1, "capture": "cornell.exr", "cvar": {},
   "passes": [ { "type": "hzb", "params": { "halfPrecison": true } } ] }

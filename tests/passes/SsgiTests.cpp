@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 using namespace fp;
 
@@ -234,6 +235,127 @@ TEST_CASE("a floor beside a glowing wall gathers the form-factor irradiance") {
     // level, a Karis weight not undone) would be off by far more.
     CHECK(colourErr / colourRef < 0.0);
     CHECK(colourErr / colourRef > -0.15);
+}
+
+TEST_CASE("sky and unlit pixels are skipped by SSGI and left untouched by the composite") {
+    Scene s = test::floorScene();
+    Material unlit = test::lambert(0.7f, 0.3f);
+    unlit.shadingModel = 0;
+    s.materials.push_back(unlit);
+    s.meshes.push_back(test::quad({0, 5, 20}, {1, 0, 0}, {0, 1, 0}, 5.0, 1, 2));  // unlit panel
+    s.skyColor = {0.2f, 0.3f, 0.9f};
+    Light l;
+    l.position = {0, 40, 0};
+    l.intensity = 5000.0f;
+    s.lights.push_back(l);
+    FrameCamera cam;
+    cam.current = CameraView::lookAt({0, 10, -30}, {0, 5, 20}, {0, 1, 0}, 60.0, 64, 48, 1.0);
+    cam.previous = cam.current;
+    auto src = test::captureToMemory(s, cam);
+    std::vector<NodeDesc> chain = ssgiChain();
+    chain.push_back(test::node("ssgi_denoise"));
+    chain.push_back(test::node("diffuse_indirect_composite"));
+    const auto out = runChain(src, chain, {"ssgi.diffuse", "ssgi.ao", "diffuse_indirect_composite.color"});
+    const Plane& depth = src.buffers.at("SceneDepth").plane(0);
+    const Plane& model = src.buffers.at("ShadingModel").plane(0);
+    const Image& sceneColor = src.buffers.at("SceneColor");
+    int sky = 0, unlitPixels = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const bool isSky = std::isinf(depth.at(x, y));
+            if (!isSky && model.at(x, y) != 0.0f) continue;
+            (isSky ? sky : unlitPixels)++;
+            CHECK(out.at("ssgi.ao").image().plane(0).at(x, y) == 1.0f);
+            for (int c = 0; c < 3; ++c) {
+                CHECK(out.at("ssgi.diffuse").image().plane(c).at(x, y) == 0.0f);
+                CHECK(out.at("diffuse_indirect_composite.color").image().plane(c).at(x, y) ==
+                      sceneColor.plane(c).at(x, y));
+            }
+        }
+    CHECK(sky > 100);
+    CHECK(unlitPixels > 50);
+}
+
+TEST_CASE("half resolution traces half the size and agrees with full resolution on a smooth floor") {
+    const int size = 96;
+    Scene s = floorAndWall();
+    const FrameCamera cam = wallCamera(size);
+    auto src = test::captureToMemory(s, cam);
+    const auto full = runChain(src, ssgiChain(), {"ssgi.ao"});
+    const auto half = runChain(src, ssgiChain({{"halfRes", true}}), {"ssgi.ao"});
+    const Plane& a = full.at("ssgi.ao").image().plane(0);
+    const Plane& b = half.at("ssgi.ao").image().plane(0);
+    CHECK(b.width() == size / 2);
+    CHECK(b.height() == size / 2);
+    // Half-res pixel (i, j) traces full-res pixel (2i, 2j) with other random numbers: the two hit
+    // fractions differ by noise of variance 2·F(1−F)/32 at most.
+    const Plane& depth = src.buffers.at("SceneDepth").plane(0);
+    double sq = 0, noise = 0;
+    int n = 0;
+    for (int j = 0; j < size / 2; ++j)
+        for (int i = 0; i < size / 2; ++i) {
+            const Vec3d p = cam.current.worldFromPixel(2 * i, 2 * j, depth.at(2 * i, 2 * j));
+            if (std::abs(p.y) > 1e-3 || p.z > 26.0) continue;  // the floor
+            const double h = 1.0 - a.at(2 * i, 2 * j);
+            sq += (a.at(2 * i, 2 * j) - b.at(i, j)) * (a.at(2 * i, 2 * j) - b.at(i, j));
+            noise += 2.0 * std::max(h * (1 - h), 1.0 / 32) / 32;
+            ++n;
+        }
+    REQUIRE(n > 200);
+    CHECK(std::sqrt(sq / n) < std::sqrt(noise / n));
+}
+
+TEST_CASE("the denoiser lowers the variance of a noisy constant and keeps its mean") {
+    // A plane filling the view; the denoiser's inputs are a constant 0.5 with uniform noise of
+    // ±0.25 (variance 1/48) per pixel and frame, fed in as capture layers.
+    const int w = 64, h = 48;
+    Scene s = test::floorScene();
+    FrameCamera cam;
+    cam.current = CameraView::lookAt({0, 40, -10}, {0, 0, 10}, {0, 1, 0}, 60.0, w, h, 1.0);
+    cam.previous = cam.current;
+    const std::vector<NodeDesc> chain = {test::node(
+        "ssgi_denoise", nlohmann::json::object(),
+        {{"diffuse", "capture:Truth.NoisyDiffuse"}, {"ao", "capture:Truth.NoisyAO"}})};
+    HistoryStore history;
+    auto stats = [&](const Plane& p, double& mean, double& var) {
+        double s1 = 0, s2 = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                s1 += p.at(x, y);
+                s2 += double(p.at(x, y)) * p.at(x, y);
+            }
+        mean = s1 / (w * h);
+        var = s2 / (w * h) - mean * mean;
+    };
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> noise(0.25f, 0.75f);
+    double firstVar = 0, lastVar = 0;
+    for (int frame = 1; frame <= 8; ++frame) {
+        auto src = test::captureToMemory(s, cam, frame);
+        src.info.firstInSequence = frame == 1;
+        Image diffuse(w, h, {"R", "G", "B"}), ao(w, h, {"Y"});
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                for (int c = 0; c < 3; ++c) diffuse.plane(c).at(x, y) = noise(rng);
+                ao.plane(0).at(x, y) = noise(rng);
+            }
+        src.buffers["Truth.NoisyDiffuse"] = diffuse;
+        src.buffers["Truth.NoisyAO"] = ao;
+        const auto out = runChain(src, chain, {"ssgi_denoise.diffuse"}, &history);
+        double inMean, inVar, outMean, outVar;
+        stats(diffuse.plane(0), inMean, inVar);
+        stats(out.at("ssgi_denoise.diffuse").image().plane(0), outMean, outVar);
+        // The filter is a normalised weighted mean: the mean moves by no more than the input's
+        // own sampling error, 4σ/√n.
+        CHECK(std::abs(outMean - 0.5) <= 4.0 * std::sqrt(inVar / (w * h)) + std::abs(inMean - 0.5));
+        if (frame == 1) firstVar = outVar;
+        lastVar = outVar;
+        // One frame: centre + up to 8 taps; even with half their weight lost to the bilateral
+        // terms the variance falls below a third.
+        if (frame == 1) CHECK(outVar < inVar / 3.0);
+    }
+    // Seven frames of history (a running mean over ~8 frames) lower it by at least half again.
+    CHECK(lastVar < firstVar / 2.0);
 }
 
 }  // TEST_SUITE
