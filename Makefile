@@ -31,7 +31,7 @@ demo: build
 	$(FRAMEPASS) run examples/cornell/config.json -o out/demo --report out/demo/report.json
 	$(FRAMEPASS) compare out/demo/cornell.exr out/demo/cornell.exr --layer Truth.DiffuseIndirectOneBounce \
 	    --ref-layer Truth.DiffuseIndirectFull --heatmap out/demo/one_bounce_error.exr
-	$(FRAMEPASS) bench examples/cornell/bench.json --sweep hzb.halfPrecision=false,true \
+	$(FRAMEPASS) bench examples/cornell/bench.json --runs 3 --sweep r.SSGI.Quality=1..4 \
 	    --html out/demo/bench.html | grep -v '^Progress'
 	@echo "framepass wrote:"; find out/demo -type f | sort | sed 's/^/  /'
 

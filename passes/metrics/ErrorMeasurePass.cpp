@@ -45,9 +45,26 @@ PassIO ErrorMeasurePass::describe() const {
     return io;
 }
 
+namespace {
+// A half-resolution source (a half-res SSGI trace) is measured as the 4.27 composite reads it:
+// point-upsampled, full-res pixel (x, y) taking texel (x/2, y/2).
+Image pointUpsample(const Image& half, int width, int height) {
+    Image full(width, height, half.channels());
+    for (int c = 0; c < half.channelCount(); ++c)
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) full.plane(c).at(x, y) = half.plane(c).at(x / 2, y / 2);
+    return full;
+}
+}  // namespace
+
 void ErrorMeasurePass::execute(PassContext& ctx) {
-    const Image& a = ctx.input(kSource)->image();
     const Image& b = ctx.input(kReference)->image();
+    const Image& source = ctx.input(kSource)->image();
+    std::optional<Image> upsampled;
+    if (source.width() == (b.width() + 1) / 2 && source.height() == (b.height() + 1) / 2 &&
+        source.width() < b.width())
+        upsampled = pointUpsample(source, b.width(), b.height());
+    const Image& a = upsampled ? *upsampled : source;
     const Texture* sigma = ctx.input(kReferenceStdErr);
     const Texture* depth = ctx.input(kDepth);
     std::optional<Image> mask;
