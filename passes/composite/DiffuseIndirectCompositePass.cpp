@@ -1,6 +1,7 @@
 #include "passes/composite/DiffuseIndirectCompositePass.h"
 
 #include "passes/core/Error.h"
+#include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
 
 #include <algorithm>
@@ -19,12 +20,6 @@ constexpr const char* kDepth = "depth";
 constexpr const char* kDiffuse = "diffuse";
 constexpr const char* kAo = "ao";
 constexpr const char* kColor = "color";
-
-// Shading model ids (reference §1.6).
-enum ShadingModel {
-    kUnlit = 0, kDefaultLit, kSubsurface, kPreintegratedSkin, kClearCoat, kSubsurfaceProfile,
-    kTwoSidedFoliage, kHair, kCloth, kEye
-};
 }  // namespace
 
 ParamSpec<DiffuseIndirectCompositeParams> DiffuseIndirectCompositePass::paramSpec() {

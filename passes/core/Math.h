@@ -40,6 +40,9 @@ Vec3T<T> normalize(const Vec3T<T>& a) {
     return l > T(0) ? a / l : Vec3T<T>{};
 }
 
+/// Clamp to [0, 1] (HLSL saturate).
+inline float saturate(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
+
 /// Row-major 4×4 double matrix acting on column vectors: p' = M·p.
 struct Mat4d {
     std::array<double, 16> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};

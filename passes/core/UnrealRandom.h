@@ -7,6 +7,9 @@
 
 namespace fp::ue {
 
+/// View.StateFrameIndexMod8 of an absolute frame number (also for negative frames).
+inline uint32_t frameIndexMod8(int64_t frame) { return uint32_t(((frame % 8) + 8) % 8); }
+
 /// Interleaved gradient noise at pixel position (x, y) (usually pixel + 0.5) for frame index
 /// `frameMod8` (View.StateFrameIndexMod8).
 inline float interleavedGradientNoise(float x, float y, uint32_t frameMod8) {

@@ -18,15 +18,6 @@ constexpr const char* kFurthestHzb = "furthestHzb";
 constexpr const char* kColor = "color";
 constexpr const char* kAlpha = "alpha";
 
-float saturate(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
-
-// reference §3.2 step 7: v(s) = saturate(1 − |c|²), c = saturate(|s|·5 − 4) per axis.
-float vignette(float sx, float sy) {
-    const float cx = saturate(std::fabs(sx) * 5.0f - 4.0f);
-    const float cy = saturate(std::fabs(sy) * 5.0f - 4.0f);
-    return saturate(1.0f - (cx * cx + cy * cy));
-}
-
 // reference §3.2 step 8: saturate(1 − (d_ref − d)²/R²). Sky against sky keeps its weight (the two
 // are the same "surface" at infinity); sky against geometry is a leak and gets none [inferred].
 float depthWeight(double dRef, double d, double radius) {
@@ -47,6 +38,12 @@ float bilinear(const Plane& p, float u, float v) {
 
 float sanitize(float v) { return std::isfinite(v) && v > 0.0f ? v : 0.0f; }
 }  // namespace
+
+float PrevColorReductionPass::vignette(float sx, float sy) {
+    const float cx = saturate(std::fabs(sx) * 5.0f - 4.0f);
+    const float cy = saturate(std::fabs(sy) * 5.0f - 4.0f);
+    return saturate(1.0f - (cx * cx + cy * cy));
+}
 
 ParamSpec<PrevColorReductionParams> PrevColorReductionPass::paramSpec() {
     ParamSpec<PrevColorReductionParams> s;

@@ -2,6 +2,7 @@
 
 #include "passes/core/Error.h"
 #include "passes/core/Sampling.h"
+#include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
 #include "passes/core/UnrealRandom.h"
 
@@ -22,7 +23,6 @@ constexpr const char* kAo = "ao";
 constexpr const char* kHitMask = "hitMask";
 constexpr const char* kHitDistance = "hitDistance";
 
-constexpr int kUnlit = 0;            // reference §1.6: unlit (and sky) pixels are not traced
 constexpr float kStepOffsetBias = -0.9f;  // reference §4.6: IGN − 0.9 for SSGI (−0.5 for SSR)
 constexpr float kToleranceScale = 2.0f;   // reference §4.5: k = 2 for SSGI (4 for SSR)
 constexpr int kReducedMips = 5;      // prev_color_reduction's chain (reference §3.1)
@@ -130,8 +130,7 @@ void SsgiPass::execute(PassContext& ctx) {
         ctx.isRequested(kHitDistance) ? &ctx.output(kHitDistance, {trace}) : nullptr;
 
     const SsgiQuality q = qualityTable(mParams.quality);
-    const int64_t f = frame.number;
-    const uint32_t frameMod8 = uint32_t(((f % 8) + 8) % 8);  // View.StateFrameIndexMod8
+    const uint32_t frameMod8 = ue::frameIndexMod8(frame.number);
     const float invSteps = 1.0f / float(q.steps);
     const float levelStep = 8.0f * invSteps;  // reference §4.6: (8/N)·Roughness, Roughness = 1
     const int hzbMips = hzb.mipCount();
@@ -150,7 +149,7 @@ void SsgiPass::execute(PassContext& ctx) {
             for (int x = t.x0; x < t.x1; ++x) {
                 const int px = std::min(x * toFull, W - 1), py = std::min(y * toFull, H - 1);
                 const double d = depth.at(px, py);
-                if (!(d > 0.0) || std::isinf(d) || int(shadingModel.at(px, py)) == kUnlit) {
+                if (!isLitSurface(d, shadingModel.at(px, py))) {  // unlit and sky: not traced
                     ao.image().plane(0).at(x, y) = 1.0f;  // diffuse, hit mask, distance stay 0
                     ++skipped;
                     continue;

@@ -1,6 +1,7 @@
 #include "passes/ssgi_denoise/SsgiDenoisePass.h"
 
 #include "passes/core/Error.h"
+#include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
 #include "passes/core/UnrealRandom.h"
 #include "passes/ssgi/SsgiPass.h"
@@ -19,7 +20,6 @@ constexpr const char* kShadingModel = "shadingModel";
 constexpr const char* kVelocity = "velocity";
 constexpr const char* kHistoryValidity = "historyValidity";
 
-constexpr int kUnlit = 0;
 // reference §6.2: bilateral distance = pixel world radius × 2√2 × 3 (the SSGI multiplier); the
 // history test uses the same multiplier (max(3, 3)).
 constexpr float kBilateralScale = 2.0f * 1.41421356f * 3.0f;
@@ -35,8 +35,6 @@ int pickTexel(const float w[4], float u) {
         if (u < (acc += w[i])) return i;
     return 3;
 }
-
-float saturate(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
 
 // What the bilateral weights need of one trace pixel.
 struct Surface {
@@ -165,7 +163,7 @@ void SsgiDenoisePass::execute(PassContext& ctx) {
                 const int py = std::min(y * toFull, full.height - 1);
                 const double d = depth.at(px, py);
                 Surface& s = surfaces[std::size_t(y) * TW + x];
-                if (!(d > 0.0) || std::isinf(d) || int(shadingModel.at(px, py)) == kUnlit) continue;
+                if (!isLitSurface(d, shadingModel.at(px, py))) continue;
                 const Vec3d p = cam.translatedFromPixel(px, py, d);
                 s.valid = true;
                 s.position = {float(p.x), float(p.y), float(p.z)};
@@ -224,7 +222,7 @@ void SsgiDenoisePass::execute(PassContext& ctx) {
                             : nullptr;
     Image state;
     if (temporal) state = Image(TW, TH, kHistoryNames);
-    const uint32_t frameMod8 = uint32_t(((frame.number % 8) + 8) % 8);
+    const uint32_t frameMod8 = ue::frameIndexMod8(frame.number);
 
     forEachTile(TW, TH, [&](const Tile& t) {
         uint64_t reused = 0;

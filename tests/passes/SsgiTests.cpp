@@ -3,6 +3,7 @@
 #include "passes/core/Executor.h"
 #include "passes/core/Sampling.h"
 #include "passes/core/UnrealRandom.h"
+#include "passes/prevcolor/PrevColorReductionPass.h"
 #include "passes/ssgi/SsgiPass.h"
 #include "passes/ssgi_denoise/SsgiDenoisePass.h"
 #include "tests/support/TestScenes.h"
@@ -38,15 +39,6 @@ FrameCamera wallCamera(int size) {
     return cam;
 }
 
-float saturate(float v) { return std::clamp(v, 0.0f, 1.0f); }
-
-// The reduction's screen-edge vignette (reference §3.2 step 7).
-float vignette(double sx, double sy) {
-    const float cx = saturate(float(std::fabs(sx)) * 5.0f - 4.0f);
-    const float cy = saturate(float(std::fabs(sy)) * 5.0f - 4.0f);
-    return saturate(1.0f - (cx * cx + cy * cy));
-}
-
 // Form factor from floor point p (normal +y) to the part of the wall that is on screen (what a
 // screen-space tracer can hit), by midpoint quadrature over 0.25-unit cells; `vignetted` also
 // weighs each cell by the vignette at its screen position.
@@ -63,7 +55,9 @@ double onScreenWallFormFactor(const Vec3d& p, const CameraView& cam, bool vignet
             const Vec3d d = q - p;
             const double r2 = dot(d, d);
             double w = d.y * d.z / (kPi * r2 * r2) * cell * cell;
-            if (vignetted) w *= vignette(proj.px / cam.width * 2 - 1, 1 - proj.py / cam.height * 2);
+            if (vignetted)
+                w *= PrevColorReductionPass::vignette(float(proj.px / cam.width * 2 - 1),
+                                                      float(1 - proj.py / cam.height * 2));
             f += w;
         }
     return f;

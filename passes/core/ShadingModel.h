@@ -1,0 +1,17 @@
+#pragma once
+// Unreal's shading-model ids (reference §1.6), as the capture's ShadingModel buffer holds them.
+#include <cmath>
+
+namespace fp {
+
+enum ShadingModelId {
+    kUnlit = 0, kDefaultLit, kSubsurface, kPreintegratedSkin, kClearCoat, kSubsurfaceProfile,
+    kTwoSidedFoliage, kHair, kCloth, kEye
+};
+
+/// A pixel with a surface that takes lighting: finite positive depth (not sky) and not unlit.
+inline bool isLitSurface(double depth, float shadingModel) {
+    return depth > 0.0 && !std::isinf(depth) && int(shadingModel) != kUnlit;
+}
+
+}  // namespace fp
