@@ -73,20 +73,21 @@ Command addRunCommand(CLI::App& app) {
         HistoryStore history;
         // Warm-up: the frames before the first, at the sequence's step, that exist on disk.
         const std::vector<int> warmup = warmupFrames(session, opt->warmupFrames);
-        for (std::size_t i = 0; i < warmup.size(); ++i) {
-            io::CaptureSource::Options so = session.captureOptions(warmup[i], inputs);
+        auto sourceOptions = [&](int frame, bool firstInSequence) {
+            io::CaptureSource::Options so = session.captureOptions(frame, inputs);
             so.strict = opt->strict;
-            so.firstInSequence = i == 0;
-            io::CaptureSource source(so, session.profile());
+            so.firstInSequence = firstInSequence;
+            return so;
+        };
+        for (std::size_t i = 0; i < warmup.size(); ++i) {
+            io::CaptureSource source(sourceOptions(warmup[i], i == 0), session.profile());
             DiscardSink discard;
             const FrameReport fr = executePlan(plan, source, discard, {}, &history);
             std::cout << fmt::format("warm-up frame {}: {} passes in {:.3f} s\n", warmup[i],
                                      fr.passes.size(), fr.seconds);
         }
         for (std::size_t i = 0; i < frames.size(); ++i) {
-            io::CaptureSource::Options so = session.captureOptions(frames[i], inputs);
-            so.strict = opt->strict;
-            so.firstInSequence = i == 0 && warmup.empty();
+            const io::CaptureSource::Options so = sourceOptions(frames[i], i == 0 && warmup.empty());
             io::CaptureSource source(so, session.profile());
             FP_CHECK(!plan.needsCamera || source.frameInfo().hasCamera,
                      "{}: frame {}: no camera in the header and no sidecar ({}.camera.json)",

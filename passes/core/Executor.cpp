@@ -195,7 +195,7 @@ FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
         }
         pr.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         if (history && ctx.kept())
-            history->keep(step.name, {std::move(*ctx.kept()), frame.camera.current, frame.number});
+            history->keep(step.name, {std::move(*ctx.kept()), frame.camera.current});
         for (const auto& port : step.requestedOutputs)
             FP_CHECK(store.find(step.name + "." + port), "frame {}: pass '{}' did not write its "
                      "requested output '{}'", frame.number, step.name, port);

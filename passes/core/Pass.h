@@ -66,7 +66,6 @@ struct FrameInfo {
 struct PassHistory {
     Texture state;
     CameraView camera;
-    int64_t frame = 0;
 };
 
 class PassContext {

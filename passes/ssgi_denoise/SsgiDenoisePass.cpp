@@ -229,6 +229,8 @@ void SsgiDenoisePass::execute(PassContext& ctx) {
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
                 const Surface& ref = surfaceAt(x, y);
+                const int px = std::min(x * toFull, full.width - 1);  // the full-res pixel traced
+                const int py = std::min(y * toFull, full.height - 1);
                 float cur[4];
                 for (int c = 0; c < 4; ++c) cur[c] = recon.plane(c).at(x, y);
                 const float curCount = recon.plane(4).at(x, y);
@@ -237,8 +239,6 @@ void SsgiDenoisePass::execute(PassContext& ctx) {
 
                 if (hist && ref.valid) {
                     // Where this surface was in the history's frame (full-res pixels).
-                    const int px = std::min(x * toFull, full.width - 1);
-                    const int py = std::min(y * toFull, full.height - 1);
                     double pu, pv;
                     if (velocity) {
                         pu = px + 0.5 + velocity->image().plane(0).at(px, py);
@@ -298,9 +298,8 @@ void SsgiDenoisePass::execute(PassContext& ctx) {
                             for (int c = 0; c < 4; ++c) {
                                 const float mean = m1[c] / wSum;
                                 const float sigma = std::sqrt(std::fabs(m2[c] / wSum - mean * mean));
-                                const float stored = c < 3 ? hist->plane(c).at(cx, cy)
-                                                           : hist->plane(kAO).at(cx, cy);
-                                h[c] = std::clamp(stored, mean - kClampSigma * sigma,
+                                // History channels 0–3 are R G B AO, like the signal's.
+                                h[c] = std::clamp(hist->plane(c).at(cx, cy), mean - kClampSigma * sigma,
                                                   mean + kClampSigma * sigma);
                             }
                             // Only the AO (miss) channel drives rejection for SSGI (step 5).
@@ -322,8 +321,6 @@ void SsgiDenoisePass::execute(PassContext& ctx) {
                 if (temporal) {
                     for (int c = 0; c < 4; ++c) state.plane(c).at(x, y) = out[c];
                     state.plane(kCount).at(x, y) = ref.valid ? std::min(outCount, kHistoryCap) : 0.0f;
-                    const int px = std::min(x * toFull, full.width - 1);
-                    const int py = std::min(y * toFull, full.height - 1);
                     state.plane(kViewDepth).at(x, y) = depth.at(px, py);
                     state.plane(kNX).at(x, y) = ref.normal.x;
                     state.plane(kNY).at(x, y) = ref.normal.y;
