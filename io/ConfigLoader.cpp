@@ -1,5 +1,8 @@
 #include "io/ConfigLoader.h"
 
+#include "io/LightChain.h"
+#include "io/SceneLoader.h"
+
 #include "passes/core/Diagnostics.h"
 #include "passes/core/Error.h"
 #include "passes/core/Suggest.h"
@@ -194,6 +197,16 @@ RunConfig parseRunConfig(const nlohmann::json& j, const std::string& source,
             rc.graph.cvars = merged;
         }
         for (auto& n : rc.graph.nodes) n.pointer = "(preset " + rc.graph.engine + ")" + n.pointer;
+        if (!rc.scene.empty()) {
+            // A scene with lights: the preset gains Unreal's RenderLights step.
+            std::vector<std::string> lights;
+            try {
+                for (const Light& l : loadScene(rc.scene).scene.lights) lights.push_back(l.name);
+            } catch (const Error& e) {
+                diag.error("/scene", e.what());
+            }
+            addLightPasses(rc.graph, lights, !j.contains("outputs"));
+        }
     }
     rc.errors = diag.errors();
     return rc;

@@ -24,7 +24,7 @@ const std::vector<std::string> kSceneKeys = {"version", "geometry", "sceneUnitsP
 const std::vector<std::string> kLightKeys = {"name", "type", "color", "intensity", "position",
                                              "direction", "sourceAngleDegrees", "radius",
                                              "innerConeDegrees", "outerConeDegrees", "halfU",
-                                             "halfV"};
+                                             "halfV", "attenuationRadius", "samplesPerPixel"};
 const std::vector<std::string> kMaterialKeys = {"baseColor", "metallic", "specular", "roughness",
                                                 "emission", "shadingModel", "subsurfaceColor",
                                                 "opacity", "clearCoat", "clearCoatRoughness"};
@@ -112,6 +112,14 @@ Light parseLight(const nlohmann::json& j, const std::string& file, const std::st
         l.outerConeDegrees = num(j["outerConeDegrees"], file, where + "/outerConeDegrees");
     if (j.contains("halfU")) l.halfU = vec3(j["halfU"], file, where + "/halfU");
     if (j.contains("halfV")) l.halfV = vec3(j["halfV"], file, where + "/halfV");
+    if (j.contains("attenuationRadius"))
+        l.attenuationRadius = num(j["attenuationRadius"], file, where + "/attenuationRadius");
+    if (j.contains("samplesPerPixel")) {
+        const double spp = num(j["samplesPerPixel"], file, where + "/samplesPerPixel");
+        if (spp < 1 || spp > 64 || spp != std::floor(spp))
+            fail(file, where + "/samplesPerPixel", "expected an integer in 1..64");
+        l.samplesPerPixel = int(spp);
+    }
     if (l.type == LightType::Rect && length(cross(l.halfU, l.halfV)) <= 0.0)
         fail(file, where, "a rect light needs non-parallel, non-zero 'halfU' and 'halfV'");
     if (l.name.empty()) l.name = type;
@@ -331,6 +339,7 @@ void loadGltf(const std::string& path, SceneFile& sf) {
             l.name = gl.name.empty() ? fmt::format("light{}", li) : gl.name;
             l.color = {float(gl.color[0]), float(gl.color[1]), float(gl.color[2])};
             l.intensity = float(gl.intensity);
+            l.attenuationRadius = gl.range > 0.0 ? gl.range : 0.0;  // KHR: 0/absent = unlimited
             const auto h = world.apply({0, 0, 0});
             l.position = {h[0], h[1], h[2]};
             // Lights point down their node's −Z.

@@ -22,7 +22,8 @@ struct ShadedHit {
     bool hit = false;
     double depth = 0;  // view z
     Vec3d offset;      // hit point relative to the RayScene origin
-    Vec3f color;
+    Vec3f color;     // emission + direct lighting
+    Vec3f emission;
     RayHit ray;
     Vec3f normal;
 };
@@ -43,6 +44,7 @@ ShadedHit tracePixel(const RayScene& rs, const CameraView& cam, const Vec3f& eye
     out.depth = dot(dirD, cam.forward) * double(out.ray.t);
     const SurfacePoint sp = surfaceAt(rs, out.ray, eyeOffset, dir);
     out.normal = sp.normal;
+    out.emission = sp.emission;
     out.color = sp.emission + lighting.shade(sp, rng, shadowRays);
     return out;
 }
@@ -77,7 +79,10 @@ CaptureResult GBufferRenderer::render() const {
             for (int px = t.x0; px < t.x1; ++px) {
                 Rng rng(mSettings.frame, px, py, kSeedCurrent);
                 const ShadedHit h = tracePixel(rs, cam, Vec3f{}, px, py, lighting, rng, rays);
-                for (int c = 0; c < 3; ++c) B["SceneColor"].plane(c).at(px, py) = h.color[c];
+                for (int c = 0; c < 3; ++c) {
+                    B["SceneColor"].plane(c).at(px, py) = h.color[c];
+                    B["Emissive"].plane(c).at(px, py) = h.emission[c];
+                }
 
                 // Velocity: where this pixel's surface (or, for sky, its direction) was last frame.
                 const Vec3d p = h.hit ? h.offset : cam.rayDirection(px, py) * 1e12;

@@ -19,8 +19,25 @@ CvarTable::CvarTable() {
         {"r.DiffuseIndirect.Denoiser", "ssgi_denoise", "denoiser", "0 off (raw trace), 1 on (2, a third-party denoiser, runs framepass's)"},
         {"r.GlobalIllumination.Denoiser.TemporalAccumulation", "ssgi_denoise", "temporalAccumulation", "temporal accumulation of the SSGI denoiser"},
         {"r.SSR.Quality", "", "", "screen-space reflections: not emulated yet"},
-        {"r.RayTracing.Shadows", "", "", "ray-traced shadows: not emulated yet"},
-        {"r.Shadow.Denoiser", "", "", "shadow denoiser: not emulated yet"},
+        {"r.RayTracing.Shadows", "", "",
+         "shadows are ray traced (rt_shadows) whenever the config names a scene with lights", 1},
+        {"r.RayTracing.Shadow.SamplesPerPixel", "rt_shadows", "samplesPerPixel",
+         "shadow rays per pixel; −1 = each light's own samplesPerPixel"},
+        {"r.RayTracing.NormalBias", "rt_shadows", "normalBias", "largest shadow-ray bias, cm"},
+        {"r.RayTracing.Shadows.LODTransitionStart", "rt_shadows", "lodTransitionStart",
+         "subsurface visibility blends towards transmission from here, cm"},
+        {"r.RayTracing.Shadows.LODTransitionEnd", "rt_shadows", "lodTransitionEnd",
+         "... and is transmission from here, cm"},
+        {"r.RayTracing.Shadows.EnableTwoSidedGeometry", "", "",
+         "shadow rays always see both sides of every triangle (Unreal's default)", 1},
+        {"r.RayTracing.Shadows.AcceptFirstHit", "", "",
+         "rt_shadows tests occlusion with any hit and finds the closest hit only for blocked rays "
+         "whose distance the denoiser reads: the same result as Unreal's default 0", 0},
+        {"r.Shadow.Denoiser", "shadow_denoise", "denoiser", "0 off, 1 or 2 on (reference §6.3)"},
+        {"r.Shadow.Denoiser.ReconstructionSamples", "shadow_denoise", "reconstructionSamples",
+         "taps of each shadow filtering pass"},
+        {"r.Shadow.Denoiser.PreConvolution", "shadow_denoise", "preConvolution",
+         "shadow filtering passes before the reconstruction"},
     };
 }
 

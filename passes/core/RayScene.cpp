@@ -4,6 +4,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -48,6 +50,10 @@ RayScene::RayScene(const Scene& scene, const Vec3d& origin) : mScene(scene), mOr
         rtcReleaseGeometry(geom);
     }
     rtcCommitScene(rtc);
+    RTCBounds bounds;
+    rtcGetSceneBounds(rtc, &bounds);
+    mBoundsLo = {bounds.lower_x, bounds.lower_y, bounds.lower_z};
+    mBoundsHi = {bounds.upper_x, bounds.upper_y, bounds.upper_z};
     mDevice = device;
     mRtcScene = rtc;
     if (!tEmbreeError.empty()) throw Error(tEmbreeError);
@@ -86,6 +92,11 @@ RayHit RayScene::intersect(const Vec3f& org, const Vec3f& dir, float tnear, floa
 }
 
 bool RayScene::occluded(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const {
+    if (mLog) {
+        const Ray r{org, dir, tnear, tfar};
+        const bool on = true;
+        log(&r, &on, 1);
+    }
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay ray{};
@@ -101,6 +112,83 @@ bool RayScene::occluded(const Vec3f& org, const Vec3f& dir, float tnear, float t
     rtcOccluded1(static_cast<RTCScene>(mRtcScene), &context, &ray);
     // Embree marks an occluded ray by setting tfar to −∞.
     return ray.tfar == -std::numeric_limits<float>::infinity();
+}
+
+namespace {
+// Embree's 8-wide packets need 32-byte alignment; a lane is valid when its mask is −1.
+void fillRay8(RTCRay8& r, int* valid, const Ray* rays, const bool* active) {
+    for (int i = 0; i < kPacketSize; ++i) {
+        valid[i] = active[i] ? -1 : 0;
+        const Ray& q = active[i] ? rays[i] : rays[0];
+        r.org_x[i] = q.org.x;
+        r.org_y[i] = q.org.y;
+        r.org_z[i] = q.org.z;
+        r.dir_x[i] = q.dir.x;
+        r.dir_y[i] = q.dir.y;
+        r.dir_z[i] = q.dir.z;
+        r.tnear[i] = q.tnear;
+        r.tfar[i] = q.tfar;
+        r.mask[i] = 0xFFFFFFFFu;
+        r.time[i] = 0.0f;
+        r.flags[i] = 0;
+        r.id[i] = unsigned(i);
+    }
+}
+}  // namespace
+
+void RayScene::occluded8(const Ray* rays, const bool* active, bool* occluded) const {
+    if (mLog) log(rays, active, kPacketSize);
+    alignas(32) int valid[kPacketSize];
+    alignas(32) RTCRay8 r;
+    fillRay8(r, valid, rays, active);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcOccluded8(valid, static_cast<RTCScene>(mRtcScene), &context, &r);
+    for (int i = 0; i < kPacketSize; ++i)
+        occluded[i] = active[i] && r.tfar[i] == -std::numeric_limits<float>::infinity();
+}
+
+void RayScene::closestHit8(const Ray* rays, const bool* active, float* t) const {
+    alignas(32) int valid[kPacketSize];
+    alignas(32) RTCRayHit8 rh;
+    fillRay8(rh.ray, valid, rays, active);
+    for (int i = 0; i < kPacketSize; ++i) rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect8(valid, static_cast<RTCScene>(mRtcScene), &context, &rh);
+    for (int i = 0; i < kPacketSize; ++i)
+        t[i] = active[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar[i] : -1.0f;
+}
+
+RayHit RayScene::intersectInstance(const Vec3f& org, const Vec3f& dir, float tnear, float tfar,
+                                   uint32_t instanceId) const {
+    // Step past other objects' surfaces; a bounded number of layers keeps a pathological scene
+    // (thousands of coplanar sheets) from stalling a pixel.
+    for (int layer = 0; layer < 64 && tnear <= tfar; ++layer) {
+        const RayHit h = intersect(org, dir, tnear, tfar);
+        if (!h.hit || mScene.meshes[h.mesh].instanceId == instanceId) return h;
+        tnear = std::nextafter(h.t, std::numeric_limits<float>::infinity());
+    }
+    return {};
+}
+
+float RayScene::farthestDistance(const Vec3f& p) const {
+    const Vec3f d{std::max(std::fabs(p.x - mBoundsLo.x), std::fabs(mBoundsHi.x - p.x)),
+                  std::max(std::fabs(p.y - mBoundsLo.y), std::fabs(mBoundsHi.y - p.y)),
+                  std::max(std::fabs(p.z - mBoundsLo.z), std::fabs(mBoundsHi.z - p.z))};
+    return length(d);
+}
+
+void RayScene::setOcclusionLog(std::vector<Ray>* log) const {
+    std::lock_guard<std::mutex> lock(mLogMutex);
+    mLog = log;
+}
+
+void RayScene::log(const Ray* rays, const bool* active, int count) const {
+    std::lock_guard<std::mutex> lock(mLogMutex);
+    if (!mLog) return;
+    for (int i = 0; i < count; ++i)
+        if (active[i]) mLog->push_back(rays[i]);
 }
 
 Vec3f RayScene::shadingNormal(const RayHit& hit) const {

@@ -7,6 +7,8 @@
 #include "passes/core/Scene.h"
 
 #include <cstdint>
+#include <mutex>
+#include <vector>
 
 namespace fp {
 
@@ -17,6 +19,15 @@ struct RayHit {
     float u = 0, v = 0;  //!< barycentrics of vertices 1 and 2
     Vec3f geometricNormal;  //!< unit, as wound (not facing-corrected)
 };
+
+/// A ray for the packet queries: org + t·dir for t in [tnear, tfar], org relative to the origin.
+struct Ray {
+    Vec3f org, dir;
+    float tnear = 0.0f, tfar = 0.0f;
+};
+
+/// Embree's packet width for shadow rays (rtcOccluded8): eight neighbouring pixels.
+constexpr int kPacketSize = 8;
 
 class RayScene {
 public:
@@ -34,6 +45,21 @@ public:
     /// True when anything blocks org + t·dir for t in [tnear, tfar].
     bool occluded(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const;
 
+    /// rtcOccluded8: occluded[i] for each active[i] ray of the packet (inactive lanes: false).
+    void occluded8(const Ray* rays, const bool* active, bool* occluded) const;
+    /// rtcIntersect8: closest-hit distance of each active ray, −1 for a miss or an inactive lane.
+    void closestHit8(const Ray* rays, const bool* active, float* t) const;
+    /// Closest hit of the ray on the meshes with this InstanceId only (other geometry is passed
+    /// through): the thickness of a pixel's own object along a ray.
+    RayHit intersectInstance(const Vec3f& org, const Vec3f& dir, float tnear, float tfar,
+                             uint32_t instanceId) const;
+    /// The farthest distance from `p` (relative to origin()) to any point of the scene's bounds.
+    float farthestDistance(const Vec3f& p) const;
+
+    /// While a log is set, every active ray of occluded() and occluded8() is appended to it, so
+    /// `bench` can time a bare Embree loop over exactly the rays a pass traced. nullptr stops.
+    void setOcclusionLog(std::vector<Ray>* log) const;
+
     /// Interpolated vertex normal (or the geometric normal for flat meshes), unit length.
     Vec3f shadingNormal(const RayHit& hit) const;
     const Material& material(const RayHit& hit) const;
@@ -44,6 +70,10 @@ private:
     Vec3d mOrigin;
     void* mDevice = nullptr;  // RTCDevice, kept opaque so passes need no Embree headers
     void* mRtcScene = nullptr;
+    Vec3f mBoundsLo, mBoundsHi;  // relative to mOrigin
+    mutable std::mutex mLogMutex;
+    mutable std::vector<Ray>* mLog = nullptr;
+    void log(const Ray* rays, const bool* active, int count) const;
 };
 
 }  // namespace fp

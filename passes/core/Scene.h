@@ -48,6 +48,8 @@ struct Light {
     float radius = 0;              //!< point/spot: sphere radius (soft shadows)
     float innerConeDegrees = 0, outerConeDegrees = 45;  //!< spot half angles
     Vec3d halfU{0.5, 0, 0}, halfV{0, 0, 0.5};  //!< rect: half-extent axes; emits along halfU × halfV
+    double attenuationRadius = 0;  //!< local lights: no light beyond this distance (0 = unlimited)
+    int samplesPerPixel = 1;       //!< shadow rays per pixel (Unreal's light SamplesPerPixel)
 };
 
 struct Scene {
@@ -56,6 +58,15 @@ struct Scene {
     std::vector<Light> lights;
     Vec3f skyColor{0, 0, 0};         //!< radiance of rays that leave the scene
     double sceneUnitsPerMeter = 100.0;
+
+    /// Unreal's constants are in centimetres; this converts them to scene units.
+    double centimetre() const { return sceneUnitsPerMeter / 100.0; }
+    /// The light called `name`; nullptr when there is none.
+    const Light* findLight(const std::string& name) const {
+        for (const Light& l : lights)
+            if (l.name == name) return &l;
+        return nullptr;
+    }
 };
 
 }  // namespace fp

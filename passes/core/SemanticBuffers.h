@@ -27,6 +27,8 @@ inline const std::vector<SemanticBuffer>& semanticBuffers() {
         {"CustomData", {"R", "G", "B", "A"}, PortKind::Data, "GBufferD (reference §1.7)"},
         {"Velocity", {"X", "Y"}, PortKind::Data, "pixels to the previous position, +Y down"},
         {"SceneColor", {"R", "G", "B"}, PortKind::Color, "this frame's lit colour"},
+        {"Emissive", {"R", "G", "B"}, PortKind::Color,
+         "scene colour before the lights run (emissive + precomputed lighting)"},
         {"PrevSceneColor", {"R", "G", "B"}, PortKind::Color, "last frame's colour (leak-free)"},
         {"TAAHistory", {"R", "G", "B"}, PortKind::Color, "last frame's TAA history"},
         {"PrevSceneDepth", {"Z"}, PortKind::Data, "last frame's linear view depth"},

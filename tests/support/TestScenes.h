@@ -6,6 +6,7 @@
 #include "passes/core/RayScene.h"
 #include "passes/core/Scene.h"
 
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -20,6 +21,27 @@ inline Mesh quad(const Vec3d& centre, const Vec3d& u, const Vec3d& v, double hal
     m.positions = {centre - u * half - v * half, centre + u * half - v * half,
                    centre + u * half + v * half, centre - u * half + v * half};
     m.indices = {0, 1, 2, 0, 2, 3};
+    m.material = material;
+    m.instanceId = instance;
+    return m;
+}
+
+/// A UV sphere of `segments` × segments/2 quads, outward-wound.
+inline Mesh sphere(const Vec3d& centre, double radius, int segments, int material = 0,
+                   uint32_t instance = 1) {
+    Mesh m;
+    const int rings = segments / 2;
+    for (int r = 0; r <= rings; ++r)
+        for (int s = 0; s <= segments; ++s) {
+            const double theta = kPi * r / rings, phi = 2.0 * kPi * s / segments;
+            m.positions.push_back(centre + Vec3d{std::sin(theta) * std::cos(phi), std::cos(theta),
+                                                 std::sin(theta) * std::sin(phi)} * radius);
+        }
+    for (int r = 0; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            const uint32_t a = uint32_t(r * (segments + 1) + s), b = a + uint32_t(segments + 1);
+            m.indices.insert(m.indices.end(), {a, a + 1, b, a + 1, b + 1, b});
+        }
     m.material = material;
     m.instanceId = instance;
     return m;

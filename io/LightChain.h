@@ -1,0 +1,21 @@
+#pragma once
+// Unreal's RenderLights step (reference §10, step 6) for a preset chain: when the config names a
+// scene, every light gets rt_shadows → shadow_denoise → deferred_lighting, each light adding into
+// the colour the previous one produced. The base pass's colour (capture:Emissive) then takes the
+// place of the capture's lit SceneColor at the start of the chain, so direct light is not counted
+// twice, and the display shows the lit result.
+#include "passes/core/GraphDesc.h"
+
+#include <string>
+#include <vector>
+
+namespace fp::io {
+
+/// Adds the per-light passes to a preset `graph` (which must hold diffuse_indirect_composite and
+/// display); `addOutputs` also writes a lit colour EXR and a shadows EXR per frame.
+void addLightPasses(GraphDesc& graph, const std::vector<std::string>& lightNames, bool addOutputs);
+
+/// "Key Light 2" → "key_light_2": a light's name as a pass-name suffix.
+std::string passSuffix(const std::string& lightName);
+
+}  // namespace fp::io

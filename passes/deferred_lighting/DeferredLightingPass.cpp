@@ -1,0 +1,202 @@
+#include "passes/deferred_lighting/DeferredLightingPass.h"
+
+#include "passes/core/RayScene.h"
+#include "passes/core/ShadingModel.h"
+#include "passes/core/Tiles.h"
+#include "passes/lighting/BRDF.h"
+#include "passes/lighting/LightAttenuation.h"
+#include "passes/lighting/NamedLight.h"
+#include "passes/lighting/ShadingModelBxDF.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fp {
+
+namespace {
+
+constexpr const char* kColor = "color";
+constexpr const char* kAttenuation = "attenuation";
+constexpr const char* kDepth = "depth";
+constexpr const char* kNormal = "normal";
+constexpr const char* kBaseColor = "baseColor";
+constexpr const char* kMetallic = "metallic";
+constexpr const char* kSpecular = "specular";
+constexpr const char* kRoughness = "roughness";
+constexpr const char* kShadingModel = "shadingModel";
+constexpr const char* kCustomData = "customData";
+constexpr const char* kGBufferAO = "gbufferAO";
+
+// One direction towards the light with the unshadowed irradiance it brings at normal incidence.
+struct Incoming {
+    Vec3f L, falloff;
+};
+
+}  // namespace
+
+ParamSpec<DeferredLightingParams> DeferredLightingPass::paramSpec() {
+    ParamSpec<DeferredLightingParams> s;
+    s.add("light", &Params::light, "name of the light (\"\" = the scene's only light)");
+    s.add("rectSamples", &Params::rectSamples,
+          "rect lights: an N×N grid of points integrates the light's area").range(1, 16);
+    return s;
+}
+
+PassIO DeferredLightingPass::describe() const {
+    PassIO io;
+    io.inputs = {
+        {kColor, {"R", "G", "B"}, PortKind::Color, false, "capture:SceneColor",
+         "scene colour the light adds into"},
+        {kAttenuation, {"R", "G", "B", "A"}, PortKind::Data, true, "",
+         "light attenuation (reference §9.5) from rt_shadows or shadow_denoise; unbound = unshadowed"},
+        {kDepth, {"Z"}, PortKind::Data, false, "capture:SceneDepth", "linear view depth"},
+        {kNormal, {"X", "Y", "Z"}, PortKind::Data, false, "capture:WorldNormal", "world normal"},
+        {kBaseColor, {"R", "G", "B"}, PortKind::Color, false, "capture:BaseColor", "albedo"},
+        {kMetallic, {"Y"}, PortKind::Data, false, "capture:Metallic", "GBufferB.r"},
+        {kSpecular, {"Y"}, PortKind::Data, false, "capture:Specular", "GBufferB.g"},
+        {kRoughness, {"Y"}, PortKind::Data, false, "capture:Roughness", "GBufferB.b"},
+        {kShadingModel, {"Y"}, PortKind::Data, false, "capture:ShadingModel",
+         "picks the BxDF; unlit and sky pixels are skipped"},
+        {kCustomData, {"R", "G", "B", "A"}, PortKind::Data, true, "capture:CustomData",
+         "per shading model (reference §1.7)"},
+        {kGBufferAO, {"Y"}, PortKind::Data, true, "capture:GBufferAO", "material AO"},
+    };
+    io.outputs = {
+        {kColor, {"R", "G", "B"}, PortKind::Color, false, "", "scene colour + this light"},
+    };
+    io.needsCamera = true;
+    io.needsScene = true;  // the light
+    return io;
+}
+
+void DeferredLightingPass::execute(PassContext& ctx) {
+    const FrameInfo& frame = ctx.frame();
+    const CameraView& cam = frame.camera.current;
+    const Light& light = namedLight(ctx.scene().scene(), mParams.light);
+    const Extent size = frame.extent;
+    const Image& sceneColor = ctx.input(kColor)->image();
+    const Texture* attenuation = ctx.input(kAttenuation);
+    const Plane& depth = ctx.input(kDepth)->image().plane(0);
+    const Image& normal = ctx.input(kNormal)->image();
+    const Image& baseColor = ctx.input(kBaseColor)->image();
+    const Plane& metallic = ctx.input(kMetallic)->image().plane(0);
+    const Plane& specular = ctx.input(kSpecular)->image().plane(0);
+    const Plane& roughness = ctx.input(kRoughness)->image().plane(0);
+    const Plane& models = ctx.input(kShadingModel)->image().plane(0);
+    const Texture* customData = ctx.input(kCustomData);
+    const Texture* gbufferAO = ctx.input(kGBufferAO);
+    Image& out = ctx.output(kColor, {size}).image();
+
+    // Light geometry relative to the eye, so a camera far from the origin loses nothing.
+    const Vec3f lightPos(light.position - cam.position);
+    const Vec3f axis = normalize(Vec3f(light.direction));
+    const Vec3f color = light.color * light.intensity;
+    const float cosOuter = std::cos(light.outerConeDegrees * kPiF / 180.0f);
+    const float cosInner = std::cos(light.innerConeDegrees * kPiF / 180.0f);
+    const int grid = mParams.rectSamples;
+
+    // The light's unshadowed contributions at p: one direction, or a grid over a rect light.
+    auto incoming = [&](const Vec3f& p, Incoming* in) -> int {
+        if (light.type == LightType::Directional) {
+            in[0] = {-axis, color};
+            return 1;
+        }
+        if (light.type == LightType::Rect) {
+            const Vec3f hu(light.halfU), hv(light.halfV);
+            const Vec3f nl = normalize(cross(hu, hv));
+            const float cellArea = 4.0f * length(cross(hu, hv)) / float(grid * grid);
+            int n = 0;
+            for (int j = 0; j < grid; ++j)
+                for (int i = 0; i < grid; ++i) {
+                    const Vec3f q = lightPos + hu * ((2.0f * i + 1.0f) / grid - 1.0f) +
+                                    hv * ((2.0f * j + 1.0f) / grid - 1.0f);
+                    const Vec3f d = q - p;
+                    const float dist2 = dot(d, d);
+                    const Vec3f L = d / std::sqrt(dist2);
+                    const float cosL = -dot(L, nl);
+                    if (cosL <= 0.0f) continue;
+                    in[n++] = {L, color * (cosL * cellArea / dist2)};
+                }
+            return n;
+        }
+        const Vec3f d = lightPos - p;
+        const float dist2 = dot(d, d);
+        if (light.attenuationRadius > 0.0 && dist2 > light.attenuationRadius * light.attenuationRadius)
+            return 0;
+        const Vec3f L = d / std::sqrt(dist2);
+        float falloff = 1.0f / dist2;  // inverse square, as the capture and the truth light it
+        if (light.type == LightType::Spot) {
+            // Unreal's spot mask: saturate((cos − cosOuter)/(cosInner − cosOuter))².
+            const float t = std::clamp((dot(-L, axis) - cosOuter) / std::max(cosInner - cosOuter, 1e-4f),
+                                       0.0f, 1.0f);
+            falloff *= t * t;
+        }
+        if (falloff <= 0.0f) return 0;
+        in[0] = {L, color * falloff};
+        return 1;
+    };
+
+    forEachTile(size.width, size.height, [&](const Tile& t) {
+        std::vector<Incoming> in(std::size_t(std::max(1, grid * grid)));
+        uint64_t pixels = 0, skipped = 0;
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                Vec3f c{sceneColor.plane(0).at(x, y), sceneColor.plane(1).at(x, y),
+                        sceneColor.plane(2).at(x, y)};
+                const double d = depth.at(x, y);
+                const int model = int(models.at(x, y));
+                const Vec3f p = isLitSurface(d, models.at(x, y))
+                                    ? Vec3f(cam.translatedFromPixel(x, y, d))
+                                    : Vec3f{};
+                const int n = isLitSurface(d, models.at(x, y)) ? incoming(p, in.data()) : 0;
+                if (n == 0) {
+                    ++skipped;  // sky, unlit, or out of the light's reach: colour unchanged
+                } else {
+                    ++pixels;
+                    BxDFSurface s{};
+                    s.shadingModel = model;
+                    s.N = normalize(Vec3f{normal.plane(0).at(x, y), normal.plane(1).at(x, y),
+                                          normal.plane(2).at(x, y)});
+                    const Vec3f base{baseColor.plane(0).at(x, y), baseColor.plane(1).at(x, y),
+                                     baseColor.plane(2).at(x, y)};
+                    const SurfaceBRDF brdf = SurfaceBRDF::fromMaterial(
+                        base, metallic.at(x, y), specular.at(x, y), roughness.at(x, y));
+                    s.diffuseColor = brdf.diffuseColor;
+                    s.specularColor = brdf.specularColor;
+                    s.roughness = brdf.roughness;
+                    if (customData) {
+                        // Reference §1.7: subsurface-type colours are stored as √colour.
+                        const Image& cd = customData->image();
+                        const float r = cd.plane(0).at(x, y), g = cd.plane(1).at(x, y),
+                                    b = cd.plane(2).at(x, y), a = cd.plane(3).at(x, y);
+                        s.subsurfaceColor = {r * r, g * g, b * b};
+                        s.opacity = a;
+                        s.clearCoat = r;
+                        s.clearCoatRoughness = g;
+                    }
+                    s.gbufferAO = gbufferAO ? gbufferAO->image().plane(0).at(x, y) : 1.0f;
+                    float surfaceShadow = 1.0f, transmissionShadow = 1.0f;
+                    if (attenuation) {
+                        const Image& a = attenuation->image();
+                        const LightAttenuation la{a.plane(0).at(x, y), a.plane(1).at(x, y),
+                                                  a.plane(2).at(x, y), a.plane(3).at(x, y)};
+                        surfaceShadow = la.surfaceShadow(light.type);
+                        transmissionShadow = la.transmissionShadow(light.type);
+                    }
+                    const Vec3f V = normalize(-p);
+                    Vec3f sum;
+                    for (int k = 0; k < n; ++k) {
+                        const BxDFTerms b = evaluateBxDF(s, V, in[k].L);
+                        sum += ((b.diffuse + b.specular) * surfaceShadow +
+                                b.transmission * transmissionShadow) * in[k].falloff;
+                    }
+                    c += sum;
+                }
+                for (int ch = 0; ch < 3; ++ch) out.plane(ch).at(x, y) = c[ch];
+            }
+        ctx.addWork("pixels", pixels);
+        ctx.addWork("skippedPixels", skipped);
+    });
+}
+
+}  // namespace fp

@@ -1,0 +1,45 @@
+#pragma once
+// Ray-traced shadows of one light (reference §9, Unreal's RayTracingOcclusionRGS): per pixel,
+// shadow rays from the position reconstructed from depth, biased towards the camera and along the
+// normal, through Embree in packets of eight neighbouring pixels (rtcOccluded8). Subsurface and
+// hair pixels whose ray is blocked trace the inverted ray through their own object: the thickness
+// gives a transmission exp(−density·thickness). Outputs visibility, transmission, the closest
+// occluder distance (for the denoiser) and the light-attenuation encoding (reference §9.5).
+#include "passes/core/Params.h"
+#include "passes/core/Pass.h"
+
+#include <string>
+
+namespace fp {
+
+struct RtShadowsParams {
+    std::string light;           //!< the light's name ("" = the scene's only light)
+    int samplesPerPixel = -1;    //!< r.RayTracing.Shadow.SamplesPerPixel; −1 = the light's own
+    float normalBias = 0.1f;     //!< r.RayTracing.NormalBias, cm (min 0.01)
+    bool transmission = true;    //!< the light's bTransmission: subsurface/hair thickness rays
+    float lodTransitionStart = 4000.0f;  //!< r.RayTracing.Shadows.LODTransitionStart, cm
+    float lodTransitionEnd = 5000.0f;    //!< r.RayTracing.Shadows.LODTransitionEnd, cm
+    bool rayPackets = true;      //!< rtcOccluded8 packets; false traces one ray at a time
+};
+
+class RtShadowsPass final : public Pass {
+public:
+    using Params = RtShadowsParams;
+    static ParamSpec<Params> paramSpec();
+    explicit RtShadowsPass(const Params& params) : mParams(params) {}
+
+    PassIO describe() const override;
+    void execute(PassContext& ctx) override;
+
+    /// Transmission through `thicknessCm` of a material of this opacity (reference §9.3):
+    /// saturate(exp(−density·thickness)), density = −0.05·ln(1 − min(opacity, 0.999)) per cm.
+    static float transmittance(float opacity, float thicknessCm);
+    /// Unreal's subsurface-profile thickness encoding: 1 − thickness/5 cm, saturated.
+    static float encodeThickness(float thicknessCm);
+    static constexpr float kMaxProfileDistanceCm = 5.0f;  // SSSS_MAX_TRANSMISSION_PROFILE_DISTANCE
+
+private:
+    Params mParams;
+};
+
+}  // namespace fp

@@ -1,0 +1,36 @@
+#pragma once
+// The shadow configuration of Unreal's screen-space denoiser (reference §6.3), spatial part: the
+// penumbra of a light is as wide as the light looks from the occluder, so each pixel's blur radius
+// comes from its closest occluder distance and the light's size (directional: tan(½·angle) × the
+// distance; local: radius × d/(D − d)). Golden-angle taps inside that radius are weighted by the
+// receiver's plane and normal, so contact shadows stay sharp and shadows do not bleed across
+// creases. Writes the light-attenuation encoding (reference §9.5) of the filtered result.
+#include "passes/core/Params.h"
+#include "passes/core/Pass.h"
+
+#include <string>
+
+namespace fp {
+
+struct ShadowDenoiseParams {
+    int denoiser = 2;             //!< r.Shadow.Denoiser: 0 passes the raw shadow through
+    std::string light;            //!< the light's name ("" = the scene's only light)
+    int reconstructionSamples = 8;  //!< r.Shadow.Denoiser.ReconstructionSamples: taps per pass
+    int preConvolution = 1;       //!< r.Shadow.Denoiser.PreConvolution: extra passes before it
+    float maxRadius = 32.0f;      //!< largest blur radius, pixels
+};
+
+class ShadowDenoisePass final : public Pass {
+public:
+    using Params = ShadowDenoiseParams;
+    static ParamSpec<Params> paramSpec();
+    explicit ShadowDenoisePass(const Params& params) : mParams(params) {}
+
+    PassIO describe() const override;
+    void execute(PassContext& ctx) override;
+
+private:
+    Params mParams;
+};
+
+}  // namespace fp

@@ -1,0 +1,265 @@
+// Ray-traced shadows, the shadow denoiser and deferred lighting (issue 5): analytic shadows,
+// transmission, the light-attenuation encoding, packet/scalar and thread identity, large
+// coordinates, and the hard-case floor.
+#include "io/SceneLoader.h"
+#include "passes/lighting/LightAttenuation.h"
+#include "passes/rt_shadows/RtShadowsPass.h"
+#include "tests/support/TestScenes.h"
+
+#include <doctest/doctest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+namespace fp {
+
+namespace {
+
+std::map<std::string, Texture> run(test::MemorySource& src, std::vector<NodeDesc> nodes,
+                                   std::vector<std::string> outputs) {
+    test::MemorySink sink;
+    executePlan(test::planFor(nodes, outputs), src, sink);
+    return sink.layers;
+}
+
+// A floor (y = 0) under a sphere of radius 10 centred at height 30, seen from straight above, so
+// floor pixels map linearly to floor positions.
+constexpr double kSphereRadius = 10.0;
+Scene sphereOverFloor(const Vec3d& offset, Light light) {
+    Scene s = test::floorScene(offset);
+    s.sceneUnitsPerMeter = 100.0;
+    s.meshes.push_back(test::sphere(offset + Vec3d{0, 30, 0}, kSphereRadius, 256, 0, 2));
+    light.position += offset;
+    s.lights.push_back(light);
+    return s;
+}
+
+FrameCamera topCamera(const Vec3d& offset, int size) {
+    FrameCamera cam;
+    cam.current = CameraView::lookAt(offset + Vec3d{0, 200, 0}, offset, {0, 0, 1}, 20.0, size, size, 10.0);
+    cam.previous = cam.current;
+    return cam;
+}
+
+Light sun(const Vec3d& direction, float angleDegrees = 0.0f) {
+    Light l;
+    l.name = "sun";
+    l.type = LightType::Directional;
+    l.direction = normalize(direction);
+    l.sourceAngleDegrees = angleDegrees;
+    return l;
+}
+
+}  // namespace
+
+TEST_CASE("a sphere's hard shadow on a plane is its analytic silhouette") {
+    // A sun with no source angle, tilted so the camera above sees the shadow beside the sphere:
+    // a floor point is in shadow exactly when its ray towards the sun passes within R of the
+    // centre. The 256-segment tessellation is within R(1 − cos(π/256)) = 8e-4 units of the sphere.
+    const int size = 96;
+    const Vec3d travel = normalize(Vec3d{0.8, -1, 0});
+    const Scene scene = sphereOverFloor({}, sun(travel));
+    auto src = test::captureToMemory(scene, topCamera({}, size));
+    const auto out = run(src, {test::node("rt_shadows")}, {"rt_shadows.shadow"});
+    const Plane& shadow = out.at("rt_shadows.shadow").image().plane(0);
+    const CameraView& cam = src.info.camera.current;
+    const Plane& depth = src.buffers.at("SceneDepth").plane(0);
+    const Plane& instance = src.buffers.at("InstanceId").plane(0);
+    int inside = 0, outside = 0, wrong = 0;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            if (instance.at(x, y) != 1.0f) continue;  // floor pixels only
+            const Vec3d p = cam.worldFromPixel(x, y, depth.at(x, y));
+            const Vec3d toCentre = Vec3d{0, 30, 0} - p;
+            if (dot(toCentre, travel) > 0.0) continue;  // the sphere is behind the light's way
+            const double r = length(cross(toCentre, travel));
+            // One pixel footprint of margin either side of the edge: a pixel centre that close
+            // can fall on either side of a tessellated silhouette.
+            const double margin = 2.0 * cam.pixelRadiusAtDepth(depth.at(x, y));
+            if (std::fabs(r - kSphereRadius) < margin) continue;
+            const float expected = r < kSphereRadius ? 0.0f : 1.0f;
+            (expected == 0.0f ? inside : outside)++;
+            wrong += shadow.at(x, y) != expected;
+        }
+    CHECK(inside > 200);
+    CHECK(outside > 2000);
+    CHECK(wrong == 0);
+}
+
+TEST_CASE("transmission through a slab is exp(−density·thickness)") {
+    // A subsurface slab (model 2) 1 m × 1 m, `thickness` cm deep, faces the camera; the sun shines
+    // through it from behind. Its pixels' shadow rays are blocked by the slab itself, and the
+    // inverted ray measures the slab: T = exp(0.05·ln(1 − opacity)·d) = (1 − opacity)^(0.05·d).
+    for (const auto& [opacity, thickness] : {std::pair{0.5f, 20.0}, std::pair{0.9f, 10.0}}) {
+        Scene s;
+        s.sceneUnitsPerMeter = 100.0;
+        Material m = test::lambert(0.5f);
+        m.shadingModel = 2;
+        m.opacity = opacity;
+        s.materials.push_back(m);
+        // Front face at z = 0 (facing −z, the camera), back face at z = thickness.
+        s.meshes.push_back(test::quad({0, 0, 0}, {0, 1, 0}, {1, 0, 0}, 50.0, 0, 7));
+        s.meshes.push_back(test::quad({0, 0, thickness}, {1, 0, 0}, {0, 1, 0}, 50.0, 0, 7));
+        s.lights.push_back(sun({0, 0, -1}));  // travelling towards the camera
+        FrameCamera cam;
+        cam.current = CameraView::lookAt({0, 0, -300}, {0, 0, 0}, {0, 1, 0}, 10.0, 32, 32, 10.0);
+        cam.previous = cam.current;
+        auto src = test::captureToMemory(s, cam);
+        const auto out = run(src, {test::node("rt_shadows")},
+                             {"rt_shadows.transmission", "rt_shadows.shadow"});
+        const Plane& T = out.at("rt_shadows.transmission").image().plane(0);
+        const Plane& V = out.at("rt_shadows.shadow").image().plane(0);
+        const double expected = std::pow(1.0 - opacity, 0.05 * thickness);
+        INFO("opacity " << opacity << ", thickness " << thickness << " cm: " << expected);
+        CHECK(RtShadowsPass::transmittance(opacity, float(thickness)) ==
+              doctest::Approx(expected).epsilon(1e-5));
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x) {
+                // The ray starts within the 0.1 cm bias of the front face: at most 0.1 cm of slab
+                // more or less, a relative change of 0.05·|ln(1 − opacity)|·0.1.
+                const double tol = 0.05 * std::fabs(std::log(1.0 - opacity)) * 0.1 * expected;
+                CHECK(T.at(x, y) == doctest::Approx(expected).epsilon(tol / expected + 1e-5));
+                CHECK(V.at(x, y) == 0.0f);  // blocked, and T < 1: not promoted
+            }
+    }
+}
+
+TEST_CASE("light attenuation: √ on write, ² on read, Unreal's channel layout") {
+    for (float v = 0.0f; v <= 1.0f; v += 1.0f / 64.0f)
+        CHECK(LightAttenuation::decode(LightAttenuation::encode(v)) == doctest::Approx(v).epsilon(1e-6));
+    // ShadowFadeFraction = 1 (reference §9.4): the stored value is the shadow itself and lights
+    // see its square.
+    const LightAttenuation dir = LightAttenuation::fromShadow(LightType::Directional, 0.6f, 0.3f);
+    CHECK(dir.r == doctest::Approx(0.6f));
+    CHECK(dir.g == doctest::Approx(0.3f));
+    CHECK(dir.b == 1.0f);  // the whole-scene light leaves the local-light channel alone
+    CHECK(dir.surfaceShadow(LightType::Directional) == doctest::Approx(0.36f));
+    CHECK(dir.transmissionShadow(LightType::Directional) == doctest::Approx(0.09f));
+    const LightAttenuation point = LightAttenuation::fromShadow(LightType::Point, 0.6f, 0.3f);
+    CHECK(point.b == doctest::Approx(0.6f));
+    CHECK(point.a == doctest::Approx(0.3f));
+    CHECK(point.surfaceShadow(LightType::Point) == doctest::Approx(0.36f));
+    CHECK(point.transmissionShadow(LightType::Point) == doctest::Approx(0.09f));
+}
+
+TEST_CASE("packets and single rays agree bit for bit; 1 and 2 threads are byte-identical") {
+    // Soft shadows of a sphere light (4 samples per pixel) over a floor and a subsurface sphere,
+    // so occlusion, closest-hit distances and transmission rays all take both paths.
+    Light bulb;
+    bulb.name = "bulb";
+    bulb.position = {20, 80, -10};
+    bulb.radius = 15.0f;
+    bulb.intensity = 5000.0f;
+    Scene scene = sphereOverFloor({}, bulb);
+    Material skin = test::lambert(0.7f);
+    skin.shadingModel = 2;
+    skin.opacity = 0.4f;
+    scene.materials.push_back(skin);
+    scene.meshes[1].material = 1;
+    FrameCamera cam;
+    cam.current = CameraView::lookAt({0, 90, -120}, {0, 10, 0}, {0, 1, 0}, 40.0, 80, 64, 10.0);
+    cam.previous = cam.current;
+    auto src = test::captureToMemory(scene, cam);
+    const std::vector<std::string> outs = {"rt_shadows.shadow", "rt_shadows.transmission",
+                                           "rt_shadows.hitDistance", "rt_shadows.lightAttenuation"};
+    auto trace = [&](bool packets, int threads) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        return run(src, {test::node("rt_shadows", {{"rayPackets", packets}, {"samplesPerPixel", 4}})},
+                   outs);
+    };
+    const auto packet = trace(true, 2), scalar = trace(false, 2), oneThread = trace(true, 1);
+    for (const auto& o : outs) {
+        const Image& a = packet.at(o).image();
+        for (int c = 0; c < a.channelCount(); ++c) {
+            CHECK_MESSAGE(test::sameBits(a.plane(c), scalar.at(o).image().plane(c)), o);
+            CHECK_MESSAGE(test::sameBits(a.plane(c), oneThread.at(o).image().plane(c)), o);
+        }
+    }
+    // The scene has penumbrae and transmission: the comparison is not between empty images.
+    const Plane& s = packet.at("rt_shadows.shadow").image().plane(0);
+    int partial = 0;
+    for (int y = 0; y < s.height(); ++y)
+        for (int x = 0; x < s.width(); ++x) partial += s.at(x, y) > 0.0f && s.at(x, y) < 1.0f;
+    CHECK(partial > 20);
+}
+
+TEST_CASE("a camera 10^7 units from the origin sees the same shadows as one at the origin") {
+    const Light l = sun({0.3, -1, 0.2}, 0.5357f);
+    const Vec3d far{1e7, 0, -1e7};
+    const Scene near = sphereOverFloor({}, l), away = sphereOverFloor(far, l);
+    auto a = test::captureToMemory(near, topCamera({}, 64));
+    auto b = test::captureToMemory(away, topCamera(far, 64));
+    const auto sa = run(a, {test::node("rt_shadows")}, {"rt_shadows.shadow"});
+    const auto sb = run(b, {test::node("rt_shadows")}, {"rt_shadows.shadow"});
+    // Geometry is stored relative to the eye and positions are rebuilt camera-relative, so
+    // the far scene's rays are the near scene's up to the rounding of the offsets (double).
+    const Plane& pa = sa.at("rt_shadows.shadow").image().plane(0);
+    const Plane& pb = sb.at("rt_shadows.shadow").image().plane(0);
+    int differ = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) differ += pa.at(x, y) != pb.at(x, y);
+    CHECK(differ == 0);
+}
+
+TEST_CASE("no shadow acne on the hard-case scene's grazing floor at Unreal's default bias") {
+    // The hard scene's floor alone, 10^7 units from the origin, seen at grazing angles from 20 cm
+    // above: nothing can shadow it, so every floor pixel must be lit, with the scene's sun (45°)
+    // and with a sun 2° above the horizon.
+    io::SceneFile sf = io::loadScene(std::string(FP_SOURCE_DIR) + "/examples/hard/scene.json");
+    Scene floorOnly = sf.scene;
+    floorOnly.meshes.erase(std::remove_if(floorOnly.meshes.begin(), floorOnly.meshes.end(),
+                                          [](const Mesh& m) { return m.name != "floor"; }),
+                           floorOnly.meshes.end());
+    REQUIRE(floorOnly.meshes.size() == 1);
+    const FrameCamera cam = sf.cameraForFrame(1, {128, 128});
+    for (const double elevation : {45.0, 2.0}) {
+        Scene s = floorOnly;
+        s.lights.clear();
+        const double e = elevation * kPi / 180.0;
+        s.lights.push_back(sun({0.0, -std::sin(e), -std::cos(e)}));
+        auto src = test::captureToMemory(s, cam);
+        const auto out = run(src, {test::node("rt_shadows")}, {"rt_shadows.shadow"});
+        const Plane& shadow = out.at("rt_shadows.shadow").image().plane(0);
+        const Plane& depth = src.buffers.at("SceneDepth").plane(0);
+        int floorPixels = 0, acne = 0;
+        for (int y = 0; y < 128; ++y)
+            for (int x = 0; x < 128; ++x) {
+                if (std::isinf(depth.at(x, y))) continue;
+                ++floorPixels;
+                acne += shadow.at(x, y) != 1.0f;
+            }
+        INFO("sun elevation " << elevation);
+        CHECK(floorPixels > 4000);
+        CHECK(acne == 0);
+    }
+}
+
+TEST_CASE("deferred lighting of a point light on a Lambert plane is I·cosθ/r² × albedo/π") {
+    Scene s = test::floorScene();
+    Light l;
+    l.name = "bulb";
+    l.position = {10, 40, 5};
+    l.intensity = 3000.0f;
+    l.color = {1.0f, 0.5f, 0.25f};
+    s.lights.push_back(l);
+    const FrameCamera cam = topCamera({}, 48);
+    auto src = test::captureToMemory(s, cam);
+    // Start from the base pass's colour (no emission: zero), unshadowed (nothing can occlude).
+    const auto out = run(src, {test::node("deferred_lighting", {}, {{"color", "capture:Emissive"}})},
+                         {"deferred_lighting.color"});
+    const Image& c = out.at("deferred_lighting.color").image();
+    const Plane& depth = src.buffers.at("SceneDepth").plane(0);
+    for (int y = 0; y < 48; y += 3)
+        for (int x = 0; x < 48; x += 3) {
+            const Vec3d p = cam.current.worldFromPixel(x, y, depth.at(x, y));
+            const Vec3d d = l.position - p;
+            const double r2 = dot(d, d), cosT = d.y / std::sqrt(r2);
+            for (int ch = 0; ch < 3; ++ch) {
+                const double expected = l.intensity * l.color[ch] * cosT / r2 * 0.5 / kPi;
+                // Float positions and normals: 1e-4 relative.
+                CHECK(c.plane(ch).at(x, y) == doctest::Approx(expected).epsilon(1e-4));
+            }
+        }
+}
+
+}  // namespace fp
