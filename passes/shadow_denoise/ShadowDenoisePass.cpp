@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace fp {
 
@@ -95,9 +96,18 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
     const Image& normal = ctx.input(kNormal)->image();
     const Plane& models = ctx.input(kShadingModel)->image().plane(0);
     const Plane& hits = ctx.input(kHitDistance)->image().plane(0);
-    Image signal(W, H, {"S", "T"});  // shadow, transmission: the buffer being filtered
-    signal.plane(0) = ctx.input(kShadow)->image().plane(0);
-    signal.plane(1) = ctx.input(kTransmission)->image().plane(0);
+    // Planes share their pixels when copied: the filter works on copies of its own.
+    auto copyOf = [&](const Image& from) {
+        Image to(W, H, from.channels());
+        for (int c = 0; c < from.channelCount(); ++c)
+            for (int y = 0; y < H; ++y)
+                std::memcpy(to.plane(c).row(y), from.plane(c).row(y), sizeof(float) * W);
+        return to;
+    };
+    Image raw(W, H, {"S", "T"});  // shadow, transmission
+    raw.plane(0) = ctx.input(kShadow)->image().plane(0);
+    raw.plane(1) = ctx.input(kTransmission)->image().plane(0);
+    Image signal = copyOf(raw);
 
     auto lit = [&](int x, int y) { return isLitSurface(depth.at(x, y), models.at(x, y)); };
     auto positionOf = [&](int x, int y) {
@@ -143,7 +153,7 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
                 }
         });
         for (int pass = 0; pass <= mParams.preConvolution; ++pass) {
-            Image out = signal;
+            Image out = copyOf(signal);
             forEachTile(W, H, [&](const Tile& t) {
                 for (int y = t.y0; y < t.y1; ++y)
                     for (int x = t.x0; x < t.x1; ++x) {
