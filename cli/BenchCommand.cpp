@@ -2,6 +2,7 @@
 // and throughput; --sweep varies cvars or parameters over a grid and, where the chain measures
 // error against truth (error_measure passes), produces the speed-against-error table, its Pareto
 // front, and an HTML report.
+#include "cli/BareRayLoop.h"
 #include "cli/BenchResult.h"
 #include "cli/Commands.h"
 #include "cli/RunSession.h"
@@ -23,6 +24,9 @@ namespace fp::cli {
 namespace {
 
 constexpr const char* kErrorPassType = "error_measure";
+constexpr const char* kShadowPassType = "rt_shadows";
+// Not a pass: the Embree yardstick listed with the passes (BareRayLoop.h).
+constexpr const char* kBareLoopType = "embree";
 
 /// A frame source that reads each buffer from the capture once and serves copies afterwards,
 /// so repeated runs time the passes, not the disk.
@@ -213,6 +217,8 @@ Command addBenchCommand(CLI::App& app) {
             BenchSetting setting;
             setting.label = label.empty() ? "default" : label;
             setting.frame = TimingStats::of(frameSeconds);
+            const bool shadowRays = std::any_of(plan.steps.begin(), plan.steps.end(),
+                                                [](const PlanStep& s) { return s.type == kShadowPassType; });
             for (std::size_t s = 0; s < plan.steps.size(); ++s) {
                 const PlanStep& step = plan.steps[s];
                 PassTiming t{step.name, step.type, step.io.workUnit, 0, TimingStats::of(stepSeconds[s])};
@@ -241,6 +247,26 @@ Command addBenchCommand(CLI::App& app) {
                     e.images.heat = preview(step.name + ".heat");
                 }
                 setting.errors.push_back(e);
+            }
+            if (shadowRays) {
+                // Replay the shadow rays of one more run through bare Embree loops.
+                std::vector<Ray> rays;
+                const RayScene& scene = source.scene();
+                scene.setOcclusionLog(&rays);
+                sink.keep = false;
+                executePlan(plan, source, sink);
+                scene.setOcclusionLog(nullptr);
+                for (const bool packets : {true, false}) {
+                    std::vector<double> seconds;
+                    uint64_t blocked = 0;
+                    for (int r = 0; r < opt->warmup + opt->runs; ++r) {
+                        const double t = timeBareOcclusion(scene, rays, packets, blocked);
+                        if (r >= opt->warmup) seconds.push_back(t);
+                    }
+                    setting.passes.push_back({packets ? "bare loop rtcOccluded8" : "bare loop rtcOccluded1",
+                                              kBareLoopType, "rays", rays.size(),
+                                              TimingStats::of(seconds)});
+                }
             }
             result.settings.push_back(setting);
         }

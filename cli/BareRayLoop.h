@@ -1,0 +1,18 @@
+#pragma once
+// The yardstick for a shadow pass's speed: the same shadow rays, replayed through Embree in a bare
+// parallel loop with nothing else per ray. bench records the rays of one run of the chain
+// (RayScene::setOcclusionLog) and times them here, so "pass rays/s ÷ bare rays/s" is how much of
+// Embree's speed the pass keeps.
+#include "passes/core/RayScene.h"
+
+#include <vector>
+
+namespace fp::cli {
+
+/// Seconds to test every ray for occlusion on all threads: in packets of eight consecutive rays
+/// (rtcOccluded8, as the pass groups them) or one at a time (rtcOccluded1). `blocked` receives the
+/// number of occluded rays so the work cannot be optimised away (and can be checked).
+double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, bool packets,
+                         uint64_t& blocked);
+
+}  // namespace fp::cli
