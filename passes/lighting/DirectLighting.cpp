@@ -33,11 +33,10 @@ SurfacePoint surfaceAt(const RayScene& scene, const RayHit& hit, const Vec3f& or
             SurfaceBRDF::fromMaterial(m.baseColor, m.metallic, m.specular, m.roughness), m.emission};
 }
 
-int DirectLighting::samplesFor(const Light& light) const {
-    const bool extended = light.type == LightType::Rect ||
-                          (light.type == LightType::Directional && light.sourceAngleDegrees > 0) ||
-                          (light.type != LightType::Directional && light.radius > 0);
-    return extended ? mSamples : 1;
+bool DirectLighting::hasExtent(const Light& light) {
+    return light.type == LightType::Rect ||
+           (light.type == LightType::Directional && light.sourceAngleDegrees > 0) ||
+           (light.type != LightType::Directional && light.radius > 0);
 }
 
 LightSample DirectLighting::sample(const Light& light, const SurfacePoint& s, float u, float v) const {

@@ -52,7 +52,9 @@ public:
     /// True when nothing blocks the sample's shadow ray from `s`.
     bool visible(const SurfacePoint& s, const LightSample& ls) const;
     /// Samples a light needs: 1 for a punctual light, `samples` for one with extent.
-    int samplesFor(const Light& light) const;
+    int samplesFor(const Light& light) const { return hasExtent(light) ? mSamples : 1; }
+    /// A rect light, a directional light with a source angle, a point or spot with a radius.
+    static bool hasExtent(const Light& light);
 
 private:
     const RayScene& mScene;

@@ -123,7 +123,9 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                     for (std::size_t l = 0; l < lights.size(); ++l) {
                         const float lu = rng.nextFloat(), lv = rng.nextFloat();
                         // A punctual light's visibility is one ray, the same for every sample.
-                        const bool punctual = lighting.samplesFor(lights[l]) == 1;
+                        // (The tracer's own DirectLighting takes one sample per light, so ask the
+                        // light, not samplesFor.)
+                        const bool punctual = !DirectLighting::hasExtent(lights[l]);
                         if (i > 0 && punctual) {
                             shadow[l].add(punctualVisibility[l]);
                             continue;
