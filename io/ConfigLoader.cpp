@@ -199,9 +199,9 @@ RunConfig parseRunConfig(const nlohmann::json& j, const std::string& source,
         for (auto& n : rc.graph.nodes) n.pointer = "(preset " + rc.graph.engine + ")" + n.pointer;
         if (!rc.scene.empty()) {
             // A scene with lights: the preset gains Unreal's RenderLights step.
-            std::vector<std::string> lights;
+            std::vector<Light> lights;
             try {
-                for (const Light& l : loadScene(rc.scene).scene.lights) lights.push_back(l.name);
+                lights = loadScene(rc.scene).scene.lights;
             } catch (const Error& e) {
                 diag.error("/scene", e.what());
             }

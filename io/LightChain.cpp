@@ -3,8 +3,6 @@
 #include "passes/core/Error.h"
 
 #include <algorithm>
-#include <cctype>
-#include <set>
 
 namespace fp::io {
 
@@ -19,28 +17,20 @@ NodeDesc* findNode(GraphDesc& g, const std::string& name) {
 }
 }  // namespace
 
-std::string passSuffix(const std::string& lightName) {
-    std::string s;
-    for (unsigned char c : lightName) s += std::isalnum(c) ? char(std::tolower(c)) : '_';
-    return s.empty() ? "light" : s;
-}
-
-void addLightPasses(GraphDesc& graph, const std::vector<std::string>& lightNames, bool addOutputs) {
+void addLightPasses(GraphDesc& graph, const std::vector<Light>& lights, bool addOutputs) {
     NodeDesc* composite = findNode(graph, kComposite);
     FP_ASSERT(composite && findNode(graph, kDisplay));  // every preset chain has both
-    if (lightNames.empty()) return;
+    if (lights.empty()) return;
     composite->inputs["sceneColor"] = "capture:Emissive";
     const std::string pointer = composite->pointer;
 
     std::vector<NodeDesc> added;
-    std::set<std::string> used;
     std::string color = std::string(kComposite) + ".color";
     std::vector<std::string> shadowLayers;
-    for (const std::string& light : lightNames) {
-        std::string id = passSuffix(light);
-        for (int k = 2; used.count(id); ++k) id = passSuffix(light) + "_" + std::to_string(k);
-        used.insert(id);
-        const nlohmann::json params = {{"light", light}};
+    const std::vector<std::string> ids = lightIdentifiers(lights);
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const std::string& id = ids[i];
+        const nlohmann::json params = {{"light", lights[i].name}};
         const std::string shadows = "rt_shadows_" + id, denoise = "shadow_denoise_" + id,
                           lighting = "deferred_lighting_" + id;
         added.push_back({shadows, "rt_shadows", params, {}, pointer});

@@ -5,17 +5,15 @@
 // place of the capture's lit SceneColor at the start of the chain, so direct light is not counted
 // twice, and the display shows the lit result.
 #include "passes/core/GraphDesc.h"
+#include "passes/core/Scene.h"
 
-#include <string>
 #include <vector>
 
 namespace fp::io {
 
 /// Adds the per-light passes to a preset `graph` (which must hold diffuse_indirect_composite and
-/// display); `addOutputs` also writes a lit colour EXR and a shadows EXR per frame.
-void addLightPasses(GraphDesc& graph, const std::vector<std::string>& lightNames, bool addOutputs);
-
-/// "Key Light 2" → "key_light_2": a light's name as a pass-name suffix.
-std::string passSuffix(const std::string& lightName);
+/// display), named after each light's identifier (lightIdentifiers, as its Truth.Shadow layer);
+/// `addOutputs` also writes a lit colour EXR and a shadows EXR per frame.
+void addLightPasses(GraphDesc& graph, const std::vector<Light>& lights, bool addOutputs);
 
 }  // namespace fp::io

@@ -4,6 +4,8 @@
 #include "passes/core/Camera.h"
 #include "passes/core/Math.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -51,6 +53,22 @@ struct Light {
     double attenuationRadius = 0;  //!< local lights: no light beyond this distance (0 = unlimited)
     int samplesPerPixel = 1;       //!< shadow rays per pixel (Unreal's light SamplesPerPixel)
 };
+
+/// Each light's name reduced to letters, digits and '_' ("Light<i>" when unnamed), made unique:
+/// the suffix of its Truth.Shadow.<id> layer and of its per-light pass names (rt_shadows_<id>).
+inline std::vector<std::string> lightIdentifiers(const std::vector<Light>& lights) {
+    std::vector<std::string> ids;
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        std::string n;
+        for (char c : lights[i].name) n += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+        if (n.empty()) n = "Light" + std::to_string(i);
+        const std::string base = n;
+        for (int k = 2; std::find(ids.begin(), ids.end(), n) != ids.end(); ++k)
+            n = base + "_" + std::to_string(k);
+        ids.push_back(n);
+    }
+    return ids;
+}
 
 struct Scene {
     std::vector<Mesh> meshes;

@@ -6,11 +6,9 @@
 #include "passes/reference/PathTracer.h"
 
 #include <atomic>
-#include <cctype>
 #include <cmath>
 #include <limits>
 #include <mutex>
-#include <set>
 
 namespace fp {
 
@@ -45,17 +43,7 @@ struct PixelStats {
 
 std::vector<std::string> TruthRenderer::shadowLayerNames(const Scene& scene) {
     std::vector<std::string> names;
-    std::set<std::string> used;
-    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
-        std::string n;
-        for (char c : scene.lights[i].name)
-            n += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-        if (n.empty()) n = "Light" + std::to_string(i);
-        const std::string base = n;
-        for (int k = 2; used.count(n); ++k) n = base + "_" + std::to_string(k);
-        used.insert(n);
-        names.push_back("Truth.Shadow." + n);
-    }
+    for (const std::string& id : lightIdentifiers(scene.lights)) names.push_back("Truth.Shadow." + id);
     return names;
 }
 

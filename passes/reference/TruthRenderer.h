@@ -49,8 +49,7 @@ public:
     /// `progress(done, total)` is called (from worker threads, serialised) as tiles finish.
     TruthResult render(const std::function<void(int, int)>& progress = {}) const;
 
-    /// The layer name of each light's shadow truth: Truth.Shadow.<name>, with the light's name
-    /// reduced to letters, digits and '_' ("Light<i>" when unnamed), made unique.
+    /// The layer name of each light's shadow truth: Truth.Shadow.<id> (lightIdentifiers).
     static std::vector<std::string> shadowLayerNames(const Scene& scene);
 
 private:
