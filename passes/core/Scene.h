@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -52,6 +53,16 @@ struct Light {
     Vec3d halfU{0.5, 0, 0}, halfV{0, 0, 0.5};  //!< rect: half-extent axes; emits along halfU × halfV
     double attenuationRadius = 0;  //!< local lights: no light beyond this distance (0 = unlimited)
     int samplesPerPixel = 1;       //!< shadow rays per pixel (Unreal's light SamplesPerPixel)
+
+    /// Unreal's spot mask for a point at angle acos(cosAngle) off the axis:
+    /// saturate((cos − cosOuter)/(cosInner − cosOuter))²; 1 for every other light type.
+    float spotMask(float cosAngle) const {
+        if (type != LightType::Spot) return 1.0f;
+        const float cosOuter = std::cos(outerConeDegrees * kPiF / 180.0f);
+        const float cosInner = std::cos(innerConeDegrees * kPiF / 180.0f);
+        const float t = std::clamp((cosAngle - cosOuter) / std::max(cosInner - cosOuter, 1e-4f), 0.0f, 1.0f);
+        return t * t;
+    }
 };
 
 /// Each light's name reduced to letters, digits and '_' ("Light<i>" when unnamed), made unique:

@@ -91,8 +91,6 @@ void DeferredLightingPass::execute(PassContext& ctx) {
     const Vec3f lightPos(light.position - cam.position);
     const Vec3f axis = normalize(Vec3f(light.direction));
     const Vec3f color = light.color * light.intensity;
-    const float cosOuter = std::cos(light.outerConeDegrees * kPiF / 180.0f);
-    const float cosInner = std::cos(light.innerConeDegrees * kPiF / 180.0f);
     const int grid = mParams.rectSamples;
 
     // The light's unshadowed contributions at p: one direction, or a grid over a rect light.
@@ -124,13 +122,8 @@ void DeferredLightingPass::execute(PassContext& ctx) {
         if (light.attenuationRadius > 0.0 && dist2 > light.attenuationRadius * light.attenuationRadius)
             return 0;
         const Vec3f L = d / std::sqrt(dist2);
-        float falloff = 1.0f / dist2;  // inverse square, as the capture and the truth light it
-        if (light.type == LightType::Spot) {
-            // Unreal's spot mask: saturate((cos − cosOuter)/(cosInner − cosOuter))².
-            const float t = std::clamp((dot(-L, axis) - cosOuter) / std::max(cosInner - cosOuter, 1e-4f),
-                                       0.0f, 1.0f);
-            falloff *= t * t;
-        }
+        // Inverse square, as the capture and the truth light it.
+        const float falloff = light.spotMask(dot(-L, axis)) / dist2;
         if (falloff <= 0.0f) return 0;
         in[0] = {L, color * falloff};
         return 1;
@@ -145,10 +138,9 @@ void DeferredLightingPass::execute(PassContext& ctx) {
                         sceneColor.plane(2).at(x, y)};
                 const double d = depth.at(x, y);
                 const int model = int(models.at(x, y));
-                const Vec3f p = isLitSurface(d, models.at(x, y))
-                                    ? Vec3f(cam.translatedFromPixel(x, y, d))
-                                    : Vec3f{};
-                const int n = isLitSurface(d, models.at(x, y)) ? incoming(p, in.data()) : 0;
+                const bool lit = isLitSurface(d, models.at(x, y));
+                const Vec3f p = lit ? Vec3f(cam.translatedFromPixel(x, y, d)) : Vec3f{};
+                const int n = lit ? incoming(p, in.data()) : 0;
                 if (n == 0) {
                     ++skipped;  // sky, unlit, or out of the light's reach: colour unchanged
                 } else {
@@ -177,9 +169,8 @@ void DeferredLightingPass::execute(PassContext& ctx) {
                     s.gbufferAO = gbufferAO ? gbufferAO->image().plane(0).at(x, y) : 1.0f;
                     float surfaceShadow = 1.0f, transmissionShadow = 1.0f;
                     if (attenuation) {
-                        const Image& a = attenuation->image();
-                        const LightAttenuation la{a.plane(0).at(x, y), a.plane(1).at(x, y),
-                                                  a.plane(2).at(x, y), a.plane(3).at(x, y)};
+                        const LightAttenuation la =
+                            LightAttenuation::load(attenuation->image(), x, y);
                         surfaceShadow = la.surfaceShadow(light.type);
                         transmissionShadow = la.transmissionShadow(light.type);
                     }

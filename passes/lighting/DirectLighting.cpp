@@ -73,15 +73,7 @@ LightSample DirectLighting::sample(const Light& light, const SurfacePoint& s, fl
         irradiance = float(1.0 / (dist * dist));
         maxDist = float(dist);
         extent = light.radius;
-        if (light.type == LightType::Spot) {
-            // Unreal's spot falloff: saturate((cos − cosOuter)/(cosInner − cosOuter))².
-            const float cosOuter = std::cos(light.outerConeDegrees * kPiF / 180.0f);
-            const float cosInner = std::cos(light.innerConeDegrees * kPiF / 180.0f);
-            const float cosA = dot(-out.L, normalize(Vec3f(light.direction)));
-            const float t =
-                std::clamp((cosA - cosOuter) / std::max(cosInner - cosOuter, 1e-4f), 0.0f, 1.0f);
-            irradiance *= t * t;
-        }
+        irradiance *= light.spotMask(dot(-out.L, normalize(Vec3f(light.direction))));
     }
     out.irradiance = color * irradiance;
     out.shadowDir = out.L;

@@ -4,6 +4,7 @@
 // √value and read back squared, an 8-bit-friendly gamma. The ray-traced shadow pass writes its
 // shadow with ShadowFadeFraction = 1, i.e. FadedShadow = Shadow², so the stored value is Shadow and
 // the lights see Shadow² (reference §9.4).
+#include "passes/core/Image.h"
 #include "passes/core/Math.h"
 #include "passes/core/Scene.h"
 
@@ -24,6 +25,18 @@ struct LightAttenuation {
         const float s = encode(shadow * shadow), t = encode(subsurface * subsurface);
         if (type == LightType::Directional) return {s, t, 1.0f, t};
         return {s, t, s, t};
+    }
+
+    /// The buffer's four planes at one pixel.
+    static LightAttenuation load(const Image& image, int x, int y) {
+        return {image.plane(0).at(x, y), image.plane(1).at(x, y), image.plane(2).at(x, y),
+                image.plane(3).at(x, y)};
+    }
+    void store(Image& image, int x, int y) const {
+        image.plane(0).at(x, y) = r;
+        image.plane(1).at(x, y) = g;
+        image.plane(2).at(x, y) = b;
+        image.plane(3).at(x, y) = a;
     }
 
     /// GetShadowTerms (reference §9.5) without static shadowing or distance fade: the opaque

@@ -301,12 +301,8 @@ void RtShadowsPass::execute(PassContext& ctx) {
                     shadowOut.at(x, py) = visibility;
                     transmissionOut.at(x, py) = transmission;
                     hitOut.at(x, py) = res[i].closestHit;
-                    const LightAttenuation a =
-                        LightAttenuation::fromShadow(light.type, visibility, transmission);
-                    attenuationOut.plane(0).at(x, py) = a.r;
-                    attenuationOut.plane(1).at(x, py) = a.g;
-                    attenuationOut.plane(2).at(x, py) = a.b;
-                    attenuationOut.plane(3).at(x, py) = a.a;
+                    LightAttenuation::fromShadow(light.type, visibility, transmission)
+                        .store(attenuationOut, x, py);
                 }
             }
         ctx.addWork("rays", rays);

@@ -110,8 +110,20 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
     Image signal = copyOf(raw);
 
     auto lit = [&](int x, int y) { return isLitSurface(depth.at(x, y), models.at(x, y)); };
+    // Camera-relative positions, rebuilt once: every filtering pass reads them at each tap.
+    Image positions(W, H, {"X", "Y", "Z"});
+    if (mParams.denoiser > 0)
+        forEachTile(W, H, [&](const Tile& t) {
+            for (int y = t.y0; y < t.y1; ++y)
+                for (int x = t.x0; x < t.x1; ++x) {
+                    if (!lit(x, y)) continue;
+                    const Vec3f p(cam.translatedFromPixel(x, y, depth.at(x, y)));
+                    for (int c = 0; c < 3; ++c) positions.plane(c).at(x, y) = p[c];
+                }
+        });
     auto positionOf = [&](int x, int y) {
-        return Vec3f(cam.translatedFromPixel(x, y, depth.at(x, y)));
+        return Vec3f{positions.plane(0).at(x, y), positions.plane(1).at(x, y),
+                     positions.plane(2).at(x, y)};
     };
     auto normalOf = [&](int x, int y) {
         return Vec3f{normal.plane(0).at(x, y), normal.plane(1).at(x, y), normal.plane(2).at(x, y)};
@@ -127,11 +139,12 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
 
     // Blur radius per pixel, in pixels: from its own occluder, else the closest one around it
     // (a lit pixel next to a shadow is in that shadow's penumbra).
+    // Pixels without a radius of at least half a pixel are left as they are (and counted).
     Plane radius(W, H);
-    uint64_t filtered = 0, skipped = 0;
     if (mParams.denoiser > 0) {
         const Vec3f lightPos(light.position - cam.position);
         forEachTile(W, H, [&](const Tile& t) {
+            uint64_t filtered = 0;
             for (int y = t.y0; y < t.y1; ++y)
                 for (int x = t.x0; x < t.x1; ++x) {
                     if (!lit(x, y)) continue;
@@ -150,7 +163,10 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
                     const float world = penumbraRadius(light, hit, length(lightPos - p));
                     const float footprint = 2.0f * float(cam.pixelRadiusAtDepth(depth.at(x, y)));
                     radius.at(x, y) = std::min(world / footprint, mParams.maxRadius);
+                    filtered += radius.at(x, y) >= 0.5f;
                 }
+            ctx.addWork("pixels", filtered);
+            ctx.addWork("skippedPixels", uint64_t(t.x1 - t.x0) * (t.y1 - t.y0) - filtered);
         });
         for (int pass = 0; pass <= mParams.preConvolution; ++pass) {
             Image out = copyOf(signal);
@@ -186,10 +202,9 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
             });
             signal = std::move(out);
         }
-        for (int y = 0; y < H; ++y)
-            for (int x = 0; x < W; ++x) ++(radius.at(x, y) >= 0.5f && lit(x, y) ? filtered : skipped);
     } else {
-        skipped = uint64_t(W) * H;
+        ctx.addWork("pixels", 0);
+        ctx.addWork("skippedPixels", uint64_t(W) * H);
     }
 
     Plane& shadowOut = ctx.output(kShadow, {size}).image().plane(0);
@@ -201,15 +216,9 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
                 const float s = signal.plane(0).at(x, y), tr = signal.plane(1).at(x, y);
                 shadowOut.at(x, y) = s;
                 transmissionOut.at(x, y) = tr;
-                const LightAttenuation a = LightAttenuation::fromShadow(light.type, s, tr);
-                attenuation.plane(0).at(x, y) = a.r;
-                attenuation.plane(1).at(x, y) = a.g;
-                attenuation.plane(2).at(x, y) = a.b;
-                attenuation.plane(3).at(x, y) = a.a;
+                LightAttenuation::fromShadow(light.type, s, tr).store(attenuation, x, y);
             }
     });
-    ctx.addWork("pixels", filtered);
-    ctx.addWork("skippedPixels", skipped);
 }
 
 }  // namespace fp
