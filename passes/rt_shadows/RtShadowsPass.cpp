@@ -237,9 +237,12 @@ void RtShadowsPass::execute(PassContext& ctx) {
                         if (!traced[i]) continue;
                         PixelSetup& s = px[i];
                         PixelResult& r = res[i];
+                        // A subsurface-profile pixel's transmission channel is its encoded
+                        // thickness instead (below).
+                        const bool profile = mParams.transmission && s.model == kSubsurfaceProfile;
                         if (!blocked[i]) {
                             r.visibility += 1.0f;
-                            r.transmission += 1.0f;
+                            if (!profile) r.transmission += 1.0f;
                         } else {
                             if (hitT[i] >= 0.0f && (r.closestHit < 0.0f || hitT[i] < r.closestHit))
                                 r.closestHit = hitT[i];
@@ -264,7 +267,7 @@ void RtShadowsPass::execute(PassContext& ctx) {
                                 }
                             }
                         }
-                        if (mParams.transmission && s.model == kSubsurfaceProfile) {
+                        if (profile) {
                             // Subsurface profile: the encoded thickness of its own object towards
                             // the light, up to 5 cm (inferred simplification of Unreal's
                             // constant-tracking estimate, reference §9.3).
@@ -276,9 +279,7 @@ void RtShadowsPass::execute(PassContext& ctx) {
                             const float thicknessCm =
                                 h.hit ? (reach - h.t) / cm
                                       : (dot(s.n, ray[i].dir) > 0.0f ? 0.0f : kMaxProfileDistanceCm);
-                            // The profile's transmission channel is the encoded thickness; the
-                            // unblocked count added above is replaced.
-                            r.transmission += encodeThickness(thicknessCm) - (blocked[i] ? 0.0f : 1.0f);
+                            r.transmission += encodeThickness(thicknessCm);
                         }
                     }
                 }
