@@ -18,27 +18,39 @@ nlohmann::json describeType(const PassType& t) {
     auto ports = [](const std::vector<PortSpec>& list) {
         nlohmann::json a = nlohmann::json::array();
         for (const auto& p : list)
-            a.push_back({{"name", p.name}, {"channels", p.channels},
+            a.push_back({{"name", p.name},
+                         {"channels", p.channels},
                          {"kind", p.kind == PortKind::Color ? "color" : "data"},
-                         {"optional", p.optional}, {"default", p.defaultSource}, {"doc", p.doc}});
+                         {"optional", p.optional},
+                         {"default", p.captureDefault.empty() ? "" : "capture:" + p.captureDefault},
+                         {"doc", p.doc}});
         return a;
     };
     nlohmann::json params = nlohmann::json::array();
     for (const auto& p : t.params) {
-        nlohmann::json pj = {{"name", p.name}, {"type", p.type}, {"default", p.defaultValue},
-                             {"doc", p.doc}};
-        if (p.min) pj["min"] = *p.min;
-        if (p.max) pj["max"] = *p.max;
-        if (!p.choices.empty()) pj["choices"] = p.choices;
+        nlohmann::json pj = {
+            {"name", p.name}, {"type", p.type}, {"default", p.defaultValue}, {"doc", p.doc}};
+        if (p.min)
+            pj["min"] = *p.min;
+        if (p.max)
+            pj["max"] = *p.max;
+        if (!p.choices.empty())
+            pj["choices"] = p.choices;
         params.push_back(pj);
     }
     nlohmann::json cvars = nlohmann::json::array();
-    const CvarTable table;  // a named object: a range-for over a temporary's member dangles
+    const CvarTable table(builtinPasses());  // named: a range-for over a temporary's member dangles
     for (const auto& c : table.all())
-        if (c.passType == t.id) cvars.push_back({{"cvar", c.cvar}, {"param", c.param}, {"note", c.note}});
-    return {{"type", t.id}, {"doc", t.doc}, {"inputs", ports(io.inputs)},
-            {"outputs", ports(io.outputs)}, {"params", params}, {"cvars", cvars},
-            {"needsScene", io.needsScene}, {"needsCamera", io.needsCamera}};
+        if (c.passType == t.id)
+            cvars.push_back({{"cvar", c.cvar}, {"param", c.param}, {"note", c.note}});
+    return {{"type", t.id},
+            {"doc", t.doc},
+            {"inputs", ports(io.inputs)},
+            {"outputs", ports(io.outputs)},
+            {"params", params},
+            {"cvars", cvars},
+            {"needsScene", io.needsScene},
+            {"needsCamera", io.needsCamera}};
 }
 }  // namespace
 
@@ -48,7 +60,8 @@ Command addPassesCommand(CLI::App& app) {
         bool json = false;
     };
     auto opt = std::make_shared<Options>();
-    CLI::App* sub = app.add_subcommand("passes", "list pass types, or the ports and parameters of one");
+    CLI::App* sub =
+        app.add_subcommand("passes", "list pass types, or the ports and parameters of one");
     sub->add_option("type", opt->type, "a pass type id");
     sub->add_flag("--json", opt->json, "machine-readable output");
 
@@ -56,7 +69,8 @@ Command addPassesCommand(CLI::App& app) {
         const PassRegistry& reg = builtinPasses();
         nlohmann::json all = nlohmann::json::array();
         for (const auto& t : reg.types())
-            if (opt->type.empty() || t.id == opt->type) all.push_back(describeType(t));
+            if (opt->type.empty() || t.id == opt->type)
+                all.push_back(describeType(t));
         if (!opt->type.empty() && all.empty())
             throw UsageError(fmt::format("unknown pass type '{}'{}", opt->type,
                                          didYouMean(opt->type, reg.ids())));
@@ -67,25 +81,27 @@ Command addPassesCommand(CLI::App& app) {
         for (const auto& t : all) {
             std::cout << fmt::format("{:<22} {}\n", t["type"].get<std::string>(),
                                      t["doc"].get<std::string>());
-            if (opt->type.empty()) continue;
+            if (opt->type.empty())
+                continue;
             for (const char* dir : {"inputs", "outputs"}) {
                 std::cout << "  " << dir << ":\n";
                 for (const auto& p : t[dir]) {
                     const auto ch = p["channels"].get<std::vector<std::string>>();
-                    std::cout << fmt::format("    {:<14} {:<8} {:<6}{}{} — {}\n",
-                                             p["name"].get<std::string>(),
-                                             ch.empty() ? "any" : fmt::format("{}", fmt::join(ch, "")),
-                                             p["kind"].get<std::string>(),
-                                             p["optional"].get<bool>() ? " optional" : "",
-                                             p["default"].get<std::string>().empty()
-                                                 ? "" : " ← " + p["default"].get<std::string>(),
-                                             p["doc"].get<std::string>());
+                    std::cout << fmt::format(
+                        "    {:<14} {:<8} {:<6}{}{} — {}\n", p["name"].get<std::string>(),
+                        ch.empty() ? "any" : fmt::format("{}", fmt::join(ch, "")),
+                        p["kind"].get<std::string>(), p["optional"].get<bool>() ? " optional" : "",
+                        p["default"].get<std::string>().empty()
+                            ? ""
+                            : " ← " + p["default"].get<std::string>(),
+                        p["doc"].get<std::string>());
                 }
             }
             std::cout << "  params:\n";
             for (const auto& p : t["params"]) {
                 std::string range;
-                if (p.contains("min")) range = fmt::format(" [{}, {}]", p["min"].dump(), p["max"].dump());
+                if (p.contains("min"))
+                    range = fmt::format(" [{}, {}]", p["min"].dump(), p["max"].dump());
                 std::cout << fmt::format("    {:<22} {:<6} = {:<10}{} — {}\n",
                                          p["name"].get<std::string>(), p["type"].get<std::string>(),
                                          p["default"].dump(), range, p["doc"].get<std::string>());

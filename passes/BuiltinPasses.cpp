@@ -1,15 +1,15 @@
 // The explicit list of built-in pass types (architecture anchors B3): one line per pass.
-#include "passes/composite/DiffuseIndirectCompositePass.h"
 #include "passes/core/PassRegistry.h"
-#include "passes/display/DisplayPass.h"
-#include "passes/hzb/HZBPass.h"
-#include "passes/metrics/ErrorMeasurePass.h"
-#include "passes/prevcolor/PrevColorReductionPass.h"
-#include "passes/rt_shadows/RtShadowsPass.h"
-#include "passes/shadow_denoise/ShadowDenoisePass.h"
 #include "passes/deferred_lighting/DeferredLightingPass.h"
-#include "passes/ssgi/SsgiPass.h"
-#include "passes/ssgi_denoise/SsgiDenoisePass.h"
+#include "passes/diffuse_indirect_composite/DiffuseIndirectCompositePass.h"
+#include "passes/display/DisplayPass.h"
+#include "passes/error_measure/ErrorMeasurePass.h"
+#include "passes/hzb/HZBPass.h"
+#include "passes/prev_color_reduction/PrevColorReductionPass.h"
+#include "passes/rt_shadows/RTShadowsPass.h"
+#include "passes/shadow_denoise/ShadowDenoisePass.h"
+#include "passes/ssgi/SSGIPass.h"
+#include "passes/ssgi_denoise/SSGIDenoisePass.h"
 
 namespace fp {
 
@@ -20,25 +20,47 @@ const PassRegistry& builtinPasses() {
         r.add<PrevColorReductionPass>(
             "prev_color_reduction",
             "previous-frame colour reprojected and reduced to 5 mips, leak-free (reference §3)");
-        r.add<SsgiPass>("ssgi", "screen-space diffuse indirect: cosine rays marched through the "
-                                "HZB, last frame's colour at the hits, AO (reference §4)");
-        r.add<SsgiDenoisePass>("ssgi_denoise", "SSGI denoiser: 8-tap bilateral reconstruction and "
-                                               "temporal accumulation (reference §6.2)");
-        r.add<DiffuseIndirectCompositePass>(
-            "diffuse_indirect_composite",
-            "SceneColor × AO + diffuse albedo × SSGI, 4.27 or UE5 per shading model (reference §7)");
-        r.add<RtShadowsPass>("rt_shadows", "ray-traced shadows of one light through Embree "
-                                           "packets, subsurface transmission, light attenuation "
-                                           "(reference §9)");
-        r.add<ShadowDenoisePass>("shadow_denoise", "penumbra-aware spatial shadow denoiser: blur "
-                                                   "radius from occluder distance and light size "
-                                                   "(reference §6.3)");
-        r.add<DeferredLightingPass>("deferred_lighting",
-                                    "direct lighting of one light per shading model, shadowed by "
-                                    "its light attenuation, added to scene colour (reference §9.6)");
-        r.add<DisplayPass>("display", "OpenColorIO display transform of a buffer for a PNG preview");
-        r.add<ErrorMeasurePass>("error_measure", "error of any output against a reference (a "
-                                                 "Truth.* layer): metrics in the report, heat map");
+        r.add<SSGIPass>("ssgi",
+                        "screen-space diffuse indirect: cosine rays marched through the "
+                        "HZB, last frame's colour at the hits, AO (reference §4)");
+        r.add<SSGIDenoisePass>("ssgi_denoise",
+                               "SSGI denoiser: 8-tap bilateral reconstruction and "
+                               "temporal accumulation (reference §6.2)");
+        r.add<DiffuseIndirectCompositePass>("diffuse_indirect_composite",
+                                            "SceneColor × AO + diffuse albedo × SSGI, 4.27 or UE5 "
+                                            "per shading model (reference §7)");
+        r.add<RTShadowsPass>("rt_shadows",
+                             "ray-traced shadows of one light through Embree "
+                             "packets, subsurface transmission, light attenuation "
+                             "(reference §9)");
+        r.add<ShadowDenoisePass>("shadow_denoise",
+                                 "penumbra-aware spatial shadow denoiser: blur "
+                                 "radius from occluder distance and light size "
+                                 "(reference §6.3)");
+        r.add<DeferredLightingPass>(
+            "deferred_lighting",
+            "direct lighting of one light per shading model, shadowed by "
+            "its light attenuation, added to scene colour (reference §9.6)");
+        r.add<DisplayPass>("display",
+                           "OpenColorIO display transform of a buffer for a PNG preview");
+        r.add<ErrorMeasurePass>("error_measure",
+                                "error of any output against a reference (a "
+                                "Truth.* layer): metrics in the report, heat map");
+        // Cvars framepass knows but that no parameter emulates (parameters declare their own
+        // cvars beside them, in their pass's paramSpec).
+        r.recognise("r.SSGI.Enable", nullptr, "the SSGI chain is selected by the config's passes");
+        r.recognise("r.DynamicGlobalIlluminationMethod", 2,
+                    "UE5 GI method: framepass's chain is 2 (screen-space GI); Lumen (1) is not "
+                    "emulated");
+        r.recognise("r.SSR.Quality", nullptr, "screen-space reflections: not emulated yet");
+        r.recognise("r.RayTracing.Shadows", 1,
+                    "shadows are ray traced (rt_shadows) whenever the chain has the light step");
+        r.recognise("r.RayTracing.Shadows.EnableTwoSidedGeometry", 1,
+                    "shadow rays always see both sides of every triangle (Unreal's default)");
+        r.recognise("r.RayTracing.Shadows.AcceptFirstHit", 0,
+                    "rt_shadows tests occlusion with any hit and finds the closest hit only for "
+                    "blocked rays whose distance the denoiser reads: the same result as Unreal's "
+                    "default 0");
         return r;
     }();
     return registry;

@@ -1,7 +1,12 @@
 #pragma once
 // Unreal console variables, accepted verbatim in a config's "cvars" section and mapped onto pass
 // parameters (users_and_conventions §5: names and defaults from Unreal's code, not help strings).
-// A cvar framepass knows but does not emulate is a warning that names it; an unknown one too.
+// The table is computed: each parameter declares the cvars that set it beside its own declaration
+// (ParamSpec::cvar), and the registry adds one short list of cvars framepass recognises but does
+// not emulate. A recognised-but-not-emulated cvar set to anything but the value framepass runs is
+// a warning that names it; an unknown one too.
+#include "passes/core/PassRegistry.h"
+
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -10,27 +15,22 @@
 namespace fp {
 
 struct CvarMapping {
-    std::string cvar;       //!< Unreal name, e.g. r.SSGI.LeakFreeReprojection
-    std::string passType;   //!< pass type the value is for ("" = recognised but not emulated)
-    std::string param;      //!< that pass's parameter
-    std::string note;       //!< shown by `framepass passes` and in warnings
+    std::string cvar;      //!< Unreal name, e.g. r.SSGI.LeakFreeReprojection
+    std::string passType;  //!< pass type the value is for ("" = recognised but not emulated)
+    std::string param;     //!< that pass's parameter
+    std::string note;      //!< shown by `framepass passes` and in warnings
     nlohmann::json emulatedValue;  //!< for a cvar that sets nothing: the value framepass runs
 };
 
 class CvarTable {
 public:
-    CvarTable();
+    explicit CvarTable(const PassRegistry& registry);
     /// The first mapping of `cvar` (a cvar may set parameters of several pass types).
     const CvarMapping* find(const std::string& cvar) const;
     /// The mapping of `cvar` onto pass type `passType`, if it has one.
     const CvarMapping* find(const std::string& cvar, const std::string& passType) const;
-    /// Whether any mapping of `cvar` targets one of `passTypes`.
-    template <class Pred>
-    bool anyTarget(const std::string& cvar, Pred&& isPresent) const {
-        for (const auto& e : mEntries)
-            if (e.cvar == cvar && isPresent(e.passType)) return true;
-        return false;
-    }
+    /// Every pass type `cvar` sets a parameter of.
+    std::vector<std::string> targets(const std::string& cvar) const;
     const std::vector<CvarMapping>& all() const { return mEntries; }
     std::vector<std::string> names() const;
 

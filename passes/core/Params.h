@@ -25,6 +25,7 @@ struct ParamInfo {
     nlohmann::json defaultValue;
     std::optional<double> min, max;
     std::vector<std::string> choices;
+    std::vector<std::string> cvars;  //!< Unreal console variables that set it
 };
 
 template <class T>
@@ -33,7 +34,14 @@ public:
     using Member = std::variant<bool T::*, int T::*, float T::*, std::string T::*>;
 
     ParamSpec& add(std::string name, Member member, std::string doc) {
-        mEntries.push_back({std::move(name), member, std::move(doc), {}, {}, {}});
+        mEntries.push_back({std::move(name), member, std::move(doc), {}, {}, {}, {}});
+        return *this;
+    }
+    /// An Unreal console variable that sets the last added parameter (a config's "cvars" or
+    /// --cvar). Declared here, beside the parameter, and nowhere else: the cvar table is made
+    /// from these declarations (CvarTable).
+    ParamSpec& cvar(std::string name) {
+        mEntries.back().cvars.push_back(std::move(name));
         return *this;
     }
     /// Inclusive range for the last added numeric parameter.
@@ -50,7 +58,8 @@ public:
 
     std::vector<std::string> names() const {
         std::vector<std::string> n;
-        for (const auto& e : mEntries) n.push_back(e.name);
+        for (const auto& e : mEntries)
+            n.push_back(e.name);
         return n;
     }
 
@@ -58,7 +67,8 @@ public:
     /// did-you-mean), wrong type, out-of-range value — is added to `diag` under `pointer`.
     T parse(const nlohmann::json& params, const std::string& pointer, Diagnostics& diag) const {
         T out{};
-        if (params.is_null()) return out;
+        if (params.is_null())
+            return out;
         if (!params.is_object()) {
             diag.error(pointer, "parameters must be a JSON object");
             return out;
@@ -86,7 +96,7 @@ public:
         const T defaults{};
         std::vector<ParamInfo> list;
         for (const auto& e : mEntries) {
-            ParamInfo info{e.name, "", e.doc, {}, e.min, e.max, e.choices};
+            ParamInfo info{e.name, "", e.doc, {}, e.min, e.max, e.choices, e.cvars};
             std::visit(
                 [&](auto member) {
                     info.defaultValue = defaults.*member;
@@ -105,11 +115,13 @@ private:
         std::string doc;
         std::optional<double> min, max;
         std::vector<std::string> choices;
+        std::vector<std::string> cvars;
     };
 
     const Entry* find(const std::string& key) const {
         for (const auto& e : mEntries)
-            if (e.name == key) return &e;
+            if (e.name == key)
+                return &e;
         return nullptr;
     }
 
@@ -125,15 +137,23 @@ private:
                                        e.max ? fmt::format("{}", *e.max) : "inf", e.name));
     }
 
-    static void assign(bool& dst, const Entry& e, const nlohmann::json& v, const std::string& at,
+    static void assign(bool& dst,
+                       const Entry& e,
+                       const nlohmann::json& v,
+                       const std::string& at,
                        Diagnostics& diag) {
         // Unreal cvars are often written 0/1; accept those for booleans as the console does.
-        if (v.is_boolean()) dst = v.get<bool>();
+        if (v.is_boolean())
+            dst = v.get<bool>();
         else if (v.is_number_integer() && (v.get<long long>() == 0 || v.get<long long>() == 1))
             dst = v.get<long long>() == 1;
-        else diag.error(at, fmt::format("'{}' must be a boolean, got {}", e.name, v.dump()));
+        else
+            diag.error(at, fmt::format("'{}' must be a boolean, got {}", e.name, v.dump()));
     }
-    static void assign(int& dst, const Entry& e, const nlohmann::json& v, const std::string& at,
+    static void assign(int& dst,
+                       const Entry& e,
+                       const nlohmann::json& v,
+                       const std::string& at,
                        Diagnostics& diag) {
         if (!v.is_number_integer()) {
             diag.error(at, fmt::format("'{}' must be an integer, got {}", e.name, v.dump()));
@@ -142,7 +162,10 @@ private:
         checkRange(double(v.get<long long>()), e, at, diag);
         dst = int(v.get<long long>());
     }
-    static void assign(float& dst, const Entry& e, const nlohmann::json& v, const std::string& at,
+    static void assign(float& dst,
+                       const Entry& e,
+                       const nlohmann::json& v,
+                       const std::string& at,
                        Diagnostics& diag) {
         if (!v.is_number()) {
             diag.error(at, fmt::format("'{}' must be a number, got {}", e.name, v.dump()));
@@ -151,8 +174,11 @@ private:
         checkRange(v.get<double>(), e, at, diag);
         dst = v.get<float>();
     }
-    static void assign(std::string& dst, const Entry& e, const nlohmann::json& v,
-                       const std::string& at, Diagnostics& diag) {
+    static void assign(std::string& dst,
+                       const Entry& e,
+                       const nlohmann::json& v,
+                       const std::string& at,
+                       Diagnostics& diag) {
         if (!v.is_string()) {
             diag.error(at, fmt::format("'{}' must be a string, got {}", e.name, v.dump()));
             return;
@@ -160,9 +186,9 @@ private:
         dst = v.get<std::string>();
         if (!e.choices.empty() &&
             std::find(e.choices.begin(), e.choices.end(), dst) == e.choices.end())
-            diag.error(at, fmt::format("'{}' is not one of [{}] for '{}'{}", dst,
-                                       fmt::join(e.choices, ", "), e.name,
-                                       didYouMean(dst, e.choices)));
+            diag.error(at,
+                       fmt::format("'{}' is not one of [{}] for '{}'{}", dst,
+                                   fmt::join(e.choices, ", "), e.name, didYouMean(dst, e.choices)));
     }
 
     std::vector<Entry> mEntries;

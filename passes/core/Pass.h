@@ -7,7 +7,9 @@
 //   geometry or the colour configuration. It may depend on the parameters and is called once per
 //   plan, before any pixel is read.
 // - Ports are addressed as "pass.port" in the config; capture buffers as "capture:SceneDepth". An
-//   input with a `defaultSource` binds itself when the config says nothing.
+//   input may name the capture buffer it reads when the config says nothing (`captureDefault`);
+//   it never names another pass: which pass feeds which is written only in the chain (presets and
+//   configs), so the chain can be read in one place.
 // - Optional inputs that nobody bound come back as nullptr; outputs nobody asked for report
 //   `isRequested() == false`, and a pass skips the work behind them.
 // - A pass only computes: it never includes io/, never opens files, never creates threads. It
@@ -34,22 +36,24 @@ class RayScene;
 /// Colour buffers may be colour-managed and stored as half; data buffers never are.
 enum class PortKind { Color, Data };
 
+/// One input or output port. Written with designated initialisers:
+/// `{.name = kDepth, .channels = {"Z"}, .captureDefault = "SceneDepth", .doc = "…"}`.
 struct PortSpec {
     std::string name;
     std::vector<std::string> channels;  //!< channel suffixes, e.g. {"R","G","B"} or {"Z"}
     PortKind kind = PortKind::Data;
-    bool optional = false;
-    std::string defaultSource;          //!< binding used when the config gives none
+    bool optional = false;       //!< an unbound optional input reaches the pass as nullptr
+    std::string captureDefault;  //!< inputs: the capture buffer read when the config binds none
     std::string doc;
 };
 
 struct PassIO {
     std::vector<PortSpec> inputs, outputs;
-    bool needsCamera = false;       //!< frame().camera must be known
-    bool needsScene = false;        //!< geometry is loaded and a BVH built only if a live pass says so
-    bool needsColorConfig = false;  //!< an OCIO config must be loaded
+    bool needsCamera = false;  //!< frame().camera must be known
+    bool needsScene = false;   //!< geometry is loaded and a BVH built only if a live pass says so
+    bool needsColorConfig = false;    //!< an OCIO config must be loaded
     std::string workUnit = "pixels";  //!< the counter that measures throughput
-    bool temporal = false;          //!< keeps state from frame to frame (PassContext::history)
+    bool temporal = false;            //!< keeps state from frame to frame (PassContext::history)
 };
 
 /// What a pass knows about the frame it runs on.

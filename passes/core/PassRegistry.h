@@ -20,9 +20,18 @@ struct PassType {
     std::vector<ParamInfo> params;
     /// Parses parameters (errors into diag under pointer) and creates the pass; returns the
     /// resolved parameter values through `resolved`.
-    std::function<std::unique_ptr<Pass>(const nlohmann::json& params, const std::string& pointer,
-                                        Diagnostics& diag, nlohmann::json& resolved)>
+    std::function<std::unique_ptr<Pass>(const nlohmann::json& params,
+                                        const std::string& pointer,
+                                        Diagnostics& diag,
+                                        nlohmann::json& resolved)>
         create;
+};
+
+/// An Unreal cvar framepass knows but does not emulate (no parameter declares it).
+struct RecognisedCvar {
+    std::string cvar;
+    nlohmann::json emulatedValue;  //!< the value framepass's chain behaves as; null = none
+    std::string note;
 };
 
 class PassRegistry {
@@ -45,12 +54,19 @@ public:
         mTypes.push_back(std::move(t));
     }
 
+    /// Declares a cvar that no parameter emulates, with the value framepass runs.
+    void recognise(std::string cvar, nlohmann::json emulatedValue, std::string note) {
+        mRecognised.push_back({std::move(cvar), std::move(emulatedValue), std::move(note)});
+    }
+
     const PassType* find(const std::string& id) const;
     std::vector<std::string> ids() const;
     const std::vector<PassType>& types() const { return mTypes; }
+    const std::vector<RecognisedCvar>& recognisedCvars() const { return mRecognised; }
 
 private:
     std::vector<PassType> mTypes;
+    std::vector<RecognisedCvar> mRecognised;
 };
 
 /// The registry with every built-in pass (defined in passes/BuiltinPasses.cpp).

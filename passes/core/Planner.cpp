@@ -25,26 +25,33 @@ struct NodeState {
 
 const PortSpec* findPort(const std::vector<PortSpec>& ports, const std::string& name) {
     for (const auto& p : ports)
-        if (p.name == name) return &p;
+        if (p.name == name)
+            return &p;
     return nullptr;
 }
 
 std::vector<std::string> portNames(const std::vector<PortSpec>& ports) {
     std::vector<std::string> n;
-    for (const auto& p : ports) n.push_back(p.name);
+    for (const auto& p : ports)
+        n.push_back(p.name);
     return n;
 }
 
 std::vector<std::string> captureBufferNames() {
     std::vector<std::string> n;
-    for (const auto& b : semanticBuffers()) n.push_back(b.name);
+    for (const auto& b : semanticBuffers())
+        n.push_back(b.name);
     return n;
 }
 
 // Validates one layer of parameter values (cvars, config or --set) and reports its errors at
 // `where`, which names the place the user typed them.
-void validateLayer(const PassType& type, const nlohmann::json& layer, const std::string& pointer,
-                   const std::string& where, const std::string& context, Diagnostics& diag) {
+void validateLayer(const PassType& type,
+                   const nlohmann::json& layer,
+                   const std::string& pointer,
+                   const std::string& where,
+                   const std::string& context,
+                   Diagnostics& diag) {
     Diagnostics local;
     nlohmann::json resolved;
     type.create(layer, pointer, local, resolved);
@@ -57,9 +64,10 @@ void validateLayer(const PassType& type, const nlohmann::json& layer, const std:
 
 Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanInputs& in) {
     Diagnostics diag;
-    for (const auto& e : in.priorErrors) diag.error(e.pointer, e.message);
+    for (const auto& e : in.priorErrors)
+        diag.error(e.pointer, e.message);
     Plan plan;
-    const CvarTable cvarTable;
+    const CvarTable cvarTable(registry);
     std::vector<NodeState> nodes(graph.nodes.size());
     std::map<std::string, int> nodeIndex;
 
@@ -80,7 +88,8 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
                                                         didYouMean(d.type, registry.ids())));
     }
     std::vector<std::string> allNames;
-    for (const auto& d : graph.nodes) allNames.push_back(d.name);
+    for (const auto& d : graph.nodes)
+        allNames.push_back(d.name);
 
     // --- cvars: config first, then --cvar ------------------------------------------------------
     struct CvarValue {
@@ -88,8 +97,10 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
         std::string where;
     };
     std::map<std::string, CvarValue> cvars;
-    for (const auto& [k, v] : graph.cvars.items()) cvars[k] = {v, "/cvars/" + jsonPointerEscape(k)};
-    for (const auto& [k, v] : in.overrides.cvars.items()) cvars[k] = {v, "--cvar " + k};
+    for (const auto& [k, v] : graph.cvars.items())
+        cvars[k] = {v, "/cvars/" + jsonPointerEscape(k)};
+    for (const auto& [k, v] : in.overrides.cvars.items())
+        cvars[k] = {v, "--cvar " + k};
     for (const auto& [name, cv] : cvars) {
         const CvarMapping* m = cvarTable.find(name);
         if (!m) {
@@ -98,11 +109,11 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
         } else if (m->passType.empty() && cv.value == m->emulatedValue) {
             // The value the chain emulates: nothing to say.
         } else if (m->passType.empty()) {
-            diag.warning(cv.where, fmt::format("cvar '{}' is not emulated by framepass ({})",
-                                               name, m->note));
-        } else if (!cvarTable.anyTarget(name, [&](const std::string& type) {
-                       return std::any_of(graph.nodes.begin(), graph.nodes.end(),
-                                          [&](const NodeDesc& d) { return d.type == type; });
+            diag.warning(cv.where,
+                         fmt::format("cvar '{}' is not emulated by framepass ({})", name, m->note));
+        } else if (const auto types = cvarTable.targets(name);
+                   std::none_of(graph.nodes.begin(), graph.nodes.end(), [&](const NodeDesc& d) {
+                       return std::find(types.begin(), types.end(), d.type) != types.end();
                    })) {
             diag.warning(cv.where, fmt::format("cvar '{}' sets {}.{}, but the chain has no '{}' "
                                                "pass",
@@ -123,7 +134,8 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
         std::string pass = target.substr(0, dot), param = target.substr(dot + 1);
         auto it = nodeIndex.find(pass);
         if (it == nodeIndex.end()) {
-            diag.error(where, fmt::format("no pass named '{}'{}", pass, didYouMean(pass, allNames)));
+            diag.error(where,
+                       fmt::format("no pass named '{}'{}", pass, didYouMean(pass, allNames)));
             continue;
         }
         setLayers[it->second][param] = value;
@@ -133,13 +145,15 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
     // --- instantiate: defaults ← cvars ← config params ← --set --------------------------------
     for (std::size_t i = 0; i < nodes.size(); ++i) {
         NodeState& n = nodes[i];
-        if (!n.type) continue;
+        if (!n.type)
+            continue;
         const std::string paramsPtr = n.desc->pointer + "/params";
         const std::size_t errorsBefore = diag.errors().size();
         nlohmann::json merged = nlohmann::json::object();
         for (const auto& [name, cv] : cvars) {
             const CvarMapping* m = cvarTable.find(name, n.desc->type);
-            if (!m) continue;
+            if (!m)
+                continue;
             nlohmann::json layer = {{m->param, cv.value}};
             validateLayer(*n.type, layer, paramsPtr, cv.where,
                           fmt::format("cvar {} sets {}.{}", name, n.desc->name, m->param), diag);
@@ -147,11 +161,13 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
         }
         validateLayer(*n.type, n.desc->params, paramsPtr, "", "", diag);
         if (n.desc->params.is_object())
-            for (const auto& [k, v] : n.desc->params.items()) merged[k] = v;
+            for (const auto& [k, v] : n.desc->params.items())
+                merged[k] = v;
         if (setLayers.count(int(i))) {
             validateLayer(*n.type, setLayers[int(i)], paramsPtr, setWhere[int(i)].front(), "",
                           diag);
-            for (const auto& [k, v] : setLayers[int(i)].items()) merged[k] = v;
+            for (const auto& [k, v] : setLayers[int(i)].items())
+                merged[k] = v;
         }
         // Every layer was validated above. With errors, the pass is still made from its
         // defaults so that its ports can be checked too: all problems come out in one round.
@@ -178,8 +194,9 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
                 // Truth layers are data: a reference is compared as stored, never converted.
                 ref.kind = PortKind::Data;
                 auto known = in.truthChannels.find(ref.buffer);
-                ref.channels = known != in.truthChannels.end() ? known->second
-                                                               : (wantChannels > 0 ? wantChannels : 3);
+                ref.channels = known != in.truthChannels.end()
+                                   ? known->second
+                                   : (wantChannels > 0 ? wantChannels : 3);
             } else {
                 diag.error(where, fmt::format("unknown capture buffer '{}'{}", ref.buffer,
                                               didYouMean(ref.buffer, captureBufferNames())));
@@ -188,32 +205,37 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
         } else {
             auto dot = text.find('.');
             if (dot == std::string::npos) {
-                diag.error(where, fmt::format("'{}' should be 'capture:Buffer' or 'pass.port'", text));
+                diag.error(where,
+                           fmt::format("'{}' should be 'capture:Buffer' or 'pass.port'", text));
                 return false;
             }
             std::string pass = text.substr(0, dot);
             ref.port = text.substr(dot + 1);
             auto it = nodeIndex.find(pass);
             if (it == nodeIndex.end()) {
-                diag.error(where, fmt::format("no pass named '{}'{}", pass, didYouMean(pass, allNames)));
+                diag.error(where,
+                           fmt::format("no pass named '{}'{}", pass, didYouMean(pass, allNames)));
                 return false;
             }
             ref.step = it->second;  // node index for now; remapped to step index below
             const NodeState& producer = nodes[it->second];
-            if (!producer.pass) return false;  // its own errors are already reported
+            if (!producer.pass)
+                return false;  // its own errors are already reported
             const PortSpec* out = findPort(producer.io.outputs, ref.port);
             if (!out) {
-                diag.error(where, fmt::format("pass '{}' ({}) has no output '{}'{}", pass,
-                                              producer.desc->type, ref.port,
-                                              didYouMean(ref.port, portNames(producer.io.outputs))));
+                diag.error(
+                    where,
+                    fmt::format("pass '{}' ({}) has no output '{}'{}", pass, producer.desc->type,
+                                ref.port, didYouMean(ref.port, portNames(producer.io.outputs))));
                 return false;
             }
             ref.kind = out->kind;
             ref.channels = int(out->channels.size());
         }
         if (wantChannels > 0 && ref.channels != wantChannels) {
-            diag.error(where, fmt::format("'{}' has {} channel{}, the input needs {}", text,
-                                          ref.channels, ref.channels == 1 ? "" : "s", wantChannels));
+            diag.error(where,
+                       fmt::format("'{}' has {} channel{}, the input needs {}", text, ref.channels,
+                                   ref.channels == 1 ? "" : "s", wantChannels));
             return false;
         }
         return true;
@@ -223,28 +245,33 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
     std::vector<std::vector<std::string>> unboundRequired(nodes.size());
     for (std::size_t i = 0; i < nodes.size(); ++i) {
         NodeState& n = nodes[i];
-        if (!n.pass) continue;
+        if (!n.pass)
+            continue;
         for (const auto& [port, src] : n.desc->inputs)
             if (!findPort(n.io.inputs, port))
-                diag.error(n.desc->pointer + "/inputs/" + jsonPointerEscape(port),
-                           fmt::format("pass '{}' ({}) has no input '{}'{}", n.desc->name,
-                                       n.desc->type, port, didYouMean(port, portNames(n.io.inputs))));
+                diag.error(
+                    n.desc->pointer + "/inputs/" + jsonPointerEscape(port),
+                    fmt::format("pass '{}' ({}) has no input '{}'{}", n.desc->name, n.desc->type,
+                                port, didYouMean(port, portNames(n.io.inputs))));
         for (const auto& port : n.io.inputs) {
             std::string text, where;
             if (auto it = n.desc->inputs.find(port.name); it != n.desc->inputs.end()) {
                 text = it->second;
                 where = n.desc->pointer + "/inputs/" + jsonPointerEscape(port.name);
             } else {
-                text = port.defaultSource;
+                text = port.captureDefault.empty() ? "" : "capture:" + port.captureDefault;
                 where = n.desc->pointer;
             }
             if (text.empty()) {
-                if (!port.optional) unboundRequired[i].push_back(port.name);
+                if (!port.optional)
+                    unboundRequired[i].push_back(port.name);
                 continue;
             }
             SourceRef ref;
-            if (!resolveSource(text, where, int(port.channels.size()), ref)) continue;
-            if (!ref.fromCapture) dependsOn[i].insert(ref.step);
+            if (!resolveSource(text, where, int(port.channels.size()), ref))
+                continue;
+            if (!ref.fromCapture)
+                dependsOn[i].insert(ref.step);
             n.inputs[port.name] = ref;
             n.inputPointers[port.name] = where;
         }
@@ -257,7 +284,8 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
         dumps.erase(std::remove(dumps.begin(), dumps.end(), "all"), dumps.end());
         for (const auto& n : nodes)
             if (n.pass)
-                for (const auto& o : n.io.outputs) dumps.push_back(n.desc->name + "." + o.name);
+                for (const auto& o : n.io.outputs)
+                    dumps.push_back(n.desc->name + "." + o.name);
     }
     for (const auto& d : dumps)
         plan.outputs.push_back({d + ".exr", {d}, "--dump " + d, true});
@@ -267,11 +295,13 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
     for (const auto& out : plan.outputs)
         for (std::size_t k = 0; k < out.sources.size(); ++k) {
             SourceRef ref;
-            std::string where = out.isDump ? out.pointer
-                                           : out.pointer + (out.sources.size() > 1
-                                                                ? "/" + std::to_string(k) : "");
-            if (!resolveSource(out.sources[k], where, 0, ref)) continue;
-            if (!ref.fromCapture) roots.insert(ref.step);
+            std::string where =
+                out.isDump ? out.pointer
+                           : out.pointer + (out.sources.size() > 1 ? "/" + std::to_string(k) : "");
+            if (!resolveSource(out.sources[k], where, 0, ref))
+                continue;
+            if (!ref.fromCapture)
+                roots.insert(ref.step);
             outputSources[ref.key] = ref;
         }
 
@@ -280,35 +310,41 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
     while (!stack.empty()) {
         int i = stack.back();
         stack.pop_back();
-        if (nodes[i].live) continue;
+        if (nodes[i].live)
+            continue;
         nodes[i].live = true;
-        for (int j : dependsOn[i]) stack.push_back(j);
+        for (int j : dependsOn[i])
+            stack.push_back(j);
     }
     for (const auto& n : nodes)
         if (!n.live && n.pass)
-            plan.culled.push_back({n.desc->name, n.desc->type,
-                                   roots.empty() ? "no outputs are requested"
-                                                 : "no requested output depends on it"});
+            plan.culled.push_back(
+                {n.desc->name, n.desc->type,
+                 roots.empty() ? "no outputs are requested" : "no requested output depends on it"});
 
     // --- live-only checks: required inputs, capture channels -------------------------------------
     for (std::size_t i = 0; i < nodes.size(); ++i) {
         const NodeState& n = nodes[i];
-        if (!n.live) continue;
+        if (!n.live)
+            continue;
         for (const auto& port : unboundRequired[i])
             diag.error(n.desc->pointer + "/inputs",
                        fmt::format("required input '{}' of pass '{}' ({}) is not bound", port,
                                    n.desc->name, n.desc->type));
     }
     auto checkAvailable = [&](const SourceRef& ref, const std::string& where) {
-        if (!ref.fromCapture || !in.availableBuffers) return;
-        if (in.availableBuffers->count(ref.buffer)) return;
+        if (!ref.fromCapture || !in.availableBuffers)
+            return;
+        if (in.availableBuffers->count(ref.buffer))
+            return;
         std::vector<std::string> have(in.availableBuffers->begin(), in.availableBuffers->end());
         diag.error(where, fmt::format("the capture has no '{}' buffer{}; it has [{}]", ref.buffer,
                                       didYouMean(ref.buffer, have), fmt::join(have, ", ")));
     };
     for (const auto& n : nodes)
         if (n.live)
-            for (const auto& [port, ref] : n.inputs) checkAvailable(ref, n.inputPointers.at(port));
+            for (const auto& [port, ref] : n.inputs)
+                checkAvailable(ref, n.inputPointers.at(port));
     for (const auto& out : plan.outputs)
         for (const auto& s : out.sources)
             if (auto it = outputSources.find(s); it != outputSources.end())
@@ -327,21 +363,24 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
                 }
         std::priority_queue<int, std::vector<int>, std::greater<int>> ready;
         for (std::size_t i = 0; i < nodes.size(); ++i)
-            if (nodes[i].live && indegree[i] == 0) ready.push(int(i));
+            if (nodes[i].live && indegree[i] == 0)
+                ready.push(int(i));
         while (!ready.empty()) {
             int i = ready.top();
             ready.pop();
             order.push_back(i);
             for (int u : users[i])
-                if (--indegree[u] == 0) ready.push(u);
+                if (--indegree[u] == 0)
+                    ready.push(u);
         }
-        std::size_t liveCount = std::count_if(nodes.begin(), nodes.end(),
-                                              [](const NodeState& n) { return n.live; });
+        std::size_t liveCount =
+            std::count_if(nodes.begin(), nodes.end(), [](const NodeState& n) { return n.live; });
         if (order.size() != liveCount) {
             // Walk dependencies from a node left over until one repeats: that loop is the cycle.
             int start = -1;
             for (std::size_t i = 0; i < nodes.size(); ++i)
-                if (nodes[i].live && indegree[i] > 0) start = int(i);
+                if (nodes[i].live && indegree[i] > 0)
+                    start = int(i);
             std::vector<int> path;
             std::map<int, std::size_t> seen;
             int cur = start;
@@ -364,10 +403,12 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
         }
     }
 
-    for (const auto& w : diag.warnings()) plan.warnings.push_back(w);
+    for (const auto& w : diag.warnings())
+        plan.warnings.push_back(w);
     diag.throwIfErrors("");
 
-    // --- steps, port demand, lifetimes, input demand -----------------------------------------------
+    // --- steps, port demand, lifetimes, input demand
+    // -----------------------------------------------
     std::map<int, int> stepOf;
     for (int i : order) {
         stepOf[i] = int(plan.steps.size());
@@ -387,7 +428,8 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
     }
     std::set<std::string> loaded;
     auto noteCaptureRead = [&](const SourceRef& ref, int step) {
-        if (!ref.fromCapture || loaded.count(ref.buffer)) return;
+        if (!ref.fromCapture || loaded.count(ref.buffer))
+            return;
         loaded.insert(ref.buffer);
         plan.captureReads.push_back({ref.buffer, ref.channels, ref.kind});
         plan.loadsBefore[step].push_back(ref.buffer);
@@ -408,21 +450,23 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
         bool onlyCapture = true;
         for (const auto& src : plan.outputs[o].sources) {
             const SourceRef& ref = outputSources.at(src);  // ref.step is still a node index
-            if (ref.fromCapture) continue;
+            if (ref.fromCapture)
+                continue;
             onlyCapture = false;
             const int step = stepOf.at(ref.step);
             plan.steps[step].requestedOutputs.insert(ref.port);
             ready = std::max(ready, step);
         }
-        if (onlyCapture) ready = lastStep;
+        if (onlyCapture)
+            ready = lastStep;
         plan.writesAfter[ready].push_back(o);
         for (const auto& src : plan.outputs[o].sources) {
             const SourceRef& ref = outputSources.at(src);
             plan.outputKinds[src] = ref.kind;
             noteCaptureRead(ref, std::max(ready, 0));
             auto it = plan.releaseAfter.find(ref.key);
-            plan.releaseAfter[ref.key] = it == plan.releaseAfter.end() ? ready
-                                                                       : std::max(it->second, ready);
+            plan.releaseAfter[ref.key] =
+                it == plan.releaseAfter.end() ? ready : std::max(it->second, ready);
         }
     }
     return plan;
@@ -452,7 +496,8 @@ std::size_t Plan::estimatePeakBytes(Extent frame) const {
                         current += pixelBytes * r.channels;
                     }
         for (const auto& o : steps[s].io.outputs) {
-            if (!steps[s].requestedOutputs.count(o.name)) continue;
+            if (!steps[s].requestedOutputs.count(o.name))
+                continue;
             std::size_t bytes = 0;
             for (const Extent& e : steps[s].pass->outputExtents(o.name, frame))
                 bytes += sizeof(float) * std::size_t(e.width) * e.height * o.channels.size();
@@ -471,9 +516,10 @@ nlohmann::json Plan::toJson(Extent frame) const {
     for (const auto& s : steps) {
         nlohmann::json step = {{"name", s.name}, {"type", s.type}, {"params", s.params}};
         step["inputs"] = nlohmann::json::object();
-        for (const auto& [port, ref] : s.inputs) step["inputs"][port] = ref.key;
-        step["outputs"] = std::vector<std::string>(s.requestedOutputs.begin(),
-                                                   s.requestedOutputs.end());
+        for (const auto& [port, ref] : s.inputs)
+            step["inputs"][port] = ref.key;
+        step["outputs"] =
+            std::vector<std::string>(s.requestedOutputs.begin(), s.requestedOutputs.end());
         step["needsScene"] = s.io.needsScene;
         j["steps"].push_back(step);
     }
@@ -494,7 +540,8 @@ nlohmann::json Plan::toJson(Extent frame) const {
         j["peakBytes"] = estimatePeakBytes(frame);
     }
     j["warnings"] = nlohmann::json::array();
-    for (const auto& w : warnings) j["warnings"].push_back({{"pointer", w.pointer}, {"message", w.message}});
+    for (const auto& w : warnings)
+        j["warnings"].push_back({{"pointer", w.pointer}, {"message", w.message}});
     return j;
 }
 

@@ -38,31 +38,60 @@ ParamSpec<DeferredLightingParams> DeferredLightingPass::paramSpec() {
     ParamSpec<DeferredLightingParams> s;
     s.add("light", &Params::light, "name of the light (\"\" = the scene's only light)");
     s.add("rectSamples", &Params::rectSamples,
-          "rect lights: an N×N grid of points integrates the light's area").range(1, 16);
+          "rect lights: an N×N grid of points integrates the light's area")
+        .range(1, 16);
     return s;
 }
 
 PassIO DeferredLightingPass::describe() const {
     PassIO io;
     io.inputs = {
-        {kColor, {"R", "G", "B"}, PortKind::Color, false, "capture:SceneColor",
-         "scene colour the light adds into"},
-        {kAttenuation, {"R", "G", "B", "A"}, PortKind::Data, true, "",
-         "light attenuation (reference §9.5) from rt_shadows or shadow_denoise; unbound = unshadowed"},
-        {kDepth, {"Z"}, PortKind::Data, false, "capture:SceneDepth", "linear view depth"},
-        {kNormal, {"X", "Y", "Z"}, PortKind::Data, false, "capture:WorldNormal", "world normal"},
-        {kBaseColor, {"R", "G", "B"}, PortKind::Color, false, "capture:BaseColor", "albedo"},
-        {kMetallic, {"Y"}, PortKind::Data, false, "capture:Metallic", "GBufferB.r"},
-        {kSpecular, {"Y"}, PortKind::Data, false, "capture:Specular", "GBufferB.g"},
-        {kRoughness, {"Y"}, PortKind::Data, false, "capture:Roughness", "GBufferB.b"},
-        {kShadingModel, {"Y"}, PortKind::Data, false, "capture:ShadingModel",
-         "picks the BxDF; unlit and sky pixels are skipped"},
-        {kCustomData, {"R", "G", "B", "A"}, PortKind::Data, true, "capture:CustomData",
-         "per shading model (reference §1.7)"},
-        {kGBufferAO, {"Y"}, PortKind::Data, true, "capture:GBufferAO", "material AO"},
+        {.name = kColor,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .captureDefault = "SceneColor",
+         .doc = "scene colour the light adds into"},
+        {.name = kAttenuation,
+         .channels = {"R", "G", "B", "A"},
+         .optional = true,
+         .doc = "light attenuation (reference §9.5) from rt_shadows or shadow_denoise; unbound = "
+                "unshadowed"},
+        {.name = kDepth,
+         .channels = {"Z"},
+         .captureDefault = "SceneDepth",
+         .doc = "linear view depth"},
+        {.name = kNormal,
+         .channels = {"X", "Y", "Z"},
+         .captureDefault = "WorldNormal",
+         .doc = "world normal"},
+        {.name = kBaseColor,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .captureDefault = "BaseColor",
+         .doc = "albedo"},
+        {.name = kMetallic, .channels = {"Y"}, .captureDefault = "Metallic", .doc = "GBufferB.r"},
+        {.name = kSpecular, .channels = {"Y"}, .captureDefault = "Specular", .doc = "GBufferB.g"},
+        {.name = kRoughness, .channels = {"Y"}, .captureDefault = "Roughness", .doc = "GBufferB.b"},
+        {.name = kShadingModel,
+         .channels = {"Y"},
+         .captureDefault = "ShadingModel",
+         .doc = "picks the BxDF; unlit and sky pixels are skipped"},
+        {.name = kCustomData,
+         .channels = {"R", "G", "B", "A"},
+         .optional = true,
+         .captureDefault = "CustomData",
+         .doc = "per shading model (reference §1.7)"},
+        {.name = kGBufferAO,
+         .channels = {"Y"},
+         .optional = true,
+         .captureDefault = "GBufferAO",
+         .doc = "material AO"},
     };
     io.outputs = {
-        {kColor, {"R", "G", "B"}, PortKind::Color, false, "", "scene colour + this light"},
+        {.name = kColor,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .doc = "scene colour + this light"},
     };
     io.needsCamera = true;
     io.needsScene = true;  // the light
@@ -112,19 +141,22 @@ void DeferredLightingPass::execute(PassContext& ctx) {
                     const float dist2 = dot(d, d);
                     const Vec3f L = d / std::sqrt(dist2);
                     const float cosL = -dot(L, nl);
-                    if (cosL <= 0.0f) continue;
+                    if (cosL <= 0.0f)
+                        continue;
                     in[n++] = {L, color * (cosL * cellArea / dist2)};
                 }
             return n;
         }
         const Vec3f d = lightPos - p;
         const float dist2 = dot(d, d);
-        if (light.attenuationRadius > 0.0 && dist2 > light.attenuationRadius * light.attenuationRadius)
+        if (light.attenuationRadius > 0.0 &&
+            dist2 > light.attenuationRadius * light.attenuationRadius)
             return 0;
         const Vec3f L = d / std::sqrt(dist2);
         // Inverse square, as the capture and the truth light it.
         const float falloff = light.spotMask(dot(-L, axis)) / dist2;
-        if (falloff <= 0.0f) return 0;
+        if (falloff <= 0.0f)
+            return 0;
         in[0] = {L, color * falloff};
         return 1;
     };
@@ -179,11 +211,13 @@ void DeferredLightingPass::execute(PassContext& ctx) {
                     for (int k = 0; k < n; ++k) {
                         const BxDFTerms b = evaluateBxDF(s, V, in[k].L);
                         sum += ((b.diffuse + b.specular) * surfaceShadow +
-                                b.transmission * transmissionShadow) * in[k].falloff;
+                                b.transmission * transmissionShadow) *
+                               in[k].falloff;
                     }
                     c += sum;
                 }
-                for (int ch = 0; ch < 3; ++ch) out.plane(ch).at(x, y) = c[ch];
+                for (int ch = 0; ch < 3; ++ch)
+                    out.plane(ch).at(x, y) = c[ch];
             }
         ctx.addWork("pixels", pixels);
         ctx.addWork("skippedPixels", skipped);

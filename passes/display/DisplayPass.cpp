@@ -21,9 +21,15 @@ ParamSpec<DisplayParams> DisplayPass::paramSpec() {
 PassIO DisplayPass::describe() const {
     PassIO io;
     // No channel list: any 1–4 channel buffer can be previewed (1 channel shows as grey).
-    io.inputs = {{kColor, {}, PortKind::Color, false, "capture:SceneColor", "buffer to preview"}};
-    io.outputs = {{kImage, {"R", "G", "B"}, PortKind::Color, false, "",
-                   "display-referred RGB in [0, 1] (write it to a .png)"}};
+    io.inputs = {{.name = kColor,
+                  .channels = {},
+                  .kind = PortKind::Color,
+                  .captureDefault = "SceneColor",
+                  .doc = "buffer to preview"}};
+    io.outputs = {{.name = kImage,
+                   .channels = {"R", "G", "B"},
+                   .kind = PortKind::Color,
+                   .doc = "display-referred RGB in [0, 1] (write it to a .png)"}};
     io.needsColorConfig = true;
     return io;
 }

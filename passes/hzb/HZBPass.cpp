@@ -13,7 +13,9 @@ constexpr const char* kDepth = "depth";
 constexpr const char* kFurthest = "furthest";
 constexpr const char* kClosest = "closest";
 
-int ceilLog2(int v) { return v <= 1 ? 0 : int(std::bit_width(unsigned(v - 1))); }
+int ceilLog2(int v) {
+    return v <= 1 ? 0 : int(std::bit_width(unsigned(v - 1)));
+}
 }  // namespace
 
 ParamSpec<HZBParams> HZBPass::paramSpec() {
@@ -25,10 +27,13 @@ ParamSpec<HZBParams> HZBPass::paramSpec() {
 
 PassIO HZBPass::describe() const {
     PassIO io;
-    io.inputs = {{kDepth, {"Z"}, PortKind::Data, false, "capture:SceneDepth",
-                  "linear view depth (converted to reversed device Z with the camera)"}};
-    io.outputs = {{kFurthest, {"Z"}, PortKind::Data, false, "", "min device Z per texel (furthest)"},
-                  {kClosest, {"Z"}, PortKind::Data, false, "", "max device Z per texel (closest)"}};
+    io.inputs = {{.name = kDepth,
+                  .channels = {"Z"},
+                  .captureDefault = "SceneDepth",
+                  .doc = "linear view depth (converted to reversed device Z with the camera)"}};
+    io.outputs = {
+        {.name = kFurthest, .channels = {"Z"}, .doc = "min device Z per texel (furthest)"},
+        {.name = kClosest, .channels = {"Z"}, .doc = "max device Z per texel (closest)"}};
     io.needsCamera = true;
     io.workUnit = "texels";
     return io;
@@ -72,15 +77,18 @@ void HZBPass::execute(PassContext& ctx) {
                         lo = std::min(lo, z);
                         hi = std::max(hi, z);
                     }
-                if (fRow) fRow[x] = store(lo);
-                if (cRow) cRow[x] = store(hi);
+                if (fRow)
+                    fRow[x] = store(lo);
+                if (cRow)
+                    cRow[x] = store(hi);
             }
         }
     });
     // Further mips: plain 2×2 min / max of the level above.
     for (int m = 1; m < int(extents.size()); ++m) {
         for (Texture* tex : {furthest, closest}) {
-            if (!tex) continue;
+            if (!tex)
+                continue;
             const bool isMin = tex == furthest;
             const Plane& src = tex->mip(m - 1).plane(0);
             Plane& dst = tex->mip(m).plane(0);
@@ -98,7 +106,8 @@ void HZBPass::execute(PassContext& ctx) {
         }
     }
     uint64_t texels = 0;
-    for (const Extent& e : extents) texels += uint64_t(e.width) * e.height;
+    for (const Extent& e : extents)
+        texels += uint64_t(e.width) * e.height;
     ctx.addWork("texels", texels * (uint64_t(wantFurthest) + uint64_t(wantClosest)));
 }
 

@@ -30,15 +30,16 @@ constexpr float kPlaneTolerance = 2.0f * 1.41421356f * 3.0f;
 // World-space half-width of the penumbra behind an occluder `hit` away (reference §6.3).
 float penumbraRadius(const Light& light, float hit, float lightDistance) {
     switch (light.type) {
-    case LightType::Directional:
-        return std::tan(0.5f * light.sourceAngleDegrees * kPiF / 180.0f) * hit;
-    case LightType::Rect: {
-        // A rect light as the disk of the same area.
-        const float area = 4.0f * float(length(cross(light.halfU, light.halfV)));
-        return std::sqrt(area / kPiF) * hit / std::max(lightDistance - hit, 1e-6f * lightDistance);
-    }
-    default:
-        return light.radius * hit / std::max(lightDistance - hit, 1e-6f * lightDistance);
+        case LightType::Directional:
+            return std::tan(0.5f * light.sourceAngleDegrees * kPiF / 180.0f) * hit;
+        case LightType::Rect: {
+            // A rect light as the disk of the same area.
+            const float area = 4.0f * float(length(cross(light.halfU, light.halfV)));
+            return std::sqrt(area / kPiF) * hit /
+                   std::max(lightDistance - hit, 1e-6f * lightDistance);
+        }
+        default:
+            return light.radius * hit / std::max(lightDistance - hit, 1e-6f * lightDistance);
     }
 }
 
@@ -47,16 +48,17 @@ float penumbraRadius(const Light& light, float hit, float lightDistance) {
 ParamSpec<ShadowDenoiseParams> ShadowDenoisePass::paramSpec() {
     ParamSpec<ShadowDenoiseParams> s;
     s.add("denoiser", &Params::denoiser,
-          "r.Shadow.Denoiser: 0 off (raw shadow), 1 or 2 on (2, a third-party denoiser, runs "
-          "framepass's)")
-        .range(0, 2);
+          "0 off (raw shadow), 1 or 2 on (2, a third-party denoiser in Unreal, runs framepass's) "
+          "(reference §6.3)")
+        .range(0, 2)
+        .cvar("r.Shadow.Denoiser");
     s.add("light", &Params::light, "name of the light (\"\" = the scene's only light)");
-    s.add("reconstructionSamples", &Params::reconstructionSamples,
-          "r.Shadow.Denoiser.ReconstructionSamples: taps of each filtering pass")
-        .range(1, 64);
-    s.add("preConvolution", &Params::preConvolution,
-          "r.Shadow.Denoiser.PreConvolution: filtering passes before the reconstruction")
-        .range(0, 4);
+    s.add("reconstructionSamples", &Params::reconstructionSamples, "taps of each filtering pass")
+        .range(1, 64)
+        .cvar("r.Shadow.Denoiser.ReconstructionSamples");
+    s.add("preConvolution", &Params::preConvolution, "filtering passes before the reconstruction")
+        .range(0, 4)
+        .cvar("r.Shadow.Denoiser.PreConvolution");
     s.add("maxRadius", &Params::maxRadius, "largest blur radius, pixels").range(0.0, 256.0);
     return s;
 }
@@ -64,21 +66,28 @@ ParamSpec<ShadowDenoiseParams> ShadowDenoisePass::paramSpec() {
 PassIO ShadowDenoisePass::describe() const {
     PassIO io;
     io.inputs = {
-        {kShadow, {"Y"}, PortKind::Data, false, "rt_shadows.shadow", "raw visibility"},
-        {kTransmission, {"Y"}, PortKind::Data, false, "rt_shadows.transmission",
-         "raw subsurface term"},
-        {kHitDistance, {"Y"}, PortKind::Data, false, "rt_shadows.hitDistance",
-         "closest occluder distance (−1 = none)"},
-        {kDepth, {"Z"}, PortKind::Data, false, "capture:SceneDepth", "linear view depth"},
-        {kNormal, {"X", "Y", "Z"}, PortKind::Data, false, "capture:WorldNormal", "world normal"},
-        {kShadingModel, {"Y"}, PortKind::Data, false, "capture:ShadingModel",
-         "unlit and sky pixels are neither filtered nor used"},
+        {.name = kShadow, .channels = {"Y"}, .doc = "raw visibility"},
+        {.name = kTransmission, .channels = {"Y"}, .doc = "raw subsurface term"},
+        {.name = kHitDistance, .channels = {"Y"}, .doc = "closest occluder distance (−1 = none)"},
+        {.name = kDepth,
+         .channels = {"Z"},
+         .captureDefault = "SceneDepth",
+         .doc = "linear view depth"},
+        {.name = kNormal,
+         .channels = {"X", "Y", "Z"},
+         .captureDefault = "WorldNormal",
+         .doc = "world normal"},
+        {.name = kShadingModel,
+         .channels = {"Y"},
+         .captureDefault = "ShadingModel",
+         .doc = "unlit and sky pixels are neither filtered nor used"},
     };
     io.outputs = {
-        {kShadow, {"Y"}, PortKind::Data, false, "", "filtered visibility"},
-        {kTransmission, {"Y"}, PortKind::Data, false, "", "filtered subsurface term"},
-        {kLightAttenuation, {"R", "G", "B", "A"}, PortKind::Data, false, "",
-         "Unreal's light-attenuation encoding of the filtered result (reference §9.5)"},
+        {.name = kShadow, .channels = {"Y"}, .doc = "filtered visibility"},
+        {.name = kTransmission, .channels = {"Y"}, .doc = "filtered subsurface term"},
+        {.name = kLightAttenuation,
+         .channels = {"R", "G", "B", "A"},
+         .doc = "Unreal's light-attenuation encoding of the filtered result (reference §9.5)"},
     };
     io.needsCamera = true;
     io.needsScene = true;  // the light's size and position
@@ -116,9 +125,11 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
         forEachTile(W, H, [&](const Tile& t) {
             for (int y = t.y0; y < t.y1; ++y)
                 for (int x = t.x0; x < t.x1; ++x) {
-                    if (!lit(x, y)) continue;
+                    if (!lit(x, y))
+                        continue;
                     const Vec3f p(cam.translatedFromPixel(x, y, depth.at(x, y)));
-                    for (int c = 0; c < 3; ++c) positions.plane(c).at(x, y) = p[c];
+                    for (int c = 0; c < 3; ++c)
+                        positions.plane(c).at(x, y) = p[c];
                 }
         });
     auto positionOf = [&](int x, int y) {
@@ -147,18 +158,22 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
             uint64_t filtered = 0;
             for (int y = t.y0; y < t.y1; ++y)
                 for (int x = t.x0; x < t.x1; ++x) {
-                    if (!lit(x, y)) continue;
+                    if (!lit(x, y))
+                        continue;
                     float hit = hits.at(x, y);
                     const float rotation =
                         2.0f * kPiF * ue::interleavedGradientNoise(float(x), float(y), 0);
                     for (int k = 0; k < taps && hit < 0.0f; ++k) {
                         int dx, dy;
                         tapOffset(k, rotation, mParams.maxRadius, dx, dy);
-                        const int sx = std::clamp(x + dx, 0, W - 1), sy = std::clamp(y + dy, 0, H - 1);
+                        const int sx = std::clamp(x + dx, 0, W - 1),
+                                  sy = std::clamp(y + dy, 0, H - 1);
                         const float h = hits.at(sx, sy);
-                        if (h >= 0.0f && lit(sx, sy)) hit = h;
+                        if (h >= 0.0f && lit(sx, sy))
+                            hit = h;
                     }
-                    if (hit < 0.0f) continue;
+                    if (hit < 0.0f)
+                        continue;
                     const Vec3f p = positionOf(x, y);
                     const float world = penumbraRadius(light, hit, length(lightPos - p));
                     const float footprint = 2.0f * float(cam.pixelRadiusAtDepth(depth.at(x, y)));
@@ -174,22 +189,26 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
                 for (int y = t.y0; y < t.y1; ++y)
                     for (int x = t.x0; x < t.x1; ++x) {
                         const float r = radius.at(x, y);
-                        if (!lit(x, y) || r < 0.5f) continue;  // no penumbra: nothing to blur
+                        if (!lit(x, y) || r < 0.5f)
+                            continue;  // no penumbra: nothing to blur
                         const Vec3f p = positionOf(x, y), n = normalOf(x, y);
                         const float tolerance =
                             kPlaneTolerance * float(cam.pixelRadiusAtDepth(depth.at(x, y)));
                         float sumS = signal.plane(0).at(x, y), sumT = signal.plane(1).at(x, y);
                         float sumW = 1.0f;
                         const float rotation =
-                            2.0f * kPiF * ue::interleavedGradientNoise(float(x), float(y), uint32_t(pass + 1));
+                            2.0f * kPiF *
+                            ue::interleavedGradientNoise(float(x), float(y), uint32_t(pass + 1));
                         for (int k = 0; k < taps; ++k) {
                             int dx, dy;
                             tapOffset(k, rotation, r, dx, dy);
                             const int sx = x + dx, sy = y + dy;
-                            if (sx < 0 || sy < 0 || sx >= W || sy >= H || !lit(sx, sy)) continue;
+                            if (sx < 0 || sy < 0 || sx >= W || sy >= H || !lit(sx, sy))
+                                continue;
                             // Bilateral (reference §6.3): the receiver's plane and normal⁴.
                             const float planeW = std::clamp(
-                                1.0f - std::fabs(dot(n, positionOf(sx, sy) - p)) / tolerance, 0.0f, 1.0f);
+                                1.0f - std::fabs(dot(n, positionOf(sx, sy) - p)) / tolerance, 0.0f,
+                                1.0f);
                             const float nw = std::max(dot(n, normalOf(sx, sy)), 0.0f);
                             const float w = planeW * (nw * nw) * (nw * nw);
                             sumS += w * signal.plane(0).at(sx, sy);

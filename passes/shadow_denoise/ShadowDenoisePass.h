@@ -13,11 +13,11 @@
 namespace fp {
 
 struct ShadowDenoiseParams {
-    int denoiser = 2;             //!< r.Shadow.Denoiser: 0 passes the raw shadow through
-    std::string light;            //!< the light's name ("" = the scene's only light)
-    int reconstructionSamples = 8;  //!< r.Shadow.Denoiser.ReconstructionSamples: taps per pass
-    int preConvolution = 1;       //!< r.Shadow.Denoiser.PreConvolution: extra passes before it
-    float maxRadius = 32.0f;      //!< largest blur radius, pixels
+    int denoiser = 2;               //!< 0 passes the raw shadow through
+    std::string light;              //!< the light's name ("" = the scene's only light)
+    int reconstructionSamples = 8;  //!< taps per filtering pass
+    int preConvolution = 1;         //!< extra passes before the reconstruction
+    float maxRadius = 32.0f;        //!< largest blur radius, pixels
 };
 
 class ShadowDenoisePass final : public Pass {

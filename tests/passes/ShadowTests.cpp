@@ -3,7 +3,7 @@
 // coordinates, and the hard-case floor.
 #include "io/SceneLoader.h"
 #include "passes/lighting/LightAttenuation.h"
-#include "passes/rt_shadows/RtShadowsPass.h"
+#include "passes/rt_shadows/RTShadowsPass.h"
 #include "tests/support/TestScenes.h"
 
 #include <doctest/doctest.h>
@@ -15,7 +15,8 @@ namespace fp {
 
 namespace {
 
-std::map<std::string, Texture> run(test::MemorySource& src, std::vector<NodeDesc> nodes,
+std::map<std::string, Texture> run(test::MemorySource& src,
+                                   std::vector<NodeDesc> nodes,
                                    std::vector<std::string> outputs) {
     test::MemorySink sink;
     executePlan(test::planFor(nodes, outputs), src, sink);
@@ -36,7 +37,8 @@ Scene sphereOverFloor(const Vec3d& offset, Light light) {
 
 FrameCamera topCamera(const Vec3d& offset, int size) {
     FrameCamera cam;
-    cam.current = CameraView::lookAt(offset + Vec3d{0, 200, 0}, offset, {0, 0, 1}, 20.0, size, size, 10.0);
+    cam.current =
+        CameraView::lookAt(offset + Vec3d{0, 200, 0}, offset, {0, 0, 1}, 20.0, size, size, 10.0);
     cam.previous = cam.current;
     return cam;
 }
@@ -68,15 +70,18 @@ TEST_CASE("a sphere's hard shadow on a plane is its analytic silhouette") {
     int inside = 0, outside = 0, wrong = 0;
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
-            if (instance.at(x, y) != 1.0f) continue;  // floor pixels only
+            if (instance.at(x, y) != 1.0f)
+                continue;  // floor pixels only
             const Vec3d p = cam.worldFromPixel(x, y, depth.at(x, y));
             const Vec3d toCentre = Vec3d{0, 30, 0} - p;
-            if (dot(toCentre, travel) > 0.0) continue;  // the sphere is behind the light's way
+            if (dot(toCentre, travel) > 0.0)
+                continue;  // the sphere is behind the light's way
             const double r = length(cross(toCentre, travel));
             // One pixel footprint of margin either side of the edge: a pixel centre that close
             // can fall on either side of a tessellated silhouette.
             const double margin = 2.0 * cam.pixelRadiusAtDepth(depth.at(x, y));
-            if (std::fabs(r - kSphereRadius) < margin) continue;
+            if (std::fabs(r - kSphereRadius) < margin)
+                continue;
             const float expected = r < kSphereRadius ? 0.0f : 1.0f;
             (expected == 0.0f ? inside : outside)++;
             wrong += shadow.at(x, y) != expected;
@@ -105,13 +110,13 @@ TEST_CASE("transmission through a slab is exp(−density·thickness)") {
         cam.current = CameraView::lookAt({0, 0, -300}, {0, 0, 0}, {0, 1, 0}, 10.0, 32, 32, 10.0);
         cam.previous = cam.current;
         auto src = test::captureToMemory(s, cam);
-        const auto out = run(src, {test::node("rt_shadows")},
-                             {"rt_shadows.transmission", "rt_shadows.shadow"});
+        const auto out =
+            run(src, {test::node("rt_shadows")}, {"rt_shadows.transmission", "rt_shadows.shadow"});
         const Plane& T = out.at("rt_shadows.transmission").image().plane(0);
         const Plane& V = out.at("rt_shadows.shadow").image().plane(0);
         const double expected = std::pow(1.0 - opacity, 0.05 * thickness);
         INFO("opacity " << opacity << ", thickness " << thickness << " cm: " << expected);
-        CHECK(RtShadowsPass::transmittance(opacity, float(thickness)) ==
+        CHECK(RTShadowsPass::transmittance(opacity, float(thickness)) ==
               doctest::Approx(expected).epsilon(1e-5));
         for (int y = 0; y < 32; ++y)
             for (int x = 0; x < 32; ++x) {
@@ -126,7 +131,8 @@ TEST_CASE("transmission through a slab is exp(−density·thickness)") {
 
 TEST_CASE("light attenuation: √ on write, ² on read, Unreal's channel layout") {
     for (float v = 0.0f; v <= 1.0f; v += 1.0f / 64.0f)
-        CHECK(LightAttenuation::decode(LightAttenuation::encode(v)) == doctest::Approx(v).epsilon(1e-6));
+        CHECK(LightAttenuation::decode(LightAttenuation::encode(v)) ==
+              doctest::Approx(v).epsilon(1e-6));
     // ShadowFadeFraction = 1 (reference §9.4): the stored value is the shadow itself and lights
     // see its square.
     const LightAttenuation dir = LightAttenuation::fromShadow(LightType::Directional, 0.6f, 0.3f);
@@ -164,7 +170,8 @@ TEST_CASE("packets and single rays agree bit for bit; 1 and 2 threads are byte-i
                                            "rt_shadows.hitDistance", "rt_shadows.lightAttenuation"};
     auto trace = [&](bool packets, int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-        return run(src, {test::node("rt_shadows", {{"rayPackets", packets}, {"samplesPerPixel", 4}})},
+        return run(src,
+                   {test::node("rt_shadows", {{"rayPackets", packets}, {"samplesPerPixel", 4}})},
                    outs);
     };
     const auto packet = trace(true, 2), scalar = trace(false, 2), oneThread = trace(true, 1);
@@ -179,7 +186,8 @@ TEST_CASE("packets and single rays agree bit for bit; 1 and 2 threads are byte-i
     const Plane& s = packet.at("rt_shadows.shadow").image().plane(0);
     int partial = 0;
     for (int y = 0; y < s.height(); ++y)
-        for (int x = 0; x < s.width(); ++x) partial += s.at(x, y) > 0.0f && s.at(x, y) < 1.0f;
+        for (int x = 0; x < s.width(); ++x)
+            partial += s.at(x, y) > 0.0f && s.at(x, y) < 1.0f;
     CHECK(partial > 20);
 }
 
@@ -193,10 +201,15 @@ TEST_CASE("the shadow denoiser brings 1-spp soft shadows closer to converged one
     bulb.intensity = 5000.0f;
     const Scene scene = sphereOverFloor({}, bulb);
     auto src = test::captureToMemory(scene, topCamera({}, 96));
-    const auto noisy = run(src, {test::node("rt_shadows"), test::node("shadow_denoise")},
-                           {"rt_shadows.shadow", "shadow_denoise.shadow"});
-    const auto converged = run(src, {test::node("rt_shadows", {{"samplesPerPixel", 64}})},
-                               {"rt_shadows.shadow"});
+    const auto noisy =
+        run(src,
+            {test::node("rt_shadows"), test::node("shadow_denoise", {},
+                                                  {{"shadow", "rt_shadows.shadow"},
+                                                   {"transmission", "rt_shadows.transmission"},
+                                                   {"hitDistance", "rt_shadows.hitDistance"}})},
+            {"rt_shadows.shadow", "shadow_denoise.shadow"});
+    const auto converged =
+        run(src, {test::node("rt_shadows", {{"samplesPerPixel", 64}})}, {"rt_shadows.shadow"});
     const auto rawOnly = run(src, {test::node("rt_shadows")}, {"rt_shadows.shadow"});
     const Plane& raw = noisy.at("rt_shadows.shadow").image().plane(0);
     const Plane& den = noisy.at("shadow_denoise.shadow").image().plane(0);
@@ -227,7 +240,8 @@ TEST_CASE("a camera 10^7 units from the origin sees the same shadows as one at t
     const Plane& pb = sb.at("rt_shadows.shadow").image().plane(0);
     int differ = 0;
     for (int y = 0; y < 64; ++y)
-        for (int x = 0; x < 64; ++x) differ += pa.at(x, y) != pb.at(x, y);
+        for (int x = 0; x < 64; ++x)
+            differ += pa.at(x, y) != pb.at(x, y);
     CHECK(differ == 0);
 }
 
@@ -254,7 +268,8 @@ TEST_CASE("no shadow acne on the hard-case scene's grazing floor at Unreal's def
         int floorPixels = 0, acne = 0;
         for (int y = 0; y < 128; ++y)
             for (int x = 0; x < 128; ++x) {
-                if (std::isinf(depth.at(x, y))) continue;
+                if (std::isinf(depth.at(x, y)))
+                    continue;
                 ++floorPixels;
                 acne += shadow.at(x, y) != 1.0f;
             }
@@ -275,8 +290,9 @@ TEST_CASE("deferred lighting of a point light on a Lambert plane is I·cosθ/r²
     const FrameCamera cam = topCamera({}, 48);
     auto src = test::captureToMemory(s, cam);
     // Start from the base pass's colour (no emission: zero), unshadowed (nothing can occlude).
-    const auto out = run(src, {test::node("deferred_lighting", {}, {{"color", "capture:Emissive"}})},
-                         {"deferred_lighting.color"});
+    const auto out =
+        run(src, {test::node("deferred_lighting", {}, {{"color", "capture:Emissive"}})},
+            {"deferred_lighting.color"});
     const Image& c = out.at("deferred_lighting.color").image();
     const Plane& depth = src.buffers.at("SceneDepth").plane(0);
     for (int y = 0; y < 48; y += 3)

@@ -11,17 +11,17 @@
 
 namespace fp {
 
-struct SsgiDenoiseParams {
-    int denoiser = 1;                 //!< r.DiffuseIndirect.Denoiser: 0 off (raw trace), 1/2 on
-    bool temporalAccumulation = true; //!< r.GlobalIllumination.Denoiser.TemporalAccumulation
-    bool halfRes = false;             //!< the trace ran at half resolution (r.SSGI.HalfRes)
+struct SSGIDenoiseParams {
+    int denoiser = 1;                 //!< 0 off (raw trace), 1/2 on
+    bool temporalAccumulation = true; //!< accumulate across frames
+    bool halfRes = false;             //!< the trace ran at half resolution
 };
 
-class SsgiDenoisePass final : public Pass {
+class SSGIDenoisePass final : public Pass {
 public:
-    using Params = SsgiDenoiseParams;
+    using Params = SSGIDenoiseParams;
     static ParamSpec<Params> paramSpec();
-    explicit SsgiDenoisePass(const Params& params) : mParams(params) {}
+    explicit SSGIDenoisePass(const Params& params) : mParams(params) {}
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;

@@ -1,4 +1,4 @@
-#include "passes/ssgi/SsgiPass.h"
+#include "passes/ssgi/SSGIPass.h"
 
 #include "passes/core/Error.h"
 #include "passes/core/Sampling.h"
@@ -25,7 +25,7 @@ constexpr const char* kHitDistance = "hitDistance";
 
 constexpr float kStepOffsetBias = -0.9f;  // reference §4.6: IGN − 0.9 for SSGI (−0.5 for SSR)
 constexpr float kToleranceScale = 2.0f;   // reference §4.5: k = 2 for SSGI (4 for SSR)
-constexpr int kReducedMips = 5;      // prev_color_reduction's chain (reference §3.1)
+constexpr int kReducedMips = 5;           // prev_color_reduction's chain (reference §3.1)
 
 // The view-space normal goes through 8 bits per axis in Unreal's LDS (reference §4.3).
 Vec3f quantiseNormal(const Vec3f& n) {
@@ -45,59 +45,82 @@ struct RayPoint {
 };
 }  // namespace
 
-ParamSpec<SsgiParams> SsgiPass::paramSpec() {
-    ParamSpec<SsgiParams> s;
+ParamSpec<SSGIParams> SSGIPass::paramSpec() {
+    ParamSpec<SSGIParams> s;
     s.add("quality", &Params::quality,
-          "r.SSGI.Quality: 1..4 → 4/8/16/32 rays per pixel and 8/8/8/12 steps per ray")
-        .range(1, 4);
+          "1..4 → 4/8/16/32 rays per pixel and 8/8/8/12 steps per ray (reference §4.2)")
+        .range(1, 4)
+        .cvar("r.SSGI.Quality");
     s.add("halfRes", &Params::halfRes,
-          "r.SSGI.HalfRes / r.DiffuseIndirect.HalfRes: trace at half resolution (the top-left "
-          "pixel of every 2×2 block)");
+          "trace at half resolution (the top-left pixel of every 2×2 block); UE5 names the cvar "
+          "r.DiffuseIndirect.HalfRes (default 1)")
+        .cvar("r.SSGI.HalfRes")
+        .cvar("r.DiffuseIndirect.HalfRes");
     s.add("indirectLightingColorScale", &Params::indirectLightingColorScale,
           "4.27 only: post-process IndirectLightingIntensity (× white IndirectLightingColor)")
         .range(0.0, 1e6);
     return s;
 }
 
-SsgiQuality SsgiPass::qualityTable(int quality) {
-    static constexpr SsgiQuality kTable[] = {{4, 8}, {8, 8}, {16, 8}, {32, 12}};
+SSGIQuality SSGIPass::qualityTable(int quality) {
+    static constexpr SSGIQuality kTable[] = {{4, 8}, {8, 8}, {16, 8}, {32, 12}};
     return kTable[std::clamp(quality, 1, 4) - 1];
 }
 
-Extent SsgiPass::traceExtent(Extent frame, bool halfRes) {
+Extent SSGIPass::traceExtent(Extent frame, bool halfRes) {
     return halfRes ? Extent{(frame.width + 1) / 2, (frame.height + 1) / 2} : frame;
 }
 
-PassIO SsgiPass::describe() const {
+PassIO SSGIPass::describe() const {
     PassIO io;
     io.inputs = {
-        {kDepth, {"Z"}, PortKind::Data, false, "capture:SceneDepth", "linear view depth"},
-        {kNormal, {"X", "Y", "Z"}, PortKind::Data, false, "capture:WorldNormal", "world normal"},
-        {kShadingModel, {"Y"}, PortKind::Data, false, "capture:ShadingModel",
-         "unlit (0) pixels are skipped"},
-        {kFurthestHzb, {"Z"}, PortKind::Data, false, "hzb.furthest", "furthest HZB (device Z)"},
-        {kReducedColor, {"R", "G", "B"}, PortKind::Color, false, "prev_color_reduction.color",
-         "last frame's colour, reprojected and reduced to 5 mips"},
+        {.name = kDepth,
+         .channels = {"Z"},
+         .captureDefault = "SceneDepth",
+         .doc = "linear view depth"},
+        {.name = kNormal,
+         .channels = {"X", "Y", "Z"},
+         .captureDefault = "WorldNormal",
+         .doc = "world normal"},
+        {.name = kShadingModel,
+         .channels = {"Y"},
+         .captureDefault = "ShadingModel",
+         .doc = "unlit (0) pixels are skipped"},
+        {.name = kFurthestHzb, .channels = {"Z"}, .doc = "furthest HZB (device Z)"},
+        {.name = kReducedColor,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .doc = "last frame's colour, reprojected and reduced to 5 mips"},
     };
     io.outputs = {
-        {kDiffuse, {"R", "G", "B"}, PortKind::Color, false, "",
-         "mean incoming radiance of the rays (irradiance/π); 0 on skipped pixels"},
-        {kAo, {"Y"}, PortKind::Data, false, "", "1 − fraction of rays that hit; 1 on skipped pixels"},
-        {kHitMask, {"Y"}, PortKind::Data, false, "",
-         "debug: fraction of rays that hit (0 on skipped pixels)"},
-        {kHitDistance, {"Y"}, PortKind::Data, false, "",
-         "debug: mean distance from the pixel to its rays' hits, scene units (0: no hit)"},
+        {.name = kDiffuse,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .doc = "mean incoming radiance of the rays (irradiance/π); 0 on skipped pixels"},
+        {.name = kAo,
+         .channels = {"Y"},
+         .doc = "1 − fraction of rays that hit; 1 on skipped pixels"},
+        {.name = kHitMask,
+         .channels = {"Y"},
+         .doc = "debug: fraction of rays that hit (0 on skipped pixels)"},
+        {.name = kHitDistance,
+         .channels = {"Y"},
+         .doc = "debug: mean distance from the pixel to its rays' hits, scene units (0: no hit)"},
     };
     io.needsCamera = true;
     io.workUnit = "hzbSamples";
     return io;
 }
 
-std::vector<Extent> SsgiPass::outputExtents(std::string_view, Extent frame) const {
+std::vector<Extent> SSGIPass::outputExtents(std::string_view, Extent frame) const {
     return {traceExtent(frame, mParams.halfRes)};
 }
 
-Vec3f SsgiPass::rayDirection(const Vec3f& n, int x, int y, uint32_t frameMod8, int index,
+Vec3f SSGIPass::rayDirection(const Vec3f& n,
+                             int x,
+                             int y,
+                             uint32_t frameMod8,
+                             int index,
                              int count) {
     const ue::Rand3 seed = ue::rand3DPCG16(x, y, int32_t(frameMod8));
     float e1, e2, dx, dy;
@@ -109,7 +132,7 @@ Vec3f SsgiPass::rayDirection(const Vec3f& n, int x, int y, uint32_t frameMod8, i
     return t * dx + b * dy + n * dz;
 }
 
-void SsgiPass::execute(PassContext& ctx) {
+void SSGIPass::execute(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
     const CameraView& cam = frame.camera.current;
     const Plane& depth = ctx.input(kDepth)->image().plane(0);
@@ -129,7 +152,7 @@ void SsgiPass::execute(PassContext& ctx) {
     Texture* hitDistance =
         ctx.isRequested(kHitDistance) ? &ctx.output(kHitDistance, {trace}) : nullptr;
 
-    const SsgiQuality q = qualityTable(mParams.quality);
+    const SSGIQuality q = qualityTable(mParams.quality);
     const uint32_t frameMod8 = ue::frameIndexMod8(frame.number);
     const float invSteps = 1.0f / float(q.steps);
     const float levelStep = 8.0f * invSteps;  // reference §4.6: (8/N)·Roughness, Roughness = 1
@@ -157,9 +180,9 @@ void SsgiPass::execute(PassContext& ctx) {
                 ++traced;
                 const Vec3d nw{normal.plane(0).at(px, py), normal.plane(1).at(px, py),
                                normal.plane(2).at(px, py)};
-                const Vec3f nView = quantiseNormal(
-                    Vec3f{float(dot(nw, cam.right)), float(dot(nw, cam.up)),
-                          float(dot(nw, cam.forward))});
+                const Vec3f nView =
+                    quantiseNormal(Vec3f{float(dot(nw, cam.right)), float(dot(nw, cam.up)),
+                                         float(dot(nw, cam.forward))});
                 const float sx = float(cam.screenX(px)), sy = float(cam.screenY(py));
                 const float z0 = float(cam.deviceZFromDepth(d));
                 // reference §4.5: tolerance T = max(|ΔZ|, (Z − Z(2·depth))·k) for the whole ray.
@@ -182,12 +205,17 @@ void SsgiPass::execute(PassContext& ctx) {
                     float stepX = ex - sx, stepY = ey - sy, stepZ = ez - z0;
                     // Rescale so the end lies exactly on the screen border (extends short rays).
                     float fit = std::numeric_limits<float>::infinity();
-                    if (stepX > 0.0f) fit = std::min(fit, (1.0f - sx) / stepX);
-                    if (stepX < 0.0f) fit = std::min(fit, (-1.0f - sx) / stepX);
-                    if (stepY > 0.0f) fit = std::min(fit, (1.0f - sy) / stepY);
-                    if (stepY < 0.0f) fit = std::min(fit, (-1.0f - sy) / stepY);
+                    if (stepX > 0.0f)
+                        fit = std::min(fit, (1.0f - sx) / stepX);
+                    if (stepX < 0.0f)
+                        fit = std::min(fit, (-1.0f - sx) / stepX);
+                    if (stepY > 0.0f)
+                        fit = std::min(fit, (1.0f - sy) / stepY);
+                    if (stepY < 0.0f)
+                        fit = std::min(fit, (-1.0f - sy) / stepY);
                     ++rays;
-                    if (!std::isfinite(fit)) continue;  // straight along the view axis: a miss
+                    if (!std::isfinite(fit))
+                        continue;  // straight along the view axis: a miss
                     stepX *= fit;
                     stepY *= fit;
                     stepZ *= fit;
@@ -215,13 +243,15 @@ void SsgiPass::execute(PassContext& ctx) {
                             // Behind the furthest surface of the cell by less than 2t (§4.6).
                             // A sky cell (device Z 0) is never hit: a ray extended past the point
                             // at infinity would otherwise "hit" it [framepass guard].
-                            if (hitSample < 0 && hz > 0.0f && std::fabs(diff + tolerance) < tolerance)
+                            if (hitSample < 0 && hz > 0.0f &&
+                                std::fabs(diff + tolerance) < tolerance)
                                 hitSample = k;
                         }
                         hzbSamples += 4;
                         level += 2.0f * levelStep;
                     }
-                    if (hitSample < 0) continue;
+                    if (hitSample < 0)
+                        continue;
                     const RayPoint hit{origin.hx + step.hx * float(hitSample),
                                        origin.hy + step.hy * float(hitSample),
                                        origin.z + step.z * float(hitSample)};
@@ -235,7 +265,8 @@ void SsgiPass::execute(PassContext& ctx) {
                                         rc.plane(2).at(rx, ry)};
                     // Karis weighting (reference §4.7), undone after the mean.
                     const float karis = 1.0f / (1.0f + ue::luma(c[0], c[1], c[2]));
-                    for (int ch = 0; ch < 3; ++ch) sum[ch] += c[ch] * karis;
+                    for (int ch = 0; ch < 3; ++ch)
+                        sum[ch] += c[ch] * karis;
                     ++hits;
                     if (hitDistance) {
                         const double hd = cam.depthFromDeviceZ(hit.z);
@@ -257,7 +288,8 @@ void SsgiPass::execute(PassContext& ctx) {
                         mean[ch] * inverseKaris * mParams.indirectLightingColorScale;
                 const float hitFraction = float(hits) * invRays;
                 ao.image().plane(0).at(x, y) = 1.0f - hitFraction;
-                if (hitMask) hitMask->image().plane(0).at(x, y) = hitFraction;
+                if (hitMask)
+                    hitMask->image().plane(0).at(x, y) = hitFraction;
                 if (hitDistance && measuredHits > 0)
                     hitDistance->image().plane(0).at(x, y) = float(distanceSum / measuredHits);
             }

@@ -8,10 +8,10 @@
 namespace fp {
 
 struct PrevColorReductionParams {
-    bool leakFree = true;  //!< r.SSGI.LeakFreeReprojection: previous colour + depth (1) or TAA history (0)
+    bool leakFree = true;  //!< previous colour + depth (1) or TAA history (0)
     float preExposureCorrection = 1.0f;  //!< PreExposure_current / PreExposure_previous, (0, 1e6]
     bool removeSky = false;  //!< UE5 only: colour beyond skyDistance is zeroed (4.27 keeps it)
-    float skyDistance = 1e7f;  //!< r.SSGI.SkyDistance in scene units (UE5)
+    float skyDistance = 1e7f;  //!< sky distance in scene units (UE5)
 };
 
 class PrevColorReductionPass final : public Pass {

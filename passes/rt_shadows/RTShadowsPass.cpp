@@ -1,7 +1,7 @@
-#include "passes/rt_shadows/RtShadowsPass.h"
+#include "passes/rt_shadows/RTShadowsPass.h"
 
-#include "passes/core/RayScene.h"
 #include "passes/core/Random.h"
+#include "passes/core/RayScene.h"
 #include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
 #include "passes/lighting/LightAttenuation.h"
@@ -26,32 +26,36 @@ constexpr const char* kTransmission = "transmission";
 constexpr const char* kHitDistance = "hitDistance";
 constexpr const char* kLightAttenuation = "lightAttenuation";
 
-constexpr uint32_t kSeed = 0x52545348u;  // "RTSH"
+constexpr uint32_t kSeed = 0x52545348u;    // "RTSH"
 constexpr float kMinNormalBiasCm = 0.01f;  // reference §9.1: r.RayTracing.NormalBias min 0.01
 
 // Each light draws its own random numbers, so adding a light leaves the others' shadows alone.
 uint32_t lightSeed(const std::string& name) {
     uint32_t h = 2166136261u;  // FNV-1a
-    for (unsigned char c : name) h = (h ^ c) * 16777619u;
+    for (unsigned char c : name)
+        h = (h ^ c) * 16777619u;
     return kSeed ^ h;
 }
 
 // Reference §9.2: N·L ≤ 0 means "occluded" without a ray, except for hair, eye, two-sided foliage,
 // subsurface (inferred: subsurface and subsurface profile) and rect lights.
 bool cullsBackFacing(int model, LightType type) {
-    if (type == LightType::Rect) return false;
+    if (type == LightType::Rect)
+        return false;
     return model != kHair && model != kEye && model != kTwoSidedFoliage && model != kSubsurface &&
            model != kSubsurfaceProfile;
 }
 
-bool hasThicknessTransmission(int model) { return model == kSubsurface || model == kHair; }
+bool hasThicknessTransmission(int model) {
+    return model == kSubsurface || model == kHair;
+}
 
 // One pixel of a packet row: what stays the same for all its samples.
 struct PixelSetup {
     bool active = false;
-    Vec3f p;       // reconstructed position, relative to the RayScene origin
-    Vec3f n;       // normal used for biasing (the light direction for hair)
-    Vec3f toEye;   // unit, from the pixel to the eye
+    Vec3f p;      // reconstructed position, relative to the RayScene origin
+    Vec3f n;      // normal used for biasing (the light direction for hair)
+    Vec3f toEye;  // unit, from the pixel to the eye
     float eyeDistance = 0;
     int model = 0;
     float opacity = 1;
@@ -64,51 +68,71 @@ struct PixelResult {
 
 }  // namespace
 
-ParamSpec<RtShadowsParams> RtShadowsPass::paramSpec() {
-    ParamSpec<RtShadowsParams> s;
+ParamSpec<RTShadowsParams> RTShadowsPass::paramSpec() {
+    ParamSpec<RTShadowsParams> s;
     s.add("light", &Params::light, "name of the light (\"\" = the scene's only light)");
     s.add("samplesPerPixel", &Params::samplesPerPixel,
-          "r.RayTracing.Shadow.SamplesPerPixel: shadow rays per pixel; −1 = the light's own")
-        .range(-1, 64);
-    s.add("normalBias", &Params::normalBias,
-          "r.RayTracing.NormalBias: largest normal/camera bias, cm (at N·L = 0)")
-        .range(0.01, 1e6);
+          "shadow rays per pixel; −1 = the light's own samplesPerPixel")
+        .range(-1, 64)
+        .cvar("r.RayTracing.Shadow.SamplesPerPixel");
+    s.add("normalBias", &Params::normalBias, "largest normal/camera bias, cm (at N·L = 0)")
+        .range(0.01, 1e6)
+        .cvar("r.RayTracing.NormalBias");
     s.add("transmission", &Params::transmission,
           "light bTransmission: subsurface and hair pixels measure their own thickness");
     s.add("lodTransitionStart", &Params::lodTransitionStart,
-          "r.RayTracing.Shadows.LODTransitionStart: subsurface visibility starts blending towards "
-          "transmission, cm")
-        .range(0.0, 1e9);
-    s.add("lodTransitionEnd", &Params::lodTransitionEnd,
-          "r.RayTracing.Shadows.LODTransitionEnd: ... and is transmission from here, cm")
-        .range(0.0, 1e9);
+          "subsurface visibility starts blending towards transmission, cm")
+        .range(0.0, 1e9)
+        .cvar("r.RayTracing.Shadows.LODTransitionStart");
+    s.add("lodTransitionEnd", &Params::lodTransitionEnd, "... and is transmission from here, cm")
+        .range(0.0, 1e9)
+        .cvar("r.RayTracing.Shadows.LODTransitionEnd");
     s.add("rayPackets", &Params::rayPackets,
           "trace rtcOccluded8 packets of 8 neighbouring pixels (false: one ray at a time; same "
           "result bit for bit)");
     return s;
 }
 
-PassIO RtShadowsPass::describe() const {
+PassIO RTShadowsPass::describe() const {
     PassIO io;
     io.inputs = {
-        {kDepth, {"Z"}, PortKind::Data, false, "capture:SceneDepth", "linear view depth"},
-        {kNormal, {"X", "Y", "Z"}, PortKind::Data, false, "capture:WorldNormal", "world normal"},
-        {kShadingModel, {"Y"}, PortKind::Data, false, "capture:ShadingModel",
-         "unlit and sky pixels are skipped"},
-        {kCustomData, {"R", "G", "B", "A"}, PortKind::Data, true, "capture:CustomData",
-         "A = opacity of subsurface models: the transmission density"},
-        {kInstanceId, {"Y"}, PortKind::Data, true, "capture:InstanceId",
-         "the pixel's own object, whose thickness the transmission ray measures"},
+        {.name = kDepth,
+         .channels = {"Z"},
+         .captureDefault = "SceneDepth",
+         .doc = "linear view depth"},
+        {.name = kNormal,
+         .channels = {"X", "Y", "Z"},
+         .captureDefault = "WorldNormal",
+         .doc = "world normal"},
+        {.name = kShadingModel,
+         .channels = {"Y"},
+         .captureDefault = "ShadingModel",
+         .doc = "unlit and sky pixels are skipped"},
+        {.name = kCustomData,
+         .channels = {"R", "G", "B", "A"},
+         .optional = true,
+         .captureDefault = "CustomData",
+         .doc = "A = opacity of subsurface models: the transmission density"},
+        {.name = kInstanceId,
+         .channels = {"Y"},
+         .optional = true,
+         .captureDefault = "InstanceId",
+         .doc = "the pixel's own object, whose thickness the transmission ray measures"},
     };
     io.outputs = {
-        {kShadow, {"Y"}, PortKind::Data, false, "", "visibility: fraction of shadow rays unblocked"},
-        {kTransmission, {"Y"}, PortKind::Data, false, "",
-         "subsurface term: mean exp(−density·thickness) (subsurface, hair), encoded thickness "
-         "1 − d/5 cm (subsurface profile), else the visibility"},
-        {kHitDistance, {"Y"}, PortKind::Data, false, "",
-         "closest occluder distance over the samples, scene units; −1 = no occluder"},
-        {kLightAttenuation, {"R", "G", "B", "A"}, PortKind::Data, false, "",
-         "Unreal's light-attenuation encoding (reference §9.5), √ of the faded shadow"},
+        {.name = kShadow,
+         .channels = {"Y"},
+         .doc = "visibility: fraction of shadow rays unblocked"},
+        {.name = kTransmission,
+         .channels = {"Y"},
+         .doc = "subsurface term: mean exp(−density·thickness) (subsurface, hair), encoded "
+                "thickness 1 − d/5 cm (subsurface profile), else the visibility"},
+        {.name = kHitDistance,
+         .channels = {"Y"},
+         .doc = "closest occluder distance over the samples, scene units; −1 = no occluder"},
+        {.name = kLightAttenuation,
+         .channels = {"R", "G", "B", "A"},
+         .doc = "Unreal's light-attenuation encoding (reference §9.5), √ of the faded shadow"},
     };
     io.needsCamera = true;
     io.needsScene = true;
@@ -116,16 +140,16 @@ PassIO RtShadowsPass::describe() const {
     return io;
 }
 
-float RtShadowsPass::transmittance(float opacity, float thicknessCm) {
+float RTShadowsPass::transmittance(float opacity, float thicknessCm) {
     const float density = -0.05f * std::log(1.0f - std::min(opacity, 0.999f));
     return std::clamp(std::exp(-density * thicknessCm), 0.0f, 1.0f);
 }
 
-float RtShadowsPass::encodeThickness(float thicknessCm) {
+float RTShadowsPass::encodeThickness(float thicknessCm) {
     return std::clamp(1.0f - thicknessCm / kMaxProfileDistanceCm, 0.0f, 1.0f);
 }
 
-void RtShadowsPass::execute(PassContext& ctx) {
+void RTShadowsPass::execute(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
     const CameraView& cam = frame.camera.current;
     const RayScene& rs = ctx.scene();
@@ -160,8 +184,9 @@ void RtShadowsPass::execute(PassContext& ctx) {
                 std::array<PixelResult, kPacketSize> res{};
                 // Per-pixel streams: packets and single rays draw the same numbers.
                 auto pixelRng = [&](int i) { return Rng(frame.number, x0 + i, py, seed); };
-                std::array<Rng, kPacketSize> rng{pixelRng(0), pixelRng(1), pixelRng(2), pixelRng(3),
-                                                 pixelRng(4), pixelRng(5), pixelRng(6), pixelRng(7)};
+                std::array<Rng, kPacketSize> rng{pixelRng(0), pixelRng(1), pixelRng(2),
+                                                 pixelRng(3), pixelRng(4), pixelRng(5),
+                                                 pixelRng(6), pixelRng(7)};
                 static_assert(kPacketSize == 8);
                 for (int i = 0; i < kPacketSize && x0 + i < t.x1; ++i) {
                     const int x = x0 + i;
@@ -169,8 +194,7 @@ void RtShadowsPass::execute(PassContext& ctx) {
                     const float model = models.at(x, py);
                     PixelSetup& s = px[i];
                     const Vec3d offset = cam.translatedFromPixel(x, py, d);
-                    if (!isLitSurface(d, model) ||
-                        !generator.reaches(Vec3f(eyeOffset + offset))) {
+                    if (!isLitSurface(d, model) || !generator.reaches(Vec3f(eyeOffset + offset))) {
                         ++skipped;
                         continue;
                     }
@@ -182,7 +206,8 @@ void RtShadowsPass::execute(PassContext& ctx) {
                            normal.plane(2).at(x, py)};
                     s.model = int(model);
                     // Hair's GBuffer normal is its tangent: Unreal biases along the light instead.
-                    if (s.model == kHair) s.n = generator.centreDirection(s.p);
+                    if (s.model == kHair)
+                        s.n = generator.centreDirection(s.p);
                     s.opacity = customData ? customData->image().plane(3).at(x, py) : 1.0f;
                     s.instance = instances ? uint32_t(instances->image().plane(0).at(x, py)) : 0u;
                     ++pixels;
@@ -192,19 +217,22 @@ void RtShadowsPass::execute(PassContext& ctx) {
                     bool traced[kPacketSize] = {}, blocked[kPacketSize] = {};
                     for (int i = 0; i < kPacketSize; ++i) {
                         PixelSetup& s = px[i];
-                        if (!s.active) continue;
+                        if (!s.active)
+                            continue;
                         const float u = rng[i].nextFloat(), v = rng[i].nextFloat();
                         const Vec3f Lc = generator.centreDirection(s.p);
                         const float NoL = dot(s.n, Lc);
-                        if (NoL <= 0.0f && cullsBackFacing(s.model, light.type)) continue;
+                        if (NoL <= 0.0f && cullsBackFacing(s.model, light.type))
+                            continue;
                         // Reference §9.2: towards the camera by max(1e-4·distance, bias), then
                         // along the normal by lerp(bias, 0.01 cm, N·L); a transmissive pixel
                         // facing away starts on its back side instead.
                         Vec3f o = s.p + s.toEye * std::max(1e-4f * s.eyeDistance, maxBias);
-                        const float nb = maxBias + (minBias - maxBias) * std::clamp(NoL, 0.0f, 1.0f);
-                        const bool backSide = mParams.transmission && NoL <= 0.0f &&
-                                              (hasThicknessTransmission(s.model) ||
-                                               s.model == kSubsurfaceProfile);
+                        const float nb =
+                            maxBias + (minBias - maxBias) * std::clamp(NoL, 0.0f, 1.0f);
+                        const bool backSide =
+                            mParams.transmission && NoL <= 0.0f &&
+                            (hasThicknessTransmission(s.model) || s.model == kSubsurfaceProfile);
                         o += s.n * (backSide ? -nb : nb);
                         const ShadowDirection sd = generator.sample(o, u, v);
                         ray[i] = Ray{o, sd.dir, 0.0f, sd.tfar};
@@ -231,10 +259,12 @@ void RtShadowsPass::execute(PassContext& ctx) {
                                     hitT[i] = h.hit ? h.t : -1.0f;
                                 }
                         }
-                        for (int i = 0; i < kPacketSize; ++i) distanceRays += blocked[i];
+                        for (int i = 0; i < kPacketSize; ++i)
+                            distanceRays += blocked[i];
                     }
                     for (int i = 0; i < kPacketSize; ++i) {
-                        if (!traced[i]) continue;
+                        if (!traced[i])
+                            continue;
                         PixelSetup& s = px[i];
                         PixelResult& r = res[i];
                         // A subsurface-profile pixel's transmission channel is its encoded
@@ -242,18 +272,19 @@ void RtShadowsPass::execute(PassContext& ctx) {
                         const bool profile = mParams.transmission && s.model == kSubsurfaceProfile;
                         if (!blocked[i]) {
                             r.visibility += 1.0f;
-                            if (!profile) r.transmission += 1.0f;
+                            if (!profile)
+                                r.transmission += 1.0f;
                         } else {
                             if (hitT[i] >= 0.0f && (r.closestHit < 0.0f || hitT[i] < r.closestHit))
                                 r.closestHit = hitT[i];
                             if (mParams.transmission && hasThicknessTransmission(s.model)) {
                                 // Reference §9.3: the inverted ray from the far end finds where
                                 // the light enters the pixel's own object.
-                                const float far = std::min(ray[i].tfar,
-                                                           rs.farthestDistance(ray[i].org));
+                                const float far =
+                                    std::min(ray[i].tfar, rs.farthestDistance(ray[i].org));
                                 const Vec3f start = ray[i].org + ray[i].dir * far;
-                                const RayHit h = rs.intersectInstance(start, -ray[i].dir, 0.0f,
-                                                                      far, s.instance);
+                                const RayHit h =
+                                    rs.intersectInstance(start, -ray[i].dir, 0.0f, far, s.instance);
                                 ++transmissionRays;
                                 if (h.hit) {
                                     const float thicknessCm = (far - h.t) / cm;
@@ -263,7 +294,8 @@ void RtShadowsPass::execute(PassContext& ctx) {
                                             ? std::clamp(std::exp(-thicknessCm), 0.0f, 1.0f)
                                             : transmittance(s.opacity, thicknessCm);
                                     r.transmission += T;
-                                    if (T == 1.0f) r.visibility += 1.0f;  // promoted to unoccluded
+                                    if (T == 1.0f)
+                                        r.visibility += 1.0f;  // promoted to unoccluded
                                 }
                             }
                         }
@@ -273,12 +305,13 @@ void RtShadowsPass::execute(PassContext& ctx) {
                             // constant-tracking estimate, reference §9.3).
                             const float reach = kMaxProfileDistanceCm * cm;
                             const Vec3f start = ray[i].org + ray[i].dir * reach;
-                            const RayHit h = rs.intersectInstance(start, -ray[i].dir, 0.0f, reach,
-                                                                  s.instance);
+                            const RayHit h =
+                                rs.intersectInstance(start, -ray[i].dir, 0.0f, reach, s.instance);
                             ++transmissionRays;
                             const float thicknessCm =
-                                h.hit ? (reach - h.t) / cm
-                                      : (dot(s.n, ray[i].dir) > 0.0f ? 0.0f : kMaxProfileDistanceCm);
+                                h.hit
+                                    ? (reach - h.t) / cm
+                                    : (dot(s.n, ray[i].dir) > 0.0f ? 0.0f : kMaxProfileDistanceCm);
                             r.transmission += encodeThickness(thicknessCm);
                         }
                     }
@@ -294,7 +327,8 @@ void RtShadowsPass::execute(PassContext& ctx) {
                     const float transmission = res[i].transmission / float(spp);
                     if (hasThicknessTransmission(s.model) && mParams.lodTransitionEnd > 0.0f) {
                         // Reference §9.3: far subsurface pixels blend towards transmission.
-                        const float span = std::max(mParams.lodTransitionEnd - mParams.lodTransitionStart, 1e-6f);
+                        const float span =
+                            std::max(mParams.lodTransitionEnd - mParams.lodTransitionStart, 1e-6f);
                         const float f = std::clamp(
                             (s.eyeDistance / cm - mParams.lodTransitionStart) / span, 0.0f, 1.0f);
                         visibility += (transmission - visibility) * f;

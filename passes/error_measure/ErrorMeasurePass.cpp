@@ -1,4 +1,4 @@
-#include "passes/metrics/ErrorMeasurePass.h"
+#include "passes/error_measure/ErrorMeasurePass.h"
 
 #include "passes/core/Error.h"
 #include "passes/metrics/ErrorMetrics.h"
@@ -24,7 +24,8 @@ ParamSpec<ErrorMeasureParams> ErrorMeasurePass::paramSpec() {
         .range(0, 1e6);
     s.add("skyDistance", &Params::skyDistance, "depths at or beyond this are sky; 0 = only +inf")
         .range(0, 1e30);
-    s.add("heatScale", &Params::heatScale, "|error| at the top of the heat map; 0 = 99th percentile")
+    s.add("heatScale", &Params::heatScale,
+          "|error| at the top of the heat map; 0 = 99th percentile")
         .range(0, 1e30);
     return s;
 }
@@ -32,15 +33,25 @@ ParamSpec<ErrorMeasureParams> ErrorMeasurePass::paramSpec() {
 PassIO ErrorMeasurePass::describe() const {
     PassIO io;
     io.inputs = {
-        {kSource, {}, PortKind::Data, false, "", "the result to measure (any pass output)"},
-        {kReference, {}, PortKind::Data, false, "", "the reference, e.g. capture:Truth.AO"},
-        {kReferenceStdErr, {}, PortKind::Data, true, "",
-         "the reference's standard error (capture:Truth.<Name>.StdErr): reports its noise floor"},
-        {kDepth, {"Z"}, PortKind::Data, true, "capture:SceneDepth", "sky pixels are left out"},
+        {.name = kSource, .channels = {}, .doc = "the result to measure (any pass output)"},
+        {.name = kReference, .channels = {}, .doc = "the reference, e.g. capture:Truth.AO"},
+        {.name = kReferenceStdErr,
+         .channels = {},
+         .optional = true,
+         .doc = "the reference's standard error (capture:Truth.<Name>.StdErr): reports its noise "
+                "floor"},
+        {.name = kDepth,
+         .channels = {"Z"},
+         .optional = true,
+         .captureDefault = "SceneDepth",
+         .doc = "sky pixels are left out"},
     };
     io.outputs = {
-        {kHeat, {"R", "G", "B"}, PortKind::Color, false, "", "|error| as a viridis heat map"},
-        {kAbsError, {"Y"}, PortKind::Data, false, "", "per-pixel mean |error| over the channels"},
+        {.name = kHeat,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .doc = "|error| as a viridis heat map"},
+        {.name = kAbsError, .channels = {"Y"}, .doc = "per-pixel mean |error| over the channels"},
     };
     return io;
 }
@@ -52,7 +63,8 @@ Image pointUpsample(const Image& half, int width, int height) {
     Image full(width, height, half.channels());
     for (int c = 0; c < half.channelCount(); ++c)
         for (int y = 0; y < height; ++y)
-            for (int x = 0; x < width; ++x) full.plane(c).at(x, y) = half.plane(c).at(x / 2, y / 2);
+            for (int x = 0; x < width; ++x)
+                full.plane(c).at(x, y) = half.plane(c).at(x / 2, y / 2);
     return full;
 }
 }  // namespace
@@ -82,12 +94,14 @@ void ErrorMeasurePass::execute(PassContext& ctx) {
     in.tolerance = mParams.tolerance;
     const ErrorStats s = measureError(in, &absError);
 
-    for (const auto& [name, value] : s.figures()) ctx.addMetric(name, value);
+    for (const auto& [name, value] : s.figures())
+        ctx.addMetric(name, value);
     ctx.addWork("pixels", s.pixels);
     ctx.addWork("skippedPixels", s.maskedPixels);
 
     if (ctx.isRequested(kHeat)) {
-        const float scale = mParams.heatScale > 0.0f ? mParams.heatScale : heatScale(absError, in.mask);
+        const float scale =
+            mParams.heatScale > 0.0f ? mParams.heatScale : heatScale(absError, in.mask);
         ctx.output(kHeat, {{a.width(), a.height()}}).image() = heatmap(absError, in.mask, scale);
         ctx.addMetric("heatScale", scale);
     }

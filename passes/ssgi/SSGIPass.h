@@ -10,29 +10,29 @@
 
 namespace fp {
 
-struct SsgiParams {
-    int quality = 4;       //!< r.SSGI.Quality: 1..4 → 4/8/16/32 rays, 8/8/8/12 steps
-    bool halfRes = false;  //!< r.SSGI.HalfRes (4.27) / r.DiffuseIndirect.HalfRes (UE5)
+struct SSGIParams {
+    int quality = 4;       //!< 1..4 → 4/8/16/32 rays, 8/8/8/12 steps
+    bool halfRes = false;  //!< trace at half resolution
     float indirectLightingColorScale = 1.0f;  //!< 4.27's PP IndirectLightingIntensity × colour
 };
 
 /// What one quality level costs (reference §4.2).
-struct SsgiQuality {
+struct SSGIQuality {
     int rays;   //!< rays per pixel
     int steps;  //!< HZB samples per ray, in batches of 4
 };
 
-class SsgiPass final : public Pass {
+class SSGIPass final : public Pass {
 public:
-    using Params = SsgiParams;
+    using Params = SSGIParams;
     static ParamSpec<Params> paramSpec();
-    explicit SsgiPass(const Params& params) : mParams(params) {}
+    explicit SSGIPass(const Params& params) : mParams(params) {}
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
     std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
 
-    static SsgiQuality qualityTable(int quality);
+    static SSGIQuality qualityTable(int quality);
     /// Trace resolution: the frame, or half of it rounded up (reference §4.3).
     static Extent traceExtent(Extent frame, bool halfRes);
     /// Ray `index` of `count` of trace pixel (x, y) on frame index `frameMod8`, in view space around

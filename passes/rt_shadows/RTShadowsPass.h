@@ -12,21 +12,21 @@
 
 namespace fp {
 
-struct RtShadowsParams {
+struct RTShadowsParams {
     std::string light;           //!< the light's name ("" = the scene's only light)
-    int samplesPerPixel = -1;    //!< r.RayTracing.Shadow.SamplesPerPixel; −1 = the light's own
-    float normalBias = 0.1f;     //!< r.RayTracing.NormalBias, cm (min 0.01)
+    int samplesPerPixel = -1;    //!< −1 = the light's own
+    float normalBias = 0.1f;     //!< cm (min 0.01)
     bool transmission = true;    //!< the light's bTransmission: subsurface/hair thickness rays
-    float lodTransitionStart = 4000.0f;  //!< r.RayTracing.Shadows.LODTransitionStart, cm
-    float lodTransitionEnd = 5000.0f;    //!< r.RayTracing.Shadows.LODTransitionEnd, cm
+    float lodTransitionStart = 4000.0f;  //!< cm
+    float lodTransitionEnd = 5000.0f;    //!< cm
     bool rayPackets = true;      //!< rtcOccluded8 packets; false traces one ray at a time
 };
 
-class RtShadowsPass final : public Pass {
+class RTShadowsPass final : public Pass {
 public:
-    using Params = RtShadowsParams;
+    using Params = RTShadowsParams;
     static ParamSpec<Params> paramSpec();
-    explicit RtShadowsPass(const Params& params) : mParams(params) {}
+    explicit RTShadowsPass(const Params& params) : mParams(params) {}
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;

@@ -1,4 +1,4 @@
-#include "passes/prevcolor/PrevColorReductionPass.h"
+#include "passes/prev_color_reduction/PrevColorReductionPass.h"
 
 #include "passes/core/Error.h"
 #include "passes/core/Tiles.h"
@@ -22,7 +22,8 @@ constexpr const char* kAlpha = "alpha";
 // are the same "surface" at infinity); sky against geometry is a leak and gets none [inferred].
 float depthWeight(double dRef, double d, double radius) {
     const bool refSky = std::isinf(dRef), sky = std::isinf(d);
-    if (refSky || sky) return refSky && sky ? 1.0f : 0.0f;
+    if (refSky || sky)
+        return refSky && sky ? 1.0f : 0.0f;
     const double diff = dRef - d;
     return saturate(float(1.0 - diff * diff / (radius * radius)));
 }
@@ -36,7 +37,9 @@ float bilinear(const Plane& p, float u, float v) {
            (p.clampedAt(x0, y0 + 1) * (1 - fx) + p.clampedAt(x0 + 1, y0 + 1) * fx) * fy;
 }
 
-float sanitize(float v) { return std::isfinite(v) && v > 0.0f ? v : 0.0f; }
+float sanitize(float v) {
+    return std::isfinite(v) && v > 0.0f ? v : 0.0f;
+}
 }  // namespace
 
 float PrevColorReductionPass::vignette(float sx, float sy) {
@@ -48,38 +51,57 @@ float PrevColorReductionPass::vignette(float sx, float sy) {
 ParamSpec<PrevColorReductionParams> PrevColorReductionPass::paramSpec() {
     ParamSpec<PrevColorReductionParams> s;
     s.add("leakFree", &Params::leakFree,
-          "r.SSGI.LeakFreeReprojection: reproject previous colour + depth with leak-free "
-          "weights (true) or bilinear TAA history (false)");
+          "reproject previous colour + depth with leak-free weights (true) or bilinear TAA "
+          "history (false) (reference §3.1)")
+        .cvar("r.SSGI.LeakFreeReprojection");
     s.add("preExposureCorrection", &Params::preExposureCorrection,
           "PreExposure(current)/PreExposure(previous) applied to the previous colour")
         .range(0.0, 1e6);
     s.add("removeSky", &Params::removeSky,
           "zero colour whose current depth exceeds skyDistance (UE5 behaviour; 4.27 keeps it)");
-    s.add("skyDistance", &Params::skyDistance, "r.SSGI.SkyDistance, scene units").range(0.0, 1e30);
+    s.add("skyDistance", &Params::skyDistance, "Unreal's SSGI sky distance, scene units")
+        .range(0.0, 1e30);
     return s;
 }
 
 PassIO PrevColorReductionPass::describe() const {
     PassIO io;
     io.inputs = {
-        {kDepth, {"Z"}, PortKind::Data, false, "capture:SceneDepth", "current linear depth"},
-        {kVelocity, {"X", "Y"}, PortKind::Data, true, "",
-         "optional per-pixel motion; camera reprojection when unbound"},
-        {kFurthestHzb, {"Z"}, PortKind::Data, false, "hzb.furthest",
-         "furthest HZB: reference depth of the lower mips"},
+        {.name = kDepth,
+         .channels = {"Z"},
+         .captureDefault = "SceneDepth",
+         .doc = "current linear depth"},
+        {.name = kVelocity,
+         .channels = {"X", "Y"},
+         .optional = true,
+         .doc = "optional per-pixel motion; camera reprojection when unbound"},
+        {.name = kFurthestHzb,
+         .channels = {"Z"},
+         .doc = "furthest HZB: reference depth of the lower mips"},
     };
     if (mParams.leakFree) {
-        io.inputs.push_back({kPrevColor, {"R", "G", "B"}, PortKind::Color, false,
-                             "capture:PrevSceneColor", "last frame's scene colour"});
-        io.inputs.push_back({kPrevDepth, {"Z"}, PortKind::Data, false, "capture:PrevSceneDepth",
-                             "last frame's linear depth"});
+        io.inputs.push_back({.name = kPrevColor,
+                             .channels = {"R", "G", "B"},
+                             .kind = PortKind::Color,
+                             .captureDefault = "PrevSceneColor",
+                             .doc = "last frame's scene colour"});
+        io.inputs.push_back({.name = kPrevDepth,
+                             .channels = {"Z"},
+                             .captureDefault = "PrevSceneDepth",
+                             .doc = "last frame's linear depth"});
     } else {
-        io.inputs.push_back({kHistory, {"R", "G", "B"}, PortKind::Color, false,
-                             "capture:TAAHistory", "last frame's TAA history"});
+        io.inputs.push_back({.name = kHistory,
+                             .channels = {"R", "G", "B"},
+                             .kind = PortKind::Color,
+                             .captureDefault = "TAAHistory",
+                             .doc = "last frame's TAA history"});
     }
-    io.outputs = {{kColor, {"R", "G", "B"}, PortKind::Color, false, "",
-                   "reduced colour, premultiplied by the leak-free weight, 5 mips"},
-                  {kAlpha, {"A"}, PortKind::Data, false, "", "accumulated leak-free weight, 5 mips"}};
+    io.outputs = {
+        {.name = kColor,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .doc = "reduced colour, premultiplied by the leak-free weight, 5 mips"},
+        {.name = kAlpha, .channels = {"A"}, .doc = "accumulated leak-free weight, 5 mips"}};
     io.needsCamera = true;
     return io;
 }
@@ -143,12 +165,14 @@ void PrevColorReductionPass::execute(PassContext& ctx) {
         const double psx = pu / W * 2.0 - 1.0, psy = 1.0 - pv / H * 2.0;
         float rgb[3], w = 1.0f;
         if (!leakFree) {
-            for (int c = 0; c < 3; ++c) rgb[c] = bilinear(prevColor.plane(c), float(pu), float(pv));
+            for (int c = 0; c < 3; ++c)
+                rgb[c] = bilinear(prevColor.plane(c), float(pu), float(pv));
         } else {
             // Clamp to the bilinear-safe rect, then point-sample colour and depth.
             const int qx = std::clamp(int(std::floor(pu)), 0, W - 1);
             const int qy = std::clamp(int(std::floor(pv)), 0, H - 1);
-            for (int c = 0; c < 3; ++c) rgb[c] = prevColor.plane(c).at(qx, qy);
+            for (int c = 0; c < 3; ++c)
+                rgb[c] = prevColor.plane(c).at(qx, qy);
             const double pd = prevDepth->at(qx, qy);
             if (std::isinf(d) || std::isinf(pd)) {
                 w = std::isinf(d) && std::isinf(pd) ? 1.0f : 0.0f;
@@ -162,8 +186,10 @@ void PrevColorReductionPass::execute(PassContext& ctx) {
         }
         float scale = w * mParams.preExposureCorrection *
                       std::min(vignette(float(sx), float(sy)), vignette(float(psx), float(psy)));
-        if (mParams.removeSky && d > mParams.skyDistance) scale = 0.0f;
-        for (int c = 0; c < 3; ++c) out[c] = sanitize(rgb[c]) * scale;
+        if (mParams.removeSky && d > mParams.skyDistance)
+            scale = 0.0f;
+        for (int c = 0; c < 3; ++c)
+            out[c] = sanitize(rgb[c]) * scale;
         out[3] = leakFree ? w * std::min(vignette(float(sx), float(sy)),
                                          vignette(float(psx), float(psy)))
                           : 1.0f;
@@ -172,13 +198,16 @@ void PrevColorReductionPass::execute(PassContext& ctx) {
     // Reduces 2×2 children (colour, weight, depth) into one texel (reference §3.2 step 8).
     auto reduce = [&](const float child[4][5], float out[5]) {
         double dRef = child[0][4];
-        for (int k = 1; k < 4; ++k) dRef = std::max(dRef, double(child[k][4]));
-        for (int c = 0; c < 4; ++c) out[c] = 0.0f;
+        for (int k = 1; k < 4; ++k)
+            dRef = std::max(dRef, double(child[k][4]));
+        for (int c = 0; c < 4; ++c)
+            out[c] = 0.0f;
         for (int k = 0; k < 4; ++k) {
             // Plain path: box average. Leak-free: weighted sum divided by 4, not by Σweight,
             // so partial coverage darkens (as Unreal does).
             const float wk = leakFree ? depthWeight(dRef, child[k][4], radius(dRef)) : 1.0f;
-            for (int c = 0; c < 4; ++c) out[c] += child[k][c] * wk * 0.25f;
+            for (int c = 0; c < 4; ++c)
+                out[c] += child[k][c] * wk * 0.25f;
         }
         out[4] = float(dRef);
     };
@@ -194,7 +223,8 @@ void PrevColorReductionPass::execute(PassContext& ctx) {
                     const int px = 2 * x + (k & 1), py = 2 * y + (k >> 1);
                     if (px >= W || py >= H) {
                         // Outside the view rect: Unreal never writes these; they hold nothing.
-                        for (int c = 0; c < 4; ++c) child[k][c] = 0.0f;
+                        for (int c = 0; c < 4; ++c)
+                            child[k][c] = 0.0f;
                         child[k][4] = depth.clampedAt(px, py);
                         continue;
                     }
@@ -204,8 +234,10 @@ void PrevColorReductionPass::execute(PassContext& ctx) {
                     ++pixels;
                 }
                 reduce(child, out);
-                if (!any) std::fill(out, out + 4, 0.0f);
-                for (int c = 0; c < 5; ++c) levels[0].plane(c).at(x, y) = out[c];
+                if (!any)
+                    std::fill(out, out + 4, 0.0f);
+                for (int c = 0; c < 5; ++c)
+                    levels[0].plane(c).at(x, y) = out[c];
             }
         ctx.addWork("pixels", pixels);
     });
@@ -221,7 +253,8 @@ void PrevColorReductionPass::execute(PassContext& ctx) {
                         for (int c = 0; c < 5; ++c)
                             child[k][c] = src.plane(c).clampedAt(2 * x + (k & 1), 2 * y + (k >> 1));
                     reduce(child, out);
-                    for (int c = 0; c < 5; ++c) dst.plane(c).at(x, y) = out[c];
+                    for (int c = 0; c < 5; ++c)
+                        dst.plane(c).at(x, y) = out[c];
                 }
         });
     };
@@ -244,14 +277,15 @@ void PrevColorReductionPass::execute(PassContext& ctx) {
                     for (int k = 0; k < 4; ++k) {
                         const int cx = 2 * x + (k & 1), cy = 2 * y + (k >> 1);
                         // Plain path: one bilinear tap at the centre of the four = their mean.
-                        const float wk = leakFree ? depthWeight(dRef, hzbDepth(hzbMip1, cx, cy),
-                                                                radius(dRef))
-                                                  : 1.0f;
+                        const float wk =
+                            leakFree ? depthWeight(dRef, hzbDepth(hzbMip1, cx, cy), radius(dRef))
+                                     : 1.0f;
                         for (int c = 0; c < 4; ++c)
                             out[c] += src.plane(c).clampedAt(cx, cy) * 0.25f * wk;
                     }
                     out[4] = leakFree ? float(dRef) : src.plane(4).clampedAt(2 * x, 2 * y);
-                    for (int c = 0; c < 5; ++c) dst.plane(c).at(x, y) = out[c];
+                    for (int c = 0; c < 5; ++c)
+                        dst.plane(c).at(x, y) = out[c];
                 }
         });
     }

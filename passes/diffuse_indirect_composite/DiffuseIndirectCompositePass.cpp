@@ -1,4 +1,4 @@
-#include "passes/composite/DiffuseIndirectCompositePass.h"
+#include "passes/diffuse_indirect_composite/DiffuseIndirectCompositePass.h"
 
 #include "passes/core/Error.h"
 #include "passes/core/ShadingModel.h"
@@ -37,24 +37,45 @@ ParamSpec<DiffuseIndirectCompositeParams> DiffuseIndirectCompositePass::paramSpe
 PassIO DiffuseIndirectCompositePass::describe() const {
     PassIO io;
     io.inputs = {
-        {kSceneColor, {"R", "G", "B"}, PortKind::Color, false, "capture:SceneColor",
-         "emissive + precomputed light before direct lighting"},
-        {kBaseColor, {"R", "G", "B"}, PortKind::Color, false, "capture:BaseColor", "albedo"},
-        {kMetallic, {"Y"}, PortKind::Data, false, "capture:Metallic", "metalness"},
-        {kShadingModel, {"Y"}, PortKind::Data, false, "capture:ShadingModel", "shading model id"},
-        {kGBufferAO, {"Y"}, PortKind::Data, false, "capture:GBufferAO", "material AO"},
-        {kDiffuse, {"R", "G", "B"}, PortKind::Color, false, "ssgi_denoise.diffuse",
-         "denoised SSGI radiance (trace resolution)"},
-        {kAo, {"Y"}, PortKind::Data, false, "ssgi_denoise.ao", "denoised SSGI AO"},
+        {.name = kSceneColor,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .captureDefault = "SceneColor",
+         .doc = "emissive + precomputed light before direct lighting"},
+        {.name = kBaseColor,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .captureDefault = "BaseColor",
+         .doc = "albedo"},
+        {.name = kMetallic, .channels = {"Y"}, .captureDefault = "Metallic", .doc = "metalness"},
+        {.name = kShadingModel,
+         .channels = {"Y"},
+         .captureDefault = "ShadingModel",
+         .doc = "shading model id"},
+        {.name = kGBufferAO,
+         .channels = {"Y"},
+         .captureDefault = "GBufferAO",
+         .doc = "material AO"},
+        {.name = kDiffuse,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .doc = "denoised SSGI radiance (trace resolution)"},
+        {.name = kAo, .channels = {"Y"}, .doc = "denoised SSGI AO"},
     };
     if (ue5()) {
-        io.inputs.push_back({kCustomData, {"R", "G", "B", "A"}, PortKind::Data, false,
-                             "capture:CustomData", "subsurface / fuzz colour (√) and amounts"});
-        io.inputs.push_back({kDepth, {"Z"}, PortKind::Data, false, "capture:SceneDepth",
-                             "depth for the half-resolution upsample test"});
+        io.inputs.push_back({.name = kCustomData,
+                             .channels = {"R", "G", "B", "A"},
+                             .captureDefault = "CustomData",
+                             .doc = "subsurface / fuzz colour (√) and amounts"});
+        io.inputs.push_back({.name = kDepth,
+                             .channels = {"Z"},
+                             .captureDefault = "SceneDepth",
+                             .doc = "depth for the half-resolution upsample test"});
     }
-    io.outputs = {{kColor, {"R", "G", "B"}, PortKind::Color, false, "",
-                   "scene colour with diffuse indirect and AO applied"}};
+    io.outputs = {{.name = kColor,
+                   .channels = {"R", "G", "B"},
+                   .kind = PortKind::Color,
+                   .doc = "scene colour with diffuse indirect and AO applied"}};
     io.needsCamera = ue5();
     return io;
 }
@@ -82,7 +103,8 @@ void DiffuseIndirectCompositePass::execute(PassContext& ctx) {
     auto sampleSsgi = [&](int x, int y, float e[3]) {
         if (!half || !ue5()) {
             const int tx = half ? x / 2 : x, ty = half ? y / 2 : y;
-            for (int c = 0; c < 3; ++c) e[c] = ssgi.plane(c).at(tx, ty);
+            for (int c = 0; c < 3; ++c)
+                e[c] = ssgi.plane(c).at(tx, ty);
             return;
         }
         const double d = depth->at(x, y);
@@ -95,18 +117,23 @@ void DiffuseIndirectCompositePass::execute(PassContext& ctx) {
         for (int k = 0; k < 4; ++k) {
             const int tx = std::min(x0 + (k & 1), TW - 1), ty = std::min(y0 + (k >> 1), TH - 1);
             const float w = ((k & 1) ? fx : 1 - fx) * ((k >> 1) ? fy : 1 - fy);
-            if (w <= 0.0f) continue;
+            if (w <= 0.0f)
+                continue;
             const int px = std::min(2 * tx, W - 1), py = std::min(2 * ty, H - 1);
             const double td = depth->at(px, py);
-            if (std::isinf(td)) continue;
+            if (std::isinf(td))
+                continue;
             const Vec3d p = cam->translatedFromPixel(px, py, td) - ref;
-            if (dot(p, p) > maxDist * maxDist) continue;
-            for (int c = 0; c < 3; ++c) sum[c] += w * ssgi.plane(c).at(tx, ty);
+            if (dot(p, p) > maxDist * maxDist)
+                continue;
+            for (int c = 0; c < 3; ++c)
+                sum[c] += w * ssgi.plane(c).at(tx, ty);
             wSum += w;
         }
         // Every tap on another surface: the nearest texel [inferred; Unreal's normalisation of
         // zero weight is not transcribed].
-        for (int c = 0; c < 3; ++c) e[c] = wSum > 0.0f ? sum[c] / wSum : ssgi.plane(c).at(x0, y0);
+        for (int c = 0; c < 3; ++c)
+            e[c] = wSum > 0.0f ? sum[c] / wSum : ssgi.plane(c).at(x0, y0);
     };
 
     forEachTile(W, H, [&](const Tile& t) {
@@ -117,14 +144,16 @@ void DiffuseIndirectCompositePass::execute(PassContext& ctx) {
                 float rgb[3] = {sceneColor.plane(0).at(x, y), sceneColor.plane(1).at(x, y),
                                 sceneColor.plane(2).at(x, y)};
                 if (model == kUnlit) {  // AOMask = 0 and no diffuse: colour is untouched
-                    for (int c = 0; c < 3; ++c) out.image().plane(c).at(x, y) = rgb[c];
+                    for (int c = 0; c < 3; ++c)
+                        out.image().plane(c).at(x, y) = rgb[c];
                     ++skipped;
                     continue;
                 }
                 ++pixels;
                 // reference §7.1: FinalAO = lerp(1, GBufferAO × DynamicAO, staticFraction).
                 const float dyn = dynamicAO.at(half ? x / 2 : x, half ? y / 2 : y);
-                const float finalAO = 1.0f + (gbufferAO.at(x, y) * dyn - 1.0f) * mParams.aoStaticFraction;
+                const float finalAO =
+                    1.0f + (gbufferAO.at(x, y) * dyn - 1.0f) * mParams.aoStaticFraction;
                 float e[3];
                 sampleSsgi(x, y, e);
                 // Subsurface profile and eye keep their real albedo (StoredBaseColor) and have no

@@ -3,9 +3,9 @@
 #include "passes/core/Executor.h"
 #include "passes/core/Sampling.h"
 #include "passes/core/UnrealRandom.h"
-#include "passes/prevcolor/PrevColorReductionPass.h"
-#include "passes/ssgi/SsgiPass.h"
-#include "passes/ssgi_denoise/SsgiDenoisePass.h"
+#include "passes/prev_color_reduction/PrevColorReductionPass.h"
+#include "passes/ssgi/SSGIPass.h"
+#include "passes/ssgi_denoise/SSGIDenoisePass.h"
 #include "tests/support/TestScenes.h"
 
 #include <doctest/doctest.h>
@@ -72,7 +72,11 @@ std::map<std::string, Texture> runChain(test::MemorySource& src, const std::vect
 }
 
 std::vector<NodeDesc> ssgiChain(nlohmann::json ssgiParams = nlohmann::json::object()) {
-    return {test::node("hzb"), test::node("prev_color_reduction"), test::node("ssgi", ssgiParams)};
+    return {test::node("hzb"),
+            test::node("prev_color_reduction", {}, {{"furthestHzb", "hzb.furthest"}}),
+            test::node("ssgi", ssgiParams,
+                       {{"furthestHzb", "hzb.furthest"},
+                        {"reducedColor", "prev_color_reduction.color"}})};
 }
 
 }  // namespace
@@ -82,8 +86,8 @@ TEST_SUITE("ssgi") {
 TEST_CASE("quality levels trace 4/8/16/32 rays of 8/8/8/12 steps") {
     const int rays[] = {4, 8, 16, 32}, steps[] = {8, 8, 8, 12};
     for (int q = 1; q <= 4; ++q) {
-        CHECK(SsgiPass::qualityTable(q).rays == rays[q - 1]);
-        CHECK(SsgiPass::qualityTable(q).steps == steps[q - 1]);
+        CHECK(SSGIPass::qualityTable(q).rays == rays[q - 1]);
+        CHECK(SSGIPass::qualityTable(q).steps == steps[q - 1]);
         // Under an empty sky no ray hits (except false self-hits in the outermost pixels, see the
         // next case), so every interior ray takes all its steps.
         Scene s = test::floorScene();
@@ -116,7 +120,7 @@ TEST_CASE("ray directions are cosine-distributed around the normal") {
         for (int y = 0; y < 64; ++y)
             for (int x = 0; x < 64; ++x)
                 for (int r = 0; r < 8; ++r) {
-                    const Vec3f d = SsgiPass::rayDirection(n, x, y, 3, r, 8);
+                    const Vec3f d = SSGIPass::rayDirection(n, x, y, 3, r, 8);
                     CHECK(std::abs(dot(d, d) - 1.0f) < 1e-5f);
                     const double c = dot(d, n);
                     REQUIRE(c >= 0.0);
@@ -196,7 +200,7 @@ TEST_CASE("a floor beside a glowing wall gathers the form-factor irradiance") {
     const Plane& diffuse = out.at("ssgi.diffuse").image().plane(0);
     const Plane& ao = out.at("ssgi.ao").image().plane(0);
     const Plane& depth = src.buffers.at("SceneDepth").plane(0);
-    const int rays = SsgiPass::qualityTable(4).rays;
+    const int rays = SSGIPass::qualityTable(4).rays;
     double sqErr = 0, sqNoise = 0, colourErr = 0, colourRef = 0;
     int n = 0;
     for (int y = 0; y < size; y += 3)
@@ -247,8 +251,9 @@ TEST_CASE("sky and unlit pixels are skipped by SSGI and left untouched by the co
     cam.previous = cam.current;
     auto src = test::captureToMemory(s, cam);
     std::vector<NodeDesc> chain = ssgiChain();
-    chain.push_back(test::node("ssgi_denoise"));
-    chain.push_back(test::node("diffuse_indirect_composite"));
+    chain.push_back(test::node("ssgi_denoise", {}, {{"diffuse", "ssgi.diffuse"}, {"ao", "ssgi.ao"}}));
+    chain.push_back(test::node("diffuse_indirect_composite", {},
+                               {{"diffuse", "ssgi_denoise.diffuse"}, {"ao", "ssgi_denoise.ao"}}));
     const auto out = runChain(src, chain, {"ssgi.diffuse", "ssgi.ao", "diffuse_indirect_composite.color"});
     const Plane& depth = src.buffers.at("SceneDepth").plane(0);
     const Plane& model = src.buffers.at("ShadingModel").plane(0);
