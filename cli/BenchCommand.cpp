@@ -36,10 +36,12 @@ public:
     FrameInfo frameInfo() override { return mInner.frameInfo(); }
     Texture loadBuffer(const std::string& buffer, int channels) override {
         auto it = mCache.find(buffer);
-        if (it == mCache.end()) it = mCache.emplace(buffer, mInner.loadBuffer(buffer, channels)).first;
+        if (it == mCache.end())
+            it = mCache.emplace(buffer, mInner.loadBuffer(buffer, channels)).first;
         return it->second;
     }
     const RayScene& scene() override { return mInner.scene(); }
+    const std::vector<Light>& lights() override { return mInner.lights(); }
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mInner.colorConfig(); }
     const Texture* cached(const std::string& buffer) const {
         auto it = mCache.find(buffer);
@@ -56,9 +58,13 @@ class KeepingSink final : public FrameSink {
 public:
     bool keep = false;
     std::map<std::string, Image> images;
-    void write(const OutputDesc&, const std::vector<OutputLayer>& layers, const FrameInfo&) override {
-        if (!keep) return;
-        for (const auto& l : layers) images[l.name] = l.texture->image();
+    void write(const OutputDesc&,
+               const std::vector<OutputLayer>& layers,
+               const FrameInfo&) override {
+        if (!keep)
+            return;
+        for (const auto& l : layers)
+            images[l.name] = l.texture->image();
     }
 };
 
@@ -79,21 +85,26 @@ SweepAxis parseSweep(const std::string& text) {
             std::size_t endA = 0, endB = 0;
             const int a = std::stoi(list.substr(0, dots), &endA);
             const int b = std::stoi(list.substr(dots + 2), &endB);
-            if (endA != dots || endB != list.size() - dots - 2 || b < a) throw std::invalid_argument("");
-            for (int v = a; v <= b; ++v) axis.values.push_back(std::to_string(v));
+            if (endA != dots || endB != list.size() - dots - 2 || b < a)
+                throw std::invalid_argument("");
+            for (int v = a; v <= b; ++v)
+                axis.values.push_back(std::to_string(v));
         } catch (const std::exception&) {
-            throw UsageError(fmt::format("--sweep {}: a range is two integers A..B with A ≤ B", text));
+            throw UsageError(
+                fmt::format("--sweep {}: a range is two integers A..B with A ≤ B", text));
         }
         return axis;
     }
     std::size_t start = 0;
     while (start <= list.size()) {
         const auto comma = list.find(',', start);
-        const std::string v = list.substr(start, comma == std::string::npos ? std::string::npos
-                                                                          : comma - start);
-        if (v.empty()) throw UsageError(fmt::format("--sweep {}: empty value", text));
+        const std::string v =
+            list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (v.empty())
+            throw UsageError(fmt::format("--sweep {}: empty value", text));
         axis.values.push_back(v);
-        if (comma == std::string::npos) break;
+        if (comma == std::string::npos)
+            break;
         start = comma + 1;
     }
     return axis;
@@ -118,68 +129,222 @@ std::string base64(const std::string& bytes) {
     return out;
 }
 
+using SweepPoint = std::vector<std::pair<std::string, std::string>>;
+
+struct BenchOptions {
+    SessionOptions session;
+    int runs = 5, warmup = 1;
+    std::vector<std::string> sweeps;
+    bool json = false;
+    std::string html;
+};
+
+// Every combination of the sweep values, first axis slowest.
+std::vector<SweepPoint> sweepGrid(const std::vector<std::string>& sweeps) {
+    std::vector<SweepPoint> grid = {{}};
+    for (const auto& text : sweeps) {
+        const SweepAxis axis = parseSweep(text);
+        std::vector<SweepPoint> next;
+        for (const auto& g : grid)
+            for (const auto& v : axis.values) {
+                auto e = g;
+                e.emplace_back(axis.name, v);
+                next.push_back(e);
+            }
+        grid = next;
+    }
+    return grid;
+}
+
+// error_measure passes are roots here even when the config writes none of their outputs; the
+// ports they compare are kept for the report's images.
+std::vector<std::string> errorDumps(const GraphDesc& graph) {
+    std::vector<std::string> dumps;
+    for (const auto& n : graph.nodes) {
+        if (n.type != kErrorPassType)
+            continue;
+        dumps.push_back(n.name + ".heat");
+        for (const char* port : {"source", "reference"})
+            if (auto it = n.inputs.find(port);
+                it != n.inputs.end() && it->second.rfind("capture:", 0) != 0)
+                dumps.push_back(it->second);
+    }
+    return dumps;
+}
+
+// The images of one error_measure for the HTML report: result, truth and heat map as PNG.
+ErrorImages errorImages(const std::string& heat,
+                        const ErrorNodeResult& e,
+                        CachedSource& source,
+                        const KeepingSink& sink,
+                        SessionInputs& inputs) {
+    const DisplayTransform display(inputs.colorConfig(), "scene_linear", "", "", 0.0f, true);
+    auto preview = [&](const std::string& key) -> std::string {
+        const Image* img = nullptr;
+        if (key.rfind("capture:", 0) == 0) {
+            if (const Texture* t = source.cached(key.substr(8)))
+                img = &t->image();
+        } else if (auto it = sink.images.find(key); it != sink.images.end()) {
+            img = &it->second;
+        }
+        return img ? base64(io::encodePng(display.apply(*img))) : std::string();
+    };
+    return {preview(e.source), preview(e.reference), preview(heat)};
+}
+
+// Replays the shadow rays of one more run through bare Embree loops (packets and single rays).
+void addBareRayLoops(const Plan& plan,
+                     CachedSource& source,
+                     KeepingSink& sink,
+                     const BenchOptions& opt,
+                     BenchSetting& setting) {
+    std::vector<Ray> rays;
+    const RayScene& scene = source.scene();
+    scene.setOcclusionLog(&rays);
+    sink.keep = false;
+    executePlan(plan, source, sink);
+    scene.setOcclusionLog(nullptr);
+    for (const bool packets : {true, false}) {
+        std::vector<double> seconds;
+        uint64_t blocked = 0;
+        for (int r = 0; r < opt.warmup + opt.runs; ++r) {
+            const double t = timeBareOcclusion(scene, rays, packets, blocked);
+            if (r >= opt.warmup)
+                seconds.push_back(t);
+        }
+        setting.passes.push_back({packets ? "bare loop rtcOccluded8" : "bare loop rtcOccluded1",
+                                  kBareLoopType, "rays", rays.size(), TimingStats::of(seconds)});
+    }
+}
+
+// Times one setting of the grid: warm-up runs, timed runs, then the per-pass table.
+BenchSetting benchSetting(const RunSession& session,
+                          const std::string& label,
+                          const BenchOptions& opt,
+                          BenchResult& result,
+                          int& runsDone,
+                          int totalRuns) {
+    const Plan& plan = session.plan();
+    const int frame = session.frames().front();
+    const io::CaptureSource::Options co = session.captureOptions(frame);
+    io::CaptureSource capture(co, session.profile());
+    CachedSource source(capture);
+    KeepingSink sink;
+    result.capture = co.path;
+    result.frame = frame;
+    result.extent = session.extent();
+
+    std::vector<std::vector<double>> stepSeconds(plan.steps.size());
+    std::vector<double> frameSeconds;
+    FrameReport last;
+    for (int r = 0; r < opt.warmup + opt.runs; ++r) {
+        sink.keep = r + 1 == opt.warmup + opt.runs;
+        last = executePlan(plan, source, sink);
+        if (r >= opt.warmup) {
+            frameSeconds.push_back(last.seconds);
+            for (std::size_t s = 0; s < last.passes.size(); ++s)
+                stepSeconds[s].push_back(last.passes[s].seconds);
+        }
+        std::cout << fmt::format("Progress: {}%\n", 100 * ++runsDone / totalRuns) << std::flush;
+    }
+
+    BenchSetting setting;
+    setting.label = label.empty() ? "default" : label;
+    setting.frame = TimingStats::of(frameSeconds);
+    for (std::size_t s = 0; s < plan.steps.size(); ++s) {
+        const PlanStep& step = plan.steps[s];
+        PassTiming t{step.name, step.type, step.io.workUnit, 0, TimingStats::of(stepSeconds[s])};
+        if (auto it = last.passes[s].work.find(t.unit); it != last.passes[s].work.end())
+            t.work = it->second;
+        setting.passes.push_back(t);
+        if (step.type != kErrorPassType)
+            continue;
+        ErrorNodeResult e;
+        e.name = step.name;
+        e.metrics = last.passes[s].metrics;
+        e.source = step.inputs.at("source").key;
+        e.reference = step.inputs.at("reference").key;
+        if (!opt.html.empty())
+            e.images = errorImages(step.name + ".heat", e, source, sink, session.inputs());
+        setting.errors.push_back(e);
+    }
+    if (std::any_of(plan.steps.begin(), plan.steps.end(),
+                    [](const PlanStep& s) { return s.type == kShadowPassType; }))
+        addBareRayLoops(plan, source, sink, opt, setting);
+    return setting;
+}
+
+void printBench(const BenchResult& result) {
+    std::cout << fmt::format(
+        "{} on {} (frame {}, {}×{}): median of {} runs after {} warm-up, "
+        "{} threads\n",
+        result.config, result.capture, result.frame, result.extent.width, result.extent.height,
+        result.runs, result.warmup, result.threads);
+    for (const auto& s : result.settings) {
+        std::cout << fmt::format("{}: frame {:.2f} ms (min {:.2f}, max {:.2f})", s.label,
+                                 s.frame.median * 1e3, s.frame.min * 1e3, s.frame.max * 1e3);
+        if (s.hasError())
+            std::cout << fmt::format(", RMSE {:.5g}{}", s.error(), s.pareto ? " [Pareto]" : "");
+        std::cout << "\n";
+        for (const auto& p : s.passes) {
+            std::cout << fmt::format("  {:<24} {:>9.2f} ms  (min {:.2f}, max {:.2f})", p.name,
+                                     p.seconds.median * 1e3, p.seconds.min * 1e3,
+                                     p.seconds.max * 1e3);
+            if (p.work)
+                std::cout << fmt::format("  {:.2f} M{}/s", p.throughput() * 1e-6, p.unit);
+            std::cout << "\n";
+        }
+        for (const auto& e : s.errors) {
+            std::string m;
+            for (const auto& [k, v] : e.metrics)
+                m += fmt::format(" {}={:.5g}", k, v);
+            std::cout << fmt::format("  {} ({} against {}):{}\n", e.name, e.source, e.reference, m);
+        }
+    }
+}
+
+void writeHtml(const BenchResult& result, const std::string& path) {
+    const auto parent = std::filesystem::path(path).parent_path();
+    if (!parent.empty())
+        std::filesystem::create_directories(parent);
+    const std::string tmp = path + ".tmp";
+    std::ofstream(tmp) << benchHtml(result);
+    std::filesystem::rename(tmp, path);
+}
+
 }  // namespace
 
 Command addBenchCommand(CLI::App& app) {
-    struct Options {
-        SessionOptions session;
-        int runs = 5, warmup = 1;
-        std::vector<std::string> sweeps;
-        bool json = false;
-        std::string html;
-    };
-    auto opt = std::make_shared<Options>();
+    auto opt = std::make_shared<BenchOptions>();
     CLI::App* sub = app.add_subcommand(
-        "bench", "time the chain over several runs (median, min, max, throughput per pass); "
-                 "--sweep gives the speed-against-error table");
+        "bench",
+        "time the chain over several runs (median, min, max, throughput per pass); "
+        "--sweep gives the speed-against-error table");
     opt->session.addTo(*sub);
-    sub->add_option("--runs", opt->runs, "timed runs per setting (default 5)")->check(CLI::Range(1, 1000));
-    sub->add_option("--warmup", opt->warmup, "untimed runs first (default 1)")->check(CLI::Range(0, 100));
+    sub->add_option("--runs", opt->runs, "timed runs per setting (default 5)")
+        ->check(CLI::Range(1, 1000));
+    sub->add_option("--warmup", opt->warmup, "untimed runs first (default 1)")
+        ->check(CLI::Range(0, 100));
     sub->add_option("--sweep", opt->sweeps,
                     "vary a cvar or PASS.PARAM: NAME=V1,V2,... or NAME=A..B; several make a grid");
     sub->add_flag("--json", opt->json, "print the results as JSON");
     sub->add_option("--html", opt->html, "write a self-contained HTML report here");
 
     return [opt]() {
-        std::vector<SweepAxis> axes;
-        for (const auto& s : opt->sweeps) axes.push_back(parseSweep(s));
-        // The grid, first axis slowest.
-        std::vector<std::vector<std::pair<std::string, std::string>>> grid = {{}};
-        for (const auto& axis : axes) {
-            std::vector<std::vector<std::pair<std::string, std::string>>> next;
-            for (const auto& g : grid)
-                for (const auto& v : axis.values) {
-                    auto e = g;
-                    e.emplace_back(axis.name, v);
-                    next.push_back(e);
-                }
-            grid = next;
-        }
-
-        // error_measure passes are roots here even when the config writes none of their outputs;
-        // the ports they compare are kept for the report's images.
-        const io::RunConfig probe = io::loadRunConfig(opt->session.config);
-        std::vector<const NodeDesc*> errorNodes;
+        const std::vector<SweepPoint> grid = sweepGrid(opt->sweeps);
+        // The config and scene are read once; each sweep point is a new plan of the same chain.
+        const RunSession probe(opt->session);
         SessionOptions base = opt->session;
-        for (const auto& n : probe.graph.nodes) {
-            if (n.type != kErrorPassType) continue;
-            errorNodes.push_back(&n);
-            base.dumps.push_back(n.name + ".heat");
-            for (const char* port : {"source", "reference"})
-                if (auto it = n.inputs.find(port); it != n.inputs.end() &&
-                                                   it->second.rfind("capture:", 0) != 0)
-                    base.dumps.push_back(it->second);
-        }
+        for (const auto& d : errorDumps(probe.config().graph))
+            base.dumps.push_back(d);
 
         BenchResult result;
         result.config = opt->session.config;
         result.runs = opt->runs;
         result.warmup = opt->warmup;
         result.sweeps = opt->sweeps;
-        result.threads = int(tbb::global_control::active_value(
-            tbb::global_control::max_allowed_parallelism));
-        SessionInputs inputs(opt->session.config, probe);  // shared by every setting
-
+        result.threads =
+            int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
         const int totalRuns = int(grid.size()) * (opt->warmup + opt->runs);
         int runsDone = 0;
         for (const auto& point : grid) {
@@ -189,125 +354,20 @@ Command addBenchCommand(CLI::App& app) {
                 (name.rfind("r.", 0) == 0 ? so.cvars : so.sets).push_back(name + "=" + value);
                 label += (label.empty() ? "" : " ") + name + "=" + value;
             }
-            const RunSession session(so);
-            const Plan& plan = session.plan();
-            const int frame = session.frames().front();
-            const io::CaptureSource::Options co = session.captureOptions(frame, inputs);
-            io::CaptureSource capture(co, session.profile());
-            CachedSource source(capture);
-            KeepingSink sink;
-            result.capture = co.path;
-            result.frame = frame;
-            result.extent = session.extent();
-
-            std::vector<std::vector<double>> stepSeconds(plan.steps.size());
-            std::vector<double> frameSeconds;
-            FrameReport last;
-            for (int r = 0; r < opt->warmup + opt->runs; ++r) {
-                sink.keep = r + 1 == opt->warmup + opt->runs;
-                last = executePlan(plan, source, sink);
-                if (r >= opt->warmup) {
-                    frameSeconds.push_back(last.seconds);
-                    for (std::size_t s = 0; s < last.passes.size(); ++s)
-                        stepSeconds[s].push_back(last.passes[s].seconds);
-                }
-                std::cout << fmt::format("Progress: {}%\n", 100 * ++runsDone / totalRuns) << std::flush;
-            }
-
-            BenchSetting setting;
-            setting.label = label.empty() ? "default" : label;
-            setting.frame = TimingStats::of(frameSeconds);
-            const bool shadowRays = std::any_of(plan.steps.begin(), plan.steps.end(),
-                                                [](const PlanStep& s) { return s.type == kShadowPassType; });
-            for (std::size_t s = 0; s < plan.steps.size(); ++s) {
-                const PlanStep& step = plan.steps[s];
-                PassTiming t{step.name, step.type, step.io.workUnit, 0, TimingStats::of(stepSeconds[s])};
-                if (auto it = last.passes[s].work.find(t.unit); it != last.passes[s].work.end())
-                    t.work = it->second;
-                setting.passes.push_back(t);
-                if (step.type != kErrorPassType) continue;
-                ErrorNodeResult e;
-                e.name = step.name;
-                e.metrics = last.passes[s].metrics;
-                e.source = step.inputs.at("source").key;
-                e.reference = step.inputs.at("reference").key;
-                if (!opt->html.empty()) {
-                    const DisplayTransform display(inputs.colorConfig(), "scene_linear", "", "", 0.0f, true);
-                    auto preview = [&](const std::string& key) -> std::string {
-                        const Image* img = nullptr;
-                        if (key.rfind("capture:", 0) == 0) {
-                            if (const Texture* t = source.cached(key.substr(8))) img = &t->image();
-                        } else if (auto it = sink.images.find(key); it != sink.images.end()) {
-                            img = &it->second;
-                        }
-                        return img ? base64(io::encodePng(display.apply(*img))) : std::string();
-                    };
-                    e.images.result = preview(e.source);
-                    e.images.truth = preview(e.reference);
-                    e.images.heat = preview(step.name + ".heat");
-                }
-                setting.errors.push_back(e);
-            }
-            if (shadowRays) {
-                // Replay the shadow rays of one more run through bare Embree loops.
-                std::vector<Ray> rays;
-                const RayScene& scene = source.scene();
-                scene.setOcclusionLog(&rays);
-                sink.keep = false;
-                executePlan(plan, source, sink);
-                scene.setOcclusionLog(nullptr);
-                for (const bool packets : {true, false}) {
-                    std::vector<double> seconds;
-                    uint64_t blocked = 0;
-                    for (int r = 0; r < opt->warmup + opt->runs; ++r) {
-                        const double t = timeBareOcclusion(scene, rays, packets, blocked);
-                        if (r >= opt->warmup) seconds.push_back(t);
-                    }
-                    setting.passes.push_back({packets ? "bare loop rtcOccluded8" : "bare loop rtcOccluded1",
-                                              kBareLoopType, "rays", rays.size(),
-                                              TimingStats::of(seconds)});
-                }
-            }
-            result.settings.push_back(setting);
+            const RunSession session(probe, so);
+            result.settings.push_back(
+                benchSetting(session, label, *opt, result, runsDone, totalRuns));
         }
         result.markPareto();
 
-        if (opt->json) {
+        if (opt->json)
             std::cout << result.toJson().dump(2) << "\n";
-        } else {
-            std::cout << fmt::format("{} on {} (frame {}, {}×{}): median of {} runs after {} warm-up, "
-                                     "{} threads\n",
-                                     result.config, result.capture, result.frame,
-                                     result.extent.width, result.extent.height, result.runs,
-                                     result.warmup, result.threads);
-            for (const auto& s : result.settings) {
-                std::cout << fmt::format("{}: frame {:.2f} ms (min {:.2f}, max {:.2f})", s.label,
-                                         s.frame.median * 1e3, s.frame.min * 1e3, s.frame.max * 1e3);
-                if (s.hasError())
-                    std::cout << fmt::format(", RMSE {:.5g}{}", s.error(), s.pareto ? " [Pareto]" : "");
-                std::cout << "\n";
-                for (const auto& p : s.passes) {
-                    std::cout << fmt::format("  {:<24} {:>9.2f} ms  (min {:.2f}, max {:.2f})",
-                                             p.name, p.seconds.median * 1e3, p.seconds.min * 1e3,
-                                             p.seconds.max * 1e3);
-                    if (p.work) std::cout << fmt::format("  {:.2f} M{}/s", p.throughput() * 1e-6, p.unit);
-                    std::cout << "\n";
-                }
-                for (const auto& e : s.errors) {
-                    std::string m;
-                    for (const auto& [k, v] : e.metrics) m += fmt::format(" {}={:.5g}", k, v);
-                    std::cout << fmt::format("  {} ({} against {}):{}\n", e.name, e.source,
-                                             e.reference, m);
-                }
-            }
-        }
+        else
+            printBench(result);
         if (!opt->html.empty()) {
-            const auto parent = std::filesystem::path(opt->html).parent_path();
-            if (!parent.empty()) std::filesystem::create_directories(parent);
-            const std::string tmp = opt->html + ".tmp";
-            std::ofstream(tmp) << benchHtml(result);
-            std::filesystem::rename(tmp, opt->html);
-            if (!opt->json) std::cout << "wrote " << opt->html << "\n";
+            writeHtml(result, opt->html);
+            if (!opt->json)
+                std::cout << "wrote " << opt->html << "\n";
         }
         return 0;
     };

@@ -12,8 +12,9 @@ Command addPlanCommand(CLI::App& app) {
         bool json = false;
     };
     auto opt = std::make_shared<Options>();
-    CLI::App* sub = app.add_subcommand("plan", "show the resolved pass graph in order, the capture "
-                                               "channels it reads, peak memory and culled passes");
+    CLI::App* sub = app.add_subcommand("plan",
+                                       "show the resolved pass graph in order, the capture "
+                                       "channels it reads, peak memory and culled passes");
     opt->session.addTo(*sub);
     sub->add_flag("--json", opt->json, "machine-readable output");
 
@@ -34,10 +35,15 @@ Command addPlanCommand(CLI::App& app) {
         std::cout << fmt::format("plan for {} ({} frame{}, capture {})\n", opt->session.config,
                                  session.frames().size(), session.frames().size() == 1 ? "" : "s",
                                  session.config().capture);
+        for (const auto& t : plan.templates)
+            std::cout << fmt::format("  {} expands for light{} {}: {}\n", t.pointer,
+                                     t.lights.size() == 1 ? "" : "s", fmt::join(t.lights, ", "),
+                                     fmt::join(t.passes, ", "));
         int i = 1;
         for (const auto& s : plan.steps) {
             std::vector<std::string> ins;
-            for (const auto& [port, ref] : s.inputs) ins.push_back(port + "←" + ref.key);
+            for (const auto& [port, ref] : s.inputs)
+                ins.push_back(port + "←" + ref.key);
             std::cout << fmt::format("  {}. {} ({})  in: {}  out: {}\n", i++, s.name, s.type,
                                      fmt::join(ins, ", "), fmt::join(s.requestedOutputs, ", "));
         }
@@ -53,7 +59,8 @@ Command addPlanCommand(CLI::App& app) {
                                      plan.estimatePeakBytes(session.extent()) / 1048576.0,
                                      session.extent().width, session.extent().height);
         std::cout << fmt::format("geometry: {}\n", plan.needsScene ? "loaded (a pass traces rays)"
-                                                                   : "not needed");
+                                                   : plan.needsLights ? "not needed (lights only)"
+                                                                      : "not needed");
         for (const auto& c : plan.culled)
             std::cout << fmt::format("culled: {} ({}): {}\n", c.name, c.type, c.reason);
         for (const auto& w : plan.warnings)

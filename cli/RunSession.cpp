@@ -21,20 +21,31 @@ std::pair<std::string, std::string> splitAssignment(const std::string& text, con
 
 void SessionOptions::addTo(CLI::App& sub) {
     sub.add_option("config", config, "run config (JSON)")->required();
-    sub.add_option("--cvar", cvars, "set an Unreal cvar, e.g. --cvar r.SSGI.LeakFreeReprojection=0");
+    sub.add_option("--cvar", cvars,
+                   "set an Unreal cvar, e.g. --cvar r.SSGI.LeakFreeReprojection=0");
     sub.add_option("--set", sets, "set a pass parameter, e.g. --set hzb.halfPrecision=false");
     sub.add_option("--dump", dumps, "also write PASS.PORT (or 'all') to <out>/dump/");
     sub.add_option("--frames", frames, "frame spec (overrides the config), e.g. 1001-1010");
 }
 
-RunSession::RunSession(const SessionOptions& o) {
-    mConfig = io::loadRunConfig(o.config);
-    mProfile = io::CaptureProfile::fromJson(mConfig.profile, o.config + ": /profile");
+RunSession::RunSession(const SessionOptions& o)
+    : mConfig(io::loadRunConfig(o.config)),
+      mInputs(std::make_shared<SessionInputs>(o.config, mConfig)),
+      mProfile(io::CaptureProfile::fromJson(mConfig.profile, o.config + ": /profile")) {
+    plan(o);
+}
 
+RunSession::RunSession(const RunSession& base, const SessionOptions& o)
+    : mConfig(base.mConfig), mInputs(base.mInputs), mProfile(base.mProfile) {
+    plan(o);
+}
+
+void RunSession::plan(const SessionOptions& o) {
     PlanInputs inputs;
     inputs.priorErrors = mConfig.errors;
     if (mConfig.capture.empty())
-        inputs.priorErrors.push_back({"/capture", "the config names no capture (a file or pattern)"});
+        inputs.priorErrors.push_back(
+            {"/capture", "the config names no capture (a file or pattern)"});
     for (const auto& c : o.cvars) {
         auto [name, value] = splitAssignment(c, "--cvar");
         inputs.overrides.cvars[name] = io::parseCliValue(value);
@@ -46,15 +57,16 @@ RunSession::RunSession(const SessionOptions& o) {
     inputs.overrides.dumps = o.dumps;
 
     const io::FramePattern pattern(mConfig.capture);
-    const std::string spec = !o.frames.empty() ? o.frames
+    const std::string spec = !o.frames.empty()         ? o.frames
                              : !mConfig.frames.empty() ? mConfig.frames
                                                        : pattern.inlineFrames();
     if (!spec.empty()) {
         mFrames = io::parseFrameSpec(spec);
     } else if (pattern.hasFrameToken()) {
-        throw UsageError(fmt::format("{}: capture '{}' is a frame pattern; give --frames or "
-                                     "\"frames\"",
-                                     o.config, mConfig.capture));
+        throw UsageError(
+            fmt::format("{}: capture '{}' is a frame pattern; give --frames or "
+                        "\"frames\"",
+                        o.config, mConfig.capture));
     }
     const std::string first = mFrames.empty() ? mConfig.capture : pattern.path(mFrames.front());
     if (!first.empty() && std::filesystem::exists(first)) {
@@ -64,12 +76,16 @@ RunSession::RunSession(const SessionOptions& o) {
         inputs.truthChannels = io::CaptureProfile::truthChannels(reader);
         if (mFrames.empty()) {
             // A single capture keeps the frame number it was captured at.
-            const auto* f = reader.header().findTypedAttribute<Imf::IntAttribute>("framepass:frame");
+            const auto* f =
+                reader.header().findTypedAttribute<Imf::IntAttribute>("framepass:frame");
             mFrames = {f ? f->value() : 1};
         }
     } else if (mFrames.empty()) {
         mFrames = {1};
     }
+    // The light templates repeat per light of the scene: its lights are read (not its meshes).
+    if (!mConfig.graph.lightTemplates.empty() && mInputs->hasScene())
+        inputs.lightNames = lightNames(mInputs->lights());
     try {
         mPlan = makePlan(mConfig.graph, builtinPasses(), inputs);
     } catch (const UsageError& e) {
@@ -81,13 +97,15 @@ std::string RunSession::capturePath(int frame) const {
     return io::FramePattern(mConfig.capture).path(frame);
 }
 
-io::CaptureSource::Options RunSession::captureOptions(int frame, SessionInputs& inputs) const {
+io::CaptureSource::Options RunSession::captureOptions(int frame) const {
     io::CaptureSource::Options o;
     o.path = capturePath(frame);
     o.frame = frame;
     o.cameraSidecar = cameraPath(frame);
-    o.scene = [&inputs]() -> const io::SceneFile& { return inputs.scene(); };
-    o.colorConfig = [&inputs]() { return inputs.colorConfig(); };
+    SessionInputs* inputs = mInputs.get();
+    o.scene = [inputs]() -> const io::SceneFile& { return inputs->scene(); };
+    o.lights = [inputs]() -> const std::vector<Light>& { return inputs->lights(); };
+    o.colorConfig = [inputs]() { return inputs->colorConfig(); };
     return o;
 }
 

@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,21 +29,29 @@ struct SessionOptions {
 
 class RunSession {
 public:
+    /// Reads the config and the first capture's header, and plans.
     explicit RunSession(const SessionOptions& options);
+    /// The same config planned again with other command-line values (bench's sweep points): the
+    /// config is not read again and the scene and OCIO config are shared with `base`.
+    RunSession(const RunSession& base, const SessionOptions& options);
 
     const io::RunConfig& config() const { return mConfig; }
+    /// The scene and OCIO config, read once on first use and shared by every frame.
+    SessionInputs& inputs() const { return *mInputs; }
     const Plan& plan() const { return mPlan; }
     const io::CaptureProfile& profile() const { return mProfile; }
     const std::vector<int>& frames() const { return mFrames; }
     std::string capturePath(int frame) const;
     std::string cameraPath(int frame) const;
-    /// How to open `frame`'s capture, with scene and OCIO config coming from `inputs`.
-    io::CaptureSource::Options captureOptions(int frame, SessionInputs& inputs) const;
+    /// How to open `frame`'s capture, with scene and OCIO config coming from inputs().
+    io::CaptureSource::Options captureOptions(int frame) const;
     /// Size of the first frame (0×0 when its capture does not exist yet).
     Extent extent() const { return mExtent; }
 
 private:
+    void plan(const SessionOptions& options);
     io::RunConfig mConfig;
+    std::shared_ptr<SessionInputs> mInputs;
     io::CaptureProfile mProfile;
     std::vector<int> mFrames;
     Extent mExtent;

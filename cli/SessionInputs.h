@@ -1,6 +1,8 @@
 #pragma once
-// The inputs a run shares across frames (and bench across settings): the scene file and the OCIO
-// config, each parsed once on first use and only if a live pass asks for it.
+// The inputs a session shares across frames (and bench across settings): the scene file and the
+// OCIO config, each read once on first use and only if something asks for it. The scene's lights
+// (which the light templates and the lighting passes read) come without its meshes; the meshes
+// are read only when a live pass traces rays.
 #include "io/ConfigLoader.h"
 #include "io/SceneLoader.h"
 
@@ -15,13 +17,19 @@ class SessionInputs {
 public:
     /// `configPath` names the config in errors; `config` gives the scene and OCIO paths.
     SessionInputs(std::string configPath, const io::RunConfig& config)
-        : mConfigPath(std::move(configPath)), mScenePath(config.scene), mOcioPath(config.ocioConfig) {}
+        : mConfigPath(std::move(configPath)),
+          mScenePath(config.scene),
+          mOcioPath(config.ocioConfig) {}
 
-    /// Throws fp::UsageError when the config names no scene.
+    bool hasScene() const { return !mScenePath.empty(); }
+    /// The scene with its geometry. Throws fp::UsageError when the config names no scene.
     const io::SceneFile& scene();
+    /// The scene's lights, in order; the geometry is not read for them unless it holds them.
+    const std::vector<Light>& lights();
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig();
 
 private:
+    io::SceneFile& description();
     std::string mConfigPath, mScenePath, mOcioPath;
     std::optional<io::SceneFile> mScene;
     OCIO_NAMESPACE::ConstConfigRcPtr mColorConfig;

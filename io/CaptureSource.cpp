@@ -18,8 +18,10 @@ namespace OCIO = OCIO_NAMESPACE;
 OCIO::ConstConfigRcPtr loadColorConfig(const std::string& explicitPath) {
     std::string path = explicitPath;
     if (path.empty())
-        if (const char* env = std::getenv("OCIO"); env && *env) path = env;
-    if (path.empty()) path = configDirectory() + "/ocio/config.ocio";
+        if (const char* env = std::getenv("OCIO"); env && *env)
+            path = env;
+    if (path.empty())
+        path = configDirectory() + "/ocio/config.ocio";
     try {
         return OCIO::Config::CreateFromFile(path.c_str());
     } catch (const OCIO::Exception& e) {
@@ -31,7 +33,8 @@ CaptureSource::CaptureSource(Options options, CaptureProfile profile)
     : mOptions(std::move(options)), mProfile(std::move(profile)), mReader(mOptions.path) {}
 
 FrameInfo CaptureSource::frameInfo() {
-    if (mInfo) return *mInfo;
+    if (mInfo)
+        return *mInfo;
     FrameInfo info;
     info.number = mOptions.frame;
     info.extent = mReader.extent();
@@ -53,13 +56,17 @@ FrameInfo CaptureSource::frameInfo() {
 Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
     const SemanticBuffer* sem = findSemanticBuffer(buffer);
     std::vector<std::string> names;
-    if (sem) names = sem->channels;
+    if (sem)
+        names = sem->channels;
     const auto fileChannels = mProfile.channelsFor(buffer, channels);
     if (!sem)
-        for (const auto& c : fileChannels) names.push_back(c.substr(c.rfind('.') + 1));
+        for (const auto& c : fileChannels)
+            names.push_back(c.substr(c.rfind('.') + 1));
     for (const auto& c : fileChannels)
-        FP_CHECK(mReader.findChannel(c), "{}: frame {}: buffer '{}' needs channel '{}', which the "
-                 "file does not have", mOptions.path, mOptions.frame, buffer, c);
+        FP_CHECK(mReader.findChannel(c),
+                 "{}: frame {}: buffer '{}' needs channel '{}', which the "
+                 "file does not have",
+                 mOptions.path, mOptions.frame, buffer, c);
     Image img = mReader.read(fileChannels, names);
     FP_CHECK(img.width() == mReader.extent().width && img.height() == mReader.extent().height,
              "{}: frame {}: buffer '{}' is {}×{}, the capture is {}×{}", mOptions.path,
@@ -95,15 +102,18 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
             for (int x = 0; x < img.width(); ++x) {
                 Vec3f n{img.plane(0).at(x, y), img.plane(1).at(x, y), img.plane(2).at(x, y)};
                 const float len = length(n);
-                if (len == 0.0f || std::fabs(len - 1.0f) < 1e-3f) continue;
+                if (len == 0.0f || std::fabs(len - 1.0f) < 1e-3f)
+                    continue;
                 ++counts.nonUnitNormals;
-                for (int c = 0; c < 3; ++c) img.plane(c).at(x, y) = n[c] / len;
+                for (int c = 0; c < 3; ++c)
+                    img.plane(c).at(x, y) = n[c] / len;
             }
     if (counts.total() > 0 && mOptions.strict)
-        throw Error(fmt::format("{}: frame {}: buffer '{}' has {} non-finite, {} negative and {} "
-                                "non-unit values (--strict)",
-                                mOptions.path, mOptions.frame, buffer, counts.nonFinite,
-                                counts.negative, counts.nonUnitNormals));
+        throw Error(
+            fmt::format("{}: frame {}: buffer '{}' has {} non-finite, {} negative and {} "
+                        "non-unit values (--strict)",
+                        mOptions.path, mOptions.frame, buffer, counts.nonFinite, counts.negative,
+                        counts.nonUnitNormals));
     mSanitized.nonFinite += counts.nonFinite;
     mSanitized.negative += counts.negative;
     mSanitized.nonUnitNormals += counts.nonUnitNormals;
@@ -114,9 +124,15 @@ const RayScene& CaptureSource::scene() {
     if (!mRayScene) {
         FP_CHECK(mOptions.scene, "a pass needs scene geometry but the config names no 'scene'");
         const FrameInfo info = frameInfo();
-        mRayScene = std::make_unique<RayScene>(mOptions.scene().scene, info.camera.current.position);
+        mRayScene =
+            std::make_unique<RayScene>(mOptions.scene().scene, info.camera.current.position);
     }
     return *mRayScene;
+}
+
+const std::vector<Light>& CaptureSource::lights() {
+    FP_CHECK(mOptions.lights, "a pass needs the scene's lights but the config names no 'scene'");
+    return mOptions.lights();
 }
 
 OCIO::ConstConfigRcPtr CaptureSource::colorConfig() {

@@ -23,12 +23,13 @@ struct SanitizeCounts {
 class CaptureSource final : public FrameSource {
 public:
     struct Options {
-        std::string path;            //!< the capture file of this frame
+        std::string path;  //!< the capture file of this frame
         int64_t frame = 1;
-        std::string cameraSidecar;   //!< "" = header, then <path>.camera.json
-        std::function<const SceneFile&()> scene;  //!< loads the scene file on first call
+        std::string cameraSidecar;                //!< "" = header, then <path>.camera.json
+        std::function<const SceneFile&()> scene;  //!< loads the scene, geometry too, on first call
+        std::function<const std::vector<Light>&()> lights;  //!< reads the scene's lights only
         std::function<OCIO_NAMESPACE::ConstConfigRcPtr()> colorConfig;  //!< loads on first call
-        bool strict = false;         //!< bad input pixels are an error instead of sanitized
+        bool strict = false;  //!< bad input pixels are an error instead of sanitized
         bool firstInSequence = true;
     };
     CaptureSource(Options options, CaptureProfile profile);
@@ -36,6 +37,7 @@ public:
     FrameInfo frameInfo() override;
     Texture loadBuffer(const std::string& buffer, int channels) override;
     const RayScene& scene() override;
+    const std::vector<Light>& lights() override;
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override;
 
     ExrReader& reader() { return mReader; }

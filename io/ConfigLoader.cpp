@@ -1,8 +1,5 @@
 #include "io/ConfigLoader.h"
 
-#include "io/LightChain.h"
-#include "io/SceneLoader.h"
-
 #include "passes/core/Diagnostics.h"
 #include "passes/core/Error.h"
 #include "passes/core/Suggest.h"
@@ -17,15 +14,18 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::string> kTopKeys = {"version", "engine", "capture", "profile", "camera",
-                                           "scene", "frames", "cvars", "passes", "outputs",
-                                           "color", "exr", "$schema", "description"};
+const std::vector<std::string> kTopKeys = {"version", "engine", "capture", "profile",    "camera",
+                                           "scene",   "frames", "cvars",   "passes",     "outputs",
+                                           "color",   "exr",    "$schema", "description"};
 const std::vector<std::string> kPassKeys = {"name", "type", "params", "inputs", "description"};
+const std::vector<std::string> kLightTemplateKeys = {"passes", "colorIn", "colorOut",
+                                                     "rewire", "outputs", "description"};
 const std::vector<std::string> kEngines = {"ue4.27", "ue5"};
 
 nlohmann::json readJsonFile(const std::string& path) {
     std::ifstream in(path);
-    if (!in) throw UsageError(fmt::format("{}: cannot open the config", path));
+    if (!in)
+        throw UsageError(fmt::format("{}: cannot open the config", path));
     try {
         return nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
     } catch (const nlohmann::json::parse_error& e) {
@@ -34,21 +34,28 @@ nlohmann::json readJsonFile(const std::string& path) {
 }
 
 std::string resolvePath(const std::string& baseDir, const std::string& p) {
-    if (p.empty() || fs::path(p).is_absolute() || baseDir.empty()) return p;
+    if (p.empty() || fs::path(p).is_absolute() || baseDir.empty())
+        return p;
     return (fs::path(baseDir) / p).lexically_normal().string();
 }
 
-void checkKeys(const nlohmann::json& obj, const std::vector<std::string>& allowed,
-               const std::string& pointer, const std::string& what, Diagnostics& diag) {
+void checkKeys(const nlohmann::json& obj,
+               const std::vector<std::string>& allowed,
+               const std::string& pointer,
+               const std::string& what,
+               Diagnostics& diag) {
     for (const auto& [k, v] : obj.items())
         if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
             diag.error(pointer + "/" + jsonPointerEscape(k),
                        fmt::format("unknown {} key '{}'{}", what, k, didYouMean(k, allowed)));
 }
 
-std::string stringAt(const nlohmann::json& j, const char* key, const std::string& pointer,
+std::string stringAt(const nlohmann::json& j,
+                     const char* key,
+                     const std::string& pointer,
                      Diagnostics& diag) {
-    if (!j.contains(key)) return "";
+    if (!j.contains(key))
+        return "";
     if (!j[key].is_string()) {
         diag.error(pointer + "/" + key, fmt::format("'{}' must be a string", key));
         return "";
@@ -56,50 +63,46 @@ std::string stringAt(const nlohmann::json& j, const char* key, const std::string
     return j[key].get<std::string>();
 }
 
-void parsePasses(const nlohmann::json& passes, GraphDesc& g, Diagnostics& diag) {
-    if (!passes.is_array()) {
-        diag.error("/passes", "'passes' must be an array of {\"type\": ...} objects");
-        return;
+NodeDesc parsePass(const nlohmann::json& p, const std::string& ptr, Diagnostics& diag) {
+    checkKeys(p, kPassKeys, ptr, "pass", diag);
+    NodeDesc n;
+    n.pointer = ptr;
+    n.type = stringAt(p, "type", ptr, diag);
+    if (!p.contains("type"))
+        diag.error(ptr, "missing 'type'");
+    n.name = p.contains("name") ? stringAt(p, "name", ptr, diag) : n.type;
+    if (p.contains("params")) {
+        if (p["params"].is_object())
+            n.params = p["params"];
+        else
+            diag.error(ptr + "/params", "'params' must be an object");
     }
-    for (std::size_t i = 0; i < passes.size(); ++i) {
-        const std::string ptr = "/passes/" + std::to_string(i);
-        const auto& p = passes[i];
-        if (!p.is_object()) {
-            diag.error(ptr, "a pass must be an object with at least 'type'");
-            continue;
-        }
-        checkKeys(p, kPassKeys, ptr, "pass", diag);
-        NodeDesc n;
-        n.pointer = ptr;
-        n.type = stringAt(p, "type", ptr, diag);
-        if (!p.contains("type")) diag.error(ptr, "missing 'type'");
-        n.name = p.contains("name") ? stringAt(p, "name", ptr, diag) : n.type;
-        if (p.contains("params")) {
-            if (p["params"].is_object()) n.params = p["params"];
-            else diag.error(ptr + "/params", "'params' must be an object");
-        }
-        if (p.contains("inputs")) {
-            if (!p["inputs"].is_object()) {
-                diag.error(ptr + "/inputs", "'inputs' must be an object of port → source");
-            } else {
-                for (const auto& [port, src] : p["inputs"].items()) {
-                    if (src.is_string()) n.inputs[port] = src.get<std::string>();
-                    else diag.error(ptr + "/inputs/" + jsonPointerEscape(port),
-                                    "a source must be a string ('capture:Buffer' or 'pass.port')");
-                }
+    if (p.contains("inputs")) {
+        if (!p["inputs"].is_object()) {
+            diag.error(ptr + "/inputs", "'inputs' must be an object of port → source");
+        } else {
+            for (const auto& [port, src] : p["inputs"].items()) {
+                if (src.is_string())
+                    n.inputs[port] = src.get<std::string>();
+                else
+                    diag.error(ptr + "/inputs/" + jsonPointerEscape(port),
+                               "a source must be a string ('capture:Buffer' or 'pass.port')");
             }
         }
-        g.nodes.push_back(std::move(n));
     }
+    return n;
 }
 
-void parseOutputs(const nlohmann::json& outputs, GraphDesc& g, Diagnostics& diag) {
+std::vector<OutputDesc> parseOutputs(const nlohmann::json& outputs,
+                                     const std::string& pointer,
+                                     Diagnostics& diag) {
+    std::vector<OutputDesc> list;
     if (!outputs.is_object()) {
-        diag.error("/outputs", "'outputs' must be an object of file → source(s)");
-        return;
+        diag.error(pointer, "'outputs' must be an object of file → source(s)");
+        return list;
     }
     for (const auto& [file, src] : outputs.items()) {
-        const std::string ptr = "/outputs/" + jsonPointerEscape(file);
+        const std::string ptr = pointer + "/" + jsonPointerEscape(file);
         OutputDesc o;
         o.file = file;
         o.pointer = ptr;
@@ -107,8 +110,10 @@ void parseOutputs(const nlohmann::json& outputs, GraphDesc& g, Diagnostics& diag
             o.sources.push_back(src.get<std::string>());
         } else if (src.is_array() && !src.empty()) {
             for (const auto& s : src)
-                if (s.is_string()) o.sources.push_back(s.get<std::string>());
-                else diag.error(ptr, "sources must be strings");
+                if (s.is_string())
+                    o.sources.push_back(s.get<std::string>());
+                else
+                    diag.error(ptr, "sources must be strings");
         } else {
             diag.error(ptr, "an output names a source ('pass.port') or a list of them");
             continue;
@@ -118,14 +123,80 @@ void parseOutputs(const nlohmann::json& outputs, GraphDesc& g, Diagnostics& diag
             diag.error(ptr, fmt::format("'{}' must end in .exr or .png", file));
         if (png && o.sources.size() != 1)
             diag.error(ptr, "a .png output shows exactly one source");
-        g.outputs.push_back(std::move(o));
+        list.push_back(std::move(o));
+    }
+    return list;
+}
+
+// {"forEachLight": {...}}: passes repeated per light, inserted where the entry stands.
+LightTemplate parseLightTemplate(const nlohmann::json& t,
+                                 const std::string& ptr,
+                                 std::size_t position,
+                                 Diagnostics& diag) {
+    LightTemplate lt;
+    lt.pointer = ptr;
+    lt.position = position;
+    if (!t.is_object()) {
+        diag.error(ptr, "'forEachLight' must be an object");
+        return lt;
+    }
+    checkKeys(t, kLightTemplateKeys, ptr, "forEachLight", diag);
+    if (!t.contains("passes") || !t["passes"].is_array())
+        diag.error(ptr + "/passes", "'passes' must be an array of passes");
+    else
+        for (std::size_t k = 0; k < t["passes"].size(); ++k) {
+            const std::string at = ptr + "/passes/" + std::to_string(k);
+            if (t["passes"][k].is_object())
+                lt.passes.push_back(parsePass(t["passes"][k], at, diag));
+            else
+                diag.error(at, "a pass must be an object with at least 'type'");
+        }
+    lt.colorIn = stringAt(t, "colorIn", ptr, diag);
+    lt.colorOut = stringAt(t, "colorOut", ptr, diag);
+    if (t.contains("rewire")) {
+        if (!t["rewire"].is_object())
+            diag.error(ptr + "/rewire", "'rewire' must be an object");
+        else
+            for (const auto& [target, src] : t["rewire"].items())
+                if (src.is_string())
+                    lt.rewire[target] = src.get<std::string>();
+                else
+                    diag.error(ptr + "/rewire/" + jsonPointerEscape(target),
+                               "a source must be a string");
+    }
+    if (t.contains("outputs"))
+        lt.outputs = parseOutputs(t["outputs"], ptr + "/outputs", diag);
+    return lt;
+}
+
+void parsePasses(const nlohmann::json& passes,
+                 const std::string& pointer,
+                 GraphDesc& g,
+                 Diagnostics& diag) {
+    if (!passes.is_array()) {
+        diag.error(pointer, "'passes' must be an array of {\"type\": ...} objects");
+        return;
+    }
+    for (std::size_t i = 0; i < passes.size(); ++i) {
+        const std::string ptr = pointer + "/" + std::to_string(i);
+        const auto& p = passes[i];
+        if (!p.is_object()) {
+            diag.error(ptr, "a pass must be an object with at least 'type'");
+        } else if (p.contains("forEachLight")) {
+            checkKeys(p, {"forEachLight", "description"}, ptr, "template", diag);
+            g.lightTemplates.push_back(
+                parseLightTemplate(p["forEachLight"], ptr + "/forEachLight", g.nodes.size(), diag));
+        } else {
+            g.nodes.push_back(parsePass(p, ptr, diag));
+        }
     }
 }
 
 }  // namespace
 
 std::string configDirectory() {
-    if (const char* env = std::getenv("FRAMEPASS_CONFIG_DIR"); env && *env) return env;
+    if (const char* env = std::getenv("FRAMEPASS_CONFIG_DIR"); env && *env)
+        return env;
     return FP_CONFIG_DIR;
 }
 
@@ -137,16 +208,20 @@ nlohmann::json parseCliValue(const std::string& text) {
     }
 }
 
-RunConfig parseRunConfig(const nlohmann::json& j, const std::string& source,
+RunConfig parseRunConfig(const nlohmann::json& j,
+                         const std::string& source,
                          const std::string& baseDir) {
     Diagnostics diag;
     RunConfig rc;
     rc.path = source;
     rc.baseDir = baseDir;
-    if (!j.is_object()) throw UsageError(fmt::format("{}: the config must be a JSON object", source));
+    if (!j.is_object())
+        throw UsageError(fmt::format("{}: the config must be a JSON object", source));
     checkKeys(j, kTopKeys, "", "config", diag);
-    if (!j.contains("version")) diag.error("/version", "missing 'version' (use 1)");
-    else if (j["version"] != 1) diag.error("/version", "only version 1 is understood");
+    if (!j.contains("version"))
+        diag.error("/version", "missing 'version' (use 1)");
+    else if (j["version"] != 1)
+        diag.error("/version", "only version 1 is understood");
     rc.graph.engine = j.contains("engine") ? stringAt(j, "engine", "", diag) : "ue4.27";
     if (std::find(kEngines.begin(), kEngines.end(), rc.graph.engine) == kEngines.end())
         diag.error("/engine", fmt::format("unknown engine '{}'{}; known: ue4.27, ue5",
@@ -155,19 +230,25 @@ RunConfig parseRunConfig(const nlohmann::json& j, const std::string& source,
     rc.camera = resolvePath(baseDir, stringAt(j, "camera", "", diag));
     rc.scene = resolvePath(baseDir, stringAt(j, "scene", "", diag));
     if (j.contains("frames")) {
-        if (j["frames"].is_number_integer()) rc.frames = std::to_string(j["frames"].get<int>());
-        else rc.frames = stringAt(j, "frames", "", diag);
+        if (j["frames"].is_number_integer())
+            rc.frames = std::to_string(j["frames"].get<int>());
+        else
+            rc.frames = stringAt(j, "frames", "", diag);
     }
-    if (j.contains("profile")) rc.profile = j["profile"];
+    if (j.contains("profile"))
+        rc.profile = j["profile"];
     if (j.contains("color")) {
-        if (!j["color"].is_object()) diag.error("/color", "'color' must be an object");
+        if (!j["color"].is_object())
+            diag.error("/color", "'color' must be an object");
         else {
             checkKeys(j["color"], {"ocioConfig"}, "/color", "color", diag);
-            rc.ocioConfig = resolvePath(baseDir, stringAt(j["color"], "ocioConfig", "/color", diag));
+            rc.ocioConfig =
+                resolvePath(baseDir, stringAt(j["color"], "ocioConfig", "/color", diag));
         }
     }
     if (j.contains("exr")) {
-        if (!j["exr"].is_object()) diag.error("/exr", "'exr' must be an object");
+        if (!j["exr"].is_object())
+            diag.error("/exr", "'exr' must be an object");
         else {
             checkKeys(j["exr"], {"compression"}, "/exr", "exr", diag);
             if (j["exr"].contains("compression"))
@@ -175,37 +256,39 @@ RunConfig parseRunConfig(const nlohmann::json& j, const std::string& source,
         }
     }
     if (j.contains("cvars")) {
-        if (j["cvars"].is_object()) rc.graph.cvars = j["cvars"];
-        else diag.error("/cvars", "'cvars' must be an object of Unreal console variables");
+        if (j["cvars"].is_object())
+            rc.graph.cvars = j["cvars"];
+        else
+            diag.error("/cvars", "'cvars' must be an object of Unreal console variables");
     }
     if (j.contains("passes")) {
-        parsePasses(j["passes"], rc.graph, diag);
-        if (j.contains("outputs")) parseOutputs(j["outputs"], rc.graph, diag);
+        parsePasses(j["passes"], "/passes", rc.graph, diag);
+        if (j.contains("outputs"))
+            rc.graph.outputs = parseOutputs(j["outputs"], "/outputs", diag);
     } else if (!diag.hasErrors()) {
         // No chain of its own: the engine's preset supplies passes and outputs.
-        const std::string preset = (fs::path(configDirectory()) / (rc.graph.engine + ".json")).string();
+        const std::string preset =
+            (fs::path(configDirectory()) / (rc.graph.engine + ".json")).string();
         const nlohmann::json pj = readJsonFile(preset);
+        const std::string presetPointer = "(preset " + rc.graph.engine + ")";
         Diagnostics presetDiag;
-        parsePasses(pj.at("passes"), rc.graph, presetDiag);
-        parseOutputs(j.contains("outputs") ? j["outputs"] : pj.at("outputs"), rc.graph,
-                     j.contains("outputs") ? diag : presetDiag);
+        parsePasses(pj.at("passes"), presetPointer + "/passes", rc.graph, presetDiag);
+        if (j.contains("outputs")) {
+            rc.graph.outputs = parseOutputs(j["outputs"], "/outputs", diag);
+            // The user's outputs replace the preset's, the light step's files included.
+            for (auto& t : rc.graph.lightTemplates)
+                t.outputs.clear();
+        } else {
+            rc.graph.outputs =
+                parseOutputs(pj.at("outputs"), presetPointer + "/outputs", presetDiag);
+        }
         presetDiag.throwIfErrors(preset);
         // The preset's cvars are the engine's defaults; the user's own cvars win.
         if (pj.contains("cvars")) {
             nlohmann::json merged = pj["cvars"];
-            for (const auto& [k, v] : rc.graph.cvars.items()) merged[k] = v;
+            for (const auto& [k, v] : rc.graph.cvars.items())
+                merged[k] = v;
             rc.graph.cvars = merged;
-        }
-        for (auto& n : rc.graph.nodes) n.pointer = "(preset " + rc.graph.engine + ")" + n.pointer;
-        if (!rc.scene.empty()) {
-            // A scene with lights: the preset gains Unreal's RenderLights step.
-            std::vector<Light> lights;
-            try {
-                lights = loadScene(rc.scene).scene.lights;
-            } catch (const Error& e) {
-                diag.error("/scene", e.what());
-            }
-            addLightPasses(rc.graph, lights, !j.contains("outputs"));
         }
     }
     rc.errors = diag.errors();

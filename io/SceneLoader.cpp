@@ -18,27 +18,48 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::string> kSceneKeys = {"version", "geometry", "sceneUnitsPerMeter", "offset",
-                                             "camera", "previousCamera", "cameraMotion", "lights",
-                                             "materials", "sky", "resolution", "description"};
-const std::vector<std::string> kLightKeys = {"name", "type", "color", "intensity", "position",
-                                             "direction", "sourceAngleDegrees", "radius",
-                                             "innerConeDegrees", "outerConeDegrees", "halfU",
-                                             "halfV", "attenuationRadius", "samplesPerPixel"};
-const std::vector<std::string> kMaterialKeys = {"baseColor", "metallic", "specular", "roughness",
-                                                "emission", "shadingModel", "subsurfaceColor",
-                                                "opacity", "clearCoat", "clearCoatRoughness"};
+const std::vector<std::string> kSceneKeys = {
+    "version",      "geometry", "sceneUnitsPerMeter", "offset", "camera",     "previousCamera",
+    "cameraMotion", "lights",   "materials",          "sky",    "resolution", "description"};
+const std::vector<std::string> kLightKeys = {"name",
+                                             "type",
+                                             "color",
+                                             "intensity",
+                                             "position",
+                                             "direction",
+                                             "sourceAngleDegrees",
+                                             "radius",
+                                             "innerConeDegrees",
+                                             "outerConeDegrees",
+                                             "halfU",
+                                             "halfV",
+                                             "attenuationRadius",
+                                             "samplesPerPixel"};
+const std::vector<std::string> kMaterialKeys = {
+    "baseColor",    "metallic",        "specular", "roughness", "emission",
+    "shadingModel", "subsurfaceColor", "opacity",  "clearCoat", "clearCoatRoughness"};
 // reference §1.6
-const std::vector<std::string> kShadingModels = {
-    "unlit", "default_lit", "subsurface", "preintegrated_skin", "clear_coat", "subsurface_profile",
-    "twosided_foliage", "hair", "cloth", "eye", "single_layer_water", "thin_translucent"};
+const std::vector<std::string> kShadingModels = {"unlit",
+                                                 "default_lit",
+                                                 "subsurface",
+                                                 "preintegrated_skin",
+                                                 "clear_coat",
+                                                 "subsurface_profile",
+                                                 "twosided_foliage",
+                                                 "hair",
+                                                 "cloth",
+                                                 "eye",
+                                                 "single_layer_water",
+                                                 "thin_translucent"};
 
 [[noreturn]] void fail(const std::string& file, const std::string& where, const std::string& msg) {
     throw Error(fmt::format("{}: {}: {}", file, where, msg), ExitCode::Usage);
 }
 
-void checkKeys(const nlohmann::json& j, const std::vector<std::string>& allowed,
-               const std::string& file, const std::string& where) {
+void checkKeys(const nlohmann::json& j,
+               const std::vector<std::string>& allowed,
+               const std::string& file,
+               const std::string& where) {
     for (const auto& [k, v] : j.items())
         if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
             fail(file, where + "/" + k, "unknown key" + didYouMean(k, allowed));
@@ -52,22 +73,32 @@ Vec3d vec3(const nlohmann::json& v, const std::string& file, const std::string& 
 }
 
 float num(const nlohmann::json& v, const std::string& file, const std::string& where) {
-    if (!v.is_number()) fail(file, where, "expected a number");
+    if (!v.is_number())
+        fail(file, where, "expected a number");
     return v.get<float>();
 }
 
-void applyMaterialOverride(Material& m, const nlohmann::json& o, const std::string& file,
+void applyMaterialOverride(Material& m,
+                           const nlohmann::json& o,
+                           const std::string& file,
                            const std::string& where) {
     checkKeys(o, kMaterialKeys, file, where);
-    if (o.contains("baseColor")) m.baseColor = Vec3f(vec3(o["baseColor"], file, where + "/baseColor"));
-    if (o.contains("emission")) m.emission = Vec3f(vec3(o["emission"], file, where + "/emission"));
+    if (o.contains("baseColor"))
+        m.baseColor = Vec3f(vec3(o["baseColor"], file, where + "/baseColor"));
+    if (o.contains("emission"))
+        m.emission = Vec3f(vec3(o["emission"], file, where + "/emission"));
     if (o.contains("subsurfaceColor"))
         m.subsurfaceColor = Vec3f(vec3(o["subsurfaceColor"], file, where + "/subsurfaceColor"));
-    if (o.contains("metallic")) m.metallic = num(o["metallic"], file, where + "/metallic");
-    if (o.contains("specular")) m.specular = num(o["specular"], file, where + "/specular");
-    if (o.contains("roughness")) m.roughness = num(o["roughness"], file, where + "/roughness");
-    if (o.contains("opacity")) m.opacity = num(o["opacity"], file, where + "/opacity");
-    if (o.contains("clearCoat")) m.clearCoat = num(o["clearCoat"], file, where + "/clearCoat");
+    if (o.contains("metallic"))
+        m.metallic = num(o["metallic"], file, where + "/metallic");
+    if (o.contains("specular"))
+        m.specular = num(o["specular"], file, where + "/specular");
+    if (o.contains("roughness"))
+        m.roughness = num(o["roughness"], file, where + "/roughness");
+    if (o.contains("opacity"))
+        m.opacity = num(o["opacity"], file, where + "/opacity");
+    if (o.contains("clearCoat"))
+        m.clearCoat = num(o["clearCoat"], file, where + "/clearCoat");
     if (o.contains("clearCoatRoughness"))
         m.clearCoatRoughness = num(o["clearCoatRoughness"], file, where + "/clearCoatRoughness");
     if (o.contains("shadingModel")) {
@@ -88,30 +119,42 @@ void applyMaterialOverride(Material& m, const nlohmann::json& o, const std::stri
 }
 
 Light parseLight(const nlohmann::json& j, const std::string& file, const std::string& where) {
-    if (!j.is_object()) fail(file, where, "a light must be an object");
+    if (!j.is_object())
+        fail(file, where, "a light must be an object");
     checkKeys(j, kLightKeys, file, where);
     Light l;
     l.name = j.value("name", "");
     const std::string type = j.value("type", "point");
-    if (type == "point") l.type = LightType::Point;
-    else if (type == "spot") l.type = LightType::Spot;
-    else if (type == "directional") l.type = LightType::Directional;
-    else if (type == "rect") l.type = LightType::Rect;
-    else fail(file, where + "/type", "'" + type + "' is not point, spot, directional or rect");
-    if (j.contains("color")) l.color = Vec3f(vec3(j["color"], file, where + "/color"));
-    if (j.contains("intensity")) l.intensity = num(j["intensity"], file, where + "/intensity");
-    if (j.contains("position")) l.position = vec3(j["position"], file, where + "/position");
+    if (type == "point")
+        l.type = LightType::Point;
+    else if (type == "spot")
+        l.type = LightType::Spot;
+    else if (type == "directional")
+        l.type = LightType::Directional;
+    else if (type == "rect")
+        l.type = LightType::Rect;
+    else
+        fail(file, where + "/type", "'" + type + "' is not point, spot, directional or rect");
+    if (j.contains("color"))
+        l.color = Vec3f(vec3(j["color"], file, where + "/color"));
+    if (j.contains("intensity"))
+        l.intensity = num(j["intensity"], file, where + "/intensity");
+    if (j.contains("position"))
+        l.position = vec3(j["position"], file, where + "/position");
     if (j.contains("direction"))
         l.direction = normalize(vec3(j["direction"], file, where + "/direction"));
     if (j.contains("sourceAngleDegrees"))
         l.sourceAngleDegrees = num(j["sourceAngleDegrees"], file, where + "/sourceAngleDegrees");
-    if (j.contains("radius")) l.radius = num(j["radius"], file, where + "/radius");
+    if (j.contains("radius"))
+        l.radius = num(j["radius"], file, where + "/radius");
     if (j.contains("innerConeDegrees"))
         l.innerConeDegrees = num(j["innerConeDegrees"], file, where + "/innerConeDegrees");
     if (j.contains("outerConeDegrees"))
         l.outerConeDegrees = num(j["outerConeDegrees"], file, where + "/outerConeDegrees");
-    if (j.contains("halfU")) l.halfU = vec3(j["halfU"], file, where + "/halfU");
-    if (j.contains("halfV")) l.halfV = vec3(j["halfV"], file, where + "/halfV");
+    if (j.contains("halfU"))
+        l.halfU = vec3(j["halfU"], file, where + "/halfU");
+    if (j.contains("halfV"))
+        l.halfV = vec3(j["halfV"], file, where + "/halfV");
     if (j.contains("attenuationRadius"))
         l.attenuationRadius = num(j["attenuationRadius"], file, where + "/attenuationRadius");
     if (j.contains("samplesPerPixel")) {
@@ -122,7 +165,8 @@ Light parseLight(const nlohmann::json& j, const std::string& file, const std::st
     }
     if (l.type == LightType::Rect && length(cross(l.halfU, l.halfV)) <= 0.0)
         fail(file, where, "a rect light needs non-parallel, non-zero 'halfU' and 'halfV'");
-    if (l.name.empty()) l.name = type;
+    if (l.name.empty())
+        l.name = type;
     return l;
 }
 
@@ -144,21 +188,25 @@ void loadObj(const std::string& path, Scene& scene) {
         m.metallic = mtl.metallic;
         scene.materials.push_back(m);
     }
-    if (scene.materials.size() == std::size_t(baseMaterial)) scene.materials.push_back(Material{"default"});
+    if (scene.materials.size() == std::size_t(baseMaterial))
+        scene.materials.push_back(Material{"default"});
     const auto& shapes = reader.GetShapes();
     for (std::size_t s = 0; s < shapes.size(); ++s) {
         const auto& mesh = shapes[s].mesh;
         // One framepass mesh per (shape, material): the GBuffer's material is per triangle.
         std::map<int, Mesh> byMaterial;
         for (std::size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
-            const int mat = mesh.material_ids.empty() || mesh.material_ids[f] < 0
-                                ? 0 : mesh.material_ids[f];
+            const int mat =
+                mesh.material_ids.empty() || mesh.material_ids[f] < 0 ? 0 : mesh.material_ids[f];
             Mesh& m = byMaterial[mat];
             for (int k = 0; k < 3; ++k) {
                 const auto idx = mesh.indices[3 * f + k];
-                if (idx.vertex_index < 0 || std::size_t(3 * idx.vertex_index + 2) >= attrib.vertices.size())
-                    throw Error(fmt::format("{}: shape '{}' face {} has a vertex index out of range",
-                                            path, shapes[s].name, f), ExitCode::Usage);
+                if (idx.vertex_index < 0 ||
+                    std::size_t(3 * idx.vertex_index + 2) >= attrib.vertices.size())
+                    throw Error(
+                        fmt::format("{}: shape '{}' face {} has a vertex index out of range", path,
+                                    shapes[s].name, f),
+                        ExitCode::Usage);
                 m.positions.push_back({attrib.vertices[3 * idx.vertex_index],
                                        attrib.vertices[3 * idx.vertex_index + 1],
                                        attrib.vertices[3 * idx.vertex_index + 2]});
@@ -173,7 +221,8 @@ void loadObj(const std::string& path, Scene& scene) {
             m.name = shapes[s].name;
             m.material = baseMaterial + mat;
             m.instanceId = uint32_t(s + 1);
-            if (m.normals.size() != m.positions.size()) m.normals.clear();
+            if (m.normals.size() != m.positions.size())
+                m.normals.clear();
             scene.meshes.push_back(std::move(m));
         }
     }
@@ -184,42 +233,59 @@ Mat4d nodeMatrix(const tinygltf::Node& n) {
     Mat4d m;
     if (n.matrix.size() == 16) {
         for (int c = 0; c < 4; ++c)
-            for (int r = 0; r < 4; ++r) m(r, c) = n.matrix[c * 4 + r];  // glTF is column-major
+            for (int r = 0; r < 4; ++r)
+                m(r, c) = n.matrix[c * 4 + r];  // glTF is column-major
         return m;
     }
     Mat4d t, r, s;
     if (n.translation.size() == 3)
-        for (int i = 0; i < 3; ++i) t(i, 3) = n.translation[i];
+        for (int i = 0; i < 3; ++i)
+            t(i, 3) = n.translation[i];
     if (n.rotation.size() == 4) {
         const double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
-        r(0, 0) = 1 - 2 * (y * y + z * z); r(0, 1) = 2 * (x * y - z * w); r(0, 2) = 2 * (x * z + y * w);
-        r(1, 0) = 2 * (x * y + z * w); r(1, 1) = 1 - 2 * (x * x + z * z); r(1, 2) = 2 * (y * z - x * w);
-        r(2, 0) = 2 * (x * z - y * w); r(2, 1) = 2 * (y * z + x * w); r(2, 2) = 1 - 2 * (x * x + y * y);
+        r(0, 0) = 1 - 2 * (y * y + z * z);
+        r(0, 1) = 2 * (x * y - z * w);
+        r(0, 2) = 2 * (x * z + y * w);
+        r(1, 0) = 2 * (x * y + z * w);
+        r(1, 1) = 1 - 2 * (x * x + z * z);
+        r(1, 2) = 2 * (y * z - x * w);
+        r(2, 0) = 2 * (x * z - y * w);
+        r(2, 1) = 2 * (y * z + x * w);
+        r(2, 2) = 1 - 2 * (x * x + y * y);
     }
     if (n.scale.size() == 3)
-        for (int i = 0; i < 3; ++i) s(i, i) = n.scale[i];
+        for (int i = 0; i < 3; ++i)
+            s(i, i) = n.scale[i];
     return t * r * s;
 }
 
 template <class T>
-std::vector<T> readAccessor(const tinygltf::Model& model, int index, int components,
-                            const std::string& path, const std::string& what) {
+std::vector<T> readAccessor(const tinygltf::Model& model,
+                            int index,
+                            int components,
+                            const std::string& path,
+                            const std::string& what) {
     if (index < 0 || index >= int(model.accessors.size()))
-        throw Error(fmt::format("{}: {}: accessor {} does not exist", path, what, index), ExitCode::Usage);
+        throw Error(fmt::format("{}: {}: accessor {} does not exist", path, what, index),
+                    ExitCode::Usage);
     const auto& acc = model.accessors[index];
     const int n = tinygltf::GetNumComponentsInType(acc.type);
     if (n != components)
         throw Error(fmt::format("{}: {}: expected {} components, accessor {} has {}", path, what,
-                                components, index, n), ExitCode::Usage);
-    if (acc.bufferView < 0) return std::vector<T>(acc.count * components, T(0));
+                                components, index, n),
+                    ExitCode::Usage);
+    if (acc.bufferView < 0)
+        return std::vector<T>(acc.count * components, T(0));
     const auto& view = model.bufferViews[acc.bufferView];
     const auto& buffer = model.buffers[view.buffer];
     const int compSize = tinygltf::GetComponentSizeInBytes(acc.componentType);
     const std::size_t stride = view.byteStride ? view.byteStride : std::size_t(compSize) * n;
     const std::size_t start = view.byteOffset + acc.byteOffset;
-    if (acc.count > 0 && start + stride * (acc.count - 1) + std::size_t(compSize) * n > buffer.data.size())
-        throw Error(fmt::format("{}: {}: accessor {} reads past the end of its buffer", path, what,
-                                index), ExitCode::Usage);
+    if (acc.count > 0 &&
+        start + stride * (acc.count - 1) + std::size_t(compSize) * n > buffer.data.size())
+        throw Error(
+            fmt::format("{}: {}: accessor {} reads past the end of its buffer", path, what, index),
+            ExitCode::Usage);
     std::vector<T> out;
     out.reserve(acc.count * n);
     for (std::size_t i = 0; i < acc.count; ++i) {
@@ -227,13 +293,31 @@ std::vector<T> readAccessor(const tinygltf::Model& model, int index, int compone
         for (int c = 0; c < n; ++c) {
             const unsigned char* q = p + c * compSize;
             switch (acc.componentType) {
-                case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, q, 4); out.push_back(T(v)); break; }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, q, 4); out.push_back(T(v)); break; }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, q, 2); out.push_back(T(v)); break; }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: out.push_back(T(*q)); break;
+                case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+                    float v;
+                    std::memcpy(&v, q, 4);
+                    out.push_back(T(v));
+                    break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+                    uint32_t v;
+                    std::memcpy(&v, q, 4);
+                    out.push_back(T(v));
+                    break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                    uint16_t v;
+                    std::memcpy(&v, q, 2);
+                    out.push_back(T(v));
+                    break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                    out.push_back(T(*q));
+                    break;
                 default:
                     throw Error(fmt::format("{}: {}: unsupported component type {}", path, what,
-                                            acc.componentType), ExitCode::Usage);
+                                            acc.componentType),
+                                ExitCode::Usage);
             }
         }
     }
@@ -247,7 +331,8 @@ void loadGltf(const std::string& path, SceneFile& sf) {
     const bool binary = fs::path(path).extension() == ".glb";
     const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                            : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-    if (!ok) throw Error(fmt::format("{}: cannot read glTF: {}", path, err), ExitCode::Usage);
+    if (!ok)
+        throw Error(fmt::format("{}: cannot read glTF: {}", path, err), ExitCode::Usage);
     Scene& scene = sf.scene;
     const int baseMaterial = int(scene.materials.size());
     for (const auto& gm : model.materials) {
@@ -260,7 +345,8 @@ void loadGltf(const std::string& path, SceneFile& sf) {
         m.roughness = float(pbr.roughnessFactor);
         m.emission = {float(gm.emissiveFactor[0]), float(gm.emissiveFactor[1]),
                       float(gm.emissiveFactor[2])};
-        if (auto it = gm.extensions.find("KHR_materials_emissive_strength"); it != gm.extensions.end())
+        if (auto it = gm.extensions.find("KHR_materials_emissive_strength");
+            it != gm.extensions.end())
             m.emission *= float(it->second.Get("emissiveStrength").GetNumberAsDouble());
         m.opacity = float(pbr.baseColorFactor[3]);
         scene.materials.push_back(m);
@@ -277,8 +363,9 @@ void loadGltf(const std::string& path, SceneFile& sf) {
                 const auto& prim = gmesh.primitives[p];
                 const std::string what = fmt::format("mesh '{}' primitive {}", gmesh.name, p);
                 if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1)
-                    throw Error(fmt::format("{}: {}: only triangle primitives are supported",
-                                            path, what), ExitCode::Usage);
+                    throw Error(
+                        fmt::format("{}: {}: only triangle primitives are supported", path, what),
+                        ExitCode::Usage);
                 auto pos = prim.attributes.find("POSITION");
                 if (pos == prim.attributes.end())
                     throw Error(fmt::format("{}: {}: no POSITION", path, what), ExitCode::Usage);
@@ -306,16 +393,19 @@ void loadGltf(const std::string& path, SceneFile& sf) {
                 if (prim.indices >= 0) {
                     for (double i : readAccessor<double>(model, prim.indices, 1, path, what)) {
                         if (i >= m.positions.size())
-                            throw Error(fmt::format("{}: {}: index {} is out of range", path, what,
-                                                    i), ExitCode::Usage);
+                            throw Error(
+                                fmt::format("{}: {}: index {} is out of range", path, what, i),
+                                ExitCode::Usage);
                         m.indices.push_back(uint32_t(i));
                     }
                 } else {
-                    for (std::size_t i = 0; i < m.positions.size(); ++i) m.indices.push_back(uint32_t(i));
+                    for (std::size_t i = 0; i < m.positions.size(); ++i)
+                        m.indices.push_back(uint32_t(i));
                 }
                 if (m.indices.size() % 3 != 0)
-                    throw Error(fmt::format("{}: {}: index count is not a multiple of 3", path,
-                                            what), ExitCode::Usage);
+                    throw Error(
+                        fmt::format("{}: {}: index count is not a multiple of 3", path, what),
+                        ExitCode::Usage);
                 scene.meshes.push_back(std::move(m));
             }
         }
@@ -325,7 +415,8 @@ void loadGltf(const std::string& path, SceneFile& sf) {
             nlohmann::json c;
             std::vector<double> m16;
             for (int r = 0; r < 4; ++r)
-                for (int col = 0; col < 4; ++col) m16.push_back(world(r, col));
+                for (int col = 0; col < 4; ++col)
+                    m16.push_back(world(r, col));
             c["cameraToWorld"] = m16;
             c["axes"] = "opengl";
             c["fovYDegrees"] = model.cameras[node.camera].perspective.yfov * 180.0 / kPi;
@@ -344,21 +435,26 @@ void loadGltf(const std::string& path, SceneFile& sf) {
             l.position = {h[0], h[1], h[2]};
             // Lights point down their node's −Z.
             l.direction = normalize(Vec3d{-world(0, 2), -world(1, 2), -world(2, 2)});
-            if (gl.type == "directional") l.type = LightType::Directional;
+            if (gl.type == "directional")
+                l.type = LightType::Directional;
             else if (gl.type == "spot") {
                 l.type = LightType::Spot;
                 l.innerConeDegrees = float(gl.spot.innerConeAngle * 180.0 / kPi);
                 l.outerConeDegrees = float(gl.spot.outerConeAngle * 180.0 / kPi);
-            } else l.type = LightType::Point;
+            } else
+                l.type = LightType::Point;
             scene.lights.push_back(l);
         }
-        for (int child : node.children) visit(child, world);
+        for (int child : node.children)
+            visit(child, world);
     };
     const int sceneIndex = model.defaultScene >= 0 ? model.defaultScene : 0;
     if (!model.scenes.empty())
-        for (int n : model.scenes[sceneIndex].nodes) visit(n, Mat4d{});
+        for (int n : model.scenes[sceneIndex].nodes)
+            visit(n, Mat4d{});
     else
-        for (std::size_t n = 0; n < model.nodes.size(); ++n) visit(int(n), Mat4d{});
+        for (std::size_t n = 0; n < model.nodes.size(); ++n)
+            visit(int(n), Mat4d{});
 }
 
 void checkFinite(const Scene& scene, const std::string& file) {
@@ -373,8 +469,9 @@ void checkFinite(const Scene& scene, const std::string& file) {
 
 FrameCamera SceneFile::cameraForFrame(int64_t frame, Extent extent) const {
     if (cameraJson.is_null())
-        throw Error(fmt::format("{}: the scene has no camera (add \"camera\" or a glTF camera)",
-                                path), ExitCode::Usage);
+        throw Error(
+            fmt::format("{}: the scene has no camera (add \"camera\" or a glTF camera)", path),
+            ExitCode::Usage);
     FrameCamera fc;
     fc.sceneUnitsPerMeter = scene.sceneUnitsPerMeter;
     CameraView base = cameraViewFromJson(cameraJson, extent, path + ": /camera");
@@ -391,16 +488,18 @@ FrameCamera SceneFile::cameraForFrame(int64_t frame, Extent extent) const {
     return fc;
 }
 
-SceneFile loadScene(const std::string& path) {
+SceneFile loadScene(const std::string& path, SceneParts parts) {
     std::ifstream in(path);
-    if (!in) throw Error(fmt::format("{}: cannot open the scene", path), ExitCode::Usage);
+    if (!in)
+        throw Error(fmt::format("{}: cannot open the scene", path), ExitCode::Usage);
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(in, nullptr, true, true);
     } catch (const nlohmann::json::parse_error& e) {
         throw Error(fmt::format("{}: not valid JSON: {}", path, e.what()), ExitCode::Usage);
     }
-    if (!j.is_object()) fail(path, "/", "a scene must be a JSON object");
+    if (!j.is_object())
+        fail(path, "/", "a scene must be a JSON object");
     checkKeys(j, kSceneKeys, path, "");
     SceneFile sf;
     sf.path = path;
@@ -408,49 +507,86 @@ SceneFile loadScene(const std::string& path) {
         fail(path, "/geometry", "missing the geometry file (.gltf, .glb or .obj)");
     const fs::path geometry = fs::path(path).parent_path() / j["geometry"].get<std::string>();
     const std::string ext = geometry.extension().string();
-    if (!fs::exists(geometry)) fail(path, "/geometry", geometry.string() + " does not exist");
-    if (ext == ".obj") loadObj(geometry.string(), sf.scene);
-    else if (ext == ".gltf" || ext == ".glb") loadGltf(geometry.string(), sf);
-    else fail(path, "/geometry", "'" + ext + "' is not .gltf, .glb or .obj");
-    if (sf.scene.meshes.empty()) fail(path, "/geometry", geometry.string() + " has no triangles");
-    checkFinite(sf.scene, geometry.string());
+    if (!fs::exists(geometry))
+        fail(path, "/geometry", geometry.string() + " does not exist");
+    if (ext != ".obj" && ext != ".gltf" && ext != ".glb")
+        fail(path, "/geometry", "'" + ext + "' is not .gltf, .glb or .obj");
+    sf.mGeometryFile = geometry.string();
 
     if (j.contains("sceneUnitsPerMeter"))
         sf.scene.sceneUnitsPerMeter = num(j["sceneUnitsPerMeter"], path, "/sceneUnitsPerMeter");
-    if (j.contains("offset")) sf.offset = vec3(j["offset"], path, "/offset");
-    if (j.contains("cameraMotion")) sf.cameraMotion = vec3(j["cameraMotion"], path, "/cameraMotion");
-    if (j.contains("camera")) sf.cameraJson = j["camera"];
-    if (j.contains("previousCamera")) sf.previousCameraJson = j["previousCamera"];
-    if (j.contains("sky")) sf.scene.skyColor = Vec3f(vec3(j["sky"], path, "/sky"));
+    if (j.contains("offset"))
+        sf.offset = vec3(j["offset"], path, "/offset");
+    if (j.contains("cameraMotion"))
+        sf.cameraMotion = vec3(j["cameraMotion"], path, "/cameraMotion");
+    if (j.contains("camera"))
+        sf.cameraJson = j["camera"];
+    if (j.contains("previousCamera"))
+        sf.previousCameraJson = j["previousCamera"];
+    if (j.contains("sky"))
+        sf.scene.skyColor = Vec3f(vec3(j["sky"], path, "/sky"));
     if (j.contains("resolution")) {
         const auto& r = j["resolution"];
-        if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer())
+        if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() ||
+            !r[1].is_number_integer())
             fail(path, "/resolution", "expected [width, height]");
         sf.resolution = {r[0].get<int>(), r[1].get<int>()};
     }
     if (j.contains("materials")) {
-        if (!j["materials"].is_object()) fail(path, "/materials", "expected {name: {...}}");
+        if (!j["materials"].is_object())
+            fail(path, "/materials", "expected {name: {...}}");
+        sf.mMaterialOverrides = j["materials"];
+    }
+    // A glTF holds lights and a camera of its own, so it is read now; an OBJ holds only meshes,
+    // read when a pass needs them.
+    if (parts == SceneParts::All || ext != ".obj")
+        sf.loadGeometry();
+    if (j.contains("lights")) {
+        if (!j["lights"].is_array())
+            fail(path, "/lights", "expected an array");
+        for (std::size_t i = 0; i < j["lights"].size(); ++i) {
+            Light l = parseLight(j["lights"][i], path, "/lights/" + std::to_string(i));
+            l.position += sf.offset;  // the offset moves the whole scene in double precision
+            sf.scene.lights.push_back(l);
+        }
+    }
+    return sf;
+}
+
+void SceneFile::loadGeometry() {
+    if (mGeometryLoaded)
+        return;
+    const std::string ext = fs::path(mGeometryFile).extension().string();
+    std::vector<Light> jsonLights;  // already placed; the geometry's own come first
+    jsonLights.swap(scene.lights);
+    if (ext == ".obj")
+        loadObj(mGeometryFile, scene);
+    else
+        loadGltf(mGeometryFile, *this);
+    if (scene.meshes.empty())
+        fail(path, "/geometry", mGeometryFile + " has no triangles");
+    checkFinite(scene, mGeometryFile);
+    if (!mMaterialOverrides.is_null()) {
         std::vector<std::string> names;
-        for (const auto& m : sf.scene.materials) names.push_back(m.name);
-        for (const auto& [name, o] : j["materials"].items()) {
-            auto it = std::find_if(sf.scene.materials.begin(), sf.scene.materials.end(),
+        for (const auto& m : scene.materials)
+            names.push_back(m.name);
+        for (const auto& [name, o] : mMaterialOverrides.items()) {
+            auto it = std::find_if(scene.materials.begin(), scene.materials.end(),
                                    [&](const Material& m) { return m.name == name; });
-            if (it == sf.scene.materials.end())
+            if (it == scene.materials.end())
                 fail(path, "/materials/" + name,
                      "no material of that name in the geometry" + didYouMean(name, names));
             applyMaterialOverride(*it, o, path, "/materials/" + name);
         }
     }
-    if (j.contains("lights")) {
-        if (!j["lights"].is_array()) fail(path, "/lights", "expected an array");
-        for (std::size_t i = 0; i < j["lights"].size(); ++i)
-            sf.scene.lights.push_back(parseLight(j["lights"][i], path, "/lights/" + std::to_string(i)));
-    }
     // The offset moves the whole scene in double precision.
-    for (auto& m : sf.scene.meshes)
-        for (auto& p : m.positions) p += sf.offset;
-    for (auto& l : sf.scene.lights) l.position += sf.offset;
-    return sf;
+    for (auto& m : scene.meshes)
+        for (auto& p : m.positions)
+            p += offset;
+    for (auto& l : scene.lights)
+        l.position += offset;
+    scene.lights.insert(scene.lights.end(), jsonLights.begin(), jsonLights.end());
+    mGeometryLoaded = true;
 }
 
 }  // namespace fp::io

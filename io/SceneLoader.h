@@ -15,6 +15,11 @@
 
 namespace fp::io {
 
+/// What loadScene reads: everything, or the lights and cameras only (an OBJ's meshes are then
+/// read by SceneFile::loadGeometry when a pass needs them; a glTF is always read whole, since its
+/// lights and camera live in it).
+enum class SceneParts { LightsAndCameras, All };
+
 class SceneFile {
 public:
     Scene scene;
@@ -28,9 +33,20 @@ public:
     nlohmann::json cameraJson, previousCameraJson;  //!< as written (or from the glTF camera)
     Vec3d cameraMotion;
     Vec3d offset;
+
+    /// Reads the meshes (and materials) of the geometry file, once; `scene.meshes` is empty
+    /// before. Throws fp::Error like loadScene.
+    void loadGeometry();
+    bool hasGeometry() const { return mGeometryLoaded; }
+
+private:
+    friend SceneFile loadScene(const std::string& path, SceneParts parts);
+    std::string mGeometryFile;
+    nlohmann::json mMaterialOverrides;  //!< "materials" of the scene JSON, applied to the geometry
+    bool mGeometryLoaded = false;
 };
 
 /// Throws fp::Error naming the file (and the JSON pointer, mesh or accessor) on bad input.
-SceneFile loadScene(const std::string& path);
+SceneFile loadScene(const std::string& path, SceneParts parts = SceneParts::All);
 
 }  // namespace fp::io

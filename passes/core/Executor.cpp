@@ -1,5 +1,7 @@
 #include "passes/core/Executor.h"
 
+#include "passes/core/Scene.h"
+
 #include "passes/core/Error.h"
 
 #include <chrono>
@@ -35,7 +37,8 @@ public:
 private:
     void track() {
         std::size_t total = 0;
-        for (const auto& [k, t] : mImages) total += t.bytes();
+        for (const auto& [k, t] : mImages)
+            total += t.bytes();
         mPeak = std::max(mPeak, total);
     }
     FrameSource& mSource;
@@ -45,9 +48,17 @@ private:
 
 class StepContext final : public PassContext {
 public:
-    StepContext(const PlanStep& step, ImageStore& store, FrameSource& source, const FrameInfo& frame,
-                PassReport& report, const PassHistory* history)
-        : mStep(step), mStore(store), mSource(source), mFrame(frame), mReport(report),
+    StepContext(const PlanStep& step,
+                ImageStore& store,
+                FrameSource& source,
+                const FrameInfo& frame,
+                PassReport& report,
+                const PassHistory* history)
+        : mStep(step),
+          mStore(store),
+          mSource(source),
+          mFrame(frame),
+          mReport(report),
           mHistory(history) {}
 
     const PassHistory* history() const override {
@@ -83,7 +94,8 @@ public:
     Texture& output(std::string_view port, const std::vector<Extent>& mips) override {
         const PortSpec& spec = checkDeclared(mStep.io.outputs, port, "output");
         std::vector<Image> levels;
-        for (const Extent& e : mips) levels.emplace_back(e.width, e.height, spec.channels);
+        for (const Extent& e : mips)
+            levels.emplace_back(e.width, e.height, spec.channels);
         return mStore.put(mStep.name + "." + std::string(port), Texture(std::move(levels)));
     }
     const FrameInfo& frame() const override { return mFrame; }
@@ -91,6 +103,11 @@ public:
         FP_CHECK(mStep.io.needsScene, "pass '{}' uses the scene without declaring needsScene",
                  mStep.name);
         return mSource.scene();
+    }
+    const std::vector<Light>& lights() override {
+        FP_CHECK(mStep.io.needsLights || mStep.io.needsScene,
+                 "pass '{}' reads the lights without declaring needsLights", mStep.name);
+        return mSource.lights();
     }
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mSource.colorConfig(); }
     void addWork(std::string_view counter, uint64_t amount) override {
@@ -104,10 +121,12 @@ public:
 
 private:
     // Filament's rule: a pass may only touch what it declared.
-    const PortSpec& checkDeclared(const std::vector<PortSpec>& ports, std::string_view port,
+    const PortSpec& checkDeclared(const std::vector<PortSpec>& ports,
+                                  std::string_view port,
                                   const char* what) const {
         for (const auto& p : ports)
-            if (p.name == port) return p;
+            if (p.name == port)
+                return p;
         throw Error(fmt::format("pass '{}' used undeclared {} '{}'", mStep.name, what, port));
     }
 
@@ -124,7 +143,8 @@ private:
 }  // namespace
 
 bool isCameraCut(const CameraView& h, const FrameCamera& frame) {
-    if (!frame.previous) return false;
+    if (!frame.previous)
+        return false;
     const CameraView& p = *frame.previous;
     // Cameras read back from files carry rounding: allow a relative 1e-5 of the distance from the
     // origin (plus 1e-5 units), and direction cosines within 1e-6.
@@ -135,30 +155,37 @@ bool isCameraCut(const CameraView& h, const FrameCamera& frame) {
            h.width != p.width || h.height != p.height;
 }
 
-FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
-                        const ProgressFn& progress, HistoryStore* history) {
+FrameReport executePlan(const Plan& plan,
+                        FrameSource& source,
+                        FrameSink& sink,
+                        const ProgressFn& progress,
+                        HistoryStore* history) {
     using Clock = std::chrono::steady_clock;
     const auto frameStart = Clock::now();
     const FrameInfo frame = source.frameInfo();
     FrameReport report;
     report.frame = frame.number;
     ImageStore store(source);
-    if (history && frame.firstInSequence) history->clear();
+    if (history && frame.firstInSequence)
+        history->clear();
 
     auto channelsOf = [&](const std::string& buffer) {
         for (const auto& r : plan.captureReads)
-            if (r.buffer == buffer) return r.channels;
+            if (r.buffer == buffer)
+                return r.channels;
         return 0;
     };
     auto writeOutputs = [&](int step) {
         auto it = plan.writesAfter.find(step);
-        if (it == plan.writesAfter.end()) return;
+        if (it == plan.writesAfter.end())
+            return;
         for (int o : it->second) {
             const OutputDesc& out = plan.outputs[o];
             std::vector<OutputLayer> layers;
             for (const auto& src : out.sources) {
                 const bool capture = src.rfind("capture:", 0) == 0;
-                if (capture && !store.find(src)) store.load(src.substr(8), channelsOf(src.substr(8)));
+                if (capture && !store.find(src))
+                    store.load(src.substr(8), channelsOf(src.substr(8)));
                 const Texture* t = store.find(src);
                 FP_CHECK(t && !t->empty(), "frame {}: '{}' was not produced by its pass",
                          frame.number, src);
@@ -169,7 +196,8 @@ FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
     };
     auto releaseAfter = [&](int step) {
         for (const auto& [key, last] : plan.releaseAfter)
-            if (last == step) store.release(key);
+            if (last == step)
+                store.release(key);
     };
 
     const int total = int(plan.steps.size());
@@ -177,12 +205,14 @@ FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
         const PlanStep& step = plan.steps[s];
         if (auto it = plan.loadsBefore.find(s); it != plan.loadsBefore.end())
             for (const auto& b : it->second)
-                if (!store.find("capture:" + b)) store.load(b, channelsOf(b));
+                if (!store.find("capture:" + b))
+                    store.load(b, channelsOf(b));
         PassReport pr{step.name, step.type, 0, {}, {}};
         const PassHistory* past = nullptr;
         if (history && step.io.temporal && !frame.firstInSequence) {
             past = history->find(step.name);
-            if (past && isCameraCut(past->camera, frame.camera)) past = nullptr;
+            if (past && isCameraCut(past->camera, frame.camera))
+                past = nullptr;
         }
         StepContext ctx(step, store, source, frame, pr, past);
         const auto t0 = Clock::now();
@@ -197,12 +227,15 @@ FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
         if (history && ctx.kept())
             history->keep(step.name, {std::move(*ctx.kept()), frame.camera.current});
         for (const auto& port : step.requestedOutputs)
-            FP_CHECK(store.find(step.name + "." + port), "frame {}: pass '{}' did not write its "
-                     "requested output '{}'", frame.number, step.name, port);
+            FP_CHECK(store.find(step.name + "." + port),
+                     "frame {}: pass '{}' did not write its "
+                     "requested output '{}'",
+                     frame.number, step.name, port);
         report.passes.push_back(std::move(pr));
         writeOutputs(s);
         releaseAfter(s);
-        if (progress) progress(s + 1, total);
+        if (progress)
+            progress(s + 1, total);
     }
     writeOutputs(-1);  // outputs that only copy capture buffers, in a plan with no steps
     report.peakBytes = store.peak();
@@ -214,9 +247,10 @@ nlohmann::json FrameReport::toJson() const {
     nlohmann::json j = {{"frame", frame}, {"seconds", seconds}, {"peakBytes", peakBytes}};
     j["passes"] = nlohmann::json::array();
     for (const auto& p : passes) {
-        nlohmann::json pj = {{"name", p.name}, {"type", p.type}, {"seconds", p.seconds},
-                             {"work", p.work}};
-        if (!p.metrics.empty()) pj["metrics"] = p.metrics;
+        nlohmann::json pj = {
+            {"name", p.name}, {"type", p.type}, {"seconds", p.seconds}, {"work", p.work}};
+        if (!p.metrics.empty())
+            pj["metrics"] = p.metrics;
         j["passes"].push_back(pj);
     }
     return j;

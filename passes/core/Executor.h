@@ -23,6 +23,8 @@ public:
     /// Reads one capture buffer with `channels` channels at full resolution.
     virtual Texture loadBuffer(const std::string& buffer, int channels) = 0;
     virtual const RayScene& scene() = 0;
+    /// The scene's lights; unlike scene(), this reads no geometry.
+    virtual const std::vector<Light>& lights() = 0;
     virtual OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() = 0;
 };
 
@@ -36,7 +38,8 @@ struct OutputLayer {
 class FrameSink {
 public:
     virtual ~FrameSink() = default;
-    virtual void write(const OutputDesc& output, const std::vector<OutputLayer>& layers,
+    virtual void write(const OutputDesc& output,
+                       const std::vector<OutputLayer>& layers,
                        const FrameInfo& frame) = 0;
 };
 
@@ -62,7 +65,9 @@ public:
         auto it = mHistories.find(pass);
         return it == mHistories.end() ? nullptr : &it->second;
     }
-    void keep(const std::string& pass, PassHistory history) { mHistories[pass] = std::move(history); }
+    void keep(const std::string& pass, PassHistory history) {
+        mHistories[pass] = std::move(history);
+    }
     void clear() { mHistories.clear(); }
 
 private:
@@ -78,7 +83,10 @@ using ProgressFn = std::function<void(int, int)>;
 
 /// Runs one frame. Temporal passes read and update `history` when given (a sequence); without
 /// it every frame is a first frame.
-FrameReport executePlan(const Plan& plan, FrameSource& source, FrameSink& sink,
-                        const ProgressFn& progress = {}, HistoryStore* history = nullptr);
+FrameReport executePlan(const Plan& plan,
+                        FrameSource& source,
+                        FrameSink& sink,
+                        const ProgressFn& progress = {},
+                        HistoryStore* history = nullptr);
 
 }  // namespace fp

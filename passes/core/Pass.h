@@ -32,6 +32,7 @@
 namespace fp {
 
 class RayScene;
+struct Light;
 
 /// Colour buffers may be colour-managed and stored as half; data buffers never are.
 enum class PortKind { Color, Data };
@@ -51,6 +52,7 @@ struct PassIO {
     std::vector<PortSpec> inputs, outputs;
     bool needsCamera = false;  //!< frame().camera must be known
     bool needsScene = false;   //!< geometry is loaded and a BVH built only if a live pass says so
+    bool needsLights = false;  //!< the scene's lights are read (not its geometry)
     bool needsColorConfig = false;    //!< an OCIO config must be loaded
     std::string workUnit = "pixels";  //!< the counter that measures throughput
     bool temporal = false;            //!< keeps state from frame to frame (PassContext::history)
@@ -85,6 +87,8 @@ public:
     virtual const FrameInfo& frame() const = 0;
     /// The ray-traceable scene, built on first use (only passes with needsScene may call it).
     virtual const RayScene& scene() = 0;
+    /// The scene's lights, read without its geometry (passes with needsLights or needsScene).
+    virtual const std::vector<Light>& lights() = 0;
     /// The OCIO config (only passes with needsColorConfig may call it).
     virtual OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() = 0;
     /// Adds to a named work counter; thread-safe, call once per tile rather than per pixel.

@@ -1,5 +1,6 @@
 #include "passes/core/Planner.h"
 
+#include "passes/core/ChainTemplate.h"
 #include "passes/core/CvarTable.h"
 #include "passes/core/SemanticBuffers.h"
 #include "passes/core/Suggest.h"
@@ -60,416 +61,506 @@ void validateLayer(const PassType& type,
                    context.empty() ? e.message : e.message + " (" + context + ")");
 }
 
-}  // namespace
-
-Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanInputs& in) {
-    Diagnostics diag;
-    for (const auto& e : in.priorErrors)
-        diag.error(e.pointer, e.message);
-    Plan plan;
-    const CvarTable cvarTable(registry);
-    std::vector<NodeState> nodes(graph.nodes.size());
-    std::map<std::string, int> nodeIndex;
-
-    // --- names and types ---------------------------------------------------------------------
-    for (std::size_t i = 0; i < graph.nodes.size(); ++i) {
-        const NodeDesc& d = graph.nodes[i];
-        nodes[i].desc = &d;
-        if (d.name.empty() || d.name.find_first_of(".:/ ") != std::string::npos)
-            diag.error(d.pointer + "/name",
-                       fmt::format("pass name '{}' must be non-empty without '.', ':', '/' or "
-                                   "spaces",
-                                   d.name));
-        else if (!nodeIndex.emplace(d.name, int(i)).second)
-            diag.error(d.pointer + "/name", fmt::format("pass name '{}' is used twice", d.name));
-        nodes[i].type = registry.find(d.type);
-        if (!nodes[i].type)
-            diag.error(d.pointer + "/type", fmt::format("unknown pass type '{}'{}", d.type,
-                                                        didYouMean(d.type, registry.ids())));
+// The planner's state as it goes through its stages; each stage is one member function, run in
+// the order makePlan lists them (Filament's FrameGraph: setup, cull, then execute).
+class PlanBuilder {
+public:
+    PlanBuilder(const GraphDesc& graph, const PassRegistry& registry, const PlanInputs& in)
+        : mWritten(graph), mRegistry(registry), mIn(in), mCvarTable(registry) {
+        for (const auto& e : in.priorErrors)
+            mDiag.error(e.pointer, e.message);
     }
-    std::vector<std::string> allNames;
-    for (const auto& d : graph.nodes)
-        allNames.push_back(d.name);
 
-    // --- cvars: config first, then --cvar ------------------------------------------------------
-    struct CvarValue {
-        nlohmann::json value;
-        std::string where;
-    };
-    std::map<std::string, CvarValue> cvars;
-    for (const auto& [k, v] : graph.cvars.items())
-        cvars[k] = {v, "/cvars/" + jsonPointerEscape(k)};
-    for (const auto& [k, v] : in.overrides.cvars.items())
-        cvars[k] = {v, "--cvar " + k};
-    for (const auto& [name, cv] : cvars) {
-        const CvarMapping* m = cvarTable.find(name);
-        if (!m) {
-            diag.warning(cv.where, fmt::format("unknown cvar '{}' is ignored{}", name,
-                                               didYouMean(name, cvarTable.names())));
-        } else if (m->passType.empty() && cv.value == m->emulatedValue) {
-            // The value the chain emulates: nothing to say.
-        } else if (m->passType.empty()) {
-            diag.warning(cv.where,
-                         fmt::format("cvar '{}' is not emulated by framepass ({})", name, m->note));
-        } else if (const auto types = cvarTable.targets(name);
-                   std::none_of(graph.nodes.begin(), graph.nodes.end(), [&](const NodeDesc& d) {
-                       return std::find(types.begin(), types.end(), d.type) != types.end();
-                   })) {
-            diag.warning(cv.where, fmt::format("cvar '{}' sets {}.{}, but the chain has no '{}' "
-                                               "pass",
-                                               name, m->passType, m->param, m->passType));
+    /// Light templates become plain passes, one copy per light of the scene.
+    void expandTemplates() {
+        mGraph = expandLightTemplates(mWritten, mIn.lightNames, mDiag, &mPlan.templates);
+        mNodes.resize(mGraph.nodes.size());
+        for (const auto& d : mGraph.nodes)
+            mAllNames.push_back(d.name);
+    }
+
+    /// Every pass has a unique, addressable name and a known type.
+    void validateNames() {
+        for (std::size_t i = 0; i < mGraph.nodes.size(); ++i) {
+            const NodeDesc& d = mGraph.nodes[i];
+            mNodes[i].desc = &d;
+            if (d.name.empty() || d.name.find_first_of(".:/ ") != std::string::npos)
+                mDiag.error(d.pointer + "/name",
+                            fmt::format("pass name '{}' must be non-empty without '.', ':', '/' "
+                                        "or spaces",
+                                        d.name));
+            else if (!mNodeIndex.emplace(d.name, int(i)).second)
+                mDiag.error(d.pointer + "/name",
+                            fmt::format("pass name '{}' is used twice", d.name));
+            mNodes[i].type = mRegistry.find(d.type);
+            if (!mNodes[i].type)
+                mDiag.error(d.pointer + "/type", fmt::format("unknown pass type '{}'{}", d.type,
+                                                             didYouMean(d.type, mRegistry.ids())));
         }
     }
 
-    // --- --set PASS.PARAM=VALUE ---------------------------------------------------------------
-    std::map<int, nlohmann::json> setLayers;
-    std::map<int, std::vector<std::string>> setWhere;
-    for (const auto& [target, value] : in.overrides.sets) {
-        const std::string where = "--set " + target;
-        auto dot = target.find('.');
-        if (dot == std::string::npos) {
-            diag.error(where, "expected PASS.PARAM=VALUE");
-            continue;
+    /// Cvars of the config, then --cvar; unknown, unemulated and unused ones are warnings.
+    void validateCvars() {
+        for (const auto& [k, v] : mGraph.cvars.items())
+            mCvars[k] = {v, "/cvars/" + jsonPointerEscape(k)};
+        for (const auto& [k, v] : mIn.overrides.cvars.items())
+            mCvars[k] = {v, "--cvar " + k};
+        for (const auto& [name, cv] : mCvars) {
+            const CvarMapping* m = mCvarTable.find(name);
+            if (!m) {
+                mDiag.warning(cv.where, fmt::format("unknown cvar '{}' is ignored{}", name,
+                                                    didYouMean(name, mCvarTable.names())));
+            } else if (m->passType.empty() && cv.value == m->emulatedValue) {
+                // The value the chain emulates: nothing to say.
+            } else if (m->passType.empty()) {
+                mDiag.warning(cv.where, fmt::format("cvar '{}' is not emulated by framepass ({})",
+                                                    name, m->note));
+            } else if (const auto types = mCvarTable.targets(name); std::none_of(
+                           mGraph.nodes.begin(), mGraph.nodes.end(), [&](const NodeDesc& d) {
+                               return std::find(types.begin(), types.end(), d.type) != types.end();
+                           })) {
+                mDiag.warning(cv.where, fmt::format("cvar '{}' sets {}.{}, but the chain has no "
+                                                    "'{}' pass",
+                                                    name, m->passType, m->param, m->passType));
+            }
         }
-        std::string pass = target.substr(0, dot), param = target.substr(dot + 1);
-        auto it = nodeIndex.find(pass);
-        if (it == nodeIndex.end()) {
-            diag.error(where,
-                       fmt::format("no pass named '{}'{}", pass, didYouMean(pass, allNames)));
-            continue;
-        }
-        setLayers[it->second][param] = value;
-        setWhere[it->second].push_back(where);
     }
 
-    // --- instantiate: defaults ← cvars ← config params ← --set --------------------------------
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-        NodeState& n = nodes[i];
-        if (!n.type)
-            continue;
-        const std::string paramsPtr = n.desc->pointer + "/params";
-        const std::size_t errorsBefore = diag.errors().size();
-        nlohmann::json merged = nlohmann::json::object();
-        for (const auto& [name, cv] : cvars) {
-            const CvarMapping* m = cvarTable.find(name, n.desc->type);
-            if (!m)
+    /// Makes every pass from its parameters: defaults ← cvars ← config params ← --set.
+    void instantiate() {
+        const auto sets = setLayers();
+        for (std::size_t i = 0; i < mNodes.size(); ++i) {
+            NodeState& n = mNodes[i];
+            if (!n.type)
                 continue;
-            nlohmann::json layer = {{m->param, cv.value}};
-            validateLayer(*n.type, layer, paramsPtr, cv.where,
-                          fmt::format("cvar {} sets {}.{}", name, n.desc->name, m->param), diag);
-            merged[m->param] = cv.value;
+            const std::string paramsPtr = n.desc->pointer + "/params";
+            const std::size_t errorsBefore = mDiag.errors().size();
+            nlohmann::json merged = nlohmann::json::object();
+            for (const auto& [name, cv] : mCvars) {
+                const CvarMapping* m = mCvarTable.find(name, n.desc->type);
+                if (!m)
+                    continue;
+                nlohmann::json layer = {{m->param, cv.value}};
+                validateLayer(*n.type, layer, paramsPtr, cv.where,
+                              fmt::format("cvar {} sets {}.{}", name, n.desc->name, m->param),
+                              mDiag);
+                merged[m->param] = cv.value;
+            }
+            validateLayer(*n.type, n.desc->params, paramsPtr, "", "", mDiag);
+            if (n.desc->params.is_object())
+                for (const auto& [k, v] : n.desc->params.items())
+                    merged[k] = v;
+            if (auto it = sets.find(int(i)); it != sets.end()) {
+                validateLayer(*n.type, it->second.values, paramsPtr, it->second.where, "", mDiag);
+                for (const auto& [k, v] : it->second.values.items())
+                    merged[k] = v;
+            }
+            // Every layer was validated above. With errors, the pass is still made from its
+            // defaults so that its ports can be checked too: all problems come out in one round.
+            Diagnostics ignored;
+            const bool paramsOk = mDiag.errors().size() == errorsBefore;
+            n.pass = n.type->create(paramsOk ? merged : nlohmann::json::object(), paramsPtr,
+                                    ignored, n.params);
+            n.io = n.pass->describe();
         }
-        validateLayer(*n.type, n.desc->params, paramsPtr, "", "", diag);
-        if (n.desc->params.is_object())
-            for (const auto& [k, v] : n.desc->params.items())
-                merged[k] = v;
-        if (setLayers.count(int(i))) {
-            validateLayer(*n.type, setLayers[int(i)], paramsPtr, setWhere[int(i)].front(), "",
-                          diag);
-            for (const auto& [k, v] : setLayers[int(i)].items())
-                merged[k] = v;
-        }
-        // Every layer was validated above. With errors, the pass is still made from its
-        // defaults so that its ports can be checked too: all problems come out in one round.
-        Diagnostics ignored;
-        const bool paramsOk = diag.errors().size() == errorsBefore;
-        n.pass = n.type->create(paramsOk ? merged : nlohmann::json::object(), paramsPtr, ignored,
-                                n.params);
-        n.io = n.pass->describe();
     }
 
-    // --- bind inputs ---------------------------------------------------------------------------
-    // Returns false (with an error) when `text` does not name an existing source.
-    auto resolveSource = [&](const std::string& text, const std::string& where, int wantChannels,
-                             SourceRef& ref) -> bool {
-        ref = {};
-        ref.key = text;
-        if (text.rfind("capture:", 0) == 0) {
-            ref.fromCapture = true;
-            ref.buffer = text.substr(8);
-            if (const SemanticBuffer* b = findSemanticBuffer(ref.buffer)) {
-                ref.kind = b->kind;
-                ref.channels = int(b->channels.size());
-            } else if (isTruthBuffer(ref.buffer)) {
-                // Truth layers are data: a reference is compared as stored, never converted.
-                ref.kind = PortKind::Data;
-                auto known = in.truthChannels.find(ref.buffer);
-                ref.channels = known != in.truthChannels.end()
-                                   ? known->second
-                                   : (wantChannels > 0 ? wantChannels : 3);
-            } else {
-                diag.error(where, fmt::format("unknown capture buffer '{}'{}", ref.buffer,
-                                              didYouMean(ref.buffer, captureBufferNames())));
-                return false;
-            }
-        } else {
-            auto dot = text.find('.');
-            if (dot == std::string::npos) {
-                diag.error(where,
-                           fmt::format("'{}' should be 'capture:Buffer' or 'pass.port'", text));
-                return false;
-            }
-            std::string pass = text.substr(0, dot);
-            ref.port = text.substr(dot + 1);
-            auto it = nodeIndex.find(pass);
-            if (it == nodeIndex.end()) {
-                diag.error(where,
-                           fmt::format("no pass named '{}'{}", pass, didYouMean(pass, allNames)));
-                return false;
-            }
-            ref.step = it->second;  // node index for now; remapped to step index below
-            const NodeState& producer = nodes[it->second];
-            if (!producer.pass)
-                return false;  // its own errors are already reported
-            const PortSpec* out = findPort(producer.io.outputs, ref.port);
-            if (!out) {
-                diag.error(
-                    where,
-                    fmt::format("pass '{}' ({}) has no output '{}'{}", pass, producer.desc->type,
-                                ref.port, didYouMean(ref.port, portNames(producer.io.outputs))));
-                return false;
-            }
-            ref.kind = out->kind;
-            ref.channels = int(out->channels.size());
-        }
-        if (wantChannels > 0 && ref.channels != wantChannels) {
-            diag.error(where,
-                       fmt::format("'{}' has {} channel{}, the input needs {}", text, ref.channels,
-                                   ref.channels == 1 ? "" : "s", wantChannels));
-            return false;
-        }
-        return true;
-    };
-
-    std::vector<std::set<int>> dependsOn(nodes.size());
-    std::vector<std::vector<std::string>> unboundRequired(nodes.size());
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-        NodeState& n = nodes[i];
-        if (!n.pass)
-            continue;
-        for (const auto& [port, src] : n.desc->inputs)
-            if (!findPort(n.io.inputs, port))
-                diag.error(
-                    n.desc->pointer + "/inputs/" + jsonPointerEscape(port),
-                    fmt::format("pass '{}' ({}) has no input '{}'{}", n.desc->name, n.desc->type,
-                                port, didYouMean(port, portNames(n.io.inputs))));
-        for (const auto& port : n.io.inputs) {
-            std::string text, where;
-            if (auto it = n.desc->inputs.find(port.name); it != n.desc->inputs.end()) {
-                text = it->second;
-                where = n.desc->pointer + "/inputs/" + jsonPointerEscape(port.name);
-            } else {
-                text = port.captureDefault.empty() ? "" : "capture:" + port.captureDefault;
-                where = n.desc->pointer;
-            }
-            if (text.empty()) {
-                if (!port.optional)
-                    unboundRequired[i].push_back(port.name);
+    /// Binds every input port to the source the config names, else to its capture default.
+    void bindInputs() {
+        mDependsOn.resize(mNodes.size());
+        mUnboundRequired.resize(mNodes.size());
+        for (std::size_t i = 0; i < mNodes.size(); ++i) {
+            NodeState& n = mNodes[i];
+            if (!n.pass)
                 continue;
+            for (const auto& [port, src] : n.desc->inputs)
+                if (!findPort(n.io.inputs, port))
+                    mDiag.error(
+                        n.desc->pointer + "/inputs/" + jsonPointerEscape(port),
+                        fmt::format("pass '{}' ({}) has no input '{}'{}", n.desc->name,
+                                    n.desc->type, port, didYouMean(port, portNames(n.io.inputs))));
+            for (const auto& port : n.io.inputs) {
+                std::string text, where;
+                if (auto it = n.desc->inputs.find(port.name); it != n.desc->inputs.end()) {
+                    text = it->second;
+                    where = n.desc->pointer + "/inputs/" + jsonPointerEscape(port.name);
+                } else {
+                    text = port.captureDefault.empty() ? "" : "capture:" + port.captureDefault;
+                    where = n.desc->pointer;
+                }
+                if (text.empty()) {
+                    if (!port.optional)
+                        mUnboundRequired[i].push_back(port.name);
+                    continue;
+                }
+                SourceRef ref;
+                if (!resolveSource(text, where, int(port.channels.size()), ref))
+                    continue;
+                if (!ref.fromCapture)
+                    mDependsOn[i].insert(ref.step);
+                n.inputs[port.name] = ref;
+                n.inputPointers[port.name] = where;
             }
-            SourceRef ref;
-            if (!resolveSource(text, where, int(port.channels.size()), ref))
-                continue;
-            if (!ref.fromCapture)
-                dependsOn[i].insert(ref.step);
-            n.inputs[port.name] = ref;
-            n.inputPointers[port.name] = where;
         }
     }
 
-    // --- roots: outputs and dumps ----------------------------------------------------------------
-    plan.outputs = graph.outputs;
-    std::vector<std::string> dumps = in.overrides.dumps;
-    if (std::find(dumps.begin(), dumps.end(), "all") != dumps.end()) {
-        dumps.erase(std::remove(dumps.begin(), dumps.end(), "all"), dumps.end());
-        for (const auto& n : nodes)
-            if (n.pass)
-                for (const auto& o : n.io.outputs)
-                    dumps.push_back(n.desc->name + "." + o.name);
-    }
-    for (const auto& d : dumps)
-        plan.outputs.push_back({d + ".exr", {d}, "--dump " + d, true});
-
-    std::set<int> roots;
-    std::map<std::string, SourceRef> outputSources;
-    for (const auto& out : plan.outputs)
-        for (std::size_t k = 0; k < out.sources.size(); ++k) {
-            SourceRef ref;
-            std::string where =
-                out.isDump ? out.pointer
-                           : out.pointer + (out.sources.size() > 1 ? "/" + std::to_string(k) : "");
-            if (!resolveSource(out.sources[k], where, 0, ref))
-                continue;
-            if (!ref.fromCapture)
-                roots.insert(ref.step);
-            outputSources[ref.key] = ref;
+    /// The files to write (and --dump intermediates) are the roots of the graph.
+    void bindOutputs() {
+        mPlan.outputs = mGraph.outputs;
+        std::vector<std::string> dumps = mIn.overrides.dumps;
+        if (std::find(dumps.begin(), dumps.end(), "all") != dumps.end()) {
+            dumps.erase(std::remove(dumps.begin(), dumps.end(), "all"), dumps.end());
+            for (const auto& n : mNodes)
+                if (n.pass)
+                    for (const auto& o : n.io.outputs)
+                        dumps.push_back(n.desc->name + "." + o.name);
         }
-
-    // --- cull: reverse reachability from the roots (Falcor resolveExecutionOrder) ---------------
-    std::vector<int> stack(roots.begin(), roots.end());
-    while (!stack.empty()) {
-        int i = stack.back();
-        stack.pop_back();
-        if (nodes[i].live)
-            continue;
-        nodes[i].live = true;
-        for (int j : dependsOn[i])
-            stack.push_back(j);
+        for (const auto& d : dumps)
+            mPlan.outputs.push_back({d + ".exr", {d}, "--dump " + d, true});
+        for (const auto& out : mPlan.outputs)
+            for (std::size_t k = 0; k < out.sources.size(); ++k) {
+                SourceRef ref;
+                const std::string where =
+                    out.isDump
+                        ? out.pointer
+                        : out.pointer + (out.sources.size() > 1 ? "/" + std::to_string(k) : "");
+                if (!resolveSource(out.sources[k], where, 0, ref))
+                    continue;
+                if (!ref.fromCapture)
+                    mRoots.insert(ref.step);
+                mOutputSources[ref.key] = ref;
+            }
     }
-    for (const auto& n : nodes)
-        if (!n.live && n.pass)
-            plan.culled.push_back(
-                {n.desc->name, n.desc->type,
-                 roots.empty() ? "no outputs are requested" : "no requested output depends on it"});
 
-    // --- live-only checks: required inputs, capture channels -------------------------------------
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-        const NodeState& n = nodes[i];
-        if (!n.live)
-            continue;
-        for (const auto& port : unboundRequired[i])
-            diag.error(n.desc->pointer + "/inputs",
-                       fmt::format("required input '{}' of pass '{}' ({}) is not bound", port,
-                                   n.desc->name, n.desc->type));
+    /// Reverse reachability from the roots (Falcor resolveExecutionOrder): the rest is culled.
+    void cull() {
+        std::vector<int> stack(mRoots.begin(), mRoots.end());
+        while (!stack.empty()) {
+            const int i = stack.back();
+            stack.pop_back();
+            if (mNodes[i].live)
+                continue;
+            mNodes[i].live = true;
+            for (int j : mDependsOn[i])
+                stack.push_back(j);
+        }
+        for (const auto& n : mNodes)
+            if (!n.live && n.pass)
+                mPlan.culled.push_back({n.desc->name, n.desc->type,
+                                        mRoots.empty() ? "no outputs are requested"
+                                                       : "no requested output depends on it"});
     }
-    auto checkAvailable = [&](const SourceRef& ref, const std::string& where) {
-        if (!ref.fromCapture || !in.availableBuffers)
-            return;
-        if (in.availableBuffers->count(ref.buffer))
-            return;
-        std::vector<std::string> have(in.availableBuffers->begin(), in.availableBuffers->end());
-        diag.error(where, fmt::format("the capture has no '{}' buffer{}; it has [{}]", ref.buffer,
-                                      didYouMean(ref.buffer, have), fmt::join(have, ", ")));
-    };
-    for (const auto& n : nodes)
-        if (n.live)
-            for (const auto& [port, ref] : n.inputs)
-                checkAvailable(ref, n.inputPointers.at(port));
-    for (const auto& out : plan.outputs)
-        for (const auto& s : out.sources)
-            if (auto it = outputSources.find(s); it != outputSources.end())
-                checkAvailable(it->second, out.pointer);
 
-    // --- order: Kahn, ties broken by declaration order; cycles reported with their path ---------
-    std::vector<int> order;
-    {
-        std::vector<int> indegree(nodes.size(), 0);
-        std::vector<std::vector<int>> users(nodes.size());
-        for (std::size_t i = 0; i < nodes.size(); ++i)
-            if (nodes[i].live)
-                for (int j : dependsOn[i]) {
+    /// Checks only live passes need: required inputs bound, capture buffers present.
+    void validateLive() {
+        for (std::size_t i = 0; i < mNodes.size(); ++i) {
+            const NodeState& n = mNodes[i];
+            if (!n.live)
+                continue;
+            for (const auto& port : mUnboundRequired[i])
+                mDiag.error(n.desc->pointer + "/inputs",
+                            fmt::format("required input '{}' of pass '{}' ({}) is not bound", port,
+                                        n.desc->name, n.desc->type));
+        }
+        for (const auto& n : mNodes)
+            if (n.live)
+                for (const auto& [port, ref] : n.inputs)
+                    checkAvailable(ref, n.inputPointers.at(port));
+        for (const auto& out : mPlan.outputs)
+            for (const auto& s : out.sources)
+                if (auto it = mOutputSources.find(s); it != mOutputSources.end())
+                    checkAvailable(it->second, out.pointer);
+    }
+
+    /// Kahn's algorithm, ties broken by declaration order; a cycle is reported with its path.
+    void order() {
+        std::vector<int> indegree(mNodes.size(), 0);
+        std::vector<std::vector<int>> users(mNodes.size());
+        for (std::size_t i = 0; i < mNodes.size(); ++i)
+            if (mNodes[i].live)
+                for (int j : mDependsOn[i]) {
                     ++indegree[i];
                     users[j].push_back(int(i));
                 }
         std::priority_queue<int, std::vector<int>, std::greater<int>> ready;
-        for (std::size_t i = 0; i < nodes.size(); ++i)
-            if (nodes[i].live && indegree[i] == 0)
+        for (std::size_t i = 0; i < mNodes.size(); ++i)
+            if (mNodes[i].live && indegree[i] == 0)
                 ready.push(int(i));
         while (!ready.empty()) {
-            int i = ready.top();
+            const int i = ready.top();
             ready.pop();
-            order.push_back(i);
+            mOrder.push_back(i);
             for (int u : users[i])
                 if (--indegree[u] == 0)
                     ready.push(u);
         }
-        std::size_t liveCount =
-            std::count_if(nodes.begin(), nodes.end(), [](const NodeState& n) { return n.live; });
-        if (order.size() != liveCount) {
-            // Walk dependencies from a node left over until one repeats: that loop is the cycle.
-            int start = -1;
-            for (std::size_t i = 0; i < nodes.size(); ++i)
-                if (nodes[i].live && indegree[i] > 0)
-                    start = int(i);
-            std::vector<int> path;
-            std::map<int, std::size_t> seen;
-            int cur = start;
-            while (!seen.count(cur)) {
-                seen[cur] = path.size();
-                path.push_back(cur);
-                for (int j : dependsOn[cur])
-                    if (indegree[j] > 0) {
-                        cur = j;
-                        break;
-                    }
-            }
-            std::vector<std::string> names;
-            for (std::size_t k = seen[cur]; k < path.size(); ++k)
-                names.push_back(nodes[path[k]].desc->name);
-            names.push_back(nodes[cur].desc->name);
-            std::reverse(names.begin(), names.end());
-            diag.error(nodes[cur].desc->pointer,
-                       fmt::format("the passes form a cycle: {}", fmt::join(names, " → ")));
+        const std::size_t liveCount =
+            std::count_if(mNodes.begin(), mNodes.end(), [](const NodeState& n) { return n.live; });
+        if (mOrder.size() != liveCount)
+            reportCycle(indegree);
+    }
+
+    /// Throws every error found so far; keeps the warnings for the plan.
+    void finishValidation() {
+        for (const auto& w : mDiag.warnings())
+            mPlan.warnings.push_back(w);
+        mDiag.throwIfErrors("");
+    }
+
+    /// The live passes as steps in execution order, with what each needs of the session.
+    void makeSteps() {
+        for (int i : mOrder) {
+            mStepOf[i] = int(mPlan.steps.size());
+            NodeState& n = mNodes[i];
+            PlanStep s;
+            s.name = n.desc->name;
+            s.type = n.desc->type;
+            s.pointer = n.desc->pointer;
+            s.pass = n.pass;
+            s.io = n.io;
+            s.params = n.params;
+            s.inputs = n.inputs;
+            mPlan.steps.push_back(std::move(s));
+            mPlan.needsCamera |= n.io.needsCamera;
+            mPlan.needsScene |= n.io.needsScene;
+            mPlan.needsLights |= n.io.needsLights || n.io.needsScene;
+            mPlan.needsColorConfig |= n.io.needsColorConfig;
         }
     }
 
-    for (const auto& w : diag.warnings())
-        plan.warnings.push_back(w);
-    diag.throwIfErrors("");
-
-    // --- steps, port demand, lifetimes, input demand
-    // -----------------------------------------------
-    std::map<int, int> stepOf;
-    for (int i : order) {
-        stepOf[i] = int(plan.steps.size());
-        NodeState& n = nodes[i];
-        PlanStep s;
-        s.name = n.desc->name;
-        s.type = n.desc->type;
-        s.pointer = n.desc->pointer;
-        s.pass = n.pass;
-        s.io = n.io;
-        s.params = n.params;
-        s.inputs = n.inputs;
-        plan.steps.push_back(std::move(s));
-        plan.needsCamera |= n.io.needsCamera;
-        plan.needsScene |= n.io.needsScene;
-        plan.needsColorConfig |= n.io.needsColorConfig;
+    /// Which outputs each step must produce, when each image can be freed, and which capture
+    /// buffers are read (and before which step).
+    void computeLifetimes() {
+        for (int s = 0; s < int(mPlan.steps.size()); ++s) {
+            for (auto& [port, ref] : mPlan.steps[s].inputs) {
+                if (!ref.fromCapture) {
+                    ref.step = mStepOf.at(ref.step);
+                    mPlan.steps[ref.step].requestedOutputs.insert(ref.port);
+                }
+                noteCaptureRead(ref, s);
+                mPlan.releaseAfter[ref.key] = std::max(mPlan.releaseAfter[ref.key], s);
+            }
+        }
+        const int lastStep = int(mPlan.steps.size()) - 1;
+        for (int o = 0; o < int(mPlan.outputs.size()); ++o) {
+            int ready = -1;
+            bool onlyCapture = true;
+            for (const auto& src : mPlan.outputs[o].sources) {
+                const SourceRef& ref = mOutputSources.at(src);  // ref.step is still a node index
+                if (ref.fromCapture)
+                    continue;
+                onlyCapture = false;
+                const int step = mStepOf.at(ref.step);
+                mPlan.steps[step].requestedOutputs.insert(ref.port);
+                ready = std::max(ready, step);
+            }
+            if (onlyCapture)
+                ready = lastStep;
+            mPlan.writesAfter[ready].push_back(o);
+            for (const auto& src : mPlan.outputs[o].sources) {
+                const SourceRef& ref = mOutputSources.at(src);
+                mPlan.outputKinds[src] = ref.kind;
+                noteCaptureRead(ref, std::max(ready, 0));
+                auto it = mPlan.releaseAfter.find(ref.key);
+                mPlan.releaseAfter[ref.key] =
+                    it == mPlan.releaseAfter.end() ? ready : std::max(it->second, ready);
+            }
+        }
     }
-    std::set<std::string> loaded;
-    auto noteCaptureRead = [&](const SourceRef& ref, int step) {
-        if (!ref.fromCapture || loaded.count(ref.buffer))
-            return;
-        loaded.insert(ref.buffer);
-        plan.captureReads.push_back({ref.buffer, ref.channels, ref.kind});
-        plan.loadsBefore[step].push_back(ref.buffer);
+
+    Plan take() { return std::move(mPlan); }
+
+private:
+    struct CvarValue {
+        nlohmann::json value;
+        std::string where;  // the place the user typed it
     };
-    for (int s = 0; s < int(plan.steps.size()); ++s) {
-        for (auto& [port, ref] : plan.steps[s].inputs) {
-            if (!ref.fromCapture) {
-                ref.step = stepOf.at(ref.step);
-                plan.steps[ref.step].requestedOutputs.insert(ref.port);
-            }
-            noteCaptureRead(ref, s);
-            plan.releaseAfter[ref.key] = std::max(plan.releaseAfter[ref.key], s);
-        }
-    }
-    const int lastStep = int(plan.steps.size()) - 1;
-    for (int o = 0; o < int(plan.outputs.size()); ++o) {
-        int ready = -1;
-        bool onlyCapture = true;
-        for (const auto& src : plan.outputs[o].sources) {
-            const SourceRef& ref = outputSources.at(src);  // ref.step is still a node index
-            if (ref.fromCapture)
+    struct SetLayer {
+        nlohmann::json values = nlohmann::json::object();
+        std::string where;
+    };
+
+    // --set PASS.PARAM=VALUE, grouped per pass.
+    std::map<int, SetLayer> setLayers() {
+        std::map<int, SetLayer> layers;
+        for (const auto& [target, value] : mIn.overrides.sets) {
+            const std::string where = "--set " + target;
+            const auto dot = target.find('.');
+            if (dot == std::string::npos) {
+                mDiag.error(where, "expected PASS.PARAM=VALUE");
                 continue;
-            onlyCapture = false;
-            const int step = stepOf.at(ref.step);
-            plan.steps[step].requestedOutputs.insert(ref.port);
-            ready = std::max(ready, step);
+            }
+            const std::string pass = target.substr(0, dot), param = target.substr(dot + 1);
+            auto it = mNodeIndex.find(pass);
+            if (it == mNodeIndex.end()) {
+                mDiag.error(where,
+                            fmt::format("no pass named '{}'{}", pass, didYouMean(pass, mAllNames)));
+                continue;
+            }
+            SetLayer& layer = layers[it->second];
+            layer.values[param] = value;
+            if (layer.where.empty())
+                layer.where = where;
         }
-        if (onlyCapture)
-            ready = lastStep;
-        plan.writesAfter[ready].push_back(o);
-        for (const auto& src : plan.outputs[o].sources) {
-            const SourceRef& ref = outputSources.at(src);
-            plan.outputKinds[src] = ref.kind;
-            noteCaptureRead(ref, std::max(ready, 0));
-            auto it = plan.releaseAfter.find(ref.key);
-            plan.releaseAfter[ref.key] =
-                it == plan.releaseAfter.end() ? ready : std::max(it->second, ready);
-        }
+        return layers;
     }
-    return plan;
+
+    // Returns false (with an error) when `text` does not name an existing source.
+    bool resolveSource(const std::string& text,
+                       const std::string& where,
+                       int wantChannels,
+                       SourceRef& ref) {
+        ref = {};
+        ref.key = text;
+        const bool ok = text.rfind("capture:", 0) == 0
+                            ? resolveCapture(text.substr(8), where, wantChannels, ref)
+                            : resolvePassOutput(text, where, ref);
+        if (!ok)
+            return false;
+        if (wantChannels > 0 && ref.channels != wantChannels) {
+            mDiag.error(where,
+                        fmt::format("'{}' has {} channel{}, the input needs {}", text, ref.channels,
+                                    ref.channels == 1 ? "" : "s", wantChannels));
+            return false;
+        }
+        return true;
+    }
+
+    bool resolveCapture(const std::string& buffer,
+                        const std::string& where,
+                        int wantChannels,
+                        SourceRef& ref) {
+        ref.fromCapture = true;
+        ref.buffer = buffer;
+        if (const SemanticBuffer* b = findSemanticBuffer(buffer)) {
+            ref.kind = b->kind;
+            ref.channels = int(b->channels.size());
+        } else if (isTruthBuffer(buffer)) {
+            // Truth layers are data: a reference is compared as stored, never converted.
+            ref.kind = PortKind::Data;
+            auto known = mIn.truthChannels.find(buffer);
+            ref.channels = known != mIn.truthChannels.end() ? known->second
+                                                            : (wantChannels > 0 ? wantChannels : 3);
+        } else {
+            mDiag.error(where, fmt::format("unknown capture buffer '{}'{}", buffer,
+                                           didYouMean(buffer, captureBufferNames())));
+            return false;
+        }
+        return true;
+    }
+
+    bool resolvePassOutput(const std::string& text, const std::string& where, SourceRef& ref) {
+        const auto dot = text.find('.');
+        if (dot == std::string::npos) {
+            mDiag.error(where, fmt::format("'{}' should be 'capture:Buffer' or 'pass.port'", text));
+            return false;
+        }
+        const std::string pass = text.substr(0, dot);
+        ref.port = text.substr(dot + 1);
+        auto it = mNodeIndex.find(pass);
+        if (it == mNodeIndex.end()) {
+            mDiag.error(where,
+                        fmt::format("no pass named '{}'{}", pass, didYouMean(pass, mAllNames)));
+            return false;
+        }
+        ref.step = it->second;  // node index for now; remapped to step index by computeLifetimes
+        const NodeState& producer = mNodes[it->second];
+        if (!producer.pass)
+            return false;  // its own errors are already reported
+        const PortSpec* out = findPort(producer.io.outputs, ref.port);
+        if (!out) {
+            mDiag.error(
+                where, fmt::format("pass '{}' ({}) has no output '{}'{}", pass, producer.desc->type,
+                                   ref.port, didYouMean(ref.port, portNames(producer.io.outputs))));
+            return false;
+        }
+        ref.kind = out->kind;
+        ref.channels = int(out->channels.size());
+        return true;
+    }
+
+    void checkAvailable(const SourceRef& ref, const std::string& where) {
+        if (!ref.fromCapture || !mIn.availableBuffers)
+            return;
+        if (mIn.availableBuffers->count(ref.buffer))
+            return;
+        std::vector<std::string> have(mIn.availableBuffers->begin(), mIn.availableBuffers->end());
+        mDiag.error(where, fmt::format("the capture has no '{}' buffer{}; it has [{}]", ref.buffer,
+                                       didYouMean(ref.buffer, have), fmt::join(have, ", ")));
+    }
+
+    // Walks dependencies from a node left over until one repeats: that loop is the cycle.
+    void reportCycle(const std::vector<int>& indegree) {
+        int start = -1;
+        for (std::size_t i = 0; i < mNodes.size(); ++i)
+            if (mNodes[i].live && indegree[i] > 0)
+                start = int(i);
+        std::vector<int> path;
+        std::map<int, std::size_t> seen;
+        int cur = start;
+        while (!seen.count(cur)) {
+            seen[cur] = path.size();
+            path.push_back(cur);
+            for (int j : mDependsOn[cur])
+                if (indegree[j] > 0) {
+                    cur = j;
+                    break;
+                }
+        }
+        std::vector<std::string> names;
+        for (std::size_t k = seen[cur]; k < path.size(); ++k)
+            names.push_back(mNodes[path[k]].desc->name);
+        names.push_back(mNodes[cur].desc->name);
+        std::reverse(names.begin(), names.end());
+        mDiag.error(mNodes[cur].desc->pointer,
+                    fmt::format("the passes form a cycle: {}", fmt::join(names, " → ")));
+    }
+
+    void noteCaptureRead(const SourceRef& ref, int step) {
+        if (!ref.fromCapture || mLoaded.count(ref.buffer))
+            return;
+        mLoaded.insert(ref.buffer);
+        mPlan.captureReads.push_back({ref.buffer, ref.channels, ref.kind});
+        mPlan.loadsBefore[step].push_back(ref.buffer);
+    }
+
+    const GraphDesc& mWritten;
+    const PassRegistry& mRegistry;
+    const PlanInputs& mIn;
+    const CvarTable mCvarTable;
+    Diagnostics mDiag;
+    Plan mPlan;
+    GraphDesc mGraph;  // the chain with its templates expanded
+    std::vector<NodeState> mNodes;
+    std::map<std::string, int> mNodeIndex;
+    std::vector<std::string> mAllNames;
+    std::map<std::string, CvarValue> mCvars;
+    std::vector<std::set<int>> mDependsOn;
+    std::vector<std::vector<std::string>> mUnboundRequired;
+    std::set<int> mRoots;
+    std::map<std::string, SourceRef> mOutputSources;
+    std::vector<int> mOrder;
+    std::map<int, int> mStepOf;
+    std::set<std::string> mLoaded;
+};
+
+}  // namespace
+
+Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanInputs& in) {
+    PlanBuilder b(graph, registry, in);
+    b.expandTemplates();
+    b.validateNames();
+    b.validateCvars();
+    b.instantiate();
+    b.bindInputs();
+    b.bindOutputs();
+    b.cull();
+    b.validateLive();
+    b.order();
+    b.finishValidation();
+    b.makeSteps();
+    b.computeLifetimes();
+    return b.take();
 }
 
 std::size_t Plan::estimatePeakBytes(Extent frame) const {
@@ -532,7 +623,12 @@ nlohmann::json Plan::toJson(Extent frame) const {
     j["outputs"] = nlohmann::json::array();
     for (const auto& o : outputs)
         j["outputs"].push_back({{"file", o.file}, {"sources", o.sources}, {"dump", o.isDump}});
+    j["templates"] = nlohmann::json::array();
+    for (const auto& t : templates)
+        j["templates"].push_back(
+            {{"pointer", t.pointer}, {"lights", t.lights}, {"passes", t.passes}});
     j["needsScene"] = needsScene;
+    j["needsLights"] = needsLights;
     j["needsCamera"] = needsCamera;
     j["needsColorConfig"] = needsColorConfig;
     if (frame.width > 0) {

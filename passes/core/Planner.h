@@ -1,8 +1,11 @@
 #pragma once
-// Planner: config → Plan, pure and pixel-free (architecture anchors B5): instantiate and validate
-// every pass, bind ports, mark the requested outputs as roots, cull what no root needs, order the
-// rest topologically (declaration order breaks ties), compute when each image can be freed, and
-// derive exactly which capture buffers, geometry and colour config the frame needs.
+// Planner: config → Plan, pure and pixel-free (architecture anchors B5). Its stages, in order
+// (makePlan lists them): expand the light templates, validate names and cvars, instantiate every
+// pass from its parameters, bind inputs, bind the requested outputs as roots, cull what no root
+// needs, check what live passes need, order topologically (declaration order breaks ties), then
+// compute each step's outputs, when each image can be freed, and exactly which capture buffers,
+// lights, geometry and colour config the frame needs.
+#include "passes/core/ChainTemplate.h"
 #include "passes/core/Diagnostics.h"
 #include "passes/core/GraphDesc.h"
 #include "passes/core/Pass.h"
@@ -55,6 +58,8 @@ struct Plan {
     std::vector<OutputDesc> outputs;        //!< files to write, dumps included
     std::vector<CaptureRead> captureReads;  //!< capture buffers the live passes read
     bool needsCamera = false, needsScene = false, needsColorConfig = false;
+    bool needsLights = false;                 //!< the scene's lights (not its geometry) are read
+    std::vector<ExpandedTemplate> templates;  //!< the light templates and what they became
     std::vector<Diagnostic> warnings;
     /// Key ("pass.port" / "capture:X") → last step after which it is no longer needed (read or
     /// written out). Images are freed right after that step.
@@ -77,6 +82,8 @@ struct PlanInputs {
     std::optional<std::set<std::string>> availableBuffers;
     /// Channel counts of the capture's Truth.* layers (1 = Y, 3 = RGB), from its header.
     std::map<std::string, int> truthChannels;
+    /// The scene's lights, in order: each light template is expanded once per light.
+    std::vector<std::string> lightNames;
     /// Problems already found (by the config loader), reported together with the planner's.
     std::vector<Diagnostic> priorErrors;
 };

@@ -67,11 +67,11 @@ struct Light {
 
 /// Each light's name reduced to letters, digits and '_' ("Light<i>" when unnamed), made unique:
 /// the suffix of its Truth.Shadow.<id> layer and of its per-light pass names (rt_shadows_<id>).
-inline std::vector<std::string> lightIdentifiers(const std::vector<Light>& lights) {
+inline std::vector<std::string> lightIdentifiers(const std::vector<std::string>& names) {
     std::vector<std::string> ids;
-    for (std::size_t i = 0; i < lights.size(); ++i) {
+    for (std::size_t i = 0; i < names.size(); ++i) {
         std::string n;
-        for (char c : lights[i].name) n += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+        for (char c : names[i]) n += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
         if (n.empty()) n = "Light" + std::to_string(i);
         const std::string base = n;
         for (int k = 2; std::find(ids.begin(), ids.end(), n) != ids.end(); ++k)
@@ -79,6 +79,16 @@ inline std::vector<std::string> lightIdentifiers(const std::vector<Light>& light
         ids.push_back(n);
     }
     return ids;
+}
+
+inline std::vector<std::string> lightNames(const std::vector<Light>& lights) {
+    std::vector<std::string> names;
+    for (const auto& l : lights) names.push_back(l.name);
+    return names;
+}
+
+inline std::vector<std::string> lightIdentifiers(const std::vector<Light>& lights) {
+    return lightIdentifiers(lightNames(lights));
 }
 
 struct Scene {

@@ -78,6 +78,7 @@ public:
         loaded.push_back(buffer);
         return Texture(buffers.at(buffer));
     }
+    const std::vector<Light>& lights() override { return sceneData->lights; }
     const RayScene& scene() override {
         if (!mRayScene) mRayScene = std::make_unique<RayScene>(*sceneData, info.camera.current.position);
         return *mRayScene;
