@@ -1,6 +1,6 @@
 #pragma once
-// The layers of an EXR file as a person names them: "Truth.AO" for Truth.AO.Y, "ssgi.diffuse"
-// for ssgi.diffuse.R/G/B, with channels in display order (R G B A, X Y Z) rather than the
+// The layers of an EXR file as a person names them: "Truth.AO" for Truth.AO.Y, "pass.port"
+// for pass.port.R/G/B, with channels in display order (R G B A, X Y Z) rather than the
 // alphabetical order EXR stores them in. Mip chains written one part per mip list their mip 0.
 #include "io/ExrReader.h"
 

@@ -34,7 +34,7 @@ struct LightTemplate {
     std::size_t position = 0;  //!< index into GraphDesc::nodes the expansion is inserted before
     std::vector<NodeDesc> passes;
     std::string colorIn;   //!< the colour the first light adds into
-    std::string colorOut;  //!< one light's result, e.g. "deferred_lighting_{light}.color"
+    std::string colorOut;  //!< one light's result, e.g. "lighting_{light}.color"
     /// "pass.inputPort" → source: inputs of the surrounding chain that change once a light exists
     /// (the chain starts from the base pass's colour, the display shows the lit one).
     std::map<std::string, std::string> rewire;

@@ -66,7 +66,7 @@ struct Light {
 };
 
 /// Each light's name reduced to letters, digits and '_' ("Light<i>" when unnamed), made unique:
-/// the suffix of its Truth.Shadow.<id> layer and of its per-light pass names (rt_shadows_<id>).
+/// the suffix of its Truth.Shadow.<id> layer and of the pass names a light template gives it ({light}).
 inline std::vector<std::string> lightIdentifiers(const std::vector<std::string>& names) {
     std::vector<std::string> ids;
     for (std::size_t i = 0; i < names.size(); ++i) {

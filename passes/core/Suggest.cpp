@@ -12,7 +12,7 @@ int editDistance(const std::string& a, const std::string& b) {
     for (std::size_t i = 1; i <= a.size(); ++i) {
         cur[0] = int(i);
         for (std::size_t j = 1; j <= b.size(); ++j) {
-            // Case differences count half as much as other edits: "ssgi" vs "SSGI" is a near miss.
+            // Case differences count half as much as other edits: "truth" vs "Truth" is a near miss.
             bool same = a[i - 1] == b[j - 1];
             bool caseOnly = !same && std::tolower(a[i - 1]) == std::tolower(b[j - 1]);
             int sub = prev[j - 1] + (same || caseOnly ? 0 : 1);

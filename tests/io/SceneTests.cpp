@@ -72,3 +72,34 @@ TEST_CASE("a scene with a bad key or a degenerate index is a clear error") {
 }
 
 }
+
+TEST_SUITE("io") {
+
+TEST_CASE("an OBJ scene's lights are read without its meshes; the meshes when asked, once") {
+    auto sf = io::loadScene(std::string(FP_SOURCE_DIR) + "/examples/cornell/scene.json",
+                            io::SceneParts::LightsAndCameras);
+    CHECK_FALSE(sf.hasGeometry());
+    CHECK(sf.scene.meshes.empty());
+    REQUIRE(sf.scene.lights.size() == 1);
+    CHECK(sf.scene.lights[0].name == "ceiling");
+    sf.loadGeometry();
+    CHECK(sf.hasGeometry());
+    CHECK(sf.scene.meshes.size() == 8);
+    sf.loadGeometry();  // a second call reads nothing more
+    CHECK(sf.scene.meshes.size() == 8);
+    REQUIRE(sf.scene.lights.size() == 1);
+    const auto whole = io::loadScene(std::string(FP_SOURCE_DIR) + "/examples/cornell/scene.json");
+    CHECK(whole.scene.lights[0].position.y == sf.scene.lights[0].position.y);
+}
+
+TEST_CASE("a glTF scene keeps its own lights before the scene JSON's, offset with the scene") {
+    const auto sf = io::loadScene(std::string(FP_SOURCE_DIR) + "/examples/hard/scene.json",
+                                  io::SceneParts::LightsAndCameras);
+    CHECK(sf.hasGeometry());  // its lights live in the glTF
+    REQUIRE(sf.scene.lights.size() == 2);
+    CHECK(sf.scene.lights[0].name == "sun");
+    CHECK(sf.scene.lights[1].name == "bulb");
+    CHECK(sf.scene.lights[1].position.x == doctest::Approx(1e7));
+}
+
+}
