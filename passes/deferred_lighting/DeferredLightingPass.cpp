@@ -1,5 +1,6 @@
 #include "passes/deferred_lighting/DeferredLightingPass.h"
 
+#include "passes/common/GBuffer.h"
 #include "passes/core/RayScene.h"
 #include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
@@ -17,15 +18,8 @@ namespace {
 
 constexpr const char* kColor = "color";
 constexpr const char* kAttenuation = "attenuation";
-constexpr const char* kDepth = "depth";
-constexpr const char* kNormal = "normal";
-constexpr const char* kBaseColor = "baseColor";
-constexpr const char* kMetallic = "metallic";
 constexpr const char* kSpecular = "specular";
 constexpr const char* kRoughness = "roughness";
-constexpr const char* kShadingModel = "shadingModel";
-constexpr const char* kCustomData = "customData";
-constexpr const char* kGBufferAO = "gbufferAO";
 
 // One direction towards the light with the unshadowed irradiance it brings at normal incidence.
 struct Incoming {
@@ -56,36 +50,15 @@ PassIO DeferredLightingPass::describe() const {
          .optional = true,
          .doc = "light attenuation (reference §9.5) from rt_shadows or shadow_denoise; unbound = "
                 "unshadowed"},
-        {.name = kDepth,
-         .channels = {"Z"},
-         .captureDefault = "SceneDepth",
-         .doc = "linear view depth"},
-        {.name = kNormal,
-         .channels = {"X", "Y", "Z"},
-         .captureDefault = "WorldNormal",
-         .doc = "world normal"},
-        {.name = kBaseColor,
-         .channels = {"R", "G", "B"},
-         .kind = PortKind::Color,
-         .captureDefault = "BaseColor",
-         .doc = "albedo"},
-        {.name = kMetallic, .channels = {"Y"}, .captureDefault = "Metallic", .doc = "GBufferB.r"},
+        gbuffer::depthInput(),
+        gbuffer::normalInput(),
+        gbuffer::baseColorInput(),
+        gbuffer::metallicInput("GBufferB.r"),
         {.name = kSpecular, .channels = {"Y"}, .captureDefault = "Specular", .doc = "GBufferB.g"},
         {.name = kRoughness, .channels = {"Y"}, .captureDefault = "Roughness", .doc = "GBufferB.b"},
-        {.name = kShadingModel,
-         .channels = {"Y"},
-         .captureDefault = "ShadingModel",
-         .doc = "picks the BxDF; unlit and sky pixels are skipped"},
-        {.name = kCustomData,
-         .channels = {"R", "G", "B", "A"},
-         .optional = true,
-         .captureDefault = "CustomData",
-         .doc = "per shading model (reference §1.7)"},
-        {.name = kGBufferAO,
-         .channels = {"Y"},
-         .optional = true,
-         .captureDefault = "GBufferAO",
-         .doc = "material AO"},
+        gbuffer::shadingModelInput("picks the BxDF; unlit and sky pixels are skipped"),
+        gbuffer::customDataInput("per shading model (reference §1.7)", true),
+        gbuffer::gbufferAOInput(true),
     };
     io.outputs = {
         {.name = kColor,
@@ -105,15 +78,15 @@ void DeferredLightingPass::execute(PassContext& ctx) {
     const Extent size = frame.extent;
     const Image& sceneColor = ctx.input(kColor)->image();
     const Texture* attenuation = ctx.input(kAttenuation);
-    const Plane& depth = ctx.input(kDepth)->image().plane(0);
-    const Image& normal = ctx.input(kNormal)->image();
-    const Image& baseColor = ctx.input(kBaseColor)->image();
-    const Plane& metallic = ctx.input(kMetallic)->image().plane(0);
+    const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
+    const Image& normal = ctx.input(gbuffer::kNormal)->image();
+    const Image& baseColor = ctx.input(gbuffer::kBaseColor)->image();
+    const Plane& metallic = ctx.input(gbuffer::kMetallic)->image().plane(0);
     const Plane& specular = ctx.input(kSpecular)->image().plane(0);
     const Plane& roughness = ctx.input(kRoughness)->image().plane(0);
-    const Plane& models = ctx.input(kShadingModel)->image().plane(0);
-    const Texture* customData = ctx.input(kCustomData);
-    const Texture* gbufferAO = ctx.input(kGBufferAO);
+    const Plane& models = ctx.input(gbuffer::kShadingModel)->image().plane(0);
+    const Texture* customData = ctx.input(gbuffer::kCustomData);
+    const Texture* gbufferAO = ctx.input(gbuffer::kGBufferAO);
     Image& out = ctx.output(kColor, {size}).image();
 
     // Light geometry relative to the eye, so a camera far from the origin loses nothing.
@@ -179,8 +152,7 @@ void DeferredLightingPass::execute(PassContext& ctx) {
                     ++pixels;
                     BxDFSurface s{};
                     s.shadingModel = model;
-                    s.N = normalize(Vec3f{normal.plane(0).at(x, y), normal.plane(1).at(x, y),
-                                          normal.plane(2).at(x, y)});
+                    s.N = normalize(gbuffer::worldNormalAt(normal, x, y));
                     const Vec3f base{baseColor.plane(0).at(x, y), baseColor.plane(1).at(x, y),
                                      baseColor.plane(2).at(x, y)};
                     const SurfaceBRDF brdf = SurfaceBRDF::fromMaterial(

@@ -1,5 +1,6 @@
 #include "passes/diffuse_indirect_composite/DiffuseIndirectCompositePass.h"
 
+#include "passes/common/GBuffer.h"
 #include "passes/core/Error.h"
 #include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
@@ -11,12 +12,6 @@ namespace fp {
 
 namespace {
 constexpr const char* kSceneColor = "sceneColor";
-constexpr const char* kBaseColor = "baseColor";
-constexpr const char* kMetallic = "metallic";
-constexpr const char* kShadingModel = "shadingModel";
-constexpr const char* kCustomData = "customData";
-constexpr const char* kGBufferAO = "gbufferAO";
-constexpr const char* kDepth = "depth";
 constexpr const char* kDiffuse = "diffuse";
 constexpr const char* kAo = "ao";
 constexpr const char* kColor = "color";
@@ -42,20 +37,10 @@ PassIO DiffuseIndirectCompositePass::describe() const {
          .kind = PortKind::Color,
          .captureDefault = "SceneColor",
          .doc = "emissive + precomputed light before direct lighting"},
-        {.name = kBaseColor,
-         .channels = {"R", "G", "B"},
-         .kind = PortKind::Color,
-         .captureDefault = "BaseColor",
-         .doc = "albedo"},
-        {.name = kMetallic, .channels = {"Y"}, .captureDefault = "Metallic", .doc = "metalness"},
-        {.name = kShadingModel,
-         .channels = {"Y"},
-         .captureDefault = "ShadingModel",
-         .doc = "shading model id"},
-        {.name = kGBufferAO,
-         .channels = {"Y"},
-         .captureDefault = "GBufferAO",
-         .doc = "material AO"},
+        gbuffer::baseColorInput(),
+        gbuffer::metallicInput("metalness"),
+        gbuffer::shadingModelInput("shading model id"),
+        gbuffer::gbufferAOInput(false),
         {.name = kDiffuse,
          .channels = {"R", "G", "B"},
          .kind = PortKind::Color,
@@ -63,14 +48,9 @@ PassIO DiffuseIndirectCompositePass::describe() const {
         {.name = kAo, .channels = {"Y"}, .doc = "denoised SSGI AO"},
     };
     if (ue5()) {
-        io.inputs.push_back({.name = kCustomData,
-                             .channels = {"R", "G", "B", "A"},
-                             .captureDefault = "CustomData",
-                             .doc = "subsurface / fuzz colour (√) and amounts"});
-        io.inputs.push_back({.name = kDepth,
-                             .channels = {"Z"},
-                             .captureDefault = "SceneDepth",
-                             .doc = "depth for the half-resolution upsample test"});
+        io.inputs.push_back(
+            gbuffer::customDataInput("subsurface / fuzz colour (√) and amounts", false));
+        io.inputs.push_back(gbuffer::depthInput("depth for the half-resolution upsample test"));
     }
     io.outputs = {{.name = kColor,
                    .channels = {"R", "G", "B"},
@@ -82,10 +62,10 @@ PassIO DiffuseIndirectCompositePass::describe() const {
 
 void DiffuseIndirectCompositePass::execute(PassContext& ctx) {
     const Image& sceneColor = ctx.input(kSceneColor)->image();
-    const Image& baseColor = ctx.input(kBaseColor)->image();
-    const Plane& metallic = ctx.input(kMetallic)->image().plane(0);
-    const Plane& shadingModel = ctx.input(kShadingModel)->image().plane(0);
-    const Plane& gbufferAO = ctx.input(kGBufferAO)->image().plane(0);
+    const Image& baseColor = ctx.input(gbuffer::kBaseColor)->image();
+    const Plane& metallic = ctx.input(gbuffer::kMetallic)->image().plane(0);
+    const Plane& shadingModel = ctx.input(gbuffer::kShadingModel)->image().plane(0);
+    const Plane& gbufferAO = ctx.input(gbuffer::kGBufferAO)->image().plane(0);
     const Image& ssgi = ctx.input(kDiffuse)->image();
     const Plane& dynamicAO = ctx.input(kAo)->image().plane(0);
     const int W = sceneColor.width(), H = sceneColor.height();
@@ -93,8 +73,8 @@ void DiffuseIndirectCompositePass::execute(PassContext& ctx) {
     const bool half = TW < W || TH < H;
     FP_CHECK(TW == (half ? (W + 1) / 2 : W) && TH == (half ? (H + 1) / 2 : H),
              "the SSGI input is {}×{}: neither the frame's {}×{} nor half of it", TW, TH, W, H);
-    const Image* customData = ue5() ? &ctx.input(kCustomData)->image() : nullptr;
-    const Plane* depth = ue5() ? &ctx.input(kDepth)->image().plane(0) : nullptr;
+    const Image* customData = ue5() ? &ctx.input(gbuffer::kCustomData)->image() : nullptr;
+    const Plane* depth = ue5() ? &ctx.input(gbuffer::kDepth)->image().plane(0) : nullptr;
     Texture& out = ctx.output(kColor, {{W, H}});
     const CameraView* cam = ue5() ? &ctx.frame().camera.current : nullptr;
 

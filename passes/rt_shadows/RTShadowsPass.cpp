@@ -1,5 +1,6 @@
 #include "passes/rt_shadows/RTShadowsPass.h"
 
+#include "passes/common/GBuffer.h"
 #include "passes/core/Random.h"
 #include "passes/core/RayScene.h"
 #include "passes/core/ShadingModel.h"
@@ -16,10 +17,6 @@ namespace fp {
 
 namespace {
 
-constexpr const char* kDepth = "depth";
-constexpr const char* kNormal = "normal";
-constexpr const char* kShadingModel = "shadingModel";
-constexpr const char* kCustomData = "customData";
 constexpr const char* kInstanceId = "instanceId";
 constexpr const char* kShadow = "shadow";
 constexpr const char* kTransmission = "transmission";
@@ -96,23 +93,11 @@ ParamSpec<RTShadowsParams> RTShadowsPass::paramSpec() {
 PassIO RTShadowsPass::describe() const {
     PassIO io;
     io.inputs = {
-        {.name = kDepth,
-         .channels = {"Z"},
-         .captureDefault = "SceneDepth",
-         .doc = "linear view depth"},
-        {.name = kNormal,
-         .channels = {"X", "Y", "Z"},
-         .captureDefault = "WorldNormal",
-         .doc = "world normal"},
-        {.name = kShadingModel,
-         .channels = {"Y"},
-         .captureDefault = "ShadingModel",
-         .doc = "unlit and sky pixels are skipped"},
-        {.name = kCustomData,
-         .channels = {"R", "G", "B", "A"},
-         .optional = true,
-         .captureDefault = "CustomData",
-         .doc = "A = opacity of subsurface models: the transmission density"},
+        gbuffer::depthInput(),
+        gbuffer::normalInput(),
+        gbuffer::shadingModelInput("unlit and sky pixels are skipped"),
+        gbuffer::customDataInput("A = opacity of subsurface models: the transmission density",
+                                 true),
         {.name = kInstanceId,
          .channels = {"Y"},
          .optional = true,
@@ -163,10 +148,10 @@ void RTShadowsPass::execute(PassContext& ctx) {
     // The eye relative to the RayScene origin (usually the eye itself: zero).
     const Vec3d eyeOffset = cam.position - rs.origin();
 
-    const Plane& depth = ctx.input(kDepth)->image().plane(0);
-    const Image& normal = ctx.input(kNormal)->image();
-    const Plane& models = ctx.input(kShadingModel)->image().plane(0);
-    const Texture* customData = ctx.input(kCustomData);
+    const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
+    const Image& normal = ctx.input(gbuffer::kNormal)->image();
+    const Plane& models = ctx.input(gbuffer::kShadingModel)->image().plane(0);
+    const Texture* customData = ctx.input(gbuffer::kCustomData);
     const Texture* instances = ctx.input(kInstanceId);
     const Extent size = frame.extent;
     Plane& shadowOut = ctx.output(kShadow, {size}).image().plane(0);
@@ -202,8 +187,7 @@ void RTShadowsPass::execute(PassContext& ctx) {
                     s.p = Vec3f(eyeOffset + offset);
                     s.eyeDistance = float(length(offset));
                     s.toEye = Vec3f(-offset / length(offset));
-                    s.n = {normal.plane(0).at(x, py), normal.plane(1).at(x, py),
-                           normal.plane(2).at(x, py)};
+                    s.n = gbuffer::worldNormalAt(normal, x, py);
                     s.model = int(model);
                     // Hair's GBuffer normal is its tangent: Unreal biases along the light instead.
                     if (s.model == kHair)

@@ -1,5 +1,6 @@
 #include "passes/ssgi/SSGIPass.h"
 
+#include "passes/common/GBuffer.h"
 #include "passes/core/Error.h"
 #include "passes/core/Sampling.h"
 #include "passes/core/ShadingModel.h"
@@ -13,9 +14,6 @@
 namespace fp {
 
 namespace {
-constexpr const char* kDepth = "depth";
-constexpr const char* kNormal = "normal";
-constexpr const char* kShadingModel = "shadingModel";
 constexpr const char* kFurthestHzb = "furthestHzb";
 constexpr const char* kReducedColor = "reducedColor";
 constexpr const char* kDiffuse = "diffuse";
@@ -74,18 +72,9 @@ Extent SSGIPass::traceExtent(Extent frame, bool halfRes) {
 PassIO SSGIPass::describe() const {
     PassIO io;
     io.inputs = {
-        {.name = kDepth,
-         .channels = {"Z"},
-         .captureDefault = "SceneDepth",
-         .doc = "linear view depth"},
-        {.name = kNormal,
-         .channels = {"X", "Y", "Z"},
-         .captureDefault = "WorldNormal",
-         .doc = "world normal"},
-        {.name = kShadingModel,
-         .channels = {"Y"},
-         .captureDefault = "ShadingModel",
-         .doc = "unlit (0) pixels are skipped"},
+        gbuffer::depthInput(),
+        gbuffer::normalInput(),
+        gbuffer::shadingModelInput("unlit (0) pixels are skipped"),
         {.name = kFurthestHzb, .channels = {"Z"}, .doc = "furthest HZB (device Z)"},
         {.name = kReducedColor,
          .channels = {"R", "G", "B"},
@@ -135,9 +124,9 @@ Vec3f SSGIPass::rayDirection(const Vec3f& n,
 void SSGIPass::execute(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
     const CameraView& cam = frame.camera.current;
-    const Plane& depth = ctx.input(kDepth)->image().plane(0);
-    const Image& normal = ctx.input(kNormal)->image();
-    const Plane& shadingModel = ctx.input(kShadingModel)->image().plane(0);
+    const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
+    const Image& normal = ctx.input(gbuffer::kNormal)->image();
+    const Plane& shadingModel = ctx.input(gbuffer::kShadingModel)->image().plane(0);
     const Texture& hzb = *ctx.input(kFurthestHzb);
     const Texture& reduced = *ctx.input(kReducedColor);
     FP_CHECK(reduced.mipCount() >= kReducedMips, "reducedColor has {} mips; SSGI needs {}",
@@ -178,8 +167,7 @@ void SSGIPass::execute(PassContext& ctx) {
                     continue;
                 }
                 ++traced;
-                const Vec3d nw{normal.plane(0).at(px, py), normal.plane(1).at(px, py),
-                               normal.plane(2).at(px, py)};
+                const Vec3d nw(gbuffer::worldNormalAt(normal, px, py));
                 const Vec3f nView =
                     quantiseNormal(Vec3f{float(dot(nw, cam.right)), float(dot(nw, cam.up)),
                                          float(dot(nw, cam.forward))});
