@@ -1,5 +1,6 @@
 #include "passes/error_measure/ErrorMeasurePass.h"
 
+#include "passes/common/GBuffer.h"
 #include "passes/core/Error.h"
 #include "passes/metrics/ErrorMetrics.h"
 #include "passes/metrics/Heatmap.h"
@@ -13,7 +14,6 @@ namespace {
 constexpr const char* kSource = "source";
 constexpr const char* kReference = "reference";
 constexpr const char* kReferenceStdErr = "referenceStdErr";
-constexpr const char* kDepth = "depth";
 constexpr const char* kHeat = "heat";
 constexpr const char* kAbsError = "absError";
 }  // namespace
@@ -40,11 +40,7 @@ PassIO ErrorMeasurePass::describe() const {
          .optional = true,
          .doc = "the reference's standard error (capture:Truth.<Name>.StdErr): reports its noise "
                 "floor"},
-        {.name = kDepth,
-         .channels = {"Z"},
-         .optional = true,
-         .captureDefault = "SceneDepth",
-         .doc = "sky pixels are left out"},
+        gbuffer::depthInput("sky pixels are left out", true),
     };
     io.outputs = {
         {.name = kHeat,
@@ -78,7 +74,7 @@ void ErrorMeasurePass::execute(PassContext& ctx) {
         upsampled = pointUpsample(source, b.width(), b.height());
     const Image& a = upsampled ? *upsampled : source;
     const Texture* sigma = ctx.input(kReferenceStdErr);
-    const Texture* depth = ctx.input(kDepth);
+    const Texture* depth = ctx.input(gbuffer::kDepth);
     std::optional<Image> mask;
     if (depth) {
         const float sky = mParams.skyDistance > 0.0f ? mParams.skyDistance

@@ -1,5 +1,6 @@
 #include "passes/hzb/HZBPass.h"
 
+#include "passes/common/GBuffer.h"
 #include "passes/core/HalfFloat.h"
 #include "passes/core/Tiles.h"
 
@@ -9,7 +10,6 @@
 namespace fp {
 
 namespace {
-constexpr const char* kDepth = "depth";
 constexpr const char* kFurthest = "furthest";
 constexpr const char* kClosest = "closest";
 
@@ -27,10 +27,8 @@ ParamSpec<HZBParams> HZBPass::paramSpec() {
 
 PassIO HZBPass::describe() const {
     PassIO io;
-    io.inputs = {{.name = kDepth,
-                  .channels = {"Z"},
-                  .captureDefault = "SceneDepth",
-                  .doc = "linear view depth (converted to reversed device Z with the camera)"}};
+    io.inputs = {
+        gbuffer::depthInput("linear view depth (converted to reversed device Z with the camera)")};
     io.outputs = {
         {.name = kFurthest, .channels = {"Z"}, .doc = "min device Z per texel (furthest)"},
         {.name = kClosest, .channels = {"Z"}, .doc = "max device Z per texel (closest)"}};
@@ -50,7 +48,7 @@ std::vector<Extent> HZBPass::outputExtents(std::string_view, Extent frame) const
 }
 
 void HZBPass::execute(PassContext& ctx) {
-    const Plane& depth = ctx.input(kDepth)->image().plane(0);
+    const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
     const CameraView& cam = ctx.frame().camera.current;
     const Extent frame{depth.width(), depth.height()};
     const auto extents = mipExtents(frame);

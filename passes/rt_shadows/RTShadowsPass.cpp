@@ -1,5 +1,6 @@
 #include "passes/rt_shadows/RTShadowsPass.h"
 
+#include "passes/common/GBuffer.h"
 #include "passes/core/Random.h"
 #include "passes/core/RayScene.h"
 #include "passes/core/ShadingModel.h"
@@ -16,10 +17,6 @@ namespace fp {
 
 namespace {
 
-constexpr const char* kDepth = "depth";
-constexpr const char* kNormal = "normal";
-constexpr const char* kShadingModel = "shadingModel";
-constexpr const char* kCustomData = "customData";
 constexpr const char* kInstanceId = "instanceId";
 constexpr const char* kShadow = "shadow";
 constexpr const char* kTransmission = "transmission";
@@ -66,6 +63,257 @@ struct PixelResult {
     float visibility = 0, transmission = 0, closestHit = -1;
 };
 
+// Work counters of one tile.
+struct TileWork {
+    uint64_t rays = 0, transmissionRays = 0, distanceRays = 0, pixels = 0, skipped = 0;
+};
+
+// The output planes of the pass.
+struct ShadowOutputs {
+    Plane& shadow;
+    Plane& transmission;
+    Plane& hitDistance;
+    Image& attenuation;
+};
+
+// One light's shadow rays over the frame: the per-pixel setup, the rays of one sample, what a
+// blocked ray adds (transmission through the pixel's own object) and the per-pixel resolve,
+// driven one packet of kPacketSize neighbouring pixels at a time.
+class ShadowTracer {
+public:
+    ShadowTracer(const RTShadowsParams& params,
+                 PassContext& ctx,
+                 const RayScene& rs,
+                 const Light& light)
+        : mParams(params),
+          mRs(rs),
+          mLight(light),
+          mCam(ctx.frame().camera.current),
+          mGenerator(light, mRs.origin()),
+          mCm(float(mRs.scene().centimetre())),
+          mMaxBias(std::max(params.normalBias, kMinNormalBiasCm) * mCm),
+          mMinBias(kMinNormalBiasCm * mCm),
+          mSpp(params.samplesPerPixel > 0 ? params.samplesPerPixel : light.samplesPerPixel),
+          mSeed(lightSeed(light.name)),
+          mEyeOffset(mCam.position - mRs.origin()),
+          mFrame(ctx.frame().number),
+          mDepth(ctx.input(gbuffer::kDepth)->image().plane(0)),
+          mNormal(ctx.input(gbuffer::kNormal)->image()),
+          mModels(ctx.input(gbuffer::kShadingModel)->image().plane(0)),
+          mCustomData(ctx.input(gbuffer::kCustomData)),
+          mInstances(ctx.input(kInstanceId)),
+          mWantDistance(ctx.isRequested(kHitDistance)) {}
+
+    /// Pixels [x0, x1) of row py (x1 − x0 ≤ kPacketSize).
+    void tracePacket(int x0, int x1, int py, const ShadowOutputs& out, TileWork& work) const {
+        std::array<PixelSetup, kPacketSize> px{};
+        std::array<PixelResult, kPacketSize> res{};
+        // Per-pixel streams: packets and single rays draw the same numbers.
+        auto pixelRng = [&](int i) { return Rng(mFrame, x0 + i, py, mSeed); };
+        std::array<Rng, kPacketSize> rng{pixelRng(0), pixelRng(1), pixelRng(2), pixelRng(3),
+                                         pixelRng(4), pixelRng(5), pixelRng(6), pixelRng(7)};
+        static_assert(kPacketSize == 8);
+        for (int i = 0; i < kPacketSize && x0 + i < x1; ++i) {
+            px[i] = setupPixel(x0 + i, py);
+            ++(px[i].active ? work.pixels : work.skipped);
+        }
+        for (int sample = 0; sample < mSpp; ++sample) {
+            std::array<Ray, kPacketSize> ray{};
+            bool traced[kPacketSize] = {}, blocked[kPacketSize] = {};
+            for (int i = 0; i < kPacketSize; ++i) {
+                if (!px[i].active)
+                    continue;
+                traced[i] = shadowRay(px[i], rng[i], ray[i]);
+                work.rays += traced[i];
+            }
+            float hitT[kPacketSize];
+            trace(ray, traced, blocked, hitT, work);
+            for (int i = 0; i < kPacketSize; ++i)
+                if (traced[i])
+                    addSample(px[i], ray[i], blocked[i], hitT[i], res[i], work);
+        }
+        for (int i = 0; i < kPacketSize && x0 + i < x1; ++i)
+            resolvePixel(px[i], res[i], x0 + i, py, out);
+    }
+
+private:
+    // What stays the same for all samples of pixel (x, py); inactive for unlit and sky pixels and
+    // those the light cannot reach.
+    PixelSetup setupPixel(int x, int py) const {
+        PixelSetup s;
+        const double d = mDepth.at(x, py);
+        const float model = mModels.at(x, py);
+        const Vec3d offset = mCam.translatedFromPixel(x, py, d);
+        if (!isLitSurface(d, model) || !mGenerator.reaches(Vec3f(mEyeOffset + offset)))
+            return s;
+        s.active = true;
+        s.p = Vec3f(mEyeOffset + offset);
+        s.eyeDistance = float(length(offset));
+        s.toEye = Vec3f(-offset / length(offset));
+        s.n = gbuffer::worldNormalAt(mNormal, x, py);
+        s.model = int(model);
+        // Hair's GBuffer normal is its tangent: Unreal biases along the light instead.
+        if (s.model == kHair)
+            s.n = mGenerator.centreDirection(s.p);
+        s.opacity = mCustomData ? mCustomData->image().plane(3).at(x, py) : 1.0f;
+        s.instance = mInstances ? uint32_t(mInstances->image().plane(0).at(x, py)) : 0u;
+        return s;
+    }
+
+    // One sample's ray; false when a back-facing pixel is occluded without a ray. The two
+    // random numbers are drawn either way, so every sample of a pixel reads the same stream.
+    bool shadowRay(const PixelSetup& s, Rng& rng, Ray& ray) const {
+        const float u = rng.nextFloat(), v = rng.nextFloat();
+        const Vec3f Lc = mGenerator.centreDirection(s.p);
+        const float NoL = dot(s.n, Lc);
+        if (NoL <= 0.0f && cullsBackFacing(s.model, mLight.type))
+            return false;
+        // Reference §9.2: towards the camera by max(1e-4·distance, bias), then along the normal
+        // by lerp(bias, 0.01 cm, N·L); a transmissive pixel facing away starts on its back side
+        // instead.
+        Vec3f o = s.p + s.toEye * std::max(1e-4f * s.eyeDistance, mMaxBias);
+        const float nb = mMaxBias + (mMinBias - mMaxBias) * std::clamp(NoL, 0.0f, 1.0f);
+        const bool backSide = mParams.transmission && NoL <= 0.0f &&
+                              (hasThicknessTransmission(s.model) || s.model == kSubsurfaceProfile);
+        o += s.n * (backSide ? -nb : nb);
+        const ShadowDirection sd = mGenerator.sample(o, u, v);
+        ray = Ray{o, sd.dir, 0.0f, sd.tfar};
+        return true;
+    }
+
+    // Occlusion of the traced rays, and where a blocked ray's distance is wanted (the denoiser's
+    // input) its closest hit (−1: none); as a packet or one ray at a time, with the same result.
+    void trace(const std::array<Ray, kPacketSize>& ray,
+               const bool traced[],
+               bool blocked[],
+               float hitT[],
+               TileWork& work) const {
+        if (mParams.rayPackets) {
+            mRs.occluded8(ray.data(), traced, blocked);
+        } else {
+            for (int i = 0; i < kPacketSize; ++i)
+                blocked[i] =
+                    traced[i] && mRs.occluded(ray[i].org, ray[i].dir, ray[i].tnear, ray[i].tfar);
+        }
+        std::fill(hitT, hitT + kPacketSize, -1.0f);
+        if (!mWantDistance)
+            return;
+        if (mParams.rayPackets) {
+            mRs.closestHit8(ray.data(), blocked, hitT);
+        } else {
+            for (int i = 0; i < kPacketSize; ++i)
+                if (blocked[i]) {
+                    const RayHit h =
+                        mRs.intersect(ray[i].org, ray[i].dir, ray[i].tnear, ray[i].tfar);
+                    hitT[i] = h.hit ? h.t : -1.0f;
+                }
+        }
+        for (int i = 0; i < kPacketSize; ++i)
+            work.distanceRays += blocked[i];
+    }
+
+    // What one traced sample adds to its pixel.
+    void addSample(const PixelSetup& s,
+                   const Ray& ray,
+                   bool blocked,
+                   float hitT,
+                   PixelResult& r,
+                   TileWork& work) const {
+        // A subsurface-profile pixel's transmission channel is its encoded thickness instead.
+        const bool profile = mParams.transmission && s.model == kSubsurfaceProfile;
+        if (!blocked) {
+            r.visibility += 1.0f;
+            if (!profile)
+                r.transmission += 1.0f;
+        } else {
+            if (hitT >= 0.0f && (r.closestHit < 0.0f || hitT < r.closestHit))
+                r.closestHit = hitT;
+            if (mParams.transmission && hasThicknessTransmission(s.model))
+                addThicknessTransmission(s, ray, r, work);
+        }
+        if (profile)
+            r.transmission += profileThickness(s, ray, work);
+    }
+
+    // Reference §9.3: the inverted ray from the far end finds where the light enters the pixel's
+    // own object; the thickness gives the transmittance (hair: density 1 per cm), and a fully
+    // transmitted sample counts as unoccluded.
+    void addThicknessTransmission(const PixelSetup& s,
+                                  const Ray& ray,
+                                  PixelResult& r,
+                                  TileWork& work) const {
+        const float far = std::min(ray.tfar, mRs.farthestDistance(ray.org));
+        const Vec3f start = ray.org + ray.dir * far;
+        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, far, s.instance);
+        ++work.transmissionRays;
+        if (!h.hit)
+            return;
+        const float thicknessCm = (far - h.t) / mCm;
+        const float T = s.model == kHair ? std::clamp(std::exp(-thicknessCm), 0.0f, 1.0f)
+                                         : RTShadowsPass::transmittance(s.opacity, thicknessCm);
+        r.transmission += T;
+        if (T == 1.0f)
+            r.visibility += 1.0f;  // promoted to unoccluded
+    }
+
+    // Subsurface profile: the encoded thickness of its own object towards the light, up to 5 cm
+    // (inferred simplification of Unreal's constant-tracking estimate, reference §9.3).
+    float profileThickness(const PixelSetup& s, const Ray& ray, TileWork& work) const {
+        const float reach = RTShadowsPass::kMaxProfileDistanceCm * mCm;
+        const Vec3f start = ray.org + ray.dir * reach;
+        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, reach, s.instance);
+        ++work.transmissionRays;
+        const float thicknessCm =
+            h.hit ? (reach - h.t) / mCm
+                  : (dot(s.n, ray.dir) > 0.0f ? 0.0f : RTShadowsPass::kMaxProfileDistanceCm);
+        return RTShadowsPass::encodeThickness(thicknessCm);
+    }
+
+    // The pixel's means over its samples, with far subsurface pixels blended towards
+    // transmission (reference §9.3), written with their light-attenuation encoding.
+    void resolvePixel(const PixelSetup& s,
+                      const PixelResult& r,
+                      int x,
+                      int py,
+                      const ShadowOutputs& out) const {
+        if (!s.active) {
+            out.hitDistance.at(x, py) = -1.0f;
+            return;  // shadow, transmission and attenuation stay 0: no light
+        }
+        float visibility = r.visibility / float(mSpp);
+        const float transmission = r.transmission / float(mSpp);
+        if (hasThicknessTransmission(s.model) && mParams.lodTransitionEnd > 0.0f) {
+            const float span =
+                std::max(mParams.lodTransitionEnd - mParams.lodTransitionStart, 1e-6f);
+            const float f =
+                std::clamp((s.eyeDistance / mCm - mParams.lodTransitionStart) / span, 0.0f, 1.0f);
+            visibility += (transmission - visibility) * f;
+        }
+        out.shadow.at(x, py) = visibility;
+        out.transmission.at(x, py) = transmission;
+        out.hitDistance.at(x, py) = r.closestHit;
+        LightAttenuation::fromShadow(mLight.type, visibility, transmission)
+            .store(out.attenuation, x, py);
+    }
+
+    const RTShadowsParams& mParams;
+    const RayScene& mRs;
+    const Light& mLight;
+    const CameraView& mCam;
+    const ShadowRayGenerator mGenerator;
+    const float mCm, mMaxBias, mMinBias;
+    const int mSpp;
+    const uint32_t mSeed;
+    const Vec3d mEyeOffset;  // the eye relative to the RayScene origin (usually zero)
+    const int64_t mFrame;
+    const Plane& mDepth;
+    const Image& mNormal;
+    const Plane& mModels;
+    const Texture* mCustomData;
+    const Texture* mInstances;
+    const bool mWantDistance;  // closest-hit rays only where a blocked ray's distance is read
+};
+
 }  // namespace
 
 ParamSpec<RTShadowsParams> RTShadowsPass::paramSpec() {
@@ -96,23 +344,11 @@ ParamSpec<RTShadowsParams> RTShadowsPass::paramSpec() {
 PassIO RTShadowsPass::describe() const {
     PassIO io;
     io.inputs = {
-        {.name = kDepth,
-         .channels = {"Z"},
-         .captureDefault = "SceneDepth",
-         .doc = "linear view depth"},
-        {.name = kNormal,
-         .channels = {"X", "Y", "Z"},
-         .captureDefault = "WorldNormal",
-         .doc = "world normal"},
-        {.name = kShadingModel,
-         .channels = {"Y"},
-         .captureDefault = "ShadingModel",
-         .doc = "unlit and sky pixels are skipped"},
-        {.name = kCustomData,
-         .channels = {"R", "G", "B", "A"},
-         .optional = true,
-         .captureDefault = "CustomData",
-         .doc = "A = opacity of subsurface models: the transmission density"},
+        gbuffer::depthInput(),
+        gbuffer::normalInput(),
+        gbuffer::shadingModelInput("unlit and sky pixels are skipped"),
+        gbuffer::customDataInput("A = opacity of subsurface models: the transmission density",
+                                 true),
         {.name = kInstanceId,
          .channels = {"Y"},
          .optional = true,
@@ -151,200 +387,24 @@ float RTShadowsPass::encodeThickness(float thicknessCm) {
 
 void RTShadowsPass::execute(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
-    const CameraView& cam = frame.camera.current;
     const RayScene& rs = ctx.scene();
     const Light& light = namedLight(rs.scene(), mParams.light);
-    const ShadowRayGenerator generator(light, rs.origin());
-    const float cm = float(rs.scene().centimetre());
-    const float maxBias = std::max(mParams.normalBias, kMinNormalBiasCm) * cm;
-    const float minBias = kMinNormalBiasCm * cm;
-    const int spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : light.samplesPerPixel;
-    const uint32_t seed = lightSeed(light.name);
-    // The eye relative to the RayScene origin (usually the eye itself: zero).
-    const Vec3d eyeOffset = cam.position - rs.origin();
-
-    const Plane& depth = ctx.input(kDepth)->image().plane(0);
-    const Image& normal = ctx.input(kNormal)->image();
-    const Plane& models = ctx.input(kShadingModel)->image().plane(0);
-    const Texture* customData = ctx.input(kCustomData);
-    const Texture* instances = ctx.input(kInstanceId);
+    const ShadowTracer tracer(mParams, ctx, rs, light);
     const Extent size = frame.extent;
-    Plane& shadowOut = ctx.output(kShadow, {size}).image().plane(0);
-    Plane& transmissionOut = ctx.output(kTransmission, {size}).image().plane(0);
-    Plane& hitOut = ctx.output(kHitDistance, {size}).image().plane(0);
-    Image& attenuationOut = ctx.output(kLightAttenuation, {size}).image();
-    // Closest-hit rays only where a blocked ray's distance is wanted (the denoiser's input).
-    const bool wantDistance = ctx.isRequested(kHitDistance);
-
+    const ShadowOutputs out{ctx.output(kShadow, {size}).image().plane(0),
+                            ctx.output(kTransmission, {size}).image().plane(0),
+                            ctx.output(kHitDistance, {size}).image().plane(0),
+                            ctx.output(kLightAttenuation, {size}).image()};
     forEachTile(size.width, size.height, [&](const Tile& t) {
-        uint64_t rays = 0, transmissionRays = 0, distanceRays = 0, pixels = 0, skipped = 0;
+        TileWork work;
         for (int py = t.y0; py < t.y1; ++py)
-            for (int x0 = t.x0; x0 < t.x1; x0 += kPacketSize) {
-                std::array<PixelSetup, kPacketSize> px{};
-                std::array<PixelResult, kPacketSize> res{};
-                // Per-pixel streams: packets and single rays draw the same numbers.
-                auto pixelRng = [&](int i) { return Rng(frame.number, x0 + i, py, seed); };
-                std::array<Rng, kPacketSize> rng{pixelRng(0), pixelRng(1), pixelRng(2),
-                                                 pixelRng(3), pixelRng(4), pixelRng(5),
-                                                 pixelRng(6), pixelRng(7)};
-                static_assert(kPacketSize == 8);
-                for (int i = 0; i < kPacketSize && x0 + i < t.x1; ++i) {
-                    const int x = x0 + i;
-                    const double d = depth.at(x, py);
-                    const float model = models.at(x, py);
-                    PixelSetup& s = px[i];
-                    const Vec3d offset = cam.translatedFromPixel(x, py, d);
-                    if (!isLitSurface(d, model) || !generator.reaches(Vec3f(eyeOffset + offset))) {
-                        ++skipped;
-                        continue;
-                    }
-                    s.active = true;
-                    s.p = Vec3f(eyeOffset + offset);
-                    s.eyeDistance = float(length(offset));
-                    s.toEye = Vec3f(-offset / length(offset));
-                    s.n = {normal.plane(0).at(x, py), normal.plane(1).at(x, py),
-                           normal.plane(2).at(x, py)};
-                    s.model = int(model);
-                    // Hair's GBuffer normal is its tangent: Unreal biases along the light instead.
-                    if (s.model == kHair)
-                        s.n = generator.centreDirection(s.p);
-                    s.opacity = customData ? customData->image().plane(3).at(x, py) : 1.0f;
-                    s.instance = instances ? uint32_t(instances->image().plane(0).at(x, py)) : 0u;
-                    ++pixels;
-                }
-                for (int sample = 0; sample < spp; ++sample) {
-                    std::array<Ray, kPacketSize> ray{};
-                    bool traced[kPacketSize] = {}, blocked[kPacketSize] = {};
-                    for (int i = 0; i < kPacketSize; ++i) {
-                        PixelSetup& s = px[i];
-                        if (!s.active)
-                            continue;
-                        const float u = rng[i].nextFloat(), v = rng[i].nextFloat();
-                        const Vec3f Lc = generator.centreDirection(s.p);
-                        const float NoL = dot(s.n, Lc);
-                        if (NoL <= 0.0f && cullsBackFacing(s.model, light.type))
-                            continue;
-                        // Reference §9.2: towards the camera by max(1e-4·distance, bias), then
-                        // along the normal by lerp(bias, 0.01 cm, N·L); a transmissive pixel
-                        // facing away starts on its back side instead.
-                        Vec3f o = s.p + s.toEye * std::max(1e-4f * s.eyeDistance, maxBias);
-                        const float nb =
-                            maxBias + (minBias - maxBias) * std::clamp(NoL, 0.0f, 1.0f);
-                        const bool backSide =
-                            mParams.transmission && NoL <= 0.0f &&
-                            (hasThicknessTransmission(s.model) || s.model == kSubsurfaceProfile);
-                        o += s.n * (backSide ? -nb : nb);
-                        const ShadowDirection sd = generator.sample(o, u, v);
-                        ray[i] = Ray{o, sd.dir, 0.0f, sd.tfar};
-                        traced[i] = true;
-                        ++rays;
-                    }
-                    if (mParams.rayPackets) {
-                        rs.occluded8(ray.data(), traced, blocked);
-                    } else {
-                        for (int i = 0; i < kPacketSize; ++i)
-                            blocked[i] = traced[i] && rs.occluded(ray[i].org, ray[i].dir,
-                                                                  ray[i].tnear, ray[i].tfar);
-                    }
-                    float hitT[kPacketSize];
-                    std::fill(hitT, hitT + kPacketSize, -1.0f);
-                    if (wantDistance) {
-                        if (mParams.rayPackets) {
-                            rs.closestHit8(ray.data(), blocked, hitT);
-                        } else {
-                            for (int i = 0; i < kPacketSize; ++i)
-                                if (blocked[i]) {
-                                    const RayHit h = rs.intersect(ray[i].org, ray[i].dir,
-                                                                  ray[i].tnear, ray[i].tfar);
-                                    hitT[i] = h.hit ? h.t : -1.0f;
-                                }
-                        }
-                        for (int i = 0; i < kPacketSize; ++i)
-                            distanceRays += blocked[i];
-                    }
-                    for (int i = 0; i < kPacketSize; ++i) {
-                        if (!traced[i])
-                            continue;
-                        PixelSetup& s = px[i];
-                        PixelResult& r = res[i];
-                        // A subsurface-profile pixel's transmission channel is its encoded
-                        // thickness instead (below).
-                        const bool profile = mParams.transmission && s.model == kSubsurfaceProfile;
-                        if (!blocked[i]) {
-                            r.visibility += 1.0f;
-                            if (!profile)
-                                r.transmission += 1.0f;
-                        } else {
-                            if (hitT[i] >= 0.0f && (r.closestHit < 0.0f || hitT[i] < r.closestHit))
-                                r.closestHit = hitT[i];
-                            if (mParams.transmission && hasThicknessTransmission(s.model)) {
-                                // Reference §9.3: the inverted ray from the far end finds where
-                                // the light enters the pixel's own object.
-                                const float far =
-                                    std::min(ray[i].tfar, rs.farthestDistance(ray[i].org));
-                                const Vec3f start = ray[i].org + ray[i].dir * far;
-                                const RayHit h =
-                                    rs.intersectInstance(start, -ray[i].dir, 0.0f, far, s.instance);
-                                ++transmissionRays;
-                                if (h.hit) {
-                                    const float thicknessCm = (far - h.t) / cm;
-                                    // Hair has density 1 per cm (reference §9.3).
-                                    const float T =
-                                        s.model == kHair
-                                            ? std::clamp(std::exp(-thicknessCm), 0.0f, 1.0f)
-                                            : transmittance(s.opacity, thicknessCm);
-                                    r.transmission += T;
-                                    if (T == 1.0f)
-                                        r.visibility += 1.0f;  // promoted to unoccluded
-                                }
-                            }
-                        }
-                        if (profile) {
-                            // Subsurface profile: the encoded thickness of its own object towards
-                            // the light, up to 5 cm (inferred simplification of Unreal's
-                            // constant-tracking estimate, reference §9.3).
-                            const float reach = kMaxProfileDistanceCm * cm;
-                            const Vec3f start = ray[i].org + ray[i].dir * reach;
-                            const RayHit h =
-                                rs.intersectInstance(start, -ray[i].dir, 0.0f, reach, s.instance);
-                            ++transmissionRays;
-                            const float thicknessCm =
-                                h.hit
-                                    ? (reach - h.t) / cm
-                                    : (dot(s.n, ray[i].dir) > 0.0f ? 0.0f : kMaxProfileDistanceCm);
-                            r.transmission += encodeThickness(thicknessCm);
-                        }
-                    }
-                }
-                for (int i = 0; i < kPacketSize && x0 + i < t.x1; ++i) {
-                    const int x = x0 + i;
-                    const PixelSetup& s = px[i];
-                    if (!s.active) {
-                        hitOut.at(x, py) = -1.0f;
-                        continue;  // shadow, transmission and attenuation stay 0: no light
-                    }
-                    float visibility = res[i].visibility / float(spp);
-                    const float transmission = res[i].transmission / float(spp);
-                    if (hasThicknessTransmission(s.model) && mParams.lodTransitionEnd > 0.0f) {
-                        // Reference §9.3: far subsurface pixels blend towards transmission.
-                        const float span =
-                            std::max(mParams.lodTransitionEnd - mParams.lodTransitionStart, 1e-6f);
-                        const float f = std::clamp(
-                            (s.eyeDistance / cm - mParams.lodTransitionStart) / span, 0.0f, 1.0f);
-                        visibility += (transmission - visibility) * f;
-                    }
-                    shadowOut.at(x, py) = visibility;
-                    transmissionOut.at(x, py) = transmission;
-                    hitOut.at(x, py) = res[i].closestHit;
-                    LightAttenuation::fromShadow(light.type, visibility, transmission)
-                        .store(attenuationOut, x, py);
-                }
-            }
-        ctx.addWork("rays", rays);
-        ctx.addWork("transmissionRays", transmissionRays);
-        ctx.addWork("distanceRays", distanceRays);
-        ctx.addWork("pixels", pixels);
-        ctx.addWork("skippedPixels", skipped);
+            for (int x0 = t.x0; x0 < t.x1; x0 += kPacketSize)
+                tracer.tracePacket(x0, t.x1, py, out, work);
+        ctx.addWork("rays", work.rays);
+        ctx.addWork("transmissionRays", work.transmissionRays);
+        ctx.addWork("distanceRays", work.distanceRays);
+        ctx.addWork("pixels", work.pixels);
+        ctx.addWork("skippedPixels", work.skipped);
     });
 }
 

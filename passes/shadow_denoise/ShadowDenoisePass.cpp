@@ -1,7 +1,9 @@
 #include "passes/shadow_denoise/ShadowDenoisePass.h"
 
+#include "passes/common/Bilateral.h"
+#include "passes/common/GBuffer.h"
+#include "passes/common/Surface.h"
 #include "passes/core/RayScene.h"
-#include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
 #include "passes/core/UnrealRandom.h"
 #include "passes/lighting/LightAttenuation.h"
@@ -18,9 +20,6 @@ namespace {
 constexpr const char* kShadow = "shadow";
 constexpr const char* kTransmission = "transmission";
 constexpr const char* kHitDistance = "hitDistance";
-constexpr const char* kDepth = "depth";
-constexpr const char* kNormal = "normal";
-constexpr const char* kShadingModel = "shadingModel";
 constexpr const char* kLightAttenuation = "lightAttenuation";
 
 constexpr float kGoldenAngle = 2.39996323f;
@@ -41,6 +40,90 @@ float penumbraRadius(const Light& light, float hit, float lightDistance) {
         default:
             return light.radius * hit / std::max(lightDistance - hit, 1e-6f * lightDistance);
     }
+}
+
+// Planes share their pixels when copied: the filter works on copies of its own.
+Image copyOf(const Image& from) {
+    Image to(from.width(), from.height(), from.channels());
+    for (int c = 0; c < from.channelCount(); ++c)
+        for (int y = 0; y < from.height(); ++y)
+            std::memcpy(to.plane(c).row(y), from.plane(c).row(y), sizeof(float) * from.width());
+    return to;
+}
+
+// Tap k of a golden-angle spiral of `taps` points in the unit disk, scaled to `radius` pixels and
+// rotated by `rotation` (per pixel from IGN, and per pass), so the few taps of each pass cover
+// the disk evenly and neighbouring pixels sample it differently.
+void tapOffset(int k, int taps, float rotation, float radius, int& dx, int& dy) {
+    const float r = radius * std::sqrt((float(k) + 0.5f) / float(taps));
+    const float a = float(k) * kGoldenAngle + rotation;
+    dx = int(std::lround(r * std::cos(a)));
+    dy = int(std::lround(r * std::sin(a)));
+}
+
+// What the blur radius of a pixel depends on (reference §6.3).
+struct RadiusInputs {
+    const Light& light;
+    Vec3f lightPos;  // camera-relative
+    const SurfaceGrid& surfaces;
+    const Plane& hits;
+    int taps;
+    float maxRadius;  // pixels
+};
+
+// The blur radius of one lit pixel, in pixels: the penumbra width behind its own occluder, else
+// behind the closest occluder around it (a lit pixel next to a shadow is in that shadow's
+// penumbra); 0 where no occluder is found.
+float blurRadius(const RadiusInputs& in, int x, int y) {
+    const int W = in.hits.width(), H = in.hits.height();
+    float hit = in.hits.at(x, y);
+    const float rotation = 2.0f * kPiF * ue::interleavedGradientNoise(float(x), float(y), 0);
+    for (int k = 0; k < in.taps && hit < 0.0f; ++k) {
+        int dx, dy;
+        tapOffset(k, in.taps, rotation, in.maxRadius, dx, dy);
+        const int sx = std::clamp(x + dx, 0, W - 1), sy = std::clamp(y + dy, 0, H - 1);
+        const float h = in.hits.at(sx, sy);
+        if (h >= 0.0f && in.surfaces.at(sx, sy).valid)
+            hit = h;
+    }
+    if (hit < 0.0f)
+        return 0.0f;
+    const Surface& s = in.surfaces.at(x, y);
+    const float world = penumbraRadius(in.light, hit, length(in.lightPos - s.position));
+    const float footprint = 2.0f * s.radius;
+    return std::min(world / footprint, in.maxRadius);
+}
+
+// One filtering pass at one pixel with radius r ≥ ½: the centre and `taps` spiral taps, each
+// weighted by the receiver's plane and normal⁴ (reference §6.3); S and T are filtered together.
+void filterPixel(const SurfaceGrid& surfaces,
+                 const Image& signal,
+                 int taps,
+                 int pass,
+                 int x,
+                 int y,
+                 float r,
+                 Image& out) {
+    const int W = signal.width(), H = signal.height();
+    const Surface& ref = surfaces.at(x, y);
+    const float tolerance = kPlaneTolerance * ref.radius;
+    float sumS = signal.plane(0).at(x, y), sumT = signal.plane(1).at(x, y);
+    float sumW = 1.0f;
+    const float rotation =
+        2.0f * kPiF * ue::interleavedGradientNoise(float(x), float(y), uint32_t(pass + 1));
+    for (int k = 0; k < taps; ++k) {
+        int dx, dy;
+        tapOffset(k, taps, rotation, r, dx, dy);
+        const int sx = x + dx, sy = y + dy;
+        if (sx < 0 || sy < 0 || sx >= W || sy >= H || !surfaces.at(sx, sy).valid)
+            continue;
+        const float w = bilateralWeight(ref, surfaces.at(sx, sy), tolerance);
+        sumS += w * signal.plane(0).at(sx, sy);
+        sumT += w * signal.plane(1).at(sx, sy);
+        sumW += w;
+    }
+    out.plane(0).at(x, y) = sumS / sumW;
+    out.plane(1).at(x, y) = sumT / sumW;
 }
 
 }  // namespace
@@ -69,18 +152,9 @@ PassIO ShadowDenoisePass::describe() const {
         {.name = kShadow, .channels = {"Y"}, .doc = "raw visibility"},
         {.name = kTransmission, .channels = {"Y"}, .doc = "raw subsurface term"},
         {.name = kHitDistance, .channels = {"Y"}, .doc = "closest occluder distance (−1 = none)"},
-        {.name = kDepth,
-         .channels = {"Z"},
-         .captureDefault = "SceneDepth",
-         .doc = "linear view depth"},
-        {.name = kNormal,
-         .channels = {"X", "Y", "Z"},
-         .captureDefault = "WorldNormal",
-         .doc = "world normal"},
-        {.name = kShadingModel,
-         .channels = {"Y"},
-         .captureDefault = "ShadingModel",
-         .doc = "unlit and sky pixels are neither filtered nor used"},
+        gbuffer::depthInput(),
+        gbuffer::normalInput(),
+        gbuffer::shadingModelInput("unlit and sky pixels are neither filtered nor used"),
     };
     io.outputs = {
         {.name = kShadow, .channels = {"Y"}, .doc = "filtered visibility"},
@@ -94,6 +168,51 @@ PassIO ShadowDenoisePass::describe() const {
     return io;
 }
 
+Plane ShadowDenoisePass::blurRadii(PassContext& ctx,
+                                   const Light& light,
+                                   const SurfaceGrid& surfaces) const {
+    const CameraView& cam = ctx.frame().camera.current;
+    const Plane& hits = ctx.input(kHitDistance)->image().plane(0);
+    const int W = hits.width(), H = hits.height();
+    const RadiusInputs in{light, Vec3f(light.position - cam.position), surfaces,
+                          hits,  mParams.reconstructionSamples,        mParams.maxRadius};
+    // Pixels without a radius of at least half a pixel are left as they are (and counted).
+    Plane radius(W, H);
+    forEachTile(W, H, [&](const Tile& t) {
+        uint64_t filtered = 0;
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                if (!surfaces.at(x, y).valid)
+                    continue;
+                radius.at(x, y) = blurRadius(in, x, y);
+                filtered += radius.at(x, y) >= 0.5f;
+            }
+        ctx.addWork("pixels", filtered);
+        ctx.addWork("skippedPixels", uint64_t(t.x1 - t.x0) * (t.y1 - t.y0) - filtered);
+    });
+    return radius;
+}
+
+Image ShadowDenoisePass::filter(const SurfaceGrid& surfaces,
+                                const Plane& radius,
+                                Image signal) const {
+    for (int pass = 0; pass <= mParams.preConvolution; ++pass) {
+        Image out = copyOf(signal);
+        forEachTile(signal.width(), signal.height(), [&](const Tile& t) {
+            for (int y = t.y0; y < t.y1; ++y)
+                for (int x = t.x0; x < t.x1; ++x) {
+                    const float r = radius.at(x, y);
+                    if (!surfaces.at(x, y).valid || r < 0.5f)
+                        continue;  // no penumbra: nothing to blur
+                    filterPixel(surfaces, signal, mParams.reconstructionSamples, pass, x, y, r,
+                                out);
+                }
+        });
+        signal = std::move(out);
+    }
+    return signal;
+}
+
 void ShadowDenoisePass::execute(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
     const CameraView& cam = frame.camera.current;
@@ -101,127 +220,19 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
     const Light& light = namedLight(rs.scene(), mParams.light);
     const Extent size = frame.extent;
     const int W = size.width, H = size.height;
-    const Plane& depth = ctx.input(kDepth)->image().plane(0);
-    const Image& normal = ctx.input(kNormal)->image();
-    const Plane& models = ctx.input(kShadingModel)->image().plane(0);
-    const Plane& hits = ctx.input(kHitDistance)->image().plane(0);
-    // Planes share their pixels when copied: the filter works on copies of its own.
-    auto copyOf = [&](const Image& from) {
-        Image to(W, H, from.channels());
-        for (int c = 0; c < from.channelCount(); ++c)
-            for (int y = 0; y < H; ++y)
-                std::memcpy(to.plane(c).row(y), from.plane(c).row(y), sizeof(float) * W);
-        return to;
-    };
     Image raw(W, H, {"S", "T"});  // shadow, transmission
     raw.plane(0) = ctx.input(kShadow)->image().plane(0);
     raw.plane(1) = ctx.input(kTransmission)->image().plane(0);
-    Image signal = copyOf(raw);
-
-    auto lit = [&](int x, int y) { return isLitSurface(depth.at(x, y), models.at(x, y)); };
-    // Camera-relative positions, rebuilt once: every filtering pass reads them at each tap.
-    Image positions(W, H, {"X", "Y", "Z"});
-    if (mParams.denoiser > 0)
-        forEachTile(W, H, [&](const Tile& t) {
-            for (int y = t.y0; y < t.y1; ++y)
-                for (int x = t.x0; x < t.x1; ++x) {
-                    if (!lit(x, y))
-                        continue;
-                    const Vec3f p(cam.translatedFromPixel(x, y, depth.at(x, y)));
-                    for (int c = 0; c < 3; ++c)
-                        positions.plane(c).at(x, y) = p[c];
-                }
-        });
-    auto positionOf = [&](int x, int y) {
-        return Vec3f{positions.plane(0).at(x, y), positions.plane(1).at(x, y),
-                     positions.plane(2).at(x, y)};
-    };
-    auto normalOf = [&](int x, int y) {
-        return Vec3f{normal.plane(0).at(x, y), normal.plane(1).at(x, y), normal.plane(2).at(x, y)};
-    };
-    const int taps = mParams.reconstructionSamples;
-    // Golden-angle spiral of `taps` points in the unit disk, rotated per pixel (IGN) and pass.
-    auto tapOffset = [&](int k, float rotation, float radius, int& dx, int& dy) {
-        const float r = radius * std::sqrt((float(k) + 0.5f) / float(taps));
-        const float a = float(k) * kGoldenAngle + rotation;
-        dx = int(std::lround(r * std::cos(a)));
-        dy = int(std::lround(r * std::sin(a)));
-    };
-
-    // Blur radius per pixel, in pixels: from its own occluder, else the closest one around it
-    // (a lit pixel next to a shadow is in that shadow's penumbra).
-    // Pixels without a radius of at least half a pixel are left as they are (and counted).
-    Plane radius(W, H);
+    Image signal;
     if (mParams.denoiser > 0) {
-        const Vec3f lightPos(light.position - cam.position);
-        forEachTile(W, H, [&](const Tile& t) {
-            uint64_t filtered = 0;
-            for (int y = t.y0; y < t.y1; ++y)
-                for (int x = t.x0; x < t.x1; ++x) {
-                    if (!lit(x, y))
-                        continue;
-                    float hit = hits.at(x, y);
-                    const float rotation =
-                        2.0f * kPiF * ue::interleavedGradientNoise(float(x), float(y), 0);
-                    for (int k = 0; k < taps && hit < 0.0f; ++k) {
-                        int dx, dy;
-                        tapOffset(k, rotation, mParams.maxRadius, dx, dy);
-                        const int sx = std::clamp(x + dx, 0, W - 1),
-                                  sy = std::clamp(y + dy, 0, H - 1);
-                        const float h = hits.at(sx, sy);
-                        if (h >= 0.0f && lit(sx, sy))
-                            hit = h;
-                    }
-                    if (hit < 0.0f)
-                        continue;
-                    const Vec3f p = positionOf(x, y);
-                    const float world = penumbraRadius(light, hit, length(lightPos - p));
-                    const float footprint = 2.0f * float(cam.pixelRadiusAtDepth(depth.at(x, y)));
-                    radius.at(x, y) = std::min(world / footprint, mParams.maxRadius);
-                    filtered += radius.at(x, y) >= 0.5f;
-                }
-            ctx.addWork("pixels", filtered);
-            ctx.addWork("skippedPixels", uint64_t(t.x1 - t.x0) * (t.y1 - t.y0) - filtered);
-        });
-        for (int pass = 0; pass <= mParams.preConvolution; ++pass) {
-            Image out = copyOf(signal);
-            forEachTile(W, H, [&](const Tile& t) {
-                for (int y = t.y0; y < t.y1; ++y)
-                    for (int x = t.x0; x < t.x1; ++x) {
-                        const float r = radius.at(x, y);
-                        if (!lit(x, y) || r < 0.5f)
-                            continue;  // no penumbra: nothing to blur
-                        const Vec3f p = positionOf(x, y), n = normalOf(x, y);
-                        const float tolerance =
-                            kPlaneTolerance * float(cam.pixelRadiusAtDepth(depth.at(x, y)));
-                        float sumS = signal.plane(0).at(x, y), sumT = signal.plane(1).at(x, y);
-                        float sumW = 1.0f;
-                        const float rotation =
-                            2.0f * kPiF *
-                            ue::interleavedGradientNoise(float(x), float(y), uint32_t(pass + 1));
-                        for (int k = 0; k < taps; ++k) {
-                            int dx, dy;
-                            tapOffset(k, rotation, r, dx, dy);
-                            const int sx = x + dx, sy = y + dy;
-                            if (sx < 0 || sy < 0 || sx >= W || sy >= H || !lit(sx, sy))
-                                continue;
-                            // Bilateral (reference §6.3): the receiver's plane and normal⁴.
-                            const float planeW = std::clamp(
-                                1.0f - std::fabs(dot(n, positionOf(sx, sy) - p)) / tolerance, 0.0f,
-                                1.0f);
-                            const float nw = std::max(dot(n, normalOf(sx, sy)), 0.0f);
-                            const float w = planeW * (nw * nw) * (nw * nw);
-                            sumS += w * signal.plane(0).at(sx, sy);
-                            sumT += w * signal.plane(1).at(sx, sy);
-                            sumW += w;
-                        }
-                        out.plane(0).at(x, y) = sumS / sumW;
-                        out.plane(1).at(x, y) = sumT / sumW;
-                    }
-            });
-            signal = std::move(out);
-        }
+        const SurfaceGrid surfaces(
+            cam,
+            {ctx.input(gbuffer::kDepth)->image().plane(0), ctx.input(gbuffer::kNormal)->image(),
+             ctx.input(gbuffer::kShadingModel)->image().plane(0)},
+            size, 1, NormalRead::AsStored);
+        signal = filter(surfaces, blurRadii(ctx, light, surfaces), copyOf(raw));
     } else {
+        signal = copyOf(raw);
         ctx.addWork("pixels", 0);
         ctx.addWork("skippedPixels", uint64_t(W) * H);
     }

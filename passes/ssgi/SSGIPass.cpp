@@ -1,5 +1,6 @@
 #include "passes/ssgi/SSGIPass.h"
 
+#include "passes/common/GBuffer.h"
 #include "passes/core/Error.h"
 #include "passes/core/Sampling.h"
 #include "passes/core/ShadingModel.h"
@@ -13,9 +14,6 @@
 namespace fp {
 
 namespace {
-constexpr const char* kDepth = "depth";
-constexpr const char* kNormal = "normal";
-constexpr const char* kShadingModel = "shadingModel";
 constexpr const char* kFurthestHzb = "furthestHzb";
 constexpr const char* kReducedColor = "reducedColor";
 constexpr const char* kDiffuse = "diffuse";
@@ -43,6 +41,227 @@ int nearestMip(float level, int mipCount) {
 struct RayPoint {
     float hx, hy, z;  // half-res pixels, device Z
 };
+
+// What every ray of the frame shares.
+struct TraceSetup {
+    const CameraView& cam;
+    const Texture& hzb;
+    const Texture& reduced;
+    SSGIQuality q;
+    uint32_t frameMod8;
+    float invSteps, levelStep;
+    float halfW, halfH;
+    float fx, fy, cx, cy;
+    // Largest valid reduced-colour texel per mip (reference §3.4 ReducedColorUVMax).
+    int reducedMaxX[kReducedMips], reducedMaxY[kReducedMips];
+};
+
+TraceSetup makeSetup(const CameraView& cam,
+                     const Texture& hzb,
+                     const Texture& reduced,
+                     const SSGIParams& params,
+                     int64_t frame,
+                     int W,
+                     int H) {
+    const SSGIQuality q = SSGIPass::qualityTable(params.quality);
+    const float invSteps = 1.0f / float(q.steps);
+    TraceSetup s{cam,
+                 hzb,
+                 reduced,
+                 q,
+                 ue::frameIndexMod8(frame),
+                 invSteps,
+                 8.0f * invSteps,  // reference §4.6: (8/N)·Roughness, Roughness = 1
+                 0.5f * float(W),
+                 0.5f * float(H),
+                 float(cam.fx),
+                 float(cam.fy),
+                 float(cam.cx),
+                 float(cam.cy),
+                 {},
+                 {}};
+    for (int m = 0; m < kReducedMips; ++m) {
+        s.reducedMaxX[m] = std::max(0, int(std::ceil(s.halfW / float(1 << m))) - 1);
+        s.reducedMaxY[m] = std::max(0, int(std::ceil(s.halfH / float(1 << m))) - 1);
+    }
+    return s;
+}
+
+// The per-pixel start of every ray (reference §4.3–4.5).
+struct PixelStart {
+    double depth;
+    Vec3f nView;  // quantised view-space normal
+    float sx, sy, z0, zTwice, stepOffset;
+    RayPoint start;
+};
+
+PixelStart
+pixelStart(const TraceSetup& s, const Image& normal, int x, int y, int px, int py, double d) {
+    const CameraView& cam = s.cam;
+    const Vec3d nw(gbuffer::worldNormalAt(normal, px, py));
+    PixelStart p;
+    p.depth = d;
+    p.nView = quantiseNormal(
+        Vec3f{float(dot(nw, cam.right)), float(dot(nw, cam.up)), float(dot(nw, cam.forward))});
+    p.sx = float(cam.screenX(px));
+    p.sy = float(cam.screenY(py));
+    p.z0 = float(cam.deviceZFromDepth(d));
+    // reference §4.5: tolerance T = max(|ΔZ|, (Z − Z(2·depth))·k) for the whole ray.
+    p.zTwice = float(cam.deviceZFromDepth(2.0 * d));
+    p.stepOffset = ue::interleavedGradientNoise(float(x) + 0.5f, float(y) + 0.5f, s.frameMod8) +
+                   kStepOffsetBias;
+    p.start = {(p.sx * 0.5f + 0.5f) * s.halfW, (0.5f - p.sy * 0.5f) * s.halfH, p.z0};
+    return p;
+}
+
+// A ray's march, set up: where sample k lies is origin + step·k.
+struct RaySteps {
+    RayPoint origin, step;
+    float tolerance;
+};
+
+// Reference §4.5: the end point of a ray as long as the pixel is deep, projected, then rescaled
+// so the end lies exactly on the screen border (extends short rays). False for a ray straight
+// along the view axis: a miss.
+bool raySteps(const TraceSetup& s, const PixelStart& p, const Vec3f& L, RaySteps& r) {
+    const float w = std::max(1.0f + L.z, 1e-6f);
+    const float ex = (p.sx + s.fx * L.x + s.cx * L.z) / w;
+    const float ey = (p.sy + s.fy * L.y + s.cy * L.z) / w;
+    const float ez = float(s.cam.deviceZFromDepth(p.depth * double(w)));
+    float stepX = ex - p.sx, stepY = ey - p.sy, stepZ = ez - p.z0;
+    float fit = std::numeric_limits<float>::infinity();
+    if (stepX > 0.0f)
+        fit = std::min(fit, (1.0f - p.sx) / stepX);
+    if (stepX < 0.0f)
+        fit = std::min(fit, (-1.0f - p.sx) / stepX);
+    if (stepY > 0.0f)
+        fit = std::min(fit, (1.0f - p.sy) / stepY);
+    if (stepY < 0.0f)
+        fit = std::min(fit, (-1.0f - p.sy) / stepY);
+    if (!std::isfinite(fit))
+        return false;
+    stepX *= fit;
+    stepY *= fit;
+    stepZ *= fit;
+    r.tolerance = std::max(std::fabs(stepZ), (p.z0 - p.zTwice) * kToleranceScale) * s.invSteps;
+    r.step = {stepX * 0.5f * s.halfW * s.invSteps, -stepY * 0.5f * s.halfH * s.invSteps,
+              stepZ * s.invSteps};
+    r.origin = {p.start.hx + r.step.hx * p.stepOffset, p.start.hy + r.step.hy * p.stepOffset,
+                p.start.z + r.step.z * p.stepOffset};
+    return true;
+}
+
+// Reference §4.6: the march in batches of 4 HZB samples, two mip increments per batch. Returns
+// the first sample behind the furthest surface of its cell by less than 2t (−1: a miss) and
+// leaves `level` at the mip level the ray reached.
+int marchRay(const TraceSetup& s, const RaySteps& r, float& level, uint64_t& hzbSamples) {
+    const int hzbMips = s.hzb.mipCount();
+    level = 1.0f;
+    int hitSample = -1;
+    for (int batch = 0; batch * 4 < s.q.steps && hitSample < 0; ++batch) {
+        for (int j = 0; j < 4; ++j) {
+            const int k = batch * 4 + j + 1;
+            const int mip = nearestMip(j < 2 ? level : level + s.levelStep, hzbMips);
+            const float scale = 1.0f / float(1 << mip);
+            const float hx = r.origin.hx + r.step.hx * float(k);
+            const float hy = r.origin.hy + r.step.hy * float(k);
+            const float rz = r.origin.z + r.step.z * float(k);
+            const float hz = s.hzb.mip(mip).plane(0).clampedAt(int(std::floor(hx * scale)),
+                                                               int(std::floor(hy * scale)));
+            const float diff = rz - hz;
+            // A sky cell (device Z 0) is never hit: a ray extended past the point at infinity
+            // would otherwise "hit" it [framepass guard].
+            if (hitSample < 0 && hz > 0.0f && std::fabs(diff + r.tolerance) < r.tolerance)
+                hitSample = k;
+        }
+        hzbSamples += 4;
+        level += 2.0f * s.levelStep;
+    }
+    return hitSample;
+}
+
+// Last frame's colour where a ray hit, at the level it reached (point, nearest mip; §4.7).
+void hitColor(const TraceSetup& s, const RayPoint& hit, float level, float c[3]) {
+    const int mip = nearestMip(level, kReducedMips);
+    const float scale = 1.0f / float(1 << mip);
+    const int rx = std::clamp(int(std::floor(hit.hx * scale)), 0, s.reducedMaxX[mip]);
+    const int ry = std::clamp(int(std::floor(hit.hy * scale)), 0, s.reducedMaxY[mip]);
+    const Image& rc = s.reduced.mip(mip);
+    c[0] = rc.plane(0).at(rx, ry);
+    c[1] = rc.plane(1).at(rx, ry);
+    c[2] = rc.plane(2).at(rx, ry);
+}
+
+// View-space distance from the pixel to a hit (debug output); false for a hit on the sky.
+bool viewDistanceToHit(const TraceSetup& s,
+                       const PixelStart& p,
+                       const RayPoint& hit,
+                       double& distance) {
+    const double hd = s.cam.depthFromDeviceZ(hit.z);
+    if (!std::isfinite(hd))
+        return false;
+    const double d = p.depth;
+    const double hsx = hit.hx / s.halfW * 2.0 - 1.0;
+    const double hsy = 1.0 - hit.hy / s.halfH * 2.0;
+    const Vec3d a{(p.sx - s.cx) * d / s.fx, (p.sy - s.cy) * d / s.fy, d};
+    const Vec3d b{(hsx - s.cx) * hd / s.fx, (hsy - s.cy) * hd / s.fy, hd};
+    distance = std::sqrt(dot(b - a, b - a));
+    return true;
+}
+
+// What one pixel's rays gathered.
+struct PixelTrace {
+    float diffuse[3];
+    float hitFraction;
+    int measuredHits;
+    double distanceSum;
+};
+
+// Reference §4.4–4.8 for one traced pixel: every ray marched, hits gathering last frame's
+// colour Karis-weighted (§4.7), the weighting undone after the mean.
+PixelTrace tracePixel(const TraceSetup& s,
+                      const PixelStart& p,
+                      int x,
+                      int y,
+                      bool wantDistance,
+                      uint64_t& rays,
+                      uint64_t& hzbSamples) {
+    float sum[3] = {0, 0, 0};
+    int hits = 0;
+    PixelTrace t{{0, 0, 0}, 0.0f, 0, 0.0};
+    for (int r = 0; r < s.q.rays; ++r) {
+        const Vec3f L = SSGIPass::rayDirection(p.nView, x, y, s.frameMod8, r, s.q.rays);
+        RaySteps steps;
+        ++rays;
+        if (!raySteps(s, p, L, steps))
+            continue;
+        float level;
+        const int hitSample = marchRay(s, steps, level, hzbSamples);
+        if (hitSample < 0)
+            continue;
+        const RayPoint hit{steps.origin.hx + steps.step.hx * float(hitSample),
+                           steps.origin.hy + steps.step.hy * float(hitSample),
+                           steps.origin.z + steps.step.z * float(hitSample)};
+        float c[3];
+        hitColor(s, hit, level, c);
+        const float karis = 1.0f / (1.0f + ue::luma(c[0], c[1], c[2]));
+        for (int ch = 0; ch < 3; ++ch)
+            sum[ch] += c[ch] * karis;
+        ++hits;
+        double distance;
+        if (wantDistance && viewDistanceToHit(s, p, hit, distance)) {
+            t.distanceSum += distance;
+            ++t.measuredHits;
+        }
+    }
+    const float invRays = 1.0f / float(s.q.rays);
+    const float mean[3] = {sum[0] * invRays, sum[1] * invRays, sum[2] * invRays};
+    const float inverseKaris = 1.0f / (1.0f - ue::luma(mean[0], mean[1], mean[2]));
+    for (int ch = 0; ch < 3; ++ch)
+        t.diffuse[ch] = mean[ch] * inverseKaris;
+    t.hitFraction = float(hits) * invRays;
+    return t;
+}
 }  // namespace
 
 ParamSpec<SSGIParams> SSGIPass::paramSpec() {
@@ -74,18 +293,9 @@ Extent SSGIPass::traceExtent(Extent frame, bool halfRes) {
 PassIO SSGIPass::describe() const {
     PassIO io;
     io.inputs = {
-        {.name = kDepth,
-         .channels = {"Z"},
-         .captureDefault = "SceneDepth",
-         .doc = "linear view depth"},
-        {.name = kNormal,
-         .channels = {"X", "Y", "Z"},
-         .captureDefault = "WorldNormal",
-         .doc = "world normal"},
-        {.name = kShadingModel,
-         .channels = {"Y"},
-         .captureDefault = "ShadingModel",
-         .doc = "unlit (0) pixels are skipped"},
+        gbuffer::depthInput(),
+        gbuffer::normalInput(),
+        gbuffer::shadingModelInput("unlit (0) pixels are skipped"),
         {.name = kFurthestHzb, .channels = {"Z"}, .doc = "furthest HZB (device Z)"},
         {.name = kReducedColor,
          .channels = {"R", "G", "B"},
@@ -135,10 +345,9 @@ Vec3f SSGIPass::rayDirection(const Vec3f& n,
 void SSGIPass::execute(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
     const CameraView& cam = frame.camera.current;
-    const Plane& depth = ctx.input(kDepth)->image().plane(0);
-    const Image& normal = ctx.input(kNormal)->image();
-    const Plane& shadingModel = ctx.input(kShadingModel)->image().plane(0);
-    const Texture& hzb = *ctx.input(kFurthestHzb);
+    const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
+    const Image& normal = ctx.input(gbuffer::kNormal)->image();
+    const Plane& shadingModel = ctx.input(gbuffer::kShadingModel)->image().plane(0);
     const Texture& reduced = *ctx.input(kReducedColor);
     FP_CHECK(reduced.mipCount() >= kReducedMips, "reducedColor has {} mips; SSGI needs {}",
              reduced.mipCount(), kReducedMips);
@@ -151,20 +360,8 @@ void SSGIPass::execute(PassContext& ctx) {
     Texture* hitMask = ctx.isRequested(kHitMask) ? &ctx.output(kHitMask, {trace}) : nullptr;
     Texture* hitDistance =
         ctx.isRequested(kHitDistance) ? &ctx.output(kHitDistance, {trace}) : nullptr;
-
-    const SSGIQuality q = qualityTable(mParams.quality);
-    const uint32_t frameMod8 = ue::frameIndexMod8(frame.number);
-    const float invSteps = 1.0f / float(q.steps);
-    const float levelStep = 8.0f * invSteps;  // reference §4.6: (8/N)·Roughness, Roughness = 1
-    const int hzbMips = hzb.mipCount();
-    const float halfW = 0.5f * float(W), halfH = 0.5f * float(H);
-    // Largest valid reduced-colour texel per mip (reference §3.4 ReducedColorUVMax).
-    int reducedMaxX[kReducedMips], reducedMaxY[kReducedMips];
-    for (int m = 0; m < kReducedMips; ++m) {
-        reducedMaxX[m] = std::max(0, int(std::ceil(halfW / float(1 << m))) - 1);
-        reducedMaxY[m] = std::max(0, int(std::ceil(halfH / float(1 << m))) - 1);
-    }
-    const float fx = float(cam.fx), fy = float(cam.fy), cx = float(cam.cx), cy = float(cam.cy);
+    const TraceSetup setup =
+        makeSetup(cam, *ctx.input(kFurthestHzb), reduced, mParams, frame.number, W, H);
 
     forEachTile(trace.width, trace.height, [&](const Tile& t) {
         uint64_t traced = 0, skipped = 0, rays = 0, hzbSamples = 0;
@@ -178,120 +375,17 @@ void SSGIPass::execute(PassContext& ctx) {
                     continue;
                 }
                 ++traced;
-                const Vec3d nw{normal.plane(0).at(px, py), normal.plane(1).at(px, py),
-                               normal.plane(2).at(px, py)};
-                const Vec3f nView =
-                    quantiseNormal(Vec3f{float(dot(nw, cam.right)), float(dot(nw, cam.up)),
-                                         float(dot(nw, cam.forward))});
-                const float sx = float(cam.screenX(px)), sy = float(cam.screenY(py));
-                const float z0 = float(cam.deviceZFromDepth(d));
-                // reference §4.5: tolerance T = max(|ΔZ|, (Z − Z(2·depth))·k) for the whole ray.
-                const float zTwice = float(cam.deviceZFromDepth(2.0 * d));
-                const float stepOffset =
-                    ue::interleavedGradientNoise(float(x) + 0.5f, float(y) + 0.5f, frameMod8) +
-                    kStepOffsetBias;
-                const RayPoint start{(sx * 0.5f + 0.5f) * halfW, (0.5f - sy * 0.5f) * halfH, z0};
-
-                float sum[3] = {0, 0, 0};
-                int hits = 0, measuredHits = 0;
-                double distanceSum = 0.0;
-                for (int r = 0; r < q.rays; ++r) {
-                    const Vec3f L = rayDirection(nView, x, y, frameMod8, r, q.rays);
-                    // End point of a ray as long as the pixel is deep, projected (reference §4.5).
-                    const float w = std::max(1.0f + L.z, 1e-6f);
-                    const float ex = (sx + fx * L.x + cx * L.z) / w;
-                    const float ey = (sy + fy * L.y + cy * L.z) / w;
-                    const float ez = float(cam.deviceZFromDepth(d * double(w)));
-                    float stepX = ex - sx, stepY = ey - sy, stepZ = ez - z0;
-                    // Rescale so the end lies exactly on the screen border (extends short rays).
-                    float fit = std::numeric_limits<float>::infinity();
-                    if (stepX > 0.0f)
-                        fit = std::min(fit, (1.0f - sx) / stepX);
-                    if (stepX < 0.0f)
-                        fit = std::min(fit, (-1.0f - sx) / stepX);
-                    if (stepY > 0.0f)
-                        fit = std::min(fit, (1.0f - sy) / stepY);
-                    if (stepY < 0.0f)
-                        fit = std::min(fit, (-1.0f - sy) / stepY);
-                    ++rays;
-                    if (!std::isfinite(fit))
-                        continue;  // straight along the view axis: a miss
-                    stepX *= fit;
-                    stepY *= fit;
-                    stepZ *= fit;
-                    const float tolerance =
-                        std::max(std::fabs(stepZ), (z0 - zTwice) * kToleranceScale) * invSteps;
-                    const RayPoint step{stepX * 0.5f * halfW * invSteps,
-                                        -stepY * 0.5f * halfH * invSteps, stepZ * invSteps};
-                    const RayPoint origin{start.hx + step.hx * stepOffset,
-                                          start.hy + step.hy * stepOffset,
-                                          start.z + step.z * stepOffset};
-                    // March in batches of 4 samples; two mip increments per batch (§4.6).
-                    float level = 1.0f;
-                    int hitSample = -1;
-                    for (int batch = 0; batch * 4 < q.steps && hitSample < 0; ++batch) {
-                        for (int j = 0; j < 4; ++j) {
-                            const int k = batch * 4 + j + 1;
-                            const int mip = nearestMip(j < 2 ? level : level + levelStep, hzbMips);
-                            const float scale = 1.0f / float(1 << mip);
-                            const float hx = origin.hx + step.hx * float(k);
-                            const float hy = origin.hy + step.hy * float(k);
-                            const float rz = origin.z + step.z * float(k);
-                            const float hz = hzb.mip(mip).plane(0).clampedAt(
-                                int(std::floor(hx * scale)), int(std::floor(hy * scale)));
-                            const float diff = rz - hz;
-                            // Behind the furthest surface of the cell by less than 2t (§4.6).
-                            // A sky cell (device Z 0) is never hit: a ray extended past the point
-                            // at infinity would otherwise "hit" it [framepass guard].
-                            if (hitSample < 0 && hz > 0.0f &&
-                                std::fabs(diff + tolerance) < tolerance)
-                                hitSample = k;
-                        }
-                        hzbSamples += 4;
-                        level += 2.0f * levelStep;
-                    }
-                    if (hitSample < 0)
-                        continue;
-                    const RayPoint hit{origin.hx + step.hx * float(hitSample),
-                                       origin.hy + step.hy * float(hitSample),
-                                       origin.z + step.z * float(hitSample)};
-                    // Last frame's colour at the level the ray reached (point, nearest mip).
-                    const int mip = nearestMip(level, kReducedMips);
-                    const float scale = 1.0f / float(1 << mip);
-                    const int rx = std::clamp(int(std::floor(hit.hx * scale)), 0, reducedMaxX[mip]);
-                    const int ry = std::clamp(int(std::floor(hit.hy * scale)), 0, reducedMaxY[mip]);
-                    const Image& rc = reduced.mip(mip);
-                    const float c[3] = {rc.plane(0).at(rx, ry), rc.plane(1).at(rx, ry),
-                                        rc.plane(2).at(rx, ry)};
-                    // Karis weighting (reference §4.7), undone after the mean.
-                    const float karis = 1.0f / (1.0f + ue::luma(c[0], c[1], c[2]));
-                    for (int ch = 0; ch < 3; ++ch)
-                        sum[ch] += c[ch] * karis;
-                    ++hits;
-                    if (hitDistance) {
-                        const double hd = cam.depthFromDeviceZ(hit.z);
-                        if (std::isfinite(hd)) {
-                            const double hsx = hit.hx / halfW * 2.0 - 1.0;
-                            const double hsy = 1.0 - hit.hy / halfH * 2.0;
-                            const Vec3d a{(sx - cx) * d / fx, (sy - cy) * d / fy, d};
-                            const Vec3d b{(hsx - cx) * hd / fx, (hsy - cy) * hd / fy, hd};
-                            distanceSum += std::sqrt(dot(b - a, b - a));
-                            ++measuredHits;
-                        }
-                    }
-                }
-                const float invRays = 1.0f / float(q.rays);
-                float mean[3] = {sum[0] * invRays, sum[1] * invRays, sum[2] * invRays};
-                const float inverseKaris = 1.0f / (1.0f - ue::luma(mean[0], mean[1], mean[2]));
+                const PixelStart start = pixelStart(setup, normal, x, y, px, py, d);
+                const PixelTrace r =
+                    tracePixel(setup, start, x, y, hitDistance != nullptr, rays, hzbSamples);
                 for (int ch = 0; ch < 3; ++ch)
                     diffuse.image().plane(ch).at(x, y) =
-                        mean[ch] * inverseKaris * mParams.indirectLightingColorScale;
-                const float hitFraction = float(hits) * invRays;
-                ao.image().plane(0).at(x, y) = 1.0f - hitFraction;
+                        r.diffuse[ch] * mParams.indirectLightingColorScale;
+                ao.image().plane(0).at(x, y) = 1.0f - r.hitFraction;
                 if (hitMask)
-                    hitMask->image().plane(0).at(x, y) = hitFraction;
-                if (hitDistance && measuredHits > 0)
-                    hitDistance->image().plane(0).at(x, y) = float(distanceSum / measuredHits);
+                    hitMask->image().plane(0).at(x, y) = r.hitFraction;
+                if (hitDistance && r.measuredHits > 0)
+                    hitDistance->image().plane(0).at(x, y) = float(r.distanceSum / r.measuredHits);
             }
         ctx.addWork("pixels", traced);
         ctx.addWork("skippedPixels", skipped);

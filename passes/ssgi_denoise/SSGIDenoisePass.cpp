@@ -1,7 +1,10 @@
 #include "passes/ssgi_denoise/SSGIDenoisePass.h"
 
+#include "passes/common/Bilateral.h"
+#include "passes/common/GBuffer.h"
+#include "passes/common/Reprojection.h"
+#include "passes/common/Surface.h"
 #include "passes/core/Error.h"
-#include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
 #include "passes/core/UnrealRandom.h"
 #include "passes/ssgi/SSGIPass.h"
@@ -14,10 +17,6 @@ namespace fp {
 namespace {
 constexpr const char* kDiffuse = "diffuse";
 constexpr const char* kAo = "ao";
-constexpr const char* kDepth = "depth";
-constexpr const char* kNormal = "normal";
-constexpr const char* kShadingModel = "shadingModel";
-constexpr const char* kVelocity = "velocity";
 constexpr const char* kHistoryValidity = "historyValidity";
 
 // reference §6.2: bilateral distance = pixel world radius × 2√2 × 3 (the SSGI multiplier); the
@@ -37,20 +36,230 @@ int pickTexel(const float w[4], float u) {
     return 3;
 }
 
-// What the bilateral weights need of one trace pixel.
-struct Surface {
-    bool valid = false;
-    Vec3f position;    // camera-relative, scene units
-    Vec3f normal;      // world, unit
-    float radius = 0;  // pixel world radius at the trace resolution
+// Reconstruction (reference §6.2): the centre and the 8 taps of its track, bilaterally weighted
+// against the centre's surface with the smaller of the two pixel radii (MIN_METADATA), summed as
+// moment-1 sums. Writes R G B AO (normalised) and the accumulated sample count; false when the
+// pixel has no surface and passes through as it is.
+bool reconstructPixel(const SurfaceGrid& surfaces,
+                      const Image& color,
+                      const Plane& ao,
+                      int x,
+                      int y,
+                      Image& recon) {
+    using Offset = SSGIDenoisePass::Offset;
+    const int TW = color.width(), TH = color.height();
+    const Surface& ref = surfaces.at(x, y);
+    if (!ref.valid) {
+        for (int c = 0; c < 3; ++c)
+            recon.plane(c).at(x, y) = color.plane(c).at(x, y);
+        recon.plane(3).at(x, y) = ao.at(x, y);
+        return false;
+    }
+    float sum[4] = {color.plane(0).at(x, y), color.plane(1).at(x, y), color.plane(2).at(x, y),
+                    ao.at(x, y)};
+    float weight = 1.0f;  // the centre sample
+    const auto& track = SSGIDenoisePass::kernel()[(x & 1) + 2 * (y & 1)];
+    const float qx = float(x & ~1) + 0.5f, qy = float(y & ~1) + 0.5f;
+    for (const Offset& o : track) {
+        const int nx = int(qx + o.x), ny = int(qy + o.y);
+        if (nx < 0 || ny < 0 || nx >= TW || ny >= TH)
+            continue;
+        const Surface& s = surfaces.at(nx, ny);
+        if (!s.valid)
+            continue;
+        const float w = bilateralWeight(ref, s, std::min(ref.radius, s.radius) * kBilateralScale);
+        if (w <= 0.0f)
+            continue;
+        for (int c = 0; c < 3; ++c)
+            sum[c] += w * color.plane(c).at(nx, ny);
+        sum[3] += w * ao.at(nx, ny);
+        weight += w;
+    }
+    for (int c = 0; c < 4; ++c)
+        recon.plane(c).at(x, y) = sum[c] / weight;
+    recon.plane(4).at(x, y) = weight;
+    return true;
+}
+
+// What the temporal accumulation reads for every trace pixel.
+struct TemporalInputs {
+    const CameraView& cam;
+    const SurfaceGrid& surfaces;
+    const Image& recon;  // R G B AO N of this frame's reconstruction
+    const Plane& depth;
+    const Texture* velocity;
+    const PassHistory* past;  // nullptr: no usable history
+    const Image* hist;        // past's state, when its size matches the trace
+    Extent full;
+    int toFull;
+    uint32_t frameMod8;
 };
 
-// reference §6.2: W = saturate(1 − |N_ref·(P − P_ref)|/D) × max(N_ref·N, 0)⁴.
-float bilateral(const Surface& ref, const Vec3f& p, const Vec3f& n, float distance) {
-    const float plane = std::fabs(dot(ref.normal, p - ref.position));
-    const float wPos = saturate(1.0f - plane / distance);
-    const float c = std::max(dot(ref.normal, n), 0.0f);
-    return wPos * (c * c) * (c * c);
+// The history texel a pixel reads and its stored sample count (0: off screen or empty).
+struct HistoryTap {
+    int x, y;
+    float count;
+};
+
+// Reference §6.2 steps 1–3: reproject, then one texel of the bilinear 2×2 footprint picked by IGN.
+HistoryTap pickHistoryTexel(const TemporalInputs& in,
+                            int x,
+                            int y,
+                            int px,
+                            int py,
+                            const Surface& ref) {
+    const int TW = in.recon.width(), TH = in.recon.height();
+    const Vec3d p{ref.position.x, ref.position.y, ref.position.z};
+    const PreviousPixel prev =
+        reprojectPixel(px, py, p, in.cam.position, in.velocity, in.past->camera);
+    const double tu = prev.u / in.toFull - 0.5, tv = prev.v / in.toFull - 0.5;
+    const int x0 = int(std::floor(tu)), y0 = int(std::floor(tv));
+    const float fx = float(tu - x0), fy = float(tv - y0);
+    const float u = ue::interleavedGradientNoise(float(x) + 0.5f, float(y) + 0.5f, in.frameMod8);
+    const float w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+    const int pick = pickTexel(w, u);
+    const int hx = x0 + (pick & 1), hy = y0 + (pick >> 1);
+    const int cx = std::clamp(hx, 0, TW - 1), cy = std::clamp(hy, 0, TH - 1);
+    return {cx, cy, prev.onScreen(in.full) ? in.hist->plane(kCount).at(cx, cy) : 0.0f};
+}
+
+// Bilateral validation of the history texel against its own surface (reference §6.2 step 3,
+// history multiplier max(3, 3) = 3), rebuilt from the depth and normal the history kept.
+float historyWeight(const TemporalInputs& in, const Surface& ref, int cx, int cy) {
+    const Image& hist = *in.hist;
+    const CameraView& prevCam = in.past->camera;
+    const double hd = hist.plane(kViewDepth).at(cx, cy);
+    const Vec3d hp = prevCam.translatedFromPixel(std::min(cx * in.toFull, in.full.width - 1),
+                                                 std::min(cy * in.toFull, in.full.height - 1), hd) +
+                     (prevCam.position - in.cam.position);
+    const Vec3f hn{hist.plane(kNX).at(cx, cy), hist.plane(kNY).at(cx, cy),
+                   hist.plane(kNZ).at(cx, cy)};
+    return bilateralWeight(ref, {float(hp.x), float(hp.y), float(hp.z)}, hn,
+                           ref.radius * kBilateralScale);
+}
+
+// Reference §6.2 step 4: mean and σ of the current reconstruction on the "plus" set (centre + 4
+// edge neighbours), bilaterally weighted with the centre's own radius.
+void neighbourhoodStats(const TemporalInputs& in,
+                        const Surface& ref,
+                        int x,
+                        int y,
+                        float mean[4],
+                        float sigma[4]) {
+    const int TW = in.recon.width(), TH = in.recon.height();
+    float m1[4] = {0, 0, 0, 0}, m2[4] = {0, 0, 0, 0}, wSum = 0.0f;
+    static constexpr int kPlus[5][2] = {{0, 0}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+    for (const auto& o : kPlus) {
+        const int nx = x + o[0], ny = y + o[1];
+        if (nx < 0 || ny < 0 || nx >= TW || ny >= TH)
+            continue;
+        const Surface& s = in.surfaces.at(nx, ny);
+        if (!s.valid)
+            continue;
+        const float w =
+            (o[0] == 0 && o[1] == 0) ? 1.0f : bilateralWeight(ref, s, ref.radius * kBilateralScale);
+        for (int c = 0; c < 4; ++c) {
+            const float v = in.recon.plane(c).at(nx, ny);
+            m1[c] += w * v;
+            m2[c] += w * v * v;
+        }
+        wSum += w;
+    }
+    for (int c = 0; c < 4; ++c) {
+        mean[c] = m1[c] / wSum;
+        sigma[c] = std::sqrt(std::fabs(m2[c] / wSum - mean[c] * mean[c]));
+    }
+}
+
+// One trace pixel after temporal accumulation.
+struct Accumulated {
+    float value[4];  // R G B AO
+    float count;     // samples behind it
+    float kept;      // share of the history's samples kept (the validity debug output)
+    bool reused;     // the history contributed
+};
+
+// Reference §6.2 steps 1–6 for one pixel: the reconstruction alone when there is no valid history,
+// else the clamped history blended with it by sample counts.
+Accumulated accumulatePixel(const TemporalInputs& in, int x, int y) {
+    using P = SSGIDenoisePass;
+    const Surface& ref = in.surfaces.at(x, y);
+    const int px = std::min(x * in.toFull, in.full.width - 1);  // the full-res pixel traced
+    const int py = std::min(y * in.toFull, in.full.height - 1);
+    float cur[4];
+    for (int c = 0; c < 4; ++c)
+        cur[c] = in.recon.plane(c).at(x, y);
+    const float curCount = in.recon.plane(4).at(x, y);
+    Accumulated a{{cur[0], cur[1], cur[2], cur[3]}, curCount, 0.0f, false};
+    if (!in.hist || !ref.valid)
+        return a;
+    const HistoryTap tap = pickHistoryTexel(in, x, y, px, py, ref);
+    if (tap.count <= 0.0f)
+        return a;
+    const float wHist = historyWeight(in, ref, tap.x, tap.y);
+    if (wHist <= 0.0f)
+        return a;
+    float mean[4], sigma[4], h[4];
+    neighbourhoodStats(in, ref, x, y, mean, sigma);
+    for (int c = 0; c < 4; ++c)  // history channels 0–3 are R G B AO, like the signal's
+        h[c] = std::clamp(in.hist->plane(c).at(tap.x, tap.y), mean[c] - P::kClampSigma * sigma[c],
+                          mean[c] + P::kClampSigma * sigma[c]);
+    // Only the AO (miss) channel drives rejection for SSGI (step 5).
+    const float rejection = std::fabs(h[3] - in.hist->plane(kAO).at(tap.x, tap.y));
+    const float hCount = std::max(tap.count * wHist * saturate(1.0f - rejection), 0.1f);
+    const float wPrev = std::max(0.0f, std::min(hCount, P::kTargetSamples - curCount));
+    for (int c = 0; c < 4; ++c)
+        a.value[c] = (h[c] * wPrev + cur[c] * curCount) / (wPrev + curCount);
+    a.count = wPrev + curCount;
+    a.kept = wPrev / tap.count;
+    a.reused = true;
+    return a;
+}
+
+// The state next frame's accumulation reads: the signal, its capped sample count and the
+// surface (depth, normal) its bilateral validation compares with.
+void storeHistory(const TemporalInputs& in, const Accumulated& a, int x, int y, Image& state) {
+    const Surface& ref = in.surfaces.at(x, y);
+    for (int c = 0; c < 4; ++c)
+        state.plane(c).at(x, y) = a.value[c];
+    state.plane(kCount).at(x, y) =
+        ref.valid ? std::min(a.count, SSGIDenoisePass::kHistoryCap) : 0.0f;
+    state.plane(kViewDepth).at(x, y) = in.depth.at(std::min(x * in.toFull, in.full.width - 1),
+                                                   std::min(y * in.toFull, in.full.height - 1));
+    state.plane(kNX).at(x, y) = ref.normal.x;
+    state.plane(kNY).at(x, y) = ref.normal.y;
+    state.plane(kNZ).at(x, y) = ref.normal.z;
+}
+
+// r.DiffuseIndirect.Denoiser=0: the raw trace, copied row by row.
+void copyRows(const Image& color, const Plane& ao, Image& outColor, Plane& outAo) {
+    const int W = color.width();
+    for (int y = 0; y < color.height(); ++y) {
+        for (int c = 0; c < 3; ++c)
+            std::copy(color.plane(c).row(y), color.plane(c).row(y) + W, outColor.plane(c).row(y));
+        std::copy(ao.row(y), ao.row(y) + W, outAo.row(y));
+    }
+}
+
+// The spatial stage over the trace grid: R G B AO normalised, and N, the accumulated weight.
+Image reconstruct(PassContext& ctx,
+                  const SurfaceGrid& surfaces,
+                  const Image& color,
+                  const Plane& ao) {
+    Image recon(color.width(), color.height(), {"R", "G", "B", "AO", "N"});
+    forEachTile(color.width(), color.height(), [&](const Tile& t) {
+        uint64_t pixels = 0, skipped = 0;
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                if (reconstructPixel(surfaces, color, ao, x, y, recon))
+                    ++pixels;
+                else
+                    ++skipped;
+            }
+        ctx.addWork("pixels", pixels);
+        ctx.addWork("skippedPixels", skipped);
+    });
+    return recon;
 }
 }  // namespace
 
@@ -109,22 +318,11 @@ PassIO SSGIDenoisePass::describe() const {
          .kind = PortKind::Color,
          .doc = "raw SSGI radiance"},
         {.name = kAo, .channels = {"Y"}, .doc = "raw SSGI AO"},
-        {.name = kDepth,
-         .channels = {"Z"},
-         .captureDefault = "SceneDepth",
-         .doc = "linear view depth"},
-        {.name = kNormal,
-         .channels = {"X", "Y", "Z"},
-         .captureDefault = "WorldNormal",
-         .doc = "world normal"},
-        {.name = kShadingModel,
-         .channels = {"Y"},
-         .captureDefault = "ShadingModel",
-         .doc = "unlit (0) pixels are left as they are"},
-        {.name = kVelocity,
-         .channels = {"X", "Y"},
-         .optional = true,
-         .doc = "optional motion for reprojection; the history's camera is used when unbound"},
+        gbuffer::depthInput(),
+        gbuffer::normalInput(),
+        gbuffer::shadingModelInput("unlit (0) pixels are left as they are"),
+        gbuffer::velocityInput(
+            "optional motion for reprojection; the history's camera is used when unbound"),
     };
     io.outputs = {
         {.name = kDiffuse,
@@ -151,10 +349,9 @@ void SSGIDenoisePass::execute(PassContext& ctx) {
     const CameraView& cam = frame.camera.current;
     const Image& inColor = ctx.input(kDiffuse)->image();
     const Plane& inAo = ctx.input(kAo)->image().plane(0);
-    const Plane& depth = ctx.input(kDepth)->image().plane(0);
-    const Image& normal = ctx.input(kNormal)->image();
-    const Plane& shadingModel = ctx.input(kShadingModel)->image().plane(0);
-    const Texture* velocity = ctx.input(kVelocity);
+    const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
+    const Image& normal = ctx.input(gbuffer::kNormal)->image();
+    const Plane& shadingModel = ctx.input(gbuffer::kShadingModel)->image().plane(0);
     const Extent full{depth.width(), depth.height()};
     const Extent trace = SSGIPass::traceExtent(full, mParams.halfRes);
     FP_CHECK(inColor.width() == trace.width && inColor.height() == trace.height,
@@ -162,215 +359,43 @@ void SSGIDenoisePass::execute(PassContext& ctx) {
              "ssgi.halfRes)",
              inColor.width(), inColor.height(), trace.width, trace.height);
     const int toFull = mParams.halfRes ? 2 : 1;
-    const int TW = trace.width, TH = trace.height;
 
     Texture& outColor = ctx.output(kDiffuse, {trace});
     Texture& outAo = ctx.output(kAo, {trace});
     Texture* validity =
         ctx.isRequested(kHistoryValidity) ? &ctx.output(kHistoryValidity, {trace}) : nullptr;
-
     if (mParams.denoiser == 0) {  // r.DiffuseIndirect.Denoiser=0: the raw trace goes through
-        for (int y = 0; y < TH; ++y) {
-            for (int c = 0; c < 3; ++c)
-                std::copy(inColor.plane(c).row(y), inColor.plane(c).row(y) + TW,
-                          outColor.image().plane(c).row(y));
-            std::copy(inAo.row(y), inAo.row(y) + TW, outAo.image().plane(0).row(y));
-        }
+        copyRows(inColor, inAo, outColor.image(), outAo.image().plane(0));
         return;
     }
+    const SurfaceGrid surfaces(cam, {depth, normal, shadingModel}, trace, toFull,
+                               NormalRead::Normalised);
+    const Image recon = reconstruct(ctx, surfaces, inColor, inAo);
 
-    // --- per trace pixel: the surface the bilateral weights compare ---------------------------
-    std::vector<Surface> surfaces(std::size_t(TW) * TH);
-    auto surfaceAt = [&](int x, int y) -> const Surface& {
-        return surfaces[std::size_t(y) * TW + x];
-    };
-    forEachTile(TW, TH, [&](const Tile& t) {
-        for (int y = t.y0; y < t.y1; ++y)
-            for (int x = t.x0; x < t.x1; ++x) {
-                const int px = std::min(x * toFull, full.width - 1);
-                const int py = std::min(y * toFull, full.height - 1);
-                const double d = depth.at(px, py);
-                Surface& s = surfaces[std::size_t(y) * TW + x];
-                if (!isLitSurface(d, shadingModel.at(px, py)))
-                    continue;
-                const Vec3d p = cam.translatedFromPixel(px, py, d);
-                s.valid = true;
-                s.position = {float(p.x), float(p.y), float(p.z)};
-                s.normal = normalize(Vec3f{normal.plane(0).at(px, py), normal.plane(1).at(px, py),
-                                           normal.plane(2).at(px, py)});
-                s.radius = float(cam.pixelRadiusAtDepth(d)) * float(toFull);
-            }
-    });
-
-    // --- reconstruction: centre + 8 bilateral taps (moment-1 sums) ----------------------------
-    // Channels: normalised R G B AO and the accumulated sample count.
-    Image recon(TW, TH, {"R", "G", "B", "AO", "N"});
-    const auto& taps = kernel();
-    forEachTile(TW, TH, [&](const Tile& t) {
-        uint64_t pixels = 0, skipped = 0;
-        for (int y = t.y0; y < t.y1; ++y)
-            for (int x = t.x0; x < t.x1; ++x) {
-                const Surface& ref = surfaceAt(x, y);
-                if (!ref.valid) {
-                    for (int c = 0; c < 3; ++c)
-                        recon.plane(c).at(x, y) = inColor.plane(c).at(x, y);
-                    recon.plane(3).at(x, y) = inAo.at(x, y);
-                    ++skipped;
-                    continue;
-                }
-                ++pixels;
-                float sum[4] = {inColor.plane(0).at(x, y), inColor.plane(1).at(x, y),
-                                inColor.plane(2).at(x, y), inAo.at(x, y)};
-                float weight = 1.0f;  // the centre sample
-                const auto& track = taps[(x & 1) + 2 * (y & 1)];
-                const float qx = float(x & ~1) + 0.5f, qy = float(y & ~1) + 0.5f;
-                for (const Offset& o : track) {
-                    const int nx = int(qx + o.x), ny = int(qy + o.y);
-                    if (nx < 0 || ny < 0 || nx >= TW || ny >= TH)
-                        continue;
-                    const Surface& s = surfaceAt(nx, ny);
-                    if (!s.valid)
-                        continue;
-                    const float w = bilateral(ref, s.position, s.normal,
-                                              std::min(ref.radius, s.radius) * kBilateralScale);
-                    if (w <= 0.0f)
-                        continue;
-                    for (int c = 0; c < 3; ++c)
-                        sum[c] += w * inColor.plane(c).at(nx, ny);
-                    sum[3] += w * inAo.at(nx, ny);
-                    weight += w;
-                }
-                for (int c = 0; c < 4; ++c)
-                    recon.plane(c).at(x, y) = sum[c] / weight;
-                recon.plane(4).at(x, y) = weight;
-            }
-        ctx.addWork("pixels", pixels);
-        ctx.addWork("skippedPixels", skipped);
-    });
-
-    // --- temporal accumulation -----------------------------------------------------------------
     const bool temporal = mParams.temporalAccumulation;
     const PassHistory* past = temporal ? ctx.history() : nullptr;
-    const Image* hist =
-        past && past->state.image().width() == TW && past->state.image().height() == TH
-            ? &past->state.image()
-            : nullptr;
+    const Image* hist = past && past->state.image().width() == trace.width &&
+                                past->state.image().height() == trace.height
+                            ? &past->state.image()
+                            : nullptr;
+    const TemporalInputs in{cam,  surfaces, recon, depth,  ctx.input(gbuffer::kVelocity),
+                            past, hist,     full,  toFull, ue::frameIndexMod8(frame.number)};
     Image state;
     if (temporal)
-        state = Image(TW, TH, kHistoryNames);
-    const uint32_t frameMod8 = ue::frameIndexMod8(frame.number);
-
-    forEachTile(TW, TH, [&](const Tile& t) {
+        state = Image(trace.width, trace.height, kHistoryNames);
+    forEachTile(trace.width, trace.height, [&](const Tile& t) {
         uint64_t reused = 0;
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
-                const Surface& ref = surfaceAt(x, y);
-                const int px = std::min(x * toFull, full.width - 1);  // the full-res pixel traced
-                const int py = std::min(y * toFull, full.height - 1);
-                float cur[4];
-                for (int c = 0; c < 4; ++c)
-                    cur[c] = recon.plane(c).at(x, y);
-                const float curCount = recon.plane(4).at(x, y);
-                float out[4] = {cur[0], cur[1], cur[2], cur[3]};
-                float outCount = curCount, kept = 0.0f;
-
-                if (hist && ref.valid) {
-                    // Where this surface was in the history's frame (full-res pixels).
-                    double pu, pv;
-                    if (velocity) {
-                        pu = px + 0.5 + velocity->image().plane(0).at(px, py);
-                        pv = py + 0.5 + velocity->image().plane(1).at(px, py);
-                    } else {
-                        const Vec3d p{ref.position.x, ref.position.y, ref.position.z};
-                        const auto proj = past->camera.projectOffset(p, cam.position);
-                        pu = proj.depth > 0 ? proj.px : -1.0;
-                        pv = proj.py;
-                    }
-                    // Stochastic 2×2 tap: one bilinear texel chosen by IGN (reference §6.2 step 3).
-                    const double tu = pu / toFull - 0.5, tv = pv / toFull - 0.5;
-                    const int x0 = int(std::floor(tu)), y0 = int(std::floor(tv));
-                    const float fx = float(tu - x0), fy = float(tv - y0);
-                    const float u =
-                        ue::interleavedGradientNoise(float(x) + 0.5f, float(y) + 0.5f, frameMod8);
-                    const float w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
-                    const int pick = pickTexel(w, u);
-                    const int hx = x0 + (pick & 1), hy = y0 + (pick >> 1);
-                    const bool onScreen = pu >= 0 && pv >= 0 && pu < full.width && pv < full.height;
-                    const int cx = std::clamp(hx, 0, TW - 1), cy = std::clamp(hy, 0, TH - 1);
-                    const float histCount = onScreen ? hist->plane(kCount).at(cx, cy) : 0.0f;
-                    if (histCount > 0.0f) {
-                        // Bilateral validation against the history's own surface.
-                        const double hd = hist->plane(kViewDepth).at(cx, cy);
-                        const Vec3d hp = past->camera.translatedFromPixel(
-                                             std::min(cx * toFull, full.width - 1),
-                                             std::min(cy * toFull, full.height - 1), hd) +
-                                         (past->camera.position - cam.position);
-                        const Vec3f hn{hist->plane(kNX).at(cx, cy), hist->plane(kNY).at(cx, cy),
-                                       hist->plane(kNZ).at(cx, cy)};
-                        const float wHist = bilateral(ref, {float(hp.x), float(hp.y), float(hp.z)},
-                                                      hn, ref.radius * kBilateralScale);
-                        if (wHist > 0.0f) {
-                            // Neighbourhood of the current signal: centre + 4 edge neighbours.
-                            float m1[4] = {0, 0, 0, 0}, m2[4] = {0, 0, 0, 0}, wSum = 0.0f;
-                            static constexpr int kPlus[5][2] = {
-                                {0, 0}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-                            for (const auto& o : kPlus) {
-                                const int nx = x + o[0], ny = y + o[1];
-                                if (nx < 0 || ny < 0 || nx >= TW || ny >= TH)
-                                    continue;
-                                const Surface& s = surfaceAt(nx, ny);
-                                if (!s.valid)
-                                    continue;
-                                const float w = (o[0] == 0 && o[1] == 0)
-                                                    ? 1.0f
-                                                    : bilateral(ref, s.position, s.normal,
-                                                                ref.radius * kBilateralScale);
-                                for (int c = 0; c < 4; ++c) {
-                                    const float v = recon.plane(c).at(nx, ny);
-                                    m1[c] += w * v;
-                                    m2[c] += w * v * v;
-                                }
-                                wSum += w;
-                            }
-                            float h[4];
-                            for (int c = 0; c < 4; ++c) {
-                                const float mean = m1[c] / wSum;
-                                const float sigma =
-                                    std::sqrt(std::fabs(m2[c] / wSum - mean * mean));
-                                // History channels 0–3 are R G B AO, like the signal's.
-                                h[c] = std::clamp(hist->plane(c).at(cx, cy),
-                                                  mean - kClampSigma * sigma,
-                                                  mean + kClampSigma * sigma);
-                            }
-                            // Only the AO (miss) channel drives rejection for SSGI (step 5).
-                            const float rejection = std::fabs(h[3] - hist->plane(kAO).at(cx, cy));
-                            const float hCount =
-                                std::max(histCount * wHist * saturate(1.0f - rejection), 0.1f);
-                            const float wPrev =
-                                std::max(0.0f, std::min(hCount, kTargetSamples - curCount));
-                            for (int c = 0; c < 4; ++c)
-                                out[c] = (h[c] * wPrev + cur[c] * curCount) / (wPrev + curCount);
-                            outCount = wPrev + curCount;
-                            kept = wPrev / histCount;
-                            ++reused;
-                        }
-                    }
-                }
+                const Accumulated a = accumulatePixel(in, x, y);
+                reused += a.reused;
                 for (int c = 0; c < 3; ++c)
-                    outColor.image().plane(c).at(x, y) = out[c];
-                outAo.image().plane(0).at(x, y) = out[3];
+                    outColor.image().plane(c).at(x, y) = a.value[c];
+                outAo.image().plane(0).at(x, y) = a.value[3];
                 if (validity)
-                    validity->image().plane(0).at(x, y) = std::min(kept, 1.0f);
-                if (temporal) {
-                    for (int c = 0; c < 4; ++c)
-                        state.plane(c).at(x, y) = out[c];
-                    state.plane(kCount).at(x, y) =
-                        ref.valid ? std::min(outCount, kHistoryCap) : 0.0f;
-                    state.plane(kViewDepth).at(x, y) = depth.at(px, py);
-                    state.plane(kNX).at(x, y) = ref.normal.x;
-                    state.plane(kNY).at(x, y) = ref.normal.y;
-                    state.plane(kNZ).at(x, y) = ref.normal.z;
-                }
+                    validity->image().plane(0).at(x, y) = std::min(a.kept, 1.0f);
+                if (temporal)
+                    storeHistory(in, a, x, y, state);
             }
         ctx.addWork("historyPixels", reused);
     });
