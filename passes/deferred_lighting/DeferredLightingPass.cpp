@@ -1,7 +1,6 @@
 #include "passes/deferred_lighting/DeferredLightingPass.h"
 
 #include "passes/common/GBuffer.h"
-#include "passes/core/RayScene.h"
 #include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
 #include "passes/lighting/BRDF.h"
@@ -170,14 +169,14 @@ PassIO DeferredLightingPass::describe() const {
          .doc = "scene colour + this light"},
     };
     io.needsCamera = true;
-    io.needsScene = true;  // the light
+    io.needsLights = true;  // the light
     return io;
 }
 
 void DeferredLightingPass::execute(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
     const CameraView& cam = frame.camera.current;
-    const Light& light = namedLight(ctx.scene().scene(), mParams.light);
+    const Light& light = namedLight(ctx.lights(), mParams.light);
     const Extent size = frame.extent;
     const Image& sceneColor = ctx.input(kColor)->image();
     const Texture* attenuation = ctx.input(kAttenuation);

@@ -10,16 +10,17 @@
 
 namespace fp {
 
-inline const Light& namedLight(const Scene& scene, const std::string& name) {
+inline const Light& namedLight(const std::vector<Light>& lights, const std::string& name) {
     if (name.empty()) {
-        FP_CHECK(scene.lights.size() == 1,
+        FP_CHECK(lights.size() == 1,
                  "the scene has {} lights: set the pass's 'light' parameter to one of them",
-                 scene.lights.size());
-        return scene.lights.front();
+                 lights.size());
+        return lights.front();
     }
-    if (const Light* l = scene.findLight(name)) return *l;
-    std::vector<std::string> names;
-    for (const Light& l : scene.lights) names.push_back(l.name);
+    for (const Light& l : lights)
+        if (l.name == name)
+            return l;
+    const std::vector<std::string> names = lightNames(lights);
     throw Error(fmt::format("no light named '{}' in the scene{}; lights: [{}]", name,
                             didYouMean(name, names), fmt::join(names, ", ")));
 }

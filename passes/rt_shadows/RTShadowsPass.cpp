@@ -388,7 +388,7 @@ float RTShadowsPass::encodeThickness(float thicknessCm) {
 void RTShadowsPass::execute(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
     const RayScene& rs = ctx.scene();
-    const Light& light = namedLight(rs.scene(), mParams.light);
+    const Light& light = namedLight(rs.scene().lights, mParams.light);
     const ShadowTracer tracer(mParams, ctx, rs, light);
     const Extent size = frame.extent;
     const ShadowOutputs out{ctx.output(kShadow, {size}).image().plane(0),

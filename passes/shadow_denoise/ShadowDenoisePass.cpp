@@ -3,7 +3,6 @@
 #include "passes/common/Bilateral.h"
 #include "passes/common/GBuffer.h"
 #include "passes/common/Surface.h"
-#include "passes/core/RayScene.h"
 #include "passes/core/Tiles.h"
 #include "passes/core/UnrealRandom.h"
 #include "passes/lighting/LightAttenuation.h"
@@ -164,7 +163,7 @@ PassIO ShadowDenoisePass::describe() const {
          .doc = "Unreal's light-attenuation encoding of the filtered result (reference §9.5)"},
     };
     io.needsCamera = true;
-    io.needsScene = true;  // the light's size and position
+    io.needsLights = true;  // the light's size and position
     return io;
 }
 
@@ -216,8 +215,7 @@ Image ShadowDenoisePass::filter(const SurfaceGrid& surfaces,
 void ShadowDenoisePass::execute(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
     const CameraView& cam = frame.camera.current;
-    const RayScene& rs = ctx.scene();
-    const Light& light = namedLight(rs.scene(), mParams.light);
+    const Light& light = namedLight(ctx.lights(), mParams.light);
     const Extent size = frame.extent;
     const int W = size.width, H = size.height;
     Image raw(W, H, {"S", "T"});  // shadow, transmission

@@ -44,6 +44,13 @@ check "a scene with lights adds the light passes" bash -c "'$FP' plan '$DIR/lit.
 check "lit chain: 1 and 2 threads write the same bytes" bash -c "'$FP' --threads 1 run '$DIR/lit.json' -o '$DIR/l1' --dump all >/dev/null && '$FP' --threads 2 run '$DIR/lit.json' -o '$DIR/l2' --dump all >/dev/null && diff -r '$DIR/l1' '$DIR/l2' && test -f '$DIR/l1/shadows.0001.exr' && test -f '$DIR/l1/lit.0001.exr'"
 check "bench replays the shadow rays through a bare Embree loop" bash -c "'$FP' bench '$DIR/lit.json' --runs 1 --warmup 0 > '$DIR/lit_bench.txt' && grep -q 'bare loop rtcOccluded8' '$DIR/lit_bench.txt'"
 check "an unknown light name is an error that suggests the right one" expect_exit 1 "no light named 'ceilng' in the scene (did you mean 'ceiling'?)" "$FP" run "$DIR/lit.json" -o "$DIR/l3" --set rt_shadows_ceiling.light=ceilng
+check "plan shows the light template as written and what it expanded to" bash -c "grep -q '(preset ue4.27)/passes/5/forEachLight expands for light ceiling: rt_shadows_ceiling, shadow_denoise_ceiling, deferred_lighting_ceiling' '$DIR/lit_plan.txt'"
+cat > "$DIR/lights_only.json" <<JSON
+{ "version": 1, "capture": "cornell.exr", "scene": "$SRC/examples/cornell/scene.json",
+  "passes": [ { "name": "light", "type": "deferred_lighting", "params": { "light": "ceiling" } } ],
+  "outputs": { "lit.####.exr": "light.color" } }
+JSON
+check "a chain that only shades reads the scene's lights, not its meshes" bash -c "'$FP' plan '$DIR/lights_only.json' | grep -q 'geometry: not needed (lights only)' && '$FP' run '$DIR/lights_only.json' -o '$DIR/lo' >/dev/null && test -f '$DIR/lo/lit.0001.exr'"
 
 # Sequences: the denoiser's history goes from frame to frame; a chunk that warms up on the
 # frames before it writes the same bytes as a sequential run.
