@@ -1,4 +1,5 @@
 // The explicit list of built-in pass types (architecture anchors B3): one line per pass.
+#include "passes/camera_velocity/CameraVelocityPass.h"
 #include "passes/core/PassRegistry.h"
 #include "passes/deferred_lighting/DeferredLightingPass.h"
 #include "passes/diffuse_indirect_composite/DiffuseIndirectCompositePass.h"
@@ -41,6 +42,8 @@ const PassRegistry& builtinPasses() {
             "deferred_lighting",
             "direct lighting of one light per shading model, shadowed by "
             "its light attenuation, added to scene colour (reference §9.6)");
+        r.add<CameraVelocityPass>("camera_velocity", "camera motion vectors: where each pixel's "
+                                                     "surface was on last frame's screen");
         r.add<DisplayPass>("display",
                            "OpenColorIO display transform of a buffer for a PNG preview");
         r.add<ErrorMeasurePass>("error_measure",
