@@ -100,12 +100,6 @@ struct Scene {
 
     /// Unreal's constants are in centimetres; this converts them to scene units.
     double centimetre() const { return sceneUnitsPerMeter / 100.0; }
-    /// The light called `name`; nullptr when there is none.
-    const Light* findLight(const std::string& name) const {
-        for (const Light& l : lights)
-            if (l.name == name) return &l;
-        return nullptr;
-    }
 };
 
 }  // namespace fp
