@@ -52,8 +52,7 @@ void CameraVelocityPass::execute(PassContext& ctx) {
             for (int x = t.x0; x < t.x1; ++x) {
                 const double d = depth.at(x, y) >= sky ? std::numeric_limits<double>::infinity()
                                                        : double(depth.at(x, y));
-                const PreviousPixel p = reprojectPixel(x, y, reprojectionOffset(cam, x, y, d),
-                                                       cam.position, nullptr, prev);
+                const PreviousPixel p = reprojectPixelAtDepth(cam, x, y, d, nullptr, prev);
                 velocity.plane(0).at(x, y) = float(p.u - (x + 0.5));
                 velocity.plane(1).at(x, y) = float(p.v - (y + 0.5));
             }

@@ -19,6 +19,16 @@ PreviousPixel reprojectPixel(int px,
     return {proj.px, proj.py};
 }
 
+PreviousPixel reprojectPixelAtDepth(const CameraView& cam,
+                                    int px,
+                                    int py,
+                                    double depth,
+                                    const Texture* velocity,
+                                    const CameraView& previous) {
+    const Vec3d offset = velocity ? Vec3d{} : reprojectionOffset(cam, px, py, depth);
+    return reprojectPixel(px, py, offset, cam.position, velocity, previous);
+}
+
 Vec3d reprojectionOffset(const CameraView& cam, int px, int py, double depth) {
     return std::isinf(depth) ? cam.translatedFromPixel(px, py, 1.0) * 1e12
                              : cam.translatedFromPixel(px, py, depth);

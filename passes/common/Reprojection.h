@@ -30,4 +30,13 @@ PreviousPixel reprojectPixel(int px,
 /// for sky (depth +∞) a far point along its ray, so that sky moves by the camera's rotation only.
 Vec3d reprojectionOffset(const CameraView& cam, int px, int py, double depth);
 
+/// reprojectPixel for pixel (px, py) of `cam` at view depth `depth` (sky: rotation only); the
+/// surface is rebuilt from the depth only when no velocity is bound.
+PreviousPixel reprojectPixelAtDepth(const CameraView& cam,
+                                    int px,
+                                    int py,
+                                    double depth,
+                                    const Texture* velocity,
+                                    const CameraView& previous);
+
 }  // namespace fp

@@ -66,8 +66,7 @@ void reprojectColor(const ReprojectInputs& in, int px, int py, float out[4]) {
     const bool leakFree = in.params.leakFree;
     const double d = in.depth.at(px, py);
     const double sx = cam.screenX(px), sy = cam.screenY(py);
-    const PreviousPixel prev = reprojectPixel(px, py, reprojectionOffset(cam, px, py, d),
-                                              cam.position, in.velocity, in.prev);
+    const PreviousPixel prev = reprojectPixelAtDepth(cam, px, py, d, in.velocity, in.prev);
     const double pu = prev.u, pv = prev.v;
     const double psx = pu / W * 2.0 - 1.0, psy = 1.0 - pv / H * 2.0;
     float rgb[3], w = 1.0f;

@@ -91,6 +91,16 @@ TEST_CASE("reprojection by velocity: the pixel centre plus its motion") {
     const PreviousPixel q = reprojectPixel(3, 5, {0, 0, -1}, cam.position, &moving, cam);
     CHECK(q.u == 4.75);
     CHECK(q.v == 3.5);
+    // From a depth: with velocity bound the depth is not used (a NaN depth changes nothing);
+    // without it, the same as reprojecting the surface rebuilt from that depth.
+    const PreviousPixel r = reprojectPixelAtDepth(cam, 3, 5, std::nan(""), &moving, cam);
+    CHECK(r.u == 4.75);
+    CHECK(r.v == 3.5);
+    const PreviousPixel s = reprojectPixelAtDepth(cam, 3, 5, 120.0, nullptr, cam);
+    const PreviousPixel t =
+        reprojectPixel(3, 5, reprojectionOffset(cam, 3, 5, 120.0), cam.position, nullptr, cam);
+    CHECK(s.u == t.u);
+    CHECK(s.v == t.v);
 }
 
 TEST_CASE("reprojection through the previous camera") {
