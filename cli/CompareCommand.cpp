@@ -1,6 +1,7 @@
 // framepass compare: error of one image against a reference (DESIGN §6), as numbers, JSON and a
 // heat map.
 #include "cli/Commands.h"
+#include "io/CaptureFiles.h"
 #include "io/CaptureSource.h"
 #include "io/ExrLayers.h"
 #include "io/ExrWriter.h"
@@ -43,10 +44,18 @@ std::string commonLayer(const io::ExrReader& a, const io::ExrReader& b) {
                                  a.path(), b.path(), common.size(), a.path(), fmt::join(namesA, ", ")));
 }
 
-std::optional<Image> readDepth(io::ExrReader& file) {
-    for (const auto& l : io::listLayers(file))
-        if (l.name == "SceneDepth") return io::readLayer(file, l);
-    return std::nullopt;
+// The capture's SceneDepth as its profile reads it (scale, sky threshold, the depth file of a
+// multi-file capture), or nothing when the file has none.
+std::optional<Image> readDepth(const std::string& path, const io::CaptureProfile& profile) {
+    std::optional<io::CaptureFiles> files;
+    try {
+        files.emplace(path, profile);
+    } catch (const Error&) {
+        return std::nullopt;  // not a capture of this profile (a result image, say)
+    }
+    if (!files->mappingFor("SceneDepth")) return std::nullopt;
+    std::vector<std::string> notes;
+    return files->read("SceneDepth", 1, notes);
 }
 
 std::string pngPathFor(const std::string& exr) {
@@ -58,7 +67,7 @@ std::string pngPathFor(const std::string& exr) {
 
 Command addCompareCommand(CLI::App& app) {
     struct Options {
-        std::string a, b, layer, refLayer, mask = "sky", heatmap, ocioConfig;
+        std::string a, b, layer, refLayer, mask = "sky", heatmap, ocioConfig, profile = "canonical";
         double tolerance = 0.1, skyDistance = std::numeric_limits<double>::infinity();
         double heatMax = 0, maxRmse = -1;
         bool json = false;
@@ -73,6 +82,9 @@ Command addCompareCommand(CLI::App& app) {
     sub->add_option("--ref-layer", opt->refLayer, "layer of B, when it is named differently");
     sub->add_option("--mask", opt->mask, "sky: leave out pixels whose SceneDepth is sky; none")
         ->check(CLI::IsMember({"sky", "none"}));
+    sub->add_option("--profile", opt->profile,
+                    "capture profile (NAME or FILE.json) that finds SceneDepth for the sky mask in "
+                    "B, else A (default canonical)");
     sub->add_option("--sky-distance", opt->skyDistance,
                     "depths at or beyond this are sky (default: only +inf)")
         ->check(CLI::PositiveNumber);
@@ -115,13 +127,15 @@ Command addCompareCommand(CLI::App& app) {
         std::optional<Image> mask;
         std::string maskNote = "no mask";
         if (opt->mask == "sky") {
-            std::optional<Image> depth = readDepth(b);
-            if (!depth) depth = readDepth(a);
+            const io::CaptureProfile profile = io::CaptureProfile::load(opt->profile);
+            std::optional<Image> depth = readDepth(opt->b, profile);
+            if (!depth) depth = readDepth(opt->a, profile);
             if (depth) {
                 mask = notSkyMask(*depth, float(opt->skyDistance));
                 maskNote = "sky masked by SceneDepth";
             } else {
-                maskNote = "no SceneDepth in either file: nothing masked";
+                maskNote = fmt::format("no SceneDepth in either file (profile {}): nothing masked",
+                                       profile.name());
                 std::cerr << "framepass warning: " << maskNote << "\n";
             }
         }

@@ -1,6 +1,7 @@
 // framepass inspect: what a capture holds — channels, their buffers, camera, statistics.
 #include "cli/Commands.h"
 #include "io/CameraIO.h"
+#include "io/CaptureFiles.h"
 #include "io/CaptureProfile.h"
 #include "io/ExrReader.h"
 #include "passes/core/Error.h"
@@ -11,6 +12,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <set>
 
 namespace fp::cli {
 
@@ -22,66 +24,99 @@ const char* typeName(Imf::PixelType t) {
 
 Command addInspectCommand(CLI::App& app) {
     struct Options {
-        std::string capture, profile = "canonical";
+        std::string capture, profile = "canonical", camera;
         bool json = false;
     };
     auto opt = std::make_shared<Options>();
-    CLI::App* sub = app.add_subcommand("inspect", "list a capture's channels, buffers, camera and "
+    CLI::App* sub = app.add_subcommand("inspect", "list a capture's channels, the buffers its "
+                                                  "profile reads from them, its camera and "
                                                   "per-channel statistics");
-    sub->add_option("capture", opt->capture, "capture EXR")->required();
-    sub->add_option("--profile", opt->profile, "capture profile (canonical)");
+    sub->add_option("capture", opt->capture,
+                    "capture EXR (multi-file profiles: the base or any one of its files)")
+        ->required();
+    sub->add_option("--profile", opt->profile,
+                    "capture profile, NAME or FILE.json (default canonical): " +
+                        fmt::format("{}", fmt::join(io::CaptureProfile::builtinNames(), ", ")));
+    sub->add_option("--camera", opt->camera,
+                    "camera sidecar to use, as a config's \"camera\" (default: "
+                    "<capture>.camera.json beside the capture, else the header)");
     sub->add_flag("--json", opt->json, "machine-readable output");
 
     return [opt]() {
-        io::ExrReader reader(opt->capture);
-        const io::CaptureProfile profile = io::CaptureProfile::byName(opt->profile);
+        const io::CaptureProfile profile = io::CaptureProfile::load(opt->profile);
+        io::CaptureFiles files(opt->capture, profile);
         nlohmann::json j;
-        j["file"] = opt->capture;
-        j["width"] = reader.extent().width;
-        j["height"] = reader.extent().height;
-        j["parts"] = reader.partCount();
+        j["file"] = files.capturePath();
+        j["profile"] = profile.name();
+        j["width"] = files.extent().width;
+        j["height"] = files.extent().height;
         j["channels"] = nlohmann::json::array();
-        for (const auto& c : reader.channels()) {
-            // One channel at a time keeps memory at one plane whatever the file's size.
-            const Image img = reader.read(std::vector<const io::ExrChannel*>{&c}, {"v"});
-            double lo = INFINITY, hi = -INFINITY, sum = 0;
-            uint64_t nan = 0, inf = 0, finite = 0;
-            for (int y = 0; y < img.height(); ++y)
-                for (int x = 0; x < img.width(); ++x) {
-                    const float v = img.plane(0).at(x, y);
-                    if (std::isnan(v)) ++nan;
-                    else if (std::isinf(v)) ++inf;
-                    else {
-                        lo = std::min(lo, double(v));
-                        hi = std::max(hi, double(v));
-                        sum += v;
-                        ++finite;
+        std::set<std::string> layers;
+        for (const auto& [key, constReader] : files.files()) {
+            // Statistics read pixels; the file stays the one CaptureFiles opened.
+            io::ExrReader reader(constReader->path());
+            for (const auto& c : reader.channels()) {
+                // One channel at a time keeps memory at one plane whatever the file's size.
+                const Image img = reader.read(std::vector<const io::ExrChannel*>{&c}, {"v"});
+                double lo = INFINITY, hi = -INFINITY, sum = 0;
+                uint64_t nan = 0, inf = 0, finite = 0;
+                for (int y = 0; y < img.height(); ++y)
+                    for (int x = 0; x < img.width(); ++x) {
+                        const float v = img.plane(0).at(x, y);
+                        if (std::isnan(v)) ++nan;
+                        else if (std::isinf(v)) ++inf;
+                        else {
+                            lo = std::min(lo, double(v));
+                            hi = std::max(hi, double(v));
+                            sum += v;
+                            ++finite;
+                        }
                     }
-                }
-            // In a mip chain every part repeats the channel names: show "<part>/<channel>".
-            const Imf::Header& h = reader.header(c.part);
-            const std::string shown = reader.partCount() > 1 && h.hasName()
-                                          ? h.name() + "/" + c.name : c.name;
-            j["channels"].push_back({{"name", shown}, {"type", typeName(c.type)}, {"part", c.part},
-                                     {"buffer", profile.bufferOfChannel(c.name)},
-                                     {"min", finite ? lo : 0.0}, {"max", finite ? hi : 0.0},
-                                     {"mean", finite ? sum / finite : 0.0}, {"nan", nan},
-                                     {"inf", inf}});
+                // In a mip chain every part repeats the channel names: show "<part>/<channel>".
+                const Imf::Header& h = reader.header(c.part);
+                std::string shown = reader.partCount() > 1 && h.hasName()
+                                        ? h.name() + "/" + c.name : c.name;
+                if (!key.empty()) shown = key + ":" + shown;
+                layers.insert(c.name.substr(0, c.name.rfind('.') == std::string::npos
+                                                   ? 0 : c.name.rfind('.')));
+                j["channels"].push_back({{"name", shown}, {"type", typeName(c.type)},
+                                         {"part", c.part},
+                                         {"buffer", files.bufferOfChannel(key, c.name)},
+                                         {"min", finite ? lo : 0.0}, {"max", finite ? hi : 0.0},
+                                         {"mean", finite ? sum / finite : 0.0}, {"nan", nan},
+                                         {"inf", inf}});
+            }
         }
-        const auto buffers = profile.availableBuffers(reader);
-        j["buffers"] = std::vector<std::string>(buffers.begin(), buffers.end());
-        if (auto cam = io::readCameraAttributes(reader.header(), reader.extent())) {
-            j["camera"] = io::cameraViewToJson(cam->current);
-            j["camera"]["sceneUnitsPerMeter"] = cam->sceneUnitsPerMeter;
-            if (cam->previous) j["camera"]["previous"] = io::cameraViewToJson(*cam->previous);
+        j["buffers"] = nlohmann::json::object();
+        for (const auto& b : files.availableBuffers()) j["buffers"][b] = files.describe(b);
+        // What the profile leaves out on purpose, where the capture has it.
+        j["unmapped"] = nlohmann::json::object();
+        for (const auto& [layer, why] : profile.unmapped())
+            for (const auto& l : layers)
+                if (l.rfind(layer, 0) == 0) j["unmapped"][l] = why;
+        io::CameraLookup lookup;
+        lookup.sidecar = opt->camera;
+        lookup.capturePath = files.capturePath();
+        lookup.header = &files.primary().header();
+        lookup.extent = files.extent();
+        lookup.profileUnits = profile.sceneUnitsPerMeter();
+        if (auto found = io::findCamera(lookup)) {
+            j["camera"] = io::cameraViewToJson(found->camera.current);
+            j["camera"]["sceneUnitsPerMeter"] = found->camera.sceneUnitsPerMeter;
+            j["camera"]["source"] = found->source;
+            j["camera"]["assumptions"] = found->assumptions;
+            if (found->camera.previous)
+                j["camera"]["previous"] = io::cameraViewToJson(*found->camera.previous);
         }
         if (opt->json) {
             std::cout << j.dump(2) << "\n";
             return 0;
         }
-        std::cout << fmt::format("{}: {}×{}, {} part(s), {} channels\n", opt->capture,
-                                 reader.extent().width, reader.extent().height, reader.partCount(),
-                                 reader.channels().size());
+        int parts = 0;
+        for (const auto& f : files.files()) parts += f.second->partCount();
+        std::cout << fmt::format("{}: {}×{}, {} file(s), {} part(s), {} channels\n",
+                                 files.capturePath(), files.extent().width, files.extent().height,
+                                 files.files().size(), parts, j["channels"].size());
         std::cout << fmt::format("  {:<36} {:<6} {:<16} {:>12} {:>12} {:>12} {:>6} {:>6}\n",
                                  "channel", "type", "buffer", "min", "max", "mean", "NaN", "Inf");
         for (const auto& c : j["channels"])
@@ -90,20 +125,29 @@ Command addInspectCommand(CLI::App& app) {
                                      c["buffer"].get<std::string>(), c["min"].get<double>(),
                                      c["max"].get<double>(), c["mean"].get<double>(),
                                      c["nan"].get<uint64_t>(), c["inf"].get<uint64_t>());
-        std::cout << fmt::format("buffers ({} profile): {}\n", profile.name(),
-                                 fmt::join(buffers, ", "));
+        std::cout << fmt::format("buffers ({} profile):\n", profile.name());
+        for (const auto& [b, how] : j["buffers"].items())
+            std::cout << fmt::format("  {:<16} ← {}\n", b,
+                                     fmt::join(how.get<std::vector<std::string>>(), " "));
+        for (const auto& [l, why] : j["unmapped"].items())
+            std::cout << fmt::format("  not read: {} ({})\n", l, why.get<std::string>());
         if (j.contains("camera")) {
             const auto& c = j["camera"];
-            std::cout << fmt::format("camera: position [{:.6f}, {:.6f}, {:.6f}], forward [{:.4f}, "
-                                     "{:.4f}, {:.4f}], fovY {:.3f}°, near {}, {} units/m{}\n",
+            std::cout << fmt::format("camera ({}): position [{:.6f}, {:.6f}, {:.6f}], forward "
+                                     "[{:.4f}, {:.4f}, {:.4f}], fovY {:.3f}°, near {}, {} "
+                                     "units/m{}\n",
+                                     c["source"].get<std::string>(),
                                      c["position"][0].get<double>(), c["position"][1].get<double>(),
                                      c["position"][2].get<double>(), c["forward"][0].get<double>(),
                                      c["forward"][1].get<double>(), c["forward"][2].get<double>(),
                                      c["fovYDegrees"].get<double>(), c["near"].get<double>(),
                                      c["sceneUnitsPerMeter"].get<double>(),
                                      c.contains("previous") ? ", previous camera present" : "");
+            for (const auto& a : c["assumptions"])
+                std::cout << "  assumed: " << a.get<std::string>() << "\n";
         } else {
-            std::cout << "camera: none in the header (give a sidecar <capture>.camera.json)\n";
+            std::cout << "camera: none (no sidecar <capture>.camera.json, and the header has no "
+                         "framepass, worldToNDC or unreal/camera attributes)\n";
         }
         return 0;
     };

@@ -25,9 +25,12 @@ Command addPlanCommand(CLI::App& app) {
         j["config"] = opt->session.config;
         j["capture"] = session.config().capture;
         j["frames"] = session.frames();
+        j["profile"] = session.profile().name();
+        const auto files = session.openCapture(
+            session.frames().empty() ? "" : session.capturePath(session.frames().front()));
         for (auto& r : j["captureReads"])
-            r["channels"] = session.profile().channelsFor(r["buffer"].get<std::string>(),
-                                                          r["channels"].get<int>());
+            r["channels"] = files ? files->describe(r["buffer"].get<std::string>())
+                                  : std::vector<std::string>{"(capture not on disk yet)"};
         if (opt->json) {
             std::cout << j.dump(2) << "\n";
             return 0;

@@ -7,6 +7,7 @@
 #include "passes/core/Executor.h"
 
 #include <filesystem>
+#include <set>
 #include <fstream>
 #include <iostream>
 
@@ -74,6 +75,7 @@ Command addRunCommand(CLI::App& app) {
                                  {"frames", nlohmann::json::array()}};
         const auto& frames = session.frames();
         HistoryStore history;
+        std::set<std::string> notesShown;  // each assumption once, not once per frame
         // Warm-up: the frames before the first, at the sequence's step, that exist on disk.
         const std::vector<int> warmup = warmupFrames(session, opt->warmupFrames);
         auto sourceOptions = [&](int frame, bool firstInSequence) {
@@ -114,7 +116,9 @@ Command addRunCommand(CLI::App& app) {
                     so.path, s.nonFinite, s.negative, s.nonUnitNormals);
             nlohmann::json fj = fr.toJson();
             fj["capture"] = so.path;
-            fj["channelsRead"] = source.reader().readLog();
+            fj["channelsRead"] = source.readLog();
+            for (const auto& n : source.notes())
+                if (notesShown.insert(n).second) std::cerr << "warning: " << n << "\n";
             fj["written"] =
                 std::vector<std::string>(writer.written().begin() + before, writer.written().end());
             report["frames"].push_back(fj);

@@ -31,7 +31,9 @@ void SessionOptions::addTo(CLI::App& sub) {
 RunSession::RunSession(const SessionOptions& o)
     : mConfig(io::loadRunConfig(o.config)),
       mInputs(std::make_shared<SessionInputs>(o.config, mConfig)),
-      mProfile(io::CaptureProfile::fromJson(mConfig.profile, o.config + ": /profile")) {
+      mProfile(o.profile.empty()
+                   ? io::CaptureProfile::fromJson(mConfig.profile, o.config + ": /profile")
+                   : io::CaptureProfile::load(o.profile)) {
     plan(o);
 }
 
@@ -69,15 +71,14 @@ void RunSession::plan(const SessionOptions& o) {
                         o.config, mConfig.capture));
     }
     const std::string first = mFrames.empty() ? mConfig.capture : pattern.path(mFrames.front());
-    if (!first.empty() && std::filesystem::exists(first)) {
-        io::ExrReader reader(first);
-        mExtent = reader.extent();
-        inputs.availableBuffers = mProfile.availableBuffers(reader);
-        inputs.truthChannels = io::CaptureProfile::truthChannels(reader);
+    if (auto files = openCapture(first)) {
+        mExtent = files->extent();
+        inputs.availableBuffers = files->availableBuffers();
+        inputs.truthChannels = files->truthChannels();
         if (mFrames.empty()) {
             // A single capture keeps the frame number it was captured at.
             const auto* f =
-                reader.header().findTypedAttribute<Imf::IntAttribute>("framepass:frame");
+                files->primary().header().findTypedAttribute<Imf::IntAttribute>("framepass:frame");
             mFrames = {f ? f->value() : 1};
         }
     } else if (mFrames.empty()) {
@@ -97,9 +98,29 @@ std::string RunSession::capturePath(int frame) const {
     return io::FramePattern(mConfig.capture).path(frame);
 }
 
+std::string RunSession::previousCapturePath(int frame) const {
+    const io::FramePattern pattern(mConfig.capture);
+    return pattern.hasFrameToken() ? pattern.path(frame - 1) : "";
+}
+
+std::optional<io::CaptureFiles> RunSession::openCapture(const std::string& path) const {
+    if (path.empty()) return std::nullopt;
+    // A single-file capture that is not there yet is planned without it (plan before capture).
+    if (mProfile.filePattern().empty() && !std::filesystem::exists(path)) return std::nullopt;
+    try {
+        return std::make_optional<io::CaptureFiles>(path, mProfile);
+    } catch (const UsageError&) {
+        throw;
+    } catch (const Error&) {
+        if (mProfile.filePattern().empty()) throw;
+        return std::nullopt;  // no file of the multi-file capture yet
+    }
+}
+
 io::CaptureSource::Options RunSession::captureOptions(int frame) const {
     io::CaptureSource::Options o;
     o.path = capturePath(frame);
+    o.previousPath = previousCapturePath(frame);
     o.frame = frame;
     o.cameraSidecar = cameraPath(frame);
     SessionInputs* inputs = mInputs.get();

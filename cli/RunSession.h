@@ -22,8 +22,9 @@ struct SessionOptions {
     std::vector<std::string> sets;   //!< PASS.PARAM=VALUE
     std::vector<std::string> dumps;  //!< PASS.PORT or all
     std::string frames;
+    std::string profile;  //!< NAME or FILE.json; overrides the config's "profile"
 
-    /// Registers --cvar, --set, --dump and --frames on a subcommand.
+    /// Registers --cvar, --set, --dump, --frames and --profile on a subcommand.
     void addTo(CLI::App& sub);
 };
 
@@ -41,12 +42,18 @@ public:
     const Plan& plan() const { return mPlan; }
     const io::CaptureProfile& profile() const { return mProfile; }
     const std::vector<int>& frames() const { return mFrames; }
+    /// The capture of `frame` (a file, or a multi-file profile's base).
     std::string capturePath(int frame) const;
+    /// Frame N−1's capture when the capture is a frame pattern, else "".
+    std::string previousCapturePath(int frame) const;
     std::string cameraPath(int frame) const;
     /// How to open `frame`'s capture, with scene and OCIO config coming from inputs().
     io::CaptureSource::Options captureOptions(int frame) const;
     /// Size of the first frame (0×0 when its capture does not exist yet).
     Extent extent() const { return mExtent; }
+
+    /// The capture's files at `path` through the profile, or nothing when none exists yet.
+    std::optional<io::CaptureFiles> openCapture(const std::string& path) const;
 
 private:
     void plan(const SessionOptions& options);

@@ -3,9 +3,15 @@
 #include "passes/core/Error.h"
 
 #include <OpenEXR/ImfDoubleAttribute.h>
+#include <OpenEXR/ImfFloatAttribute.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfMatrixAttribute.h>
 #include <OpenEXR/ImfStandardAttributes.h>
 
+#include <array>
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 
 namespace fp::io {
@@ -61,6 +67,105 @@ Vec3d vec3(const nlohmann::json& j, const char* key, const std::string& where) {
     return {j[key][0].get<double>(), j[key][1].get<double>(), j[key][2].get<double>()};
 }
 
+// Unreal's FRotator (degrees) as a camera basis: FRotationMatrix's X axis is forward, Y right,
+// Z up (Unreal world axes: left-handed, Z up).
+void setRotator(CameraView& c, double pitch, double yaw, double roll) {
+    const double p = pitch * kPi / 180.0, y = yaw * kPi / 180.0, r = roll * kPi / 180.0;
+    const double sp = std::sin(p), cp = std::cos(p), sy = std::sin(y), cy = std::cos(y);
+    const double sr = std::sin(r), cr = std::cos(r);
+    c.forward = {cp * cy, cp * sy, sp};
+    c.right = {sr * sp * cy - cr * sy, sr * sp * sy + cr * cy, -sr * cp};
+    c.up = {-(cr * sp * cy + sr * sy), cy * sr - cr * sp * sy, cr * cp};
+}
+
+// The field of view of a camera JSON: "fovYDegrees" (vertical) or "fovXDegrees" (horizontal, as
+// Unreal and MRQ give it); false when it has neither.
+bool setFieldOfView(CameraView& c, const nlohmann::json& j, Extent extent, const std::string& where) {
+    if (j.contains("fovYDegrees")) {
+        c.fy = 1.0 / std::tan(number(j, "fovYDegrees", where) * kPi / 360.0);
+        c.fx = c.fy * extent.height / extent.width;
+    } else if (j.contains("fovXDegrees")) {
+        c.fx = 1.0 / std::tan(number(j, "fovXDegrees", where) * kPi / 360.0);
+        c.fy = c.fx * extent.width / extent.height;
+    } else {
+        return false;
+    }
+    return true;
+}
+
+// A header attribute as a number, whichever way the writer stored it (MRQ writes strings).
+std::optional<double> numberAttribute(const Imf::Header& h, const std::string& name) {
+    if (const auto* a = h.findTypedAttribute<Imf::DoubleAttribute>(name)) return a->value();
+    if (const auto* a = h.findTypedAttribute<Imf::FloatAttribute>(name)) return a->value();
+    if (const auto* a = h.findTypedAttribute<Imf::IntAttribute>(name)) return a->value();
+    if (const auto* a = h.findTypedAttribute<Imf::StringAttribute>(name)) {
+        try {
+            std::size_t used = 0;
+            const double v = std::stod(a->value(), &used);
+            if (used == a->value().size()) return v;
+        } catch (const std::exception&) {
+        }
+        throw UsageError(fmt::format("header attribute '{}' is '{}', not a number", name,
+                                     a->value()));
+    }
+    return std::nullopt;
+}
+
+// Movie Render Queue's camera: unreal/camera/curPos/{x,y,z}, curRot/{pitch,yaw,roll}, prevPos,
+// prevRot, and the horizontal FOV under unreal/camera/<Pass>/fov; Movie Render Graph writes the
+// same under unreal/layerData/<layer>/camera/. Unreal axes and centimetres.
+std::optional<FrameCamera> readUnrealCamera(const Imf::Header& h, Extent extent,
+                                            std::vector<std::string>& assumptions) {
+    std::string prefix;  // ".../camera/"
+    for (auto it = h.begin(); it != h.end(); ++it) {
+        const std::string name = it.name();
+        if (name.rfind("unreal/", 0) == 0 && name.ends_with("camera/curPos/x")) {
+            prefix = name.substr(0, name.size() - std::string("curPos/x").size());
+            if (name == "unreal/camera/curPos/x") break;  // the legacy spelling wins
+        }
+    }
+    if (prefix.empty()) return std::nullopt;
+    std::optional<double> fov = numberAttribute(h, prefix + "fov");
+    for (const std::string pass : {"FinalImage", ""})
+        for (auto it = h.begin(); !fov && it != h.end(); ++it) {
+            const std::string name = it.name();
+            if (name.rfind(prefix, 0) == 0 && name.ends_with("/fov") &&
+                (pass.empty() || name == prefix + pass + "/fov"))
+                fov = numberAttribute(h, name);
+        }
+    if (!fov || !(*fov > 0 && *fov < 180))
+        throw UsageError(fmt::format("header: {}curPos is there but no horizontal FOV in (0, 180) "
+                                     "({}<Pass>/fov)", prefix, prefix));
+    auto view = [&](const std::string& pos, const std::string& rot) -> std::optional<CameraView> {
+        std::array<std::optional<double>, 6> v = {
+            numberAttribute(h, prefix + pos + "/x"),     numberAttribute(h, prefix + pos + "/y"),
+            numberAttribute(h, prefix + pos + "/z"),     numberAttribute(h, prefix + rot + "/pitch"),
+            numberAttribute(h, prefix + rot + "/yaw"),   numberAttribute(h, prefix + rot + "/roll")};
+        int given = 0;
+        for (const auto& x : v) given += x.has_value();
+        if (given == 0) return std::nullopt;
+        if (given != 6)
+            throw UsageError(fmt::format("header: {}{} and {}{} need x, y, z and pitch, yaw, roll",
+                                         prefix, pos, prefix, rot));
+        CameraView c;
+        c.position = {*v[0], *v[1], *v[2]};
+        setRotator(c, *v[3], *v[4], *v[5]);
+        c.fx = 1.0 / std::tan(*fov * kPi / 360.0);
+        c.fy = c.fx * extent.width / extent.height;
+        c.width = extent.width;
+        c.height = extent.height;
+        c.nearPlane = 10.0;
+        return c;
+    };
+    FrameCamera cam;
+    cam.sceneUnitsPerMeter = 100.0;
+    cam.current = *view("curPos", "curRot");
+    cam.previous = view("prevPos", "prevRot");
+    assumptions.push_back("near plane not in the header: assumed 10 cm (Unreal's default "
+                          "r.SetNearClipPlane)");
+    return cam;
+}
+
 }  // namespace
 
 void writeCameraAttributes(Imf::Header& header, const FrameCamera& camera) {
@@ -78,10 +183,13 @@ void writeCameraAttributes(Imf::Header& header, const FrameCamera& camera) {
     Imf::addWorldToNDC(header, w2ndc);
 }
 
-std::optional<FrameCamera> readCameraAttributes(const Imf::Header& header, Extent extent) {
+std::optional<FrameCamera> readCameraAttributes(const Imf::Header& header, Extent extent,
+                                                std::vector<std::string>& assumptions,
+                                                std::optional<double> profileUnits) {
     FrameCamera cam;
-    if (const auto* u = header.findTypedAttribute<Imf::DoubleAttribute>(kUnits))
-        cam.sceneUnitsPerMeter = u->value();
+    const auto* units = header.findTypedAttribute<Imf::DoubleAttribute>(kUnits);
+    if (units) cam.sceneUnitsPerMeter = units->value();
+    else if (profileUnits) cam.sceneUnitsPerMeter = *profileUnits;
     const auto* view = header.findTypedAttribute<Imf::M44dAttribute>(kView);
     const auto* proj = header.findTypedAttribute<Imf::M44dAttribute>(kProj);
     if (view && proj) {
@@ -110,21 +218,51 @@ std::optional<FrameCamera> readCameraAttributes(const Imf::Header& header, Exten
         proj(2, 3) = 0.1 * cam.sceneUnitsPerMeter;  // Unreal's default near plane, 10 cm
         proj(3, 2) = 1.0;
         cam.current = CameraView::fromMatrices(w2c, proj, extent.width, extent.height);
+        if (!units && !profileUnits)
+            assumptions.push_back("scene units not in the header: assumed 100 per metre "
+                                  "(centimetres, Unreal's)");
+        assumptions.push_back(fmt::format("worldToNDC has no near plane: assumed 10 cm ({} scene "
+                                          "units)", 0.1 * cam.sceneUnitsPerMeter));
         return cam;
     }
-    return std::nullopt;
+    return readUnrealCamera(header, extent, assumptions);
 }
 
-CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std::string& where) {
+CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std::string& where,
+                              double defaultNear) {
     if (!j.is_object()) throw UsageError(fmt::format("{}: a camera must be a JSON object", where));
-    const double nearPlane = j.contains("near") ? number(j, "near", where) : 10.0;
+    const double nearPlane = j.contains("near") ? number(j, "near", where) : defaultNear;
+    if (!(nearPlane > 0) || !std::isfinite(nearPlane))
+        throw UsageError(fmt::format("{}/near: must be a positive number", where));
+    if (extent.width <= 0 || extent.height <= 0)
+        throw UsageError(fmt::format("{}: a camera needs the image size", where));
+    if (j.contains("position") && j.contains("rotation")) {
+        // Unreal's spelling: position and FRotator (pitch, yaw, roll in degrees), Unreal axes.
+        const auto& r = j["rotation"];
+        if (!r.is_object())
+            throw UsageError(fmt::format("{}/rotation: expected {{\"pitch\", \"yaw\", \"roll\"}} "
+                                         "in degrees", where));
+        CameraView c;
+        c.position = vec3(j, "position", where);
+        setRotator(c, number(r, "pitch", where + "/rotation"), number(r, "yaw", where + "/rotation"),
+                   number(r, "roll", where + "/rotation"));
+        if (!setFieldOfView(c, j, extent, where))
+            throw UsageError(fmt::format("{}: give 'fovXDegrees' (horizontal) or 'fovYDegrees'",
+                                         where));
+        c.width = extent.width;
+        c.height = extent.height;
+        c.nearPlane = nearPlane;
+        return c;
+    }
     if (j.contains("position")) {
         const Vec3d eye = vec3(j, "position", where);
         const Vec3d up = j.contains("up") ? vec3(j, "up", where) : Vec3d{0, 1, 0};
         Vec3d target = j.contains("target") ? vec3(j, "target", where)
                                             : eye + vec3(j, "forward", where);
-        CameraView c = CameraView::lookAt(eye, target, up, number(j, "fovYDegrees", where),
-                                          extent.width, extent.height, nearPlane);
+        CameraView c = CameraView::lookAt(eye, target, up, 60.0, extent.width, extent.height,
+                                          nearPlane);
+        if (!setFieldOfView(c, j, extent, where))
+            throw UsageError(fmt::format("{}: give 'fovYDegrees' or 'fovXDegrees'", where));
         if (length(cross(normalize(target - eye), normalize(up))) < 1e-9)
             throw UsageError(fmt::format("{}: 'up' is parallel to the view direction", where));
         return c;
@@ -155,10 +293,7 @@ CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std:
     c.width = extent.width;
     c.height = extent.height;
     c.nearPlane = nearPlane;
-    if (j.contains("fovYDegrees")) {
-        c.fy = 1.0 / std::tan(number(j, "fovYDegrees", where) * kPi / 360.0);
-        c.fx = c.fy * extent.height / extent.width;
-    } else {
+    if (!setFieldOfView(c, j, extent, where)) {
         c.fx = 2.0 * number(j, "fxPixels", where) / extent.width;
         c.fy = 2.0 * number(j, "fyPixels", where) / extent.height;
         c.cx = 2.0 * number(j, "cxPixels", where) / extent.width - 1.0;
@@ -167,7 +302,9 @@ CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std:
     return c;
 }
 
-FrameCamera readCameraSidecar(const std::string& path, Extent extent) {
+FrameCamera readCameraSidecar(const std::string& path, Extent extent,
+                              std::vector<std::string>& assumptions,
+                              std::optional<double> profileUnits) {
     std::ifstream in(path);
     FP_CHECK(in, "{}: cannot open the camera sidecar", path);
     nlohmann::json j;
@@ -177,11 +314,49 @@ FrameCamera readCameraSidecar(const std::string& path, Extent extent) {
         throw UsageError(fmt::format("{}: not valid JSON: {}", path, e.what()));
     }
     FrameCamera cam;
-    cam.current = cameraViewFromJson(j, extent, path);
-    cam.sceneUnitsPerMeter = j.value("sceneUnitsPerMeter", 100.0);
+    if (!j.is_object()) throw UsageError(fmt::format("{}: a camera sidecar is a JSON object", path));
+    if (j.contains("sceneUnitsPerMeter")) {
+        cam.sceneUnitsPerMeter = number(j, "sceneUnitsPerMeter", path + ":");
+        if (!(cam.sceneUnitsPerMeter > 0))
+            throw UsageError(fmt::format("{}: /sceneUnitsPerMeter must be positive", path));
+    } else if (profileUnits) {
+        cam.sceneUnitsPerMeter = *profileUnits;
+    } else {
+        assumptions.push_back(fmt::format("{}: no 'sceneUnitsPerMeter': assumed 100 (centimetres, "
+                                          "Unreal's)", path));
+    }
+    // Unreal's default near plane, 10 cm, in the sidecar's units.
+    const double defaultNear = 0.1 * cam.sceneUnitsPerMeter;
+    if (!j.contains("near"))
+        assumptions.push_back(fmt::format("{}: no 'near': assumed 10 cm ({} scene units)", path,
+                                          defaultNear));
+    cam.current = cameraViewFromJson(j, extent, path + ":", defaultNear);
     if (j.contains("previous"))
-        cam.previous = cameraViewFromJson(j["previous"], extent, path + ": /previous");
+        cam.previous = cameraViewFromJson(j["previous"], extent, path + ": /previous",
+                                          cam.current.nearPlane);
     return cam;
+}
+
+std::optional<FoundCamera> findCamera(const CameraLookup& in) {
+    FoundCamera found;
+    std::string sidecar = in.sidecar;
+    if (sidecar.empty() && !in.capturePath.empty() &&
+        std::filesystem::exists(in.capturePath + ".camera.json"))
+        sidecar = in.capturePath + ".camera.json";
+    if (!sidecar.empty()) {
+        found.camera = readCameraSidecar(sidecar, in.extent, found.assumptions, in.profileUnits);
+        found.source = "sidecar " + sidecar;
+        return found;
+    }
+    if (!in.header) return std::nullopt;
+    auto cam = readCameraAttributes(*in.header, in.extent, found.assumptions, in.profileUnits);
+    if (!cam) return std::nullopt;
+    found.camera = *cam;
+    found.source = in.header->findTypedAttribute<Imf::M44dAttribute>(kView)
+                       ? "header (framepass)"
+                   : Imf::hasWorldToCamera(*in.header) ? "header (worldToCamera, worldToNDC)"
+                                                       : "header (Unreal unreal/camera/*)";
+    return found;
 }
 
 nlohmann::json cameraViewToJson(const CameraView& c) {

@@ -15,6 +15,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace Imf = OPENEXR_IMF_NAMESPACE;
 
@@ -22,17 +23,44 @@ namespace fp::io {
 
 void writeCameraAttributes(Imf::Header& header, const FrameCamera& camera);
 
-/// The camera from framepass's attributes, else from worldToCamera/worldToNDC (near plane then
-/// defaults to 10 cm in the file's units), else nothing.
-std::optional<FrameCamera> readCameraAttributes(const Imf::Header& header, Extent extent);
+/// The camera from framepass's attributes, else from worldToCamera/worldToNDC, else from Unreal
+/// Movie Render Queue's unreal/camera/* (or Movie Render Graph's unreal/layerData/<layer>/
+/// camera/*) attributes, else nothing. Values the header does not give (near plane, units) are
+/// assumed and said in `assumptions`; `profileUnits` are the capture profile's scene units.
+std::optional<FrameCamera> readCameraAttributes(const Imf::Header& header, Extent extent,
+                                                std::vector<std::string>& assumptions,
+                                                std::optional<double> profileUnits = {});
 
-/// A camera from JSON: either {"cameraToWorld": [16 row-major], "axes": "opengl"|"unreal",
-/// "fovYDegrees" | "fxPixels","fyPixels","cxPixels","cyPixels", "near"} or
-/// {"position", "target", "up", "fovYDegrees", "near"}. `pointer` prefixes error locations.
-CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std::string& where);
+/// A camera from JSON: {"cameraToWorld": [16 row-major], "axes": "opengl"|"unreal",
+/// "fovYDegrees" | "fovXDegrees" | "fxPixels","fyPixels","cxPixels","cyPixels", "near"},
+/// {"position", "target" | "forward", "up", "fovYDegrees" | "fovXDegrees", "near"}, or Unreal's
+/// {"position", "rotation": {"pitch", "yaw", "roll"}, "fovXDegrees", "near"} (degrees, Unreal
+/// axes). `where` prefixes error locations; `defaultNear` stands in for a missing "near".
+CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std::string& where,
+                              double defaultNear = 10.0);
 
-/// A sidecar (<capture>.camera.json): a camera plus "sceneUnitsPerMeter" and "previous".
-FrameCamera readCameraSidecar(const std::string& path, Extent extent);
+/// A sidecar (<capture>.camera.json): a camera plus "sceneUnitsPerMeter" and "previous". A
+/// missing "sceneUnitsPerMeter" is the profile's, else 100; a missing "near" is 10 cm: both are
+/// said in `assumptions`.
+FrameCamera readCameraSidecar(const std::string& path, Extent extent,
+                              std::vector<std::string>& assumptions,
+                              std::optional<double> profileUnits = {});
+
+/// Where a frame's camera comes from, in the order `run` uses: the given sidecar, else
+/// <capturePath>.camera.json beside the capture, else the header.
+struct CameraLookup {
+    std::string sidecar;
+    std::string capturePath;
+    const Imf::Header* header = nullptr;
+    Extent extent;
+    std::optional<double> profileUnits;
+};
+struct FoundCamera {
+    FrameCamera camera;
+    std::string source;                    //!< "sidecar <path>", "header (…)"
+    std::vector<std::string> assumptions;  //!< values not given and assumed
+};
+std::optional<FoundCamera> findCamera(const CameraLookup& lookup);
 
 nlohmann::json cameraViewToJson(const CameraView& view);
 

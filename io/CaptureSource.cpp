@@ -5,8 +5,7 @@
 #include "passes/core/Error.h"
 #include "passes/core/SemanticBuffers.h"
 
-#include <OpenEXR/ImfIntAttribute.h>
-
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -30,48 +29,95 @@ OCIO::ConstConfigRcPtr loadColorConfig(const std::string& explicitPath) {
 }
 
 CaptureSource::CaptureSource(Options options, CaptureProfile profile)
-    : mOptions(std::move(options)), mProfile(std::move(profile)), mReader(mOptions.path) {}
+    : mOptions(std::move(options)), mFiles(mOptions.path, profile) {}
+
+void CaptureSource::note(const std::string& text) {
+    if (std::find(mNotes.begin(), mNotes.end(), text) != mNotes.end()) return;
+    if (mOptions.strict)
+        throw UsageError(fmt::format("{}: frame {}: {} (--strict: nothing is assumed)",
+                                     mFiles.capturePath(), mOptions.frame, text));
+    mNotes.push_back(text);
+}
 
 FrameInfo CaptureSource::frameInfo() {
     if (mInfo)
         return *mInfo;
     FrameInfo info;
     info.number = mOptions.frame;
-    info.extent = mReader.extent();
+    info.extent = mFiles.extent();
     info.firstInSequence = mOptions.firstInSequence;
-    std::string sidecar = mOptions.cameraSidecar;
-    if (sidecar.empty() && std::filesystem::exists(mOptions.path + ".camera.json"))
-        sidecar = mOptions.path + ".camera.json";
-    if (!sidecar.empty()) {
-        info.camera = readCameraSidecar(sidecar, info.extent);
+    CameraLookup lookup;
+    lookup.sidecar = mOptions.cameraSidecar;
+    lookup.capturePath = mFiles.capturePath();
+    lookup.header = &mFiles.primary().header();
+    lookup.extent = info.extent;
+    lookup.profileUnits = mFiles.profile().sceneUnitsPerMeter();
+    if (auto found = findCamera(lookup)) {
+        info.camera = found->camera;
         info.hasCamera = true;
-    } else if (auto cam = readCameraAttributes(mReader.header(), info.extent)) {
-        info.camera = *cam;
-        info.hasCamera = true;
+        for (const auto& a : found->assumptions) note(a);
     }
     mInfo = info;
     return info;
 }
 
+std::vector<std::string> CaptureSource::readLog() const {
+    std::vector<std::string> log = mFiles.readLog();
+    if (mPrevious)
+        for (const auto& c : mPrevious->readLog()) log.push_back("frame N-1 " + c);
+    return log;
+}
+
+Image CaptureSource::readPreviousFrame(const std::string& buffer, const BufferMapping& m,
+                                       int channels) {
+    const std::string& prev = mOptions.previousPath;
+    bool exists = false;
+    if (!prev.empty()) {
+        if (!mPrevious) {
+            try {
+                mPrevious = std::make_unique<CaptureFiles>(prev, mFiles.profile());
+            } catch (const Error&) {
+                if (std::filesystem::exists(prev)) throw;  // there, but unreadable
+            }
+        }
+        exists = mPrevious != nullptr;
+    }
+    if (!exists) {
+        // No frame N−1 on disk: the first frame of a sequence has no history, as after a
+        // camera cut — black colour, sky depth.
+        note(fmt::format("frame {}: no previous frame{} for {}: no history, as after a camera "
+                         "cut", mOptions.frame, prev.empty() ? "" : " (" + prev + ")", buffer));
+        const bool isDepth = buffer == "PrevSceneDepth" || buffer == "SceneDepth";
+        const SemanticBuffer* sem = findSemanticBuffer(buffer);
+        return Image(mFiles.extent().width, mFiles.extent().height, sem->channels,
+                     isDepth ? std::numeric_limits<float>::infinity() : 0.0f);
+    }
+    FP_CHECK(mPrevious->extent() == mFiles.extent(),
+             "{}: frame N−1 ({}) is {}×{}, this frame is {}×{}", mFiles.capturePath(), prev,
+             mPrevious->extent().width, mPrevious->extent().height, mFiles.extent().width,
+             mFiles.extent().height);
+    std::vector<std::string> notes;
+    Image img = mPrevious->read(m.previousFrame, channels, notes);
+    for (const auto& n : notes) note(n);
+    // Named as the buffer asked for (PrevSceneColor's R G B are SceneColor's R G B).
+    return img;
+}
+
 Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
     const SemanticBuffer* sem = findSemanticBuffer(buffer);
-    std::vector<std::string> names;
-    if (sem)
-        names = sem->channels;
-    const auto fileChannels = mProfile.channelsFor(buffer, channels);
-    if (!sem)
-        for (const auto& c : fileChannels)
-            names.push_back(c.substr(c.rfind('.') + 1));
-    for (const auto& c : fileChannels)
-        FP_CHECK(mReader.findChannel(c),
-                 "{}: frame {}: buffer '{}' needs channel '{}', which the "
-                 "file does not have",
-                 mOptions.path, mOptions.frame, buffer, c);
-    Image img = mReader.read(fileChannels, names);
-    FP_CHECK(img.width() == mReader.extent().width && img.height() == mReader.extent().height,
-             "{}: frame {}: buffer '{}' is {}×{}, the capture is {}×{}", mOptions.path,
-             mOptions.frame, buffer, img.width(), img.height(), mReader.extent().width,
-             mReader.extent().height);
+    const BufferMapping* m = mFiles.mappingFor(buffer);
+    Image img;
+    if (m && !m->previousFrame.empty()) {
+        img = readPreviousFrame(buffer, *m, channels);
+    } else {
+        std::vector<std::string> notes;
+        img = mFiles.read(buffer, channels, notes);
+        for (const auto& n : notes) note(n);
+    }
+    FP_CHECK(img.width() == mFiles.extent().width && img.height() == mFiles.extent().height,
+             "{}: frame {}: buffer '{}' is {}×{}, the capture is {}×{}", mFiles.capturePath(),
+             mOptions.frame, buffer, img.width(), img.height(), mFiles.extent().width,
+             mFiles.extent().height);
 
     // DESIGN §5: no NaN ever reaches an output. Colour: non-finite or negative → 0. Depth: NaN or
     // negative → sky. Normals: renormalised when off unit length by more than half precision.
@@ -112,8 +158,8 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
         throw Error(
             fmt::format("{}: frame {}: buffer '{}' has {} non-finite, {} negative and {} "
                         "non-unit values (--strict)",
-                        mOptions.path, mOptions.frame, buffer, counts.nonFinite, counts.negative,
-                        counts.nonUnitNormals));
+                        mFiles.capturePath(), mOptions.frame, buffer, counts.nonFinite,
+                        counts.negative, counts.nonUnitNormals));
     mSanitized.nonFinite += counts.nonFinite;
     mSanitized.negative += counts.negative;
     mSanitized.nonUnitNormals += counts.nonUnitNormals;

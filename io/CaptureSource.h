@@ -1,9 +1,10 @@
 #pragma once
-// A frame read from a capture file: the header (channels, camera) when opened, pixels buffer by
-// buffer as the executor asks for them, the scene's BVH and the OCIO config only if a pass needs
+// A frame read from a capture through its profile: the headers (channels, camera) when opened,
+// pixels buffer by buffer as the executor asks for them, frame N−1's files only for buffers the
+// profile takes from the previous frame, the scene's BVH and the OCIO config only if a pass needs
 // them. Input pixels pass through the sanitize policy of DESIGN §5 on the way in.
+#include "io/CaptureFiles.h"
 #include "io/CaptureProfile.h"
-#include "io/ExrReader.h"
 #include "io/SceneLoader.h"
 #include "passes/core/Executor.h"
 #include "passes/core/RayScene.h"
@@ -23,13 +24,14 @@ struct SanitizeCounts {
 class CaptureSource final : public FrameSource {
 public:
     struct Options {
-        std::string path;  //!< the capture file of this frame
+        std::string path;  //!< the capture file of this frame (multi-file profiles: its base)
+        std::string previousPath;  //!< frame N−1's capture ("" = none: a sequence's first)
         int64_t frame = 1;
         std::string cameraSidecar;                //!< "" = header, then <path>.camera.json
         std::function<const SceneFile&()> scene;  //!< loads the scene, geometry too, on first call
         std::function<const std::vector<Light>&()> lights;  //!< reads the scene's lights only
         std::function<OCIO_NAMESPACE::ConstConfigRcPtr()> colorConfig;  //!< loads on first call
-        bool strict = false;  //!< bad input pixels are an error instead of sanitized
+        bool strict = false;  //!< bad input pixels and assumed values are errors
         bool firstInSequence = true;
     };
     CaptureSource(Options options, CaptureProfile profile);
@@ -40,13 +42,21 @@ public:
     const std::vector<Light>& lights() override;
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override;
 
-    ExrReader& reader() { return mReader; }
+    CaptureFiles& files() { return mFiles; }
     const SanitizeCounts& sanitized() const { return mSanitized; }
+    /// What was assumed or chosen while reading (camera values not given, profile guesses, the
+    /// normal encoding, a missing frame N−1), each once.
+    const std::vector<std::string>& notes() const { return mNotes; }
+    /// Every channel decoded, frame N−1's too.
+    std::vector<std::string> readLog() const;
 
 private:
+    void note(const std::string& text);
+    Image readPreviousFrame(const std::string& buffer, const BufferMapping& m, int channels);
     Options mOptions;
-    CaptureProfile mProfile;
-    ExrReader mReader;
+    CaptureFiles mFiles;
+    std::unique_ptr<CaptureFiles> mPrevious;
+    std::vector<std::string> mNotes;
     std::optional<FrameInfo> mInfo;
     std::unique_ptr<RayScene> mRayScene;
     SanitizeCounts mSanitized;

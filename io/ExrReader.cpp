@@ -51,7 +51,8 @@ int ExrReader::partCount() const { return mFile->parts(); }
 
 Image ExrReader::read(const std::vector<std::string>& fileChannels,
                       const std::vector<std::string>& names) {
-    FP_ASSERT(fileChannels.size() == names.size());
+    FP_CHECK(fileChannels.size() == names.size(), "{}: {} channels read into {} names", mPath,
+             fileChannels.size(), names.size());
     std::vector<const ExrChannel*> found;
     for (const auto& name : fileChannels) {
         const ExrChannel* ch = findChannel(name);

@@ -1,5 +1,4 @@
 #include "io/CameraIO.h"
-#include "io/CaptureProfile.h"
 #include "io/ExrReader.h"
 #include "io/ExrWriter.h"
 #include "io/FramePattern.h"
@@ -104,7 +103,9 @@ TEST_CASE("camera header attributes round-trip in double, and from worldToCamera
     cam.previous->position.x -= 3.0;
     Imf::Header h(64, 48);
     io::writeCameraAttributes(h, cam);
-    const auto back = io::readCameraAttributes(h, {64, 48});
+    std::vector<std::string> assumed;
+    const auto back = io::readCameraAttributes(h, {64, 48}, assumed);
+    CHECK(assumed.empty());
     REQUIRE(back);
     CHECK(length(back->current.position - cam.current.position) < 1e-6);
     REQUIRE(back->previous);
@@ -115,7 +116,10 @@ TEST_CASE("camera header attributes round-trip in double, and from worldToCamera
     Imf::Header std(64, 48);
     io::writeCameraAttributes(std, cam);
     std.erase("framepass:worldToView");
-    const auto fromStd = io::readCameraAttributes(std, {64, 48});
+    const auto fromStd = io::readCameraAttributes(std, {64, 48}, assumed);
+    // worldToNDC carries no near plane: the assumed value is said.
+    REQUIRE(assumed.size() == 1);
+    CHECK(assumed[0].find("assumed 10 cm") != std::string::npos);
     REQUIRE(fromStd);
     CHECK(fromStd->current.fx == doctest::Approx(cam.current.fx).epsilon(1e-5));
     CHECK(fromStd->current.fy == doctest::Approx(cam.current.fy).epsilon(1e-5));
@@ -150,18 +154,4 @@ TEST_CASE("frame patterns: #### and # are 4 digits, @@@ is 3, %05d is 5, inline 
     CHECK(io::parseFrameSpec("1-5y2") == std::vector<int>{2, 4});
     CHECK_THROWS_AS(io::parseFrameSpec("1-x"), UsageError);
 }
-
-TEST_CASE("the canonical profile maps buffers to layer.channel names") {
-    const auto p = io::CaptureProfile::byName("canonical");
-    CHECK(p.channelsFor("WorldNormal", 3) ==
-          std::vector<std::string>{"WorldNormal.X", "WorldNormal.Y", "WorldNormal.Z"});
-    CHECK(p.channelsFor("Truth.AO", 1) == std::vector<std::string>{"Truth.AO.Y"});
-    CHECK(p.bufferOfChannel("Truth.Shadow.key.Y") == "Truth.Shadow.key");
-    CHECK_THROWS_WITH_AS(io::CaptureProfile::byName("canonicl"),
-                         doctest::Contains("did you mean 'canonical'?"), UsageError);
-    const auto inl = io::CaptureProfile::fromJson(
-        {{"buffers", {{"SceneDepth", {"depth.Z"}}}}}, "/profile");
-    CHECK(inl.channelsFor("SceneDepth", 1) == std::vector<std::string>{"depth.Z"});
-}
-
 }
