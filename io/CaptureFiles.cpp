@@ -270,8 +270,8 @@ Image CaptureFiles::read(const std::string& buffer, int channels, std::vector<st
                                              file.path(), ch->name, buffer, m->pointer));
             if (ch->type == Imf::HALF && (buffer == "SceneDepth" || buffer == "PrevSceneDepth"))
                 notes.push_back(fmt::format(
-                    "{}: {} is half float: 11-bit steps (8 cm at 100 m) and sky at 65504; "
-                    "prefer float depth", file.path(), ch->name));
+                    "{} (depth) is half float: 11-bit steps (8 cm at 100 m) and sky at 65504; "
+                    "prefer float depth", ch->name));
             found.push_back(ch);
         }
         FP_CHECK(int(found.size()) == img.channelCount(),
