@@ -7,6 +7,7 @@
 #include "io/ExrWriter.h"
 #include "io/PngWriter.h"
 #include "passes/core/Error.h"
+#include "passes/core/SemanticBuffers.h"
 #include "passes/display/DisplayTransform.h"
 #include "passes/metrics/ErrorMetrics.h"
 #include "passes/metrics/Heatmap.h"
@@ -44,6 +45,20 @@ std::string commonLayer(const io::ExrReader& a, const io::ExrReader& b) {
                                  a.path(), b.path(), common.size(), a.path(), fmt::join(namesA, ", ")));
 }
 
+// `layer` of the file: through the profile when it maps a buffer of that name (so a Blender
+// capture's SceneDepth is in scene units, with its sky), else the file's own layer.
+Image readImage(io::ExrReader& file, const std::string& layer,
+                const io::CaptureProfile& profile) {
+    if (profile.mappings(layer)) {
+        io::CaptureFiles files(file.path(), profile);
+        if (files.mappingFor(layer)) {
+            std::vector<std::string> notes;
+            return files.read(layer, int(findSemanticBuffer(layer)->channels.size()), notes);
+        }
+    }
+    return io::readLayer(file, io::findLayer(file, layer));
+}
+
 // The capture's SceneDepth as its profile reads it (scale, sky threshold, the depth file of a
 // multi-file capture), or nothing when the file has none.
 std::optional<Image> readDepth(const std::string& path, const io::CaptureProfile& profile) {
@@ -67,7 +82,8 @@ std::string pngPathFor(const std::string& exr) {
 
 Command addCompareCommand(CLI::App& app) {
     struct Options {
-        std::string a, b, layer, refLayer, mask = "sky", heatmap, ocioConfig, profile = "canonical";
+        std::string a, b, layer, refLayer, mask = "sky", heatmap, ocioConfig, profile = "canonical",
+                    refProfile;
         double tolerance = 0.1, skyDistance = std::numeric_limits<double>::infinity();
         double heatMax = 0, maxRmse = -1;
         bool json = false;
@@ -83,8 +99,12 @@ Command addCompareCommand(CLI::App& app) {
     sub->add_option("--mask", opt->mask, "sky: leave out pixels whose SceneDepth is sky; none")
         ->check(CLI::IsMember({"sky", "none"}));
     sub->add_option("--profile", opt->profile,
-                    "capture profile (NAME or FILE.json) that finds SceneDepth for the sky mask in "
-                    "B, else A (default canonical)");
+                    "capture profile (NAME or FILE.json, default canonical): a --layer that names "
+                    "a buffer it maps (SceneDepth, WorldNormal, …) is read through it, and it "
+                    "finds SceneDepth for the sky mask");
+    sub->add_option("--ref-profile", opt->refProfile,
+                    "capture profile of B when it differs from A's, e.g. a Blender capture "
+                    "against framepass's own");
     sub->add_option("--sky-distance", opt->skyDistance,
                     "depths at or beyond this are sky (default: only +inf)")
         ->check(CLI::PositiveNumber);
@@ -107,35 +127,34 @@ Command addCompareCommand(CLI::App& app) {
         const std::string layerA = opt->layer.empty() && opt->refLayer.empty() ? commonLayer(a, b)
                                                                                   : opt->layer;
         const std::string layerB = opt->refLayer.empty() ? layerA : opt->refLayer;
-        const io::ExrLayerInfo infoA = io::findLayer(a, layerA);
-        const io::ExrLayerInfo infoB = io::findLayer(b, layerB);
-        if (infoA.channels.size() != infoB.channels.size())
+        const io::CaptureProfile profileA = io::CaptureProfile::load(opt->profile);
+        const io::CaptureProfile profileB =
+            opt->refProfile.empty() ? profileA : io::CaptureProfile::load(opt->refProfile);
+        const Image imgA = readImage(a, layerA, profileA);
+        const Image imgB = readImage(b, layerB, profileB);
+        if (imgA.channelCount() != imgB.channelCount())
             throw UsageError(fmt::format("{}[{}] has {} channels but {}[{}] has {}", opt->a,
-                                         displayName(layerA), infoA.channels.size(), opt->b,
-                                         displayName(layerB), infoB.channels.size()));
-        if (a.extent().width != b.extent().width || a.extent().height != b.extent().height)
-            throw UsageError(fmt::format("{} is {}×{} but {} is {}×{}", opt->a, a.extent().width,
-                                         a.extent().height, opt->b, b.extent().width,
-                                         b.extent().height));
-        const Image imgA = io::readLayer(a, infoA);
-        const Image imgB = io::readLayer(b, infoB);
+                                         displayName(layerA), imgA.channelCount(), opt->b,
+                                         displayName(layerB), imgB.channelCount()));
+        if (imgA.width() != imgB.width() || imgA.height() != imgB.height())
+            throw UsageError(fmt::format("{} is {}×{} but {} is {}×{}", opt->a, imgA.width(),
+                                         imgA.height(), opt->b, imgB.width(), imgB.height()));
         std::optional<Image> stdErr;
         for (const auto& l : io::listLayers(b))
-            if (l.name == layerB + ".StdErr" && l.channels.size() == infoB.channels.size())
+            if (l.name == layerB + ".StdErr" && int(l.channels.size()) == imgB.channelCount())
                 stdErr = io::readLayer(b, l);
 
         std::optional<Image> mask;
         std::string maskNote = "no mask";
         if (opt->mask == "sky") {
-            const io::CaptureProfile profile = io::CaptureProfile::load(opt->profile);
-            std::optional<Image> depth = readDepth(opt->b, profile);
-            if (!depth) depth = readDepth(opt->a, profile);
+            std::optional<Image> depth = readDepth(opt->b, profileB);
+            if (!depth) depth = readDepth(opt->a, profileA);
             if (depth) {
                 mask = notSkyMask(*depth, float(opt->skyDistance));
                 maskNote = "sky masked by SceneDepth";
             } else {
                 maskNote = fmt::format("no SceneDepth in either file (profile {}): nothing masked",
-                                       profile.name());
+                                       profileB.name());
                 std::cerr << "framepass warning: " << maskNote << "\n";
             }
         }

@@ -187,6 +187,11 @@ public:
                 } else {
                     text = port.captureDefault.empty() ? "" : "capture:" + port.captureDefault;
                     where = n.desc->pointer;
+                    // An optional input whose default buffer this capture lacks stays unbound
+                    // (a Blender capture has no InstanceId): the pass runs without it.
+                    if (port.optional && mIn.availableBuffers &&
+                        !mIn.availableBuffers->count(port.captureDefault))
+                        text.clear();
                 }
                 if (text.empty()) {
                     if (!port.optional)

@@ -97,5 +97,24 @@ check "--strict makes an assumed value an error" expect_exit 2 "--strict: nothin
 check "compare finds the sky mask through a profile" bash -c "'$FP' compare shot0002_PreTonemapHDRColor.exr shot0002_PreTonemapHDRColor.exr --profile ue-bufvis | grep -q 'sky masked by SceneDepth'"
 check "an unknown profile suggests a known one" expect_exit 2 "did you mean 'ue-mrq'?" "$FP" inspect seq.0001.exr --profile ue-mrg
 
+# --- Blender: the fixture rendered by examples/blender/make_fixture.sh (tests/fixtures/blender) ---
+BL="$SRC/tests/fixtures/blender"
+check "inspect --profile blender: its buffers and the sidecar the export script wrote" bash -c "'$FP' inspect '$BL/room.0002.exr' --profile blender > bl.txt && grep -q 'SceneDepth *← ViewLayer.Depth.Z' bl.txt && grep -q 'Emissive *← ViewLayer.Emit.R ViewLayer.Emit.G ViewLayer.Emit.B ViewLayer.Env.R' bl.txt && grep -q 'camera (sidecar .*room.0002.exr.camera.json)' bl.txt && ! grep -q 'assumed' bl.txt"
+check "the SSGI chain runs on the Blender capture alone" bash -c "'$FP' run '$BL/ssgi_only.json' -o bl_ssgi > bl_ssgi.log 2>&1 && test -f bl_ssgi/indirect.0003.exr"
+check "the lit chain runs on the Blender capture with the geometry the script exported" bash -c "'$FP' run '$BL/config.json' -o bl_lit --report bl_lit.json > bl_lit.log 2>&1 && test -f bl_lit/lit.0003.exr && test -f bl_lit/shadows.0003.exr && grep -q 'ViewLayer.IndexOB.X' bl_lit.json"
+# framepass's own render of the scene the script exported must see what Cycles saw: the same
+# depth, normals and motion, read through the blender profile against the canonical one.
+check "framepass captures the exported scene (frame 1)" "$FP" capture "$BL/scene.json" -o canon.exr --width 64 --height 64
+# Depth: float32 planar depth at ≤ 5 m (ulp 0.06 mm); 0.001 cm is 16 ulps.
+check "Blender's depth equals framepass's render of the exported scene (RMSE ≤ 0.001 cm)" \
+    "$FP" compare "$BL/room.0001.exr" canon.exr --layer SceneDepth --profile blender --ref-profile canonical --max-rmse 0.001
+# Motion: the profile's sign convention against reprojection through the cameras; Cycles' own
+# float maths is off by ≤ 0.005 px (measured by examples/blender/check_fixture.py).
+check "Blender's Vector pass is framepass's Velocity (RMSE ≤ 0.01 px)" \
+    "$FP" compare "$BL/room.0001.exr" canon.exr --layer Velocity --profile blender --ref-profile canonical --max-rmse 0.01
+# Normals: equal on faces; a pixel centre on an edge may average two faces (0.13 % of pixels).
+check "Blender's world normals are framepass's (RMSE ≤ 0.01)" \
+    "$FP" compare "$BL/room.0001.exr" canon.exr --layer WorldNormal --profile blender --ref-profile canonical --max-rmse 0.01
+
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

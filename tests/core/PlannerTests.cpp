@@ -69,6 +69,16 @@ struct ColorReader {  // reads SceneColor and, optionally, anything one-channel
         return io;
     }
 };
+struct AoReader {  // reads GBufferAO when the capture has it
+    static constexpr const char* kId = "ao_reader";
+    static PassIO describe() {
+        PassIO io;
+        io.inputs = {{.name = "ao", .channels = {"Y"}, .optional = true,
+                      .captureDefault = "GBufferAO"}};
+        io.outputs = {{.name = "out", .channels = {"Y"}}};
+        return io;
+    }
+};
 struct Relay {  // needs an explicit input; traces rays
     static constexpr const char* kId = "relay";
     static PassIO describe() {
@@ -85,6 +95,7 @@ PassRegistry fakeRegistry() {
     r.add<FakePass<DepthReader>>("depth_reader", "");
     r.add<FakePass<ColorReader>>("color_reader", "");
     r.add<FakePass<Relay>>("relay", "");
+    r.add<FakePass<AoReader>>("ao_reader", "");
     r.recognise("r.Fake.Unemulated", 1, "recognised, runs as 1");
     return r;
 }
@@ -223,6 +234,19 @@ TEST_SUITE("planner") {
                   "it has [SceneColor, SceneDepht]") != std::string::npos);
     }
 
+    TEST_CASE("an optional input's capture default binds only where the capture has it") {
+        const auto g = graph({node("a", "ao_reader")}, {"a.out"});
+        PlanInputs in;
+        in.availableBuffers = std::set<std::string>{"GBufferAO"};
+        CHECK(makePlan(g, fakeRegistry(), in).captureReads.size() == 1);
+        in.availableBuffers = std::set<std::string>{"SceneColor"};  // a Blender capture, say
+        CHECK(makePlan(g, fakeRegistry(), in).captureReads.empty());
+        // Bound explicitly, a missing buffer stays an error.
+        CHECK(planError(graph({node("a", "ao_reader", {{"ao", "capture:GBufferAO"}})}, {"a.out"}),
+                        in)
+                  .find("the capture has no 'GBufferAO' buffer") != std::string::npos);
+    }
+
     TEST_CASE("an unbound optional input is accepted; channel counts must match") {
         CHECK_NOTHROW(makePlan(graph({node("d", "color_reader")}, {"d.out"}), fakeRegistry(), {}));
         const std::string err = planError(
@@ -281,9 +305,9 @@ TEST_SUITE("planner") {
     TEST_CASE("the cvar table is made from the parameters' own declarations") {
         const PassRegistry registry = fakeRegistry();
         const CvarTable table(registry);
-        // One parameter declares r.Fake.Quality; each of the three pass types has it.
+        // One parameter declares r.Fake.Quality; each of the four pass types has it.
         CHECK(table.targets("r.Fake.Quality") ==
-              std::vector<std::string>{"depth_reader", "color_reader", "relay"});
+              std::vector<std::string>{"depth_reader", "color_reader", "relay", "ao_reader"});
         REQUIRE(table.find("r.Fake.Quality", "relay"));
         CHECK(table.find("r.Fake.Quality", "relay")->param == "quality");
         CHECK(table.find("r.Fake.Unemulated")->passType.empty());
