@@ -133,9 +133,24 @@ std::optional<FrameCamera> readUnrealCamera(const Imf::Header& h, Extent extent,
                 (pass.empty() || name == prefix + pass + "/fov"))
                 fov = numberAttribute(h, name);
         }
+    if (!fov) {
+        // No fov: from the lens, hfov = 2·atan(sensorWidth / 2·focalLength) (both in mm).
+        for (auto it = h.begin(); it != h.end() && !fov; ++it) {
+            const std::string name = it.name();
+            if (name.rfind(prefix, 0) != 0 || !name.ends_with("focalLength") ||
+                name.ends_with("inFocalLength") || name.ends_with("axFocalLength"))
+                continue;
+            const std::string base = name.substr(0, name.size() - std::string("focalLength").size());
+            const auto focal = numberAttribute(h, name);
+            const auto sensor = numberAttribute(h, base + "sensorWidth");
+            if (focal && sensor && *focal > 0 && *sensor > 0)
+                fov = 2.0 * std::atan(*sensor / (2.0 * *focal)) * 180.0 / kPi;
+        }
+    }
     if (!fov || !(*fov > 0 && *fov < 180))
         throw UsageError(fmt::format("header: {}curPos is there but no horizontal FOV in (0, 180) "
-                                     "({}<Pass>/fov)", prefix, prefix));
+                                     "({}<Pass>/fov, or sensorWidth and focalLength)",
+                                     prefix, prefix));
     auto view = [&](const std::string& pos, const std::string& rot) -> std::optional<CameraView> {
         std::array<std::optional<double>, 6> v = {
             numberAttribute(h, prefix + pos + "/x"),     numberAttribute(h, prefix + pos + "/y"),

@@ -7,6 +7,8 @@
 #include "io/CaptureSource.h"
 #include "passes/core/Error.h"
 
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <OpenImageIO/imageio.h>
 #include <doctest/doctest.h>
 
@@ -282,6 +284,19 @@ TEST_SUITE("io") {
         REQUIRE(cam);
         CHECK(cam->current.position.y == 200.0);
         CHECK(cam->current.fx == doctest::Approx(1.0));
+
+        // Without fov, the lens gives it: 36 mm sensor, 18 mm lens = 90° horizontal.
+        Imf::Header lens(kW, kH);
+        for (const auto& [k, v] : kMrqCamera)
+            if (!k.ends_with("/fov")) lens.insert(k, Imf::StringAttribute(v));
+        lens.insert("unreal/camera/FinalImage/focalLength", Imf::StringAttribute("18"));
+        const auto fromLens = io::readCameraAttributes(lens, {kW, kH}, assumed);
+        REQUIRE(fromLens);
+        CHECK(fromLens->current.fx == doctest::Approx(1.0));
+        lens.insert("unreal/camera/curRot/yaw", Imf::StringAttribute("thirty"));
+        CHECK_THROWS_WITH_AS(io::readCameraAttributes(lens, {kW, kH}, assumed),
+                             doctest::Contains("'unreal/camera/curRot/yaw' is 'thirty', not a number"),
+                             UsageError);
     }
 
     TEST_CASE("ue-bufvis: one file per buffer, packed normals found, an Unreal-style sidecar") {
