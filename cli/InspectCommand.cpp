@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <set>
 
@@ -94,6 +95,26 @@ Command addInspectCommand(CLI::App& app) {
         for (const auto& [layer, why] : profile.unmapped())
             for (const auto& l : layers)
                 if (l.rfind(layer, 0) == 0) j["unmapped"][l] = why;
+        if (!profile.filePattern().empty()) {
+            // A multi-file capture: the files of the same base no mapping reads.
+            namespace fs = std::filesystem;
+            const fs::path base(files.capturePath());
+            const std::string stem = base.filename().string() + "_";
+            std::set<std::string> opened;
+            for (const auto& [key, r] : files.files()) opened.insert(key);
+            std::error_code ec;
+            const fs::path dir = base.has_parent_path() ? base.parent_path() : fs::path(".");
+            for (const auto& e : fs::directory_iterator(dir, ec)) {
+                const std::string name = e.path().filename().string();
+                if (name.rfind(stem, 0) != 0 || e.path().extension() != ".exr") continue;
+                const std::string key = name.substr(stem.size(), name.size() - stem.size() - 4);
+                if (opened.count(key)) continue;
+                const auto why = profile.unmapped().find(key);
+                j["unmapped"][name] = why != profile.unmapped().end()
+                                          ? why->second
+                                          : "the profile maps no buffer to it";
+            }
+        }
         io::CameraLookup lookup;
         lookup.sidecar = opt->camera;
         lookup.capturePath = files.capturePath();

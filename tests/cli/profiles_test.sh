@@ -74,6 +74,8 @@ check "run the same chain on the buffer dumps" "$FP" run bufvis.json -o out_bufv
 check "MRQ layout and buffer dumps give the same bytes" diff -r out_mrq out_bufvis
 check "a half-float MRQ capture runs and warns about half depth, once" bash -c "'$FP' run mrqh.json -o out_mrqh > mrqh.log 2>&1 && [ \$(grep -c 'is half float' mrqh.log) = 1 ] && test -f out_mrqh/indirect.0002.exr"
 check "--profile on the command line overrides the config's" bash -c "'$FP' plan mrq.json --profile canonical 2>&1 | grep -q 'SceneDepth'; test \${PIPESTATUS[0]} = 2"
+oiiotool -i shot0002_Metallic.exr -o shot0002_Velocity.exr
+check "inspect names the dump files the profile leaves out, and why" bash -c "'$FP' inspect shot0002 --profile ue-bufvis | grep -q \"not read: shot0002_Velocity.exr (the _Velocity material's encoding is not documented\""
 check "inspect a buffer dump by any of its files, with the profile's buffers" bash -c "'$FP' inspect shot0002_BaseColor.exr --profile ue-bufvis > bv.txt && grep -q 'SceneDepth *← SceneDepthWorldUnits:R' bv.txt && grep -q 'WorldNormal *← WorldNormal:R WorldNormal:G WorldNormal:B' bv.txt"
 
 # The camera inspect shows is the one run uses: a sidecar beside the capture wins over the header.
