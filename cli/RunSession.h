@@ -22,8 +22,9 @@ struct SessionOptions {
     std::vector<std::string> sets;   //!< PASS.PARAM=VALUE
     std::vector<std::string> dumps;  //!< PASS.PORT or all
     std::string frames;
+    bool allowUnknownCvars = false;  //!< an unknown cvar is a warning, not an error
 
-    /// Registers --cvar, --set, --dump and --frames on a subcommand.
+    /// Registers --cvar, --set, --dump, --frames and --allow-unknown-cvars on a subcommand.
     void addTo(CLI::App& sub);
 };
 
