@@ -1,7 +1,9 @@
 // framepass compare: error of one image against a reference (DESIGN §6), as numbers, JSON and a
 // heat map.
 #include "cli/Commands.h"
+#include "cli/Invocation.h"
 #include "io/CaptureSource.h"
+#include "io/ContactSheet.h"
 #include "io/ExrLayers.h"
 #include "io/ExrWriter.h"
 #include "io/PngWriter.h"
@@ -122,7 +124,7 @@ Command addCompareCommand(CLI::App& app) {
                 maskNote = "sky masked by SceneDepth";
             } else {
                 maskNote = "no SceneDepth in either file: nothing masked";
-                std::cerr << "framepass warning: " << maskNote << "\n";
+                logWarning(maskNote);
             }
         }
         Image absError(imgA.width(), imgA.height(), {"Y"});
@@ -147,7 +149,10 @@ Command addCompareCommand(CLI::App& app) {
                          meta);
             const DisplayTransform display(io::loadColorConfig(opt->ocioConfig), "scene_linear", "",
                                            "", 0.0f, true);
-            io::writePng(pngPathFor(opt->heatmap), display.apply(heat));
+            // The PNG carries its scale: the colour map from 0 to `scale` under the image.
+            io::writePng(pngPathFor(opt->heatmap),
+                         io::withColorBar(display.apply(heat), display.apply(heatmapRamp()), "0",
+                                          fmt::format("{:.4g}", scale), "|error|"));
         }
 
         if (opt->json) {

@@ -15,13 +15,18 @@ namespace fp::io {
 
 namespace OCIO = OCIO_NAMESPACE;
 
-OCIO::ConstConfigRcPtr loadColorConfig(const std::string& explicitPath) {
+std::string colorConfigPath(const std::string& explicitPath) {
     std::string path = explicitPath;
     if (path.empty())
         if (const char* env = std::getenv("OCIO"); env && *env)
             path = env;
     if (path.empty())
         path = configDirectory() + "/ocio/config.ocio";
+    return path;
+}
+
+OCIO::ConstConfigRcPtr loadColorConfig(const std::string& explicitPath) {
+    const std::string path = colorConfigPath(explicitPath);
     try {
         return OCIO::Config::CreateFromFile(path.c_str());
     } catch (const OCIO::Exception& e) {

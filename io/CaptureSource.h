@@ -54,5 +54,7 @@ private:
 
 /// The OCIO config to use: `explicitPath`, else $OCIO, else configs/ocio/config.ocio.
 OCIO_NAMESPACE::ConstConfigRcPtr loadColorConfig(const std::string& explicitPath);
+/// The path loadColorConfig(explicitPath) reads.
+std::string colorConfigPath(const std::string& explicitPath);
 
 }  // namespace fp::io
