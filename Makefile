@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 DEBIAN_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimageio-tools \
     libopenexr-dev libopencolorio-dev libembree-dev libtbb-dev libcli11-dev nlohmann-json3-dev \
-    doctest-dev libfmt-dev libtinygltf-dev libtinyobjloader-dev chromium python3
+    doctest-dev libfmt-dev libtinygltf-dev libtinyobjloader-dev fonts-dejavu-core chromium python3
 FRAMEPASS = $(BUILD_DIR)/cli/framepass
 
 .PHONY: demo test deps build

@@ -5,12 +5,15 @@
 #include "cli/BareRayLoop.h"
 #include "cli/BenchResult.h"
 #include "cli/Commands.h"
+#include "cli/Invocation.h"
 #include "cli/RunSession.h"
 #include "io/CaptureSource.h"
+#include "io/ContactSheet.h"
 #include "io/PngWriter.h"
 #include "passes/core/Error.h"
 #include "passes/core/Executor.h"
 #include "passes/display/DisplayTransform.h"
+#include "passes/metrics/Heatmap.h"
 
 #include <filesystem>
 #include <fstream>
@@ -172,24 +175,38 @@ std::vector<std::string> errorDumps(const GraphDesc& graph) {
     return dumps;
 }
 
-// The images of one error_measure for the HTML report: result, truth and heat map as PNG.
+// The images of one error_measure for the HTML report: result, truth and heat map as PNG, the
+// heat map with its colour bar from 0 to the pass's heat scale.
 ErrorImages errorImages(const std::string& heat,
                         const ErrorNodeResult& e,
                         CachedSource& source,
                         const KeepingSink& sink,
                         SessionInputs& inputs) {
     const DisplayTransform display(inputs.colorConfig(), "scene_linear", "", "", 0.0f, true);
-    auto preview = [&](const std::string& key) -> std::string {
-        const Image* img = nullptr;
+    auto find = [&](const std::string& key) -> const Image* {
         if (key.rfind("capture:", 0) == 0) {
             if (const Texture* t = source.cached(key.substr(8)))
-                img = &t->image();
+                return &t->image();
         } else if (auto it = sink.images.find(key); it != sink.images.end()) {
-            img = &it->second;
+            return &it->second;
         }
+        return nullptr;
+    };
+    auto preview = [&](const std::string& key) -> std::string {
+        const Image* img = find(key);
         return img ? base64(io::encodePng(display.apply(*img))) : std::string();
     };
-    return {preview(e.source), preview(e.reference), preview(heat)};
+    std::string heatPng;
+    if (const Image* img = find(heat)) {
+        const auto it = e.metrics.find("heatScale");
+        const Image shown =
+            it == e.metrics.end()
+                ? display.apply(*img)
+                : io::withColorBar(display.apply(*img), display.apply(heatmapRamp()), "0",
+                                   fmt::format("{:.4g}", it->second), "|error|");
+        heatPng = base64(io::encodePng(shown));
+    }
+    return {preview(e.source), preview(e.reference), heatPng};
 }
 
 // Replays the shadow rays of one more run through bare Embree loops (packets and single rays).
@@ -245,7 +262,7 @@ BenchSetting benchSetting(const RunSession& session,
             for (std::size_t s = 0; s < last.passes.size(); ++s)
                 stepSeconds[s].push_back(last.passes[s].seconds);
         }
-        std::cout << fmt::format("Progress: {}%\n", 100 * ++runsDone / totalRuns) << std::flush;
+        logProgress(100 * ++runsDone / totalRuns);
     }
 
     BenchSetting setting;
@@ -334,6 +351,8 @@ Command addBenchCommand(CLI::App& app) {
         const std::vector<SweepPoint> grid = sweepGrid(opt->sweeps);
         // The config and scene are read once; each sweep point is a new plan of the same chain.
         const RunSession probe(opt->session);
+        for (const auto& w : probe.plan().warnings)
+            logWarning(fmt::format("{}: {}", w.pointer, w.message));
         SessionOptions base = opt->session;
         for (const auto& d : errorDumps(probe.config().graph))
             base.dumps.push_back(d);

@@ -1,6 +1,7 @@
 // The HTML bench report: one self-contained page (inline CSS, SVG and base64 PNGs) that opens
 // anywhere, including a farm's artefact browser with no network.
 #include "cli/BenchResult.h"
+#include "passes/metrics/Heatmap.h"
 
 #include <fmt/format.h>
 
@@ -35,6 +36,19 @@ std::string unitRate(double perSecond, const std::string& unit) {
     else if (v >= 1e6) v /= 1e6, prefix = "M";
     else if (v >= 1e3) v /= 1e3, prefix = "k";
     return fmt::format("{:.2f} {}{}/s", v, prefix, unit);
+}
+
+// The heat map's scale beside it: the colour map as a CSS gradient from 0 to the heat scale.
+std::string heatScaleBar(double scale) {
+    std::string stops;
+    for (const auto& c : heatColorStops())
+        stops += fmt::format(", rgb({},{},{})", int(std::lround(c[0] * 255)),
+                             int(std::lround(c[1] * 255)), int(std::lround(c[2] * 255)));
+    return fmt::format(
+        R"~(<div class="scale" data-heat-scale="{:.6g}"><span>0</span>)~"
+        R"~(<span class="bar" style="background:linear-gradient(to right{})"></span>)~"
+        R"~(<span>{:.4g}</span> |error|</div>)~",
+        scale, stops, scale);
 }
 
 // "Nice" tick spacing for an axis covering [lo, hi].
@@ -139,6 +153,8 @@ th{background:#f2f2f2}td.l,th.l{text-align:left}tr.front td{background:#fff4ea}
 figure{display:inline-block;margin:0 12px 12px 0}figcaption{font-size:12px;color:#555}
 img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
 .meta{color:#555;font-size:13px}
+.scale{font-size:12px;color:#555;display:flex;align-items:center;gap:4px;margin-top:2px}
+.scale .bar{display:inline-block;width:160px;height:10px;border:1px solid #ccc}
 </style></head><body>
 )";
     h << "<h1>framepass bench</h1>\n";
@@ -216,14 +232,19 @@ img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
             if (!imagesHeader) h << "<h2>Images</h2>\n";
             imagesHeader = true;
             h << "<h3>" << escape(s.label) << " · " << escape(e.name) << "</h3><div>";
-            auto fig = [&](const std::string& png, const std::string& caption) {
-                if (png.empty()) return;
+            auto fig = [&](const std::string& png, const std::string& caption,
+                           const std::string& extra = "") {
+                if (png.empty())
+                    return;
                 h << "<figure><img alt=\"" << escape(caption) << "\" src=\"data:image/png;base64,"
-                  << png << "\"><figcaption>" << escape(caption) << "</figcaption></figure>";
+                  << png << "\"><figcaption>" << escape(caption) << extra
+                  << "</figcaption></figure>";
             };
             fig(e.images.result, "result: " + e.source);
             fig(e.images.truth, "truth: " + e.reference);
-            fig(e.images.heat, "|error| heat map (viridis, grey = sky)");
+            const auto scale = e.metrics.find("heatScale");
+            fig(e.images.heat, "|error| heat map (viridis, grey = sky)",
+                scale == e.metrics.end() ? std::string() : heatScaleBar(scale->second));
             h << "</div>\n";
         }
 

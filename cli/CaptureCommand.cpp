@@ -1,13 +1,14 @@
 // framepass capture: render a canonical capture (GBuffer, lighting, previous frame) from a scene.
 #include "cli/Commands.h"
+#include "cli/Invocation.h"
 #include "io/ExrWriter.h"
 #include "io/FramePattern.h"
 #include "io/SceneLoader.h"
 #include "passes/capture/GBufferRenderer.h"
-#include "passes/metrics/ErrorMetrics.h"
-#include "passes/reference/TruthRenderer.h"
 #include "passes/core/Error.h"
 #include "passes/core/SemanticBuffers.h"
+#include "passes/metrics/ErrorMetrics.h"
+#include "passes/reference/TruthRenderer.h"
 
 #include <chrono>
 #include <cmath>
@@ -87,7 +88,7 @@ Command addCaptureCommand(CLI::App& app) {
             auto progress = [&](double within) {
                 const int pct = int(100.0 * (double(i) + within) / double(frames.size()));
                 if (pct / 10 > lastProgress / 10 || (pct == 100 && lastProgress != 100)) {
-                    std::cout << fmt::format("Progress: {}%\n", pct) << std::flush;
+                    logProgress(pct);
                     lastProgress = pct;
                 }
             };

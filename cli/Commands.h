@@ -17,5 +17,6 @@ Command addInspectCommand(CLI::App& app);
 Command addPassesCommand(CLI::App& app);
 Command addPlanCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
+Command addSheetCommand(CLI::App& app);
 
 }  // namespace fp::cli

@@ -1,8 +1,10 @@
 // framepass compare: error of one image against a reference (DESIGN §6), as numbers, JSON and a
 // heat map.
 #include "cli/Commands.h"
+#include "cli/Invocation.h"
 #include "io/CaptureFiles.h"
 #include "io/CaptureSource.h"
+#include "io/ContactSheet.h"
 #include "io/ExrLayers.h"
 #include "io/ExrWriter.h"
 #include "io/PngWriter.h"
@@ -155,7 +157,7 @@ Command addCompareCommand(CLI::App& app) {
             } else {
                 maskNote = fmt::format("no SceneDepth in either file (profile {}): nothing masked",
                                        profileB.name());
-                std::cerr << "framepass warning: " << maskNote << "\n";
+                logWarning(maskNote);
             }
         }
         Image absError(imgA.width(), imgA.height(), {"Y"});
@@ -180,7 +182,10 @@ Command addCompareCommand(CLI::App& app) {
                          meta);
             const DisplayTransform display(io::loadColorConfig(opt->ocioConfig), "scene_linear", "",
                                            "", 0.0f, true);
-            io::writePng(pngPathFor(opt->heatmap), display.apply(heat));
+            // The PNG carries its scale: the colour map from 0 to `scale` under the image.
+            io::writePng(pngPathFor(opt->heatmap),
+                         io::withColorBar(display.apply(heat), display.apply(heatmapRamp()), "0",
+                                          fmt::format("{:.4g}", scale), "|error|"));
         }
 
         if (opt->json) {

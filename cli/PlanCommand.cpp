@@ -1,5 +1,6 @@
 // framepass plan: the resolved graph, without reading a pixel.
 #include "cli/Commands.h"
+#include "cli/Invocation.h"
 #include "cli/RunSession.h"
 
 #include <iostream>
@@ -21,6 +22,8 @@ Command addPlanCommand(CLI::App& app) {
     return [opt]() {
         const RunSession session(opt->session);
         const Plan& plan = session.plan();
+        for (const auto& w : plan.warnings)
+            logWarning(fmt::format("{}: {}", w.pointer, w.message));
         nlohmann::json j = plan.toJson(session.extent());
         j["config"] = opt->session.config;
         j["capture"] = session.config().capture;
@@ -66,8 +69,6 @@ Command addPlanCommand(CLI::App& app) {
                                                                       : "not needed");
         for (const auto& c : plan.culled)
             std::cout << fmt::format("culled: {} ({}): {}\n", c.name, c.type, c.reason);
-        for (const auto& w : plan.warnings)
-            std::cerr << fmt::format("warning: {}: {}\n", w.pointer, w.message);
         return 0;
     };
 }

@@ -1,15 +1,20 @@
 // framepass run: execute the chain over the frames and write outputs, dumps and a report.
 #include "cli/Commands.h"
+#include "cli/Invocation.h"
 #include "cli/RunSession.h"
 #include "io/CaptureSource.h"
 #include "io/OutputWriter.h"
 #include "passes/core/Error.h"
 #include "passes/core/Executor.h"
 
+#include <fmt/chrono.h>
+
+#include <chrono>
 #include <filesystem>
 #include <set>
 #include <fstream>
 #include <iostream>
+#include <set>
 
 namespace fp::cli {
 
@@ -35,6 +40,31 @@ std::vector<int> warmupFrames(const RunSession& session, int count) {
     }
     return out;
 }
+
+// One input file of the report: what it was, where, how big and when it was last changed, so a
+// report says exactly which bytes produced the outputs.
+nlohmann::json inputFile(const std::string& role, const std::string& path) {
+    namespace fs = std::filesystem;
+    nlohmann::json j = {{"role", role}, {"path", path}};
+    std::error_code ec;
+    const auto bytes = fs::file_size(path, ec);
+    if (ec) {
+        j["missing"] = true;
+        return j;
+    }
+    j["bytes"] = bytes;
+    const auto written = fs::last_write_time(path, ec);
+    if (!ec) {
+        const auto sys = std::chrono::file_clock::to_sys(written);
+        const auto seconds = std::chrono::floor<std::chrono::seconds>(sys);
+        j["mtime"] = fmt::format("{:%Y-%m-%dT%H:%M:%S}Z",
+                                 fmt::gmtime(std::chrono::system_clock::to_time_t(seconds)));
+        j["mtimeNs"] =
+            std::chrono::duration_cast<std::chrono::nanoseconds>(sys.time_since_epoch()).count();
+    }
+    return j;
+}
+
 }  // namespace
 
 Command addRunCommand(CLI::App& app) {
@@ -61,7 +91,7 @@ Command addRunCommand(CLI::App& app) {
         const RunSession session(opt->session);
         const Plan& plan = session.plan();
         for (const auto& w : plan.warnings)
-            std::cerr << fmt::format("warning: {}: {}\n", w.pointer, w.message);
+            logWarning(fmt::format("{}: {}", w.pointer, w.message));
 
         io::OutputWriter::Options wo;
         wo.outputDir = opt->outputDir;
@@ -71,8 +101,23 @@ Command addRunCommand(CLI::App& app) {
             wo.protectedPaths.insert(session.capturePath(f));
         io::OutputWriter writer(wo);
 
-        nlohmann::json report = {{"config", opt->session.config},
-                                 {"frames", nlohmann::json::array()}};
+        const Invocation& inv = invocation();
+        nlohmann::json report = {
+            {"framepass", {{"version", inv.version}}},
+            {"commandLine", inv.commandLine()},
+            {"arguments", inv.arguments},
+            {"threads", {{"requested", inv.threadsRequested}, {"used", inv.threads}}},
+            {"config", opt->session.config},
+            {"frames", nlohmann::json::array()}};
+        // Every file read, once, in the order first read.
+        nlohmann::json inputs = nlohmann::json::array();
+        std::set<std::string> listed;
+        auto addInput = [&](const std::string& role, const std::string& path) {
+            if (!path.empty() && listed.insert(role + "\n" + path).second)
+                inputs.push_back(inputFile(role, path));
+        };
+        addInput("config", opt->session.config);
+        addInput("preset", session.config().preset);
         const auto& frames = session.frames();
         HistoryStore history;
         std::set<std::string> notesShown;  // each assumption once, not once per frame
@@ -84,10 +129,20 @@ Command addRunCommand(CLI::App& app) {
             so.firstInSequence = firstInSequence;
             return so;
         };
+        auto verbosePass = [](int, int, const PassReport& p) {
+            std::string work;
+            for (const auto& [k, v] : p.work)
+                work += fmt::format(" {}={}", k, v);
+            logVerbose(fmt::format("  {:<24} {:>9.2f} ms{}", p.name, p.seconds * 1e3, work));
+        };
         for (std::size_t i = 0; i < warmup.size(); ++i) {
-            io::CaptureSource source(sourceOptions(warmup[i], i == 0), session.profile());
+            const io::CaptureSource::Options so = sourceOptions(warmup[i], i == 0);
+            io::CaptureSource source(so, session.profile());
+            logVerbose(fmt::format("warm-up frame {}:", warmup[i]));
             DiscardSink discard;
-            const FrameReport fr = executePlan(plan, source, discard, {}, &history);
+            const FrameReport fr = executePlan(plan, source, discard, verbosePass, &history);
+            for (const auto& [role, path] : source.filesRead())
+                addInput(role, path);
             std::cout << fmt::format("warm-up frame {}: {} passes in {:.3f} s\n", warmup[i],
                                      fr.passes.size(), fr.seconds);
         }
@@ -99,26 +154,29 @@ Command addRunCommand(CLI::App& app) {
                      "{}: frame {}: no camera in the header and no sidecar ({}.camera.json)",
                      so.path, frames[i], so.path);
             const std::size_t before = writer.written().size();
+            logVerbose(fmt::format("frame {}:", frames[i]));
             const FrameReport fr = executePlan(
                 plan, source, writer,
-                [&](int done, int total) {
+                [&](int done, int total, const PassReport& pass) {
+                    verbosePass(done, total, pass);
                     const double progress =
                         (double(i) + double(done) / std::max(total, 1)) / frames.size();
-                    std::cout << fmt::format("Progress: {}%\n", int(progress * 100.0))
-                              << std::flush;
+                    logProgress(int(progress * 100.0));
                 },
                 &history);
+            for (const auto& [role, path] : source.filesRead())
+                addInput(role, path);
             const auto& s = source.sanitized();
             if (s.total() > 0)
-                std::cerr << fmt::format(
-                    "warning: {}: sanitized {} non-finite, {} negative colour "
-                    "and {} non-unit normal values\n",
-                    so.path, s.nonFinite, s.negative, s.nonUnitNormals);
+                logWarning(
+                    fmt::format("{}: sanitized {} non-finite, {} negative colour "
+                                "and {} non-unit normal values",
+                                so.path, s.nonFinite, s.negative, s.nonUnitNormals));
             nlohmann::json fj = fr.toJson();
             fj["capture"] = so.path;
             fj["channelsRead"] = source.readLog();
             for (const auto& n : source.notes())
-                if (notesShown.insert(n).second) std::cerr << "warning: " << n << "\n";
+                if (notesShown.insert(n).second) logWarning(n);
             fj["written"] =
                 std::vector<std::string>(writer.written().begin() + before, writer.written().end());
             report["frames"].push_back(fj);
@@ -141,6 +199,9 @@ Command addRunCommand(CLI::App& app) {
                 std::cout << "  wrote " << writer.written()[w] << "\n";
         }
         if (!opt->report.empty()) {
+            for (const auto& [role, path] : session.inputs().filesRead())
+                addInput(role, path);
+            report["inputs"] = inputs;
             report["plan"] = plan.toJson(session.extent());
             const auto parent = std::filesystem::path(opt->report).parent_path();
             if (!parent.empty())

@@ -23,8 +23,10 @@ struct SessionOptions {
     std::vector<std::string> dumps;  //!< PASS.PORT or all
     std::string frames;
     std::string profile;  //!< NAME or FILE.json; overrides the config's "profile"
+    bool allowUnknownCvars = false;  //!< an unknown cvar is a warning, not an error
 
-    /// Registers --cvar, --set, --dump, --frames and --profile on a subcommand.
+    /// Registers --cvar, --set, --dump, --frames, --profile and --allow-unknown-cvars on a
+    /// subcommand.
     void addTo(CLI::App& sub);
 };
 

@@ -25,6 +25,19 @@ const std::vector<Light>& SessionInputs::lights() {
     return description().scene.lights;
 }
 
+std::vector<std::pair<std::string, std::string>> SessionInputs::filesRead() const {
+    std::vector<std::pair<std::string, std::string>> files;
+    if (mScene) {
+        files.emplace_back("scene", mScenePath);
+        // A glTF is read whole with the lights; an OBJ's meshes only when a pass traces rays.
+        if (mScene->hasGeometry())
+            files.emplace_back("geometry", mScene->geometryFile());
+    }
+    if (mColorConfig)
+        files.emplace_back("ocioConfig", io::colorConfigPath(mOcioPath));
+    return files;
+}
+
 OCIO_NAMESPACE::ConstConfigRcPtr SessionInputs::colorConfig() {
     if (!mColorConfig)
         mColorConfig = io::loadColorConfig(mOcioPath);

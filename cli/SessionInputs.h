@@ -27,6 +27,8 @@ public:
     /// The scene's lights, in order; the geometry is not read for them unless it holds them.
     const std::vector<Light>& lights();
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig();
+    /// The files read so far, as (role, path): "scene", "geometry", "ocioConfig".
+    std::vector<std::pair<std::string, std::string>> filesRead() const;
 
 private:
     io::SceneFile& description();

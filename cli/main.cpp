@@ -1,5 +1,6 @@
 // framepass: re-runs Unreal's deferred lighting passes on captured GBuffers.
 #include "cli/Commands.h"
+#include "cli/Invocation.h"
 #include "passes/core/Error.h"
 
 #include <OpenEXR/ImfThreading.h>
@@ -8,18 +9,27 @@
 
 #include <iostream>
 #include <memory>
-#include <sstream>
 #include <thread>
 
 int main(int argc, char** argv) {
     CLI::App app{"framepass — re-run Unreal's screen-space and ray-traced lighting passes on "
                  "captured GBuffers, pass by pass, from a JSON config"};
     app.require_subcommand(1);
+    // Global options may come after the subcommand too (`framepass run cfg.json --threads 2`):
+    // subcommands made after this inherit it and hand options they do not know to the app.
+    app.fallthrough();
     int threads = 0;
+    bool verbose = false, quiet = false;
     app.add_option("--threads", threads, "worker threads (0 = all cores); output is identical "
                                          "for any value")
         ->check(CLI::NonNegativeNumber);
-    app.set_version_flag("--version", "framepass 0.1.0");
+    auto* verboseFlag =
+        app.add_flag("-v,--verbose", verbose, "also print each pass's time on stderr as it runs");
+    app.add_flag("-q,--quiet", quiet,
+                 "print no progress, information or warnings on stderr, "
+                 "only errors")
+        ->excludes(verboseFlag);
+    app.set_version_flag("--version", "framepass " FP_VERSION);
 
     std::vector<std::pair<CLI::App*, fp::cli::Command>> commands;
     auto add = [&](fp::cli::Command (*fn)(CLI::App&)) {
@@ -34,6 +44,7 @@ int main(int argc, char** argv) {
     add(fp::cli::addRunCommand);
     add(fp::cli::addPassesCommand);
     add(fp::cli::addBenchCommand);
+    add(fp::cli::addSheetCommand);
 
     try {
         app.parse(argc, argv);
@@ -50,14 +61,23 @@ int main(int argc, char** argv) {
             tbb::global_control::max_allowed_parallelism, threads);
         OIIO::attribute("threads", threads);
     }
+    fp::cli::Invocation invocation;
+    invocation.version = FP_VERSION;
+    invocation.arguments.assign(argv, argv + argc);
+    invocation.threadsRequested = threads;
+    invocation.threads =
+        int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    invocation.verbosity = quiet     ? fp::cli::Verbosity::Quiet
+                           : verbose ? fp::cli::Verbosity::Verbose
+                                     : fp::cli::Verbosity::Normal;
+    fp::cli::setInvocation(invocation);
     try {
         for (auto& [sub, run] : commands)
             if (sub->parsed()) return run();
     } catch (const fp::Error& e) {
-        std::ostringstream cmd;
-        for (int i = 0; i < argc; ++i) cmd << (i ? " " : "") << argv[i];
-        std::cerr << "framepass error: " << e.what() << (std::string(e.what()).back() == '\n' ? "" : "\n")
-                  << "Full command line was:\n> " << cmd.str() << "\n";
+        std::cerr << "framepass error: " << e.what()
+                  << (std::string(e.what()).back() == '\n' ? "" : "\n")
+                  << "Full command line was:\n> " << fp::cli::invocation().commandLine() << "\n";
         return int(e.code());
     } catch (const std::exception& e) {
         std::cerr << "framepass internal error: " << e.what() << "\n";

@@ -361,6 +361,7 @@ std::optional<FoundCamera> findCamera(const CameraLookup& in) {
     if (!sidecar.empty()) {
         found.camera = readCameraSidecar(sidecar, in.extent, found.assumptions, in.profileUnits);
         found.source = "sidecar " + sidecar;
+        found.sidecar = sidecar;
         return found;
     }
     if (!in.header) return std::nullopt;

@@ -58,6 +58,7 @@ struct CameraLookup {
 struct FoundCamera {
     FrameCamera camera;
     std::string source;                    //!< "sidecar <path>", "header (…)"
+    std::string sidecar;                   //!< the sidecar read, "" for the header
     std::vector<std::string> assumptions;  //!< values not given and assumed
 };
 std::optional<FoundCamera> findCamera(const CameraLookup& lookup);

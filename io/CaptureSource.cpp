@@ -14,13 +14,18 @@ namespace fp::io {
 
 namespace OCIO = OCIO_NAMESPACE;
 
-OCIO::ConstConfigRcPtr loadColorConfig(const std::string& explicitPath) {
+std::string colorConfigPath(const std::string& explicitPath) {
     std::string path = explicitPath;
     if (path.empty())
         if (const char* env = std::getenv("OCIO"); env && *env)
             path = env;
     if (path.empty())
         path = configDirectory() + "/ocio/config.ocio";
+    return path;
+}
+
+OCIO::ConstConfigRcPtr loadColorConfig(const std::string& explicitPath) {
+    const std::string path = colorConfigPath(explicitPath);
     try {
         return OCIO::Config::CreateFromFile(path.c_str());
     } catch (const OCIO::Exception& e) {
@@ -55,10 +60,21 @@ FrameInfo CaptureSource::frameInfo() {
     if (auto found = findCamera(lookup)) {
         info.camera = found->camera;
         info.hasCamera = true;
+        if (!found->sidecar.empty()) mCameraSidecar = found->sidecar;
         for (const auto& a : found->assumptions) note(a);
     }
     mInfo = info;
     return info;
+}
+
+std::vector<std::pair<std::string, std::string>> CaptureSource::filesRead() const {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const auto& [key, reader] : mFiles.files()) out.emplace_back("capture", reader->path());
+    if (mPrevious)
+        for (const auto& [key, reader] : mPrevious->files())
+            out.emplace_back("previous frame capture", reader->path());
+    if (!mCameraSidecar.empty()) out.emplace_back("cameraSidecar", mCameraSidecar);
+    return out;
 }
 
 std::vector<std::string> CaptureSource::readLog() const {

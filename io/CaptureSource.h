@@ -49,6 +49,9 @@ public:
     const std::vector<std::string>& notes() const { return mNotes; }
     /// Every channel decoded, frame N−1's too.
     std::vector<std::string> readLog() const;
+    /// The files this frame read, each with its role: "capture", "previous frame capture",
+    /// "cameraSidecar".
+    std::vector<std::pair<std::string, std::string>> filesRead() const;
 
 private:
     void note(const std::string& text);
@@ -57,6 +60,7 @@ private:
     CaptureFiles mFiles;
     std::unique_ptr<CaptureFiles> mPrevious;
     std::vector<std::string> mNotes;
+    std::string mCameraSidecar;  // the sidecar frameInfo() read, if any
     std::optional<FrameInfo> mInfo;
     std::unique_ptr<RayScene> mRayScene;
     SanitizeCounts mSanitized;
@@ -64,5 +68,7 @@ private:
 
 /// The OCIO config to use: `explicitPath`, else $OCIO, else configs/ocio/config.ocio.
 OCIO_NAMESPACE::ConstConfigRcPtr loadColorConfig(const std::string& explicitPath);
+/// The path loadColorConfig(explicitPath) reads.
+std::string colorConfigPath(const std::string& explicitPath);
 
 }  // namespace fp::io

@@ -270,6 +270,7 @@ RunConfig parseRunConfig(const nlohmann::json& j,
         const std::string preset =
             (fs::path(configDirectory()) / (rc.graph.engine + ".json")).string();
         const nlohmann::json pj = readJsonFile(preset);
+        rc.preset = preset;
         const std::string presetPointer = "(preset " + rc.graph.engine + ")";
         Diagnostics presetDiag;
         parsePasses(pj.at("passes"), presetPointer + "/passes", rc.graph, presetDiag);

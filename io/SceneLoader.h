@@ -38,6 +38,8 @@ public:
     /// before. Throws fp::Error like loadScene.
     void loadGeometry();
     bool hasGeometry() const { return mGeometryLoaded; }
+    /// The geometry file the scene JSON names (.gltf, .glb or .obj), resolved.
+    const std::string& geometryFile() const { return mGeometryFile; }
 
 private:
     friend SceneFile loadScene(const std::string& path, SceneParts parts);

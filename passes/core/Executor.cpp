@@ -235,7 +235,7 @@ FrameReport executePlan(const Plan& plan,
         writeOutputs(s);
         releaseAfter(s);
         if (progress)
-            progress(s + 1, total);
+            progress(s + 1, total, report.passes.back());
     }
     writeOutputs(-1);  // outputs that only copy capture buffers, in a plan with no steps
     report.peakBytes = store.peak();

@@ -78,8 +78,9 @@ private:
 /// (Without a previous camera in the capture, the history's own camera is trusted.)
 bool isCameraCut(const CameraView& historyCamera, const FrameCamera& frame);
 
-/// Called after each pass with (steps done, steps total) for progress lines.
-using ProgressFn = std::function<void(int, int)>;
+/// Called after each pass with (steps done, steps total, that pass's report: its time and work),
+/// for progress and per-pass timing lines.
+using ProgressFn = std::function<void(int, int, const PassReport&)>;
 
 /// Runs one frame. Temporal passes read and update `history` when given (a sequence); without
 /// it every frame is a first frame.

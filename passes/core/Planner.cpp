@@ -107,9 +107,14 @@ public:
             mCvars[k] = {v, "--cvar " + k};
         for (const auto& [name, cv] : mCvars) {
             const CvarMapping* m = mCvarTable.find(name);
-            if (!m) {
+            if (!m && mIn.allowUnknownCvars) {
                 mDiag.warning(cv.where, fmt::format("unknown cvar '{}' is ignored{}", name,
                                                     didYouMean(name, mCvarTable.names())));
+            } else if (!m) {
+                // A typo would otherwise run the chain without the setting the user asked for.
+                mDiag.error(cv.where, fmt::format("unknown cvar '{}'{} (--allow-unknown-cvars "
+                                                  "ignores it with a warning)",
+                                                  name, didYouMean(name, mCvarTable.names())));
             } else if (m->passType.empty() && cv.value == m->emulatedValue) {
                 // The value the chain emulates: nothing to say.
             } else if (m->passType.empty()) {

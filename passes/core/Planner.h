@@ -86,6 +86,8 @@ struct PlanInputs {
     std::vector<std::string> lightNames;
     /// Problems already found (by the config loader), reported together with the planner's.
     std::vector<Diagnostic> priorErrors;
+    /// A cvar framepass does not know is a warning instead of an error (--allow-unknown-cvars).
+    bool allowUnknownCvars = false;
 };
 
 /// Builds the plan; throws fp::UsageError listing every problem when the config is invalid.

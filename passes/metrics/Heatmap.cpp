@@ -61,4 +61,15 @@ Image heatmap(const Image& absError, const Image* mask, float scale) {
     return out;
 }
 
+Image heatmapRamp(int steps) {
+    Image ramp(steps, 1, {"Y"});
+    for (int x = 0; x < steps; ++x)
+        ramp.plane(0).at(x, 0) = steps > 1 ? float(x) / float(steps - 1) : 0.0f;
+    return heatmap(ramp, nullptr, 1.0f);
+}
+
+std::vector<std::array<float, 3>> heatColorStops() {
+    return {kViridis.begin(), kViridis.end()};
+}
+
 }  // namespace fp

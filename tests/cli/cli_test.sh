@@ -108,5 +108,71 @@ check "bench reports medians, throughput and a Pareto front over a sweep grid" b
 check "bench rejects a malformed sweep" expect_exit 2 "--sweep hzb.halfPrecision: expected NAME=V1,V2" "$FP" bench "$DIR/bench.json" --sweep hzb.halfPrecision
 check "bench --html writes a report that renders in headless Chromium" bash -c "'$FP' bench '$DIR/bench.json' --runs 2 --sweep hzb.halfPrecision=false,true --html '$DIR/bench.html' >/dev/null && timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --dump-dom 'file://$DIR/bench.html' 2>/dev/null > '$DIR/dom.html' && grep -q 'data-rendered=\"ok\"' '$DIR/dom.html' && grep -q 'data-images=\"[3-9]' '$DIR/dom.html' && grep -q '<circle' '$DIR/dom.html'"
 
+# --- contact sheet -------------------------------------------------------------------------------
+# The 64×64 capture has one tile per buffer; --columns 4 --tile 64 gives 4 columns × ⌈n/4⌉ rows of
+# 64 × (30-px label + 64) pixels.
+check "sheet of a capture: one tile per layer, kinds by buffer, PNG sized by the layout" bash -c "set -o pipefail; '$FP' sheet '$DIR/cornell.exr' -o '$DIR/sheet.png' --columns 4 --tile 64 --json > '$DIR/sheet.json' && python3 - '$DIR/sheet.json' '$DIR/sheet.png' <<'PY'
+import json, struct, sys
+j = json.load(open(sys.argv[1]))
+kinds = {t['layer']: t['kind'] for t in j['tiles']}
+expected = {'SceneDepth': 'depth', 'PrevSceneDepth': 'depth', 'WorldNormal': 'normal',
+            'SceneColor': 'colour', 'BaseColor': 'colour', 'Emissive': 'colour',
+            'PrevSceneColor': 'colour', 'TAAHistory': 'colour', 'ShadingModel': 'id',
+            'Roughness': 'data', 'Metallic': 'data', 'Velocity': 'data'}
+for layer, kind in expected.items():
+    assert kinds.get(layer) == kind, (layer, kinds.get(layer), kind)
+n = len(j['tiles'])
+assert n == 17, n  # the 17 buffers framepass capture writes
+depth = next(t for t in j['tiles'] if t['layer'] == 'SceneDepth')
+assert depth['range']['scale'] == 'log' and 0 < depth['range']['min'] < depth['range']['max'], depth
+assert depth['skyPixels'] > 0, depth  # the box's open front shows sky
+assert next(t for t in j['tiles'] if t['layer'] == 'SceneColor')['range'] is None
+rows = (n + 3) // 4
+png = open(sys.argv[2], 'rb').read(24)
+w, h = struct.unpack('>II', png[16:24])
+assert (w, h) == (4 * 64, rows * (30 + 64)) == (j['width'], j['height']), (w, h, rows)
+PY"
+check "sheet of a run's dumps labels each tile file: layer" bash -c "'$FP' sheet '$DIR/t1/dump' -o '$DIR/dump_sheet.png' > '$DIR/dump_sheet.txt' && grep -q 'hzb.furthest.0001.exr: hzb.furthest' '$DIR/dump_sheet.txt' && grep -q 'ssgi.ao.0001.exr: ssgi.ao' '$DIR/dump_sheet.txt' && test -s '$DIR/dump_sheet.png'"
+mkdir -p "$DIR/empty"
+check "sheet of a folder with no EXR exits 2" expect_exit 2 "no .exr files" "$FP" sheet "$DIR/empty" -o "$DIR/none.png"
+check "compare's heat-map PNG carries a 30-px colour bar with its scale" bash -c "python3 -c \"import struct,sys; d=open('$DIR/heat.png','rb').read(24); w,h=struct.unpack('>II',d[16:24]); sys.exit(0 if (w,h)==(48,48+30) else 1)\""
+check "the bench report shows each heat map's scale" grep -q 'data-heat-scale=' "$DIR/dom.html"
+
+# --- CLI habits ----------------------------------------------------------------------------------
+check "--threads after the subcommand works like before it" bash -c "'$FP' run '$DIR/config.json' --threads 2 -o '$DIR/t4' --dump all >/dev/null && diff -r '$DIR/t1' '$DIR/t4'"
+check "-q prints nothing on stderr; without it, progress goes to stderr, not stdout" bash -c "'$FP' -q run '$DIR/config.json' -o '$DIR/t5' 2> '$DIR/q.err' > '$DIR/q.out' && [ ! -s '$DIR/q.err' ] && grep -q 'frame 1:' '$DIR/q.out' && '$FP' run '$DIR/config.json' -o '$DIR/t5' 2> '$DIR/n.err' > '$DIR/n.out' && grep -q 'Progress: 100%' '$DIR/n.err' && ! grep -q Progress '$DIR/n.out'"
+check "-v prints each pass's time on stderr as it runs" bash -c "'$FP' run '$DIR/config.json' -o '$DIR/t5' -v 2> '$DIR/v.err' >/dev/null && grep -Eq '^  hzb +[0-9.]+ ms texels=' '$DIR/v.err' && grep -q '^frame 1:' '$DIR/v.err'"
+check "-q and -v together are a usage error" expect_exit 2 "excludes" "$FP" -q -v plan "$DIR/config.json"
+for cmd in "bench '$DIR/bench.json' --runs 1 --warmup 0 --sweep hzb.halfPrecision=false,true" \
+           "inspect '$DIR/cornell.exr'" "plan '$DIR/config.json'" "passes" "passes hzb" \
+           "compare '$DIR/truth.exr' '$DIR/truth.exr' --layer Truth.AO --heatmap '$DIR/heat2.exr'" \
+           "sheet '$DIR/cornell.exr' -o '$DIR/sheet2.png'"; do
+    check "${cmd%% *} --json prints only JSON on stdout" bash -c "set -o pipefail; '$FP' $cmd --json 2>/dev/null | python3 -m json.tool >/dev/null"
+done
+check "an unknown --cvar is an error with a did-you-mean" expect_exit 2 "--cvar r.SSGI.Qualty: unknown cvar 'r.SSGI.Qualty' (did you mean 'r.SSGI.Quality'?)" "$FP" plan "$DIR/config.json" --cvar r.SSGI.Qualty=2
+echo '{ "version": 1, "capture": "cornell.exr", "cvars": { "r.SSGI.Qualty": 2 } }' > "$DIR/typo.json"
+check "an unknown cvar in the config is an error naming its pointer" expect_exit 2 "/cvars/r.SSGI.Qualty: unknown cvar" "$FP" run "$DIR/typo.json" -o "$DIR/typo"
+check "--allow-unknown-cvars makes it a warning" expect_exit 0 "warning: /cvars/r.SSGI.Qualty: unknown cvar 'r.SSGI.Qualty' is ignored" "$FP" plan "$DIR/typo.json" --allow-unknown-cvars
+check "a recognised but unemulated cvar stays a warning" expect_exit 0 "is not emulated by framepass" "$FP" plan "$DIR/config.json" --cvar r.DynamicGlobalIlluminationMethod=1
+check "report.json records version, command line, threads and every input file" python3 - "$DIR/t1.json" "$DIR/config.json" "$DIR/cornell.exr" <<'PY'
+import json, os, sys
+r = json.load(open(sys.argv[1]))
+assert r['framepass']['version'] == '0.1.0', r['framepass']
+assert r['commandLine'].split()[1:3] == ['--threads', '1'] and 'run' in r['arguments'], r['commandLine']
+assert r['threads'] == {'requested': 1, 'used': 1}, r['threads']
+byRole = {}
+for f in r['inputs']:
+    byRole.setdefault(f['role'], []).append(f)
+for role, path in (('config', sys.argv[2]), ('capture', sys.argv[3])):
+    f = byRole[role][0]
+    assert os.path.samefile(f['path'], path), f
+    assert f['bytes'] == os.path.getsize(path), f
+    assert f['mtimeNs'] == os.stat(path).st_mtime_ns, f
+    assert f['mtime'].endswith('Z'), f
+assert byRole['preset'][0]['path'].endswith('ue4.27.json')
+assert byRole['ocioConfig'][0]['path'].endswith('config.ocio')
+PY
+check "report.json lists the scene and its geometry when the chain traces rays" bash -c "'$FP' run '$DIR/lit.json' -o '$DIR/l4' --report '$DIR/l4.json' >/dev/null && python3 -c \"import json; r=json.load(open('$DIR/l4.json')); roles={f['role'] for f in r['inputs']}; assert {'scene','geometry','capture','config'} <= roles, roles\""
+
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

@@ -70,7 +70,7 @@ config bufvis.json "shot####" ue-bufvis
 check "plan reads MRQ's layers and frame N-1's FinalImage" bash -c "'$FP' plan mrq.json --json > plan_mrq.json && grep -q 'FinalImageMovieRenderQueue_WorldDepth.R' plan_mrq.json && grep -q 'frame N-1 SceneColor' plan_mrq.json"
 check "run the SSGI chain on the MRQ layout" bash -c "'$FP' run mrq.json -o out_mrq --report mrq_report.json 2> mrq.err && test -f out_mrq/indirect.0002.exr && grep -q 'frame N-1 R' mrq_report.json"
 check "the first frame has no history and says so" grep -q "frame 1: no previous frame" mrq.err
-check "run the same chain on the buffer dumps" "$FP" run bufvis.json -o out_bufvis
+check "run the same chain on the buffer dumps; the report lists every file read" bash -c "'$FP' run bufvis.json -o out_bufvis --report bv_report.json && grep -q 'shot0002_SceneDepthWorldUnits.exr' bv_report.json && grep -q '\"previous frame capture\"' bv_report.json && grep -q 'cam.0002.json' bv_report.json"
 check "MRQ layout and buffer dumps give the same bytes" diff -r out_mrq out_bufvis
 check "a half-float MRQ capture runs and warns about half depth, once" bash -c "'$FP' run mrqh.json -o out_mrqh > mrqh.log 2>&1 && [ \$(grep -c 'is half float' mrqh.log) = 1 ] && test -f out_mrqh/indirect.0002.exr"
 check "--profile on the command line overrides the config's" bash -c "'$FP' plan mrq.json --profile canonical 2>&1 | grep -q 'SceneDepth'; test \${PIPESTATUS[0]} = 2"

@@ -287,15 +287,35 @@ TEST_SUITE("planner") {
         CHECK(planError(g, in).find("--set b.quality: no pass named 'b'") != std::string::npos);
     }
 
-    TEST_CASE("unknown and unemulated cvars are warnings that name them") {
+    TEST_CASE("an unknown cvar is an error with a did-you-mean; an unemulated one a warning") {
         auto g = graph({node("a", "depth_reader")}, {"a.out"});
         g.cvars = {{"r.Fake.Qualty", 3}, {"r.Fake.Unemulated", 2}};
-        const Plan plan = makePlan(g, fakeRegistry(), {});
+        const std::string error = planError(g, {});
+        CHECK(error.find("/cvars/r.Fake.Qualty: unknown cvar 'r.Fake.Qualty' (did you mean "
+                         "'r.Fake.Quality'?)") != std::string::npos);
+        CHECK(error.find("--allow-unknown-cvars") != std::string::npos);
+        // From the command line too, named by its flag.
+        PlanInputs cli;
+        cli.overrides.cvars = {{"r.Fake.Qualty", 3}};
+        CHECK(planError(graph({node("a", "depth_reader")}, {"a.out"}), cli)
+                  .find("--cvar r.Fake.Qualty: unknown cvar 'r.Fake.Qualty' (did you mean "
+                        "'r.Fake.Quality'?)") != std::string::npos);
+
+        // --allow-unknown-cvars: the unknown one is a warning, as is the unemulated one.
+        PlanInputs allow;
+        allow.allowUnknownCvars = true;
+        const Plan plan = makePlan(g, fakeRegistry(), allow);
         REQUIRE(plan.warnings.size() == 2);
         CHECK(plan.warnings[0].pointer == "/cvars/r.Fake.Qualty");
         CHECK(plan.warnings[0].message.find("unknown cvar 'r.Fake.Qualty' is ignored (did you mean "
                                             "'r.Fake.Quality'?)") != std::string::npos);
         CHECK(plan.warnings[1].message.find("'r.Fake.Unemulated' is not emulated") !=
+              std::string::npos);
+        // A recognised but unemulated cvar alone is a warning, not an error, without the flag.
+        g.cvars = {{"r.Fake.Unemulated", 2}};
+        const Plan unemulated = makePlan(g, fakeRegistry(), {});
+        REQUIRE(unemulated.warnings.size() == 1);
+        CHECK(unemulated.warnings[0].message.find("'r.Fake.Unemulated' is not emulated") !=
               std::string::npos);
         // The value framepass runs is no news.
         g.cvars = {{"r.Fake.Unemulated", 1}};
