@@ -2,20 +2,9 @@
 # End-to-end checks of the framepass executable: capture → plan → run, determinism across thread
 # counts and reruns, exit codes and error messages. Usage: cli_test.sh FRAMEPASS SOURCE_DIR SCRATCH
 set -u
+source "$(cd "$(dirname "$0")" && pwd)/checks.sh"
 FP="$1"; SRC="$2"; DIR="$3/cli"
 rm -rf "$DIR"; mkdir -p "$DIR"; DIR="$(cd "$DIR" && pwd)"  # absolute: file:// URLs need it
-passed=0; failed=0
-check() {  # check NAME COMMAND...
-    local name="$1"; shift
-    if "$@" >"$DIR/last.log" 2>&1; then passed=$((passed + 1)); echo "ok   $name"
-    else failed=$((failed + 1)); echo "FAIL $name"; sed 's/^/     /' "$DIR/last.log" | tail -20; fi
-}
-expect_exit() {  # expect_exit CODE PATTERN COMMAND...
-    local code="$1" pattern="$2"; shift 2
-    "$@" >"$DIR/out.log" 2>&1; local got=$?
-    [ "$got" = "$code" ] || { echo "exit $got, expected $code"; cat "$DIR/out.log"; return 1; }
-    grep -qF -- "$pattern" "$DIR/out.log" || { echo "missing: $pattern"; cat "$DIR/out.log"; return 1; }
-}
 
 check "capture the Cornell box at 64×64" "$FP" capture "$SRC/examples/cornell/scene.json" -o "$DIR/cornell.exr" --width 64 --height 64
 cat > "$DIR/config.json" <<JSON
@@ -174,5 +163,4 @@ assert byRole['ocioConfig'][0]['path'].endswith('config.ocio')
 PY
 check "report.json lists the scene and its geometry when the chain traces rays" bash -c "'$FP' run '$DIR/lit.json' -o '$DIR/l4' --report '$DIR/l4.json' >/dev/null && python3 -c \"import json; r=json.load(open('$DIR/l4.json')); roles={f['role'] for f in r['inputs']}; assert {'scene','geometry','capture','config'} <= roles, roles\""
 
-echo "$passed passed, $failed failed"
-[ "$failed" = 0 ]
+finish

@@ -4,20 +4,9 @@
 # --profile ue-mrq / ue-bufvis and gives the same bytes both ways; and the traps that used to give
 # wrong pixels with exit 0 are errors or warnings. Usage: profiles_test.sh FRAMEPASS SOURCE_DIR SCRATCH
 set -u
+source "$(cd "$(dirname "$0")" && pwd)/checks.sh"
 FP="$1"; SRC="$2"; DIR="$3/profiles"
 rm -rf "$DIR"; mkdir -p "$DIR"; DIR="$(cd "$DIR" && pwd)"; cd "$DIR"
-passed=0; failed=0
-check() {  # check NAME COMMAND...
-    local name="$1"; shift
-    if "$@" >"$DIR/last.log" 2>&1; then passed=$((passed + 1)); echo "ok   $name"
-    else failed=$((failed + 1)); echo "FAIL $name"; sed 's/^/     /' "$DIR/last.log" | tail -20; fi
-}
-expect_exit() {  # expect_exit CODE PATTERN COMMAND...
-    local code="$1" pattern="$2"; shift 2
-    "$@" >"$DIR/out.log" 2>&1; local got=$?
-    [ "$got" = "$code" ] || { echo "exit $got, expected $code"; cat "$DIR/out.log"; return 1; }
-    grep -qF -- "$pattern" "$DIR/out.log" || { echo "missing: $pattern"; cat "$DIR/out.log"; return 1; }
-}
 
 # A 2-frame canonical capture and its camera as a sidecar every layout shares.
 check "capture a 2-frame sequence" "$FP" capture "$SRC/examples/cornell/scene.json" -o seq.####.exr --frames 1-2 --width 48 --height 48
@@ -104,6 +93,12 @@ BL="$SRC/tests/fixtures/blender"
 check "inspect --profile blender: its buffers and the sidecar the export script wrote" bash -c "'$FP' inspect '$BL/room.0002.exr' --profile blender > bl.txt && grep -q 'SceneDepth *← ViewLayer.Depth.Z' bl.txt && grep -q 'Emissive *← ViewLayer.Emit.R ViewLayer.Emit.G ViewLayer.Emit.B ViewLayer.Env.R' bl.txt && grep -q 'camera (sidecar .*room.0002.exr.camera.json)' bl.txt && ! grep -q 'assumed' bl.txt"
 check "the SSGI chain runs on the Blender capture alone" bash -c "'$FP' run '$BL/ssgi_only.json' -o bl_ssgi > bl_ssgi.log 2>&1 && test -f bl_ssgi/indirect.0003.exr"
 check "the lit chain runs on the Blender capture with the geometry the script exported" bash -c "'$FP' run '$BL/config.json' -o bl_lit --report bl_lit.json > bl_lit.log 2>&1 && test -f bl_lit/lit.0003.exr && test -f bl_lit/shadows.0003.exr && grep -q 'ViewLayer.IndexOB.X' bl_lit.json"
+check "sheet of the Blender capture: its buffers through the profile, then the layers none reads" bash -c "'$FP' sheet '$BL/room.0002.exr' --profile blender -o bl_sheet.png --tile 32 --json > bl_sheet.json && python3 -c '
+import json; t = {x[\"layer\"]: x for x in json.load(open(\"bl_sheet.json\"))[\"tiles\"]}
+assert t[\"SceneDepth\"][\"kind\"] == \"depth\" and t[\"SceneDepth\"][\"range\"][\"min\"] > 100, t[\"SceneDepth\"]  # centimetres
+assert t[\"WorldNormal\"][\"kind\"] == \"normal\" and t[\"InstanceId\"][\"kind\"] == \"id\"
+assert \"(not read)\" in t[\"ViewLayer.GlossCol\"][\"label\"]
+assert \"PrevSceneColor\" not in t and len(t) == 16, sorted(t)'"
 # framepass's own render of the scene the script exported must see what Cycles saw: the same
 # depth, normals and motion, read through the blender profile against the canonical one.
 check "framepass captures the exported scene (frame 1)" "$FP" capture "$BL/scene.json" -o canon.exr --width 64 --height 64
@@ -118,5 +113,4 @@ check "Blender's Vector pass is framepass's Velocity (RMSE ≤ 0.01 px)" \
 check "Blender's world normals are framepass's (RMSE ≤ 0.01)" \
     "$FP" compare "$BL/room.0001.exr" canon.exr --layer WorldNormal --profile blender --ref-profile canonical --max-rmse 0.01
 
-echo "$passed passed, $failed failed"
-[ "$failed" = 0 ]
+finish
