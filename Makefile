@@ -27,6 +27,7 @@ build: deps
 demo: build
 	rm -rf out/demo
 	$(FRAMEPASS) capture examples/cornell/scene.json -o out/demo/cornell.exr --truth
+	$(FRAMEPASS) sheet out/demo/cornell.exr -o out/demo/capture_sheet.png
 	$(FRAMEPASS) plan examples/cornell/config.json
 	$(FRAMEPASS) run examples/cornell/config.json -o out/demo --report out/demo/report.json
 	$(FRAMEPASS) compare out/demo/cornell.exr out/demo/cornell.exr --layer Truth.DiffuseIndirectOneBounce \
