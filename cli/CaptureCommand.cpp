@@ -3,6 +3,7 @@
 #include "cli/Invocation.h"
 #include "io/ExrWriter.h"
 #include "io/FramePattern.h"
+#include "io/SafeFiles.h"
 #include "io/SceneLoader.h"
 #include "passes/capture/GBufferRenderer.h"
 #include "passes/core/Error.h"
@@ -11,6 +12,7 @@
 #include "passes/reference/TruthRenderer.h"
 
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <limits>
 #include <iostream>
@@ -61,6 +63,12 @@ Command addCaptureCommand(CLI::App& app) {
         if (frames.size() > 1 && !pattern.hasFrameToken())
             throw UsageError(fmt::format("-o {}: several frames need a frame token (#### or %04d)",
                                          opt->output));
+        // Never over the scene it reads: its JSON, its geometry, an OBJ's material library.
+        const std::vector<std::string> inputs = {
+            opt->scene, sf.geometryFile(),
+            std::filesystem::path(sf.geometryFile()).replace_extension(".mtl").string()};
+        for (int frame : frames)
+            io::refuseToOverwriteInputs(pattern.path(frame), inputs, "-o");
         auto seconds = [](std::chrono::steady_clock::time_point t) {
             return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
         };

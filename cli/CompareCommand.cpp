@@ -8,6 +8,7 @@
 #include "io/ExrLayers.h"
 #include "io/ExrWriter.h"
 #include "io/PngWriter.h"
+#include "io/SafeFiles.h"
 #include "passes/core/Error.h"
 #include "passes/core/SemanticBuffers.h"
 #include "passes/display/DisplayTransform.h"
@@ -125,6 +126,9 @@ Command addCompareCommand(CLI::App& app) {
                     "OCIO config for the PNG preview (default $OCIO, then framepass's own)");
 
     return [opt]() {
+        if (!opt->heatmap.empty())
+            for (const auto& out : {opt->heatmap, pngPathFor(opt->heatmap)})
+                io::refuseToOverwriteInputs(out, {opt->a, opt->b}, "--heatmap");
         io::ExrReader a(opt->a), b(opt->b);
         const std::string layerA = opt->layer.empty() && opt->refLayer.empty() ? commonLayer(a, b)
                                                                                   : opt->layer;

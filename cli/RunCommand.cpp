@@ -4,15 +4,15 @@
 #include "cli/RunSession.h"
 #include "io/CaptureSource.h"
 #include "io/OutputWriter.h"
+#include "io/SafeFiles.h"
 #include "passes/core/Error.h"
 #include "passes/core/Executor.h"
 
 #include <fmt/chrono.h>
 
 #include <chrono>
+#include <algorithm>
 #include <filesystem>
-#include <set>
-#include <fstream>
 #include <iostream>
 #include <set>
 
@@ -65,41 +65,94 @@ nlohmann::json inputFile(const std::string& role, const std::string& path) {
     return j;
 }
 
+// The console lines of one finished frame: its passes' times, work and metrics, its files.
+void printFrame(const FrameReport& fr, const std::vector<std::string>& written) {
+    std::cout << fmt::format("frame {}: {} passes in {:.3f} s, peak {:.1f} MiB\n", fr.frame,
+                             fr.passes.size(), fr.seconds, fr.peakBytes / 1048576.0);
+    for (const auto& p : fr.passes) {
+        std::string work;
+        for (const auto& [k, v] : p.work)
+            work += fmt::format(" {}={}", k, v);
+        std::cout << fmt::format("  {:<24} {:>9.2f} ms{}\n", p.name, p.seconds * 1e3, work);
+        if (!p.metrics.empty()) {
+            std::string m;
+            for (const auto& [k, v] : p.metrics)
+                m += fmt::format(" {}={:.5g}", k, v);
+            std::cout << fmt::format("  {:<24} {}\n", "", m);
+        }
+    }
+    for (const auto& w : written)
+        std::cout << "  wrote " << w << "\n";
+}
+
+bool hasTemporalPass(const Plan& plan) {
+    return std::any_of(plan.steps.begin(), plan.steps.end(),
+                       [](const PlanStep& s) { return s.io.temporal; });
+}
+
 }  // namespace
 
 Command addRunCommand(CLI::App& app) {
     struct Options {
         SessionOptions session;
         std::string outputDir = "out", report;
-        bool strict = false;
+        bool strict = false, continueOnError = false, skipExisting = false;
         int warmupFrames = 0;
     };
     auto opt = std::make_shared<Options>();
     CLI::App* sub = app.add_subcommand("run", "run the chain and write the requested outputs");
     opt->session.addTo(*sub);
     sub->add_option("-o,--output-dir", opt->outputDir, "folder for outputs (default: out)");
-    sub->add_option("--report", opt->report, "write a JSON report: per-pass time and work counts");
+    sub->add_option("--report", opt->report,
+                    "write a JSON report (atomically, even when a frame fails): per-frame status, "
+                    "per-pass time and work counts, every input file");
     sub->add_flag("--strict", opt->strict,
-                  "fail on NaN/Inf/negative input pixels instead of "
-                  "sanitizing them");
+                  "fail on NaN/Inf/negative input pixels and on assumed camera values instead "
+                  "of sanitizing or assuming");
     sub->add_option("--warmup-frames", opt->warmupFrames,
                     "run N frames before the first one (writing nothing) so temporal passes "
                     "start with history: a chunked farm run then equals a sequential one")
         ->check(CLI::Range(0, 100000));
+    sub->add_flag("--continue-on-error", opt->continueOnError,
+                  "attempt every frame; exit 1 at the end listing the frames that failed");
+    sub->add_flag("--skip-existing", opt->skipExisting,
+                  "skip frames whose outputs all exist (a re-queued farm task); with temporal "
+                  "passes the skipped frames before a computed one still run, writing nothing");
 
     return [opt]() {
         const RunSession session(opt->session);
         const Plan& plan = session.plan();
         for (const auto& w : plan.warnings)
             logWarning(fmt::format("{}: {}", w.pointer, w.message));
+        const auto& frames = session.frames();
 
+        // Nothing this run writes may be one of its inputs.
+        std::vector<std::string> inputs = {opt->session.config, session.config().scene};
+        for (int f : frames) {
+            inputs.push_back(session.capturePath(f));
+            inputs.push_back(session.cameraPath(f));
+        }
+        if (!opt->report.empty()) {
+            io::refuseToOverwriteInputs(opt->report, inputs, "--report");
+            io::checkWritable(opt->report, "--report");
+        }
         io::OutputWriter::Options wo;
         wo.outputDir = opt->outputDir;
         wo.compression = io::parseCompression(session.config().compression);
-        wo.protectedPaths.insert(opt->session.config);
-        for (int f : session.frames())
-            wo.protectedPaths.insert(session.capturePath(f));
+        wo.protectedPaths.insert(inputs.begin(), inputs.end());
+        wo.protectedPaths.erase("");
         io::OutputWriter writer(wo);
+        // What a killed run left half-written: its temporaries (the final names are always whole).
+        int stale = 0;
+        for (const auto& dir : {opt->outputDir, writer.dumpDir()})
+            stale += io::removeStaleTemporaries(dir);
+        if (!opt->report.empty())
+            stale += io::removeStaleTemporaries(
+                std::filesystem::path(opt->report).parent_path().empty()
+                    ? "."
+                    : std::filesystem::path(opt->report).parent_path().string());
+        if (stale > 0)
+            logInfo(fmt::format("removed {} temporary file(s) a killed run left", stale));
 
         const Invocation& inv = invocation();
         nlohmann::json report = {
@@ -110,104 +163,139 @@ Command addRunCommand(CLI::App& app) {
             {"config", opt->session.config},
             {"frames", nlohmann::json::array()}};
         // Every file read, once, in the order first read.
-        nlohmann::json inputs = nlohmann::json::array();
+        nlohmann::json inputFiles = nlohmann::json::array();
         std::set<std::string> listed;
         auto addInput = [&](const std::string& role, const std::string& path) {
             if (!path.empty() && listed.insert(role + "\n" + path).second)
-                inputs.push_back(inputFile(role, path));
+                inputFiles.push_back(inputFile(role, path));
         };
         addInput("config", opt->session.config);
         addInput("preset", session.config().preset);
-        const auto& frames = session.frames();
+        auto writeReport = [&]() {
+            if (opt->report.empty())
+                return;
+            for (const auto& [role, path] : session.inputs().filesRead())
+                addInput(role, path);
+            report["inputs"] = inputFiles;
+            report["plan"] = plan.toJson(session.extent());
+            io::writeTextAtomically(opt->report, report.dump(2) + "\n");
+            std::cout << "  wrote " << opt->report << "\n";
+        };
+
         HistoryStore history;
         std::set<std::string> notesShown;  // each assumption once, not once per frame
-        // Warm-up: the frames before the first, at the sequence's step, that exist on disk.
-        const std::vector<int> warmup = warmupFrames(session, opt->warmupFrames);
-        auto sourceOptions = [&](int frame, bool firstInSequence) {
-            io::CaptureSource::Options so = session.captureOptions(frame);
-            so.strict = opt->strict;
-            so.firstInSequence = firstInSequence;
-            return so;
-        };
         auto verbosePass = [](int, int, const PassReport& p) {
             std::string work;
             for (const auto& [k, v] : p.work)
                 work += fmt::format(" {}={}", k, v);
             logVerbose(fmt::format("  {:<24} {:>9.2f} ms{}", p.name, p.seconds * 1e3, work));
         };
-        for (std::size_t i = 0; i < warmup.size(); ++i) {
-            const io::CaptureSource::Options so = sourceOptions(warmup[i], i == 0);
-            io::CaptureSource source(so, session.profile());
-            logVerbose(fmt::format("warm-up frame {}:", warmup[i]));
-            DiscardSink discard;
-            const FrameReport fr = executePlan(plan, source, discard, verbosePass, &history);
-            for (const auto& [role, path] : source.filesRead())
-                addInput(role, path);
-            std::cout << fmt::format("warm-up frame {}: {} passes in {:.3f} s\n", warmup[i],
-                                     fr.passes.size(), fr.seconds);
-        }
-        for (std::size_t i = 0; i < frames.size(); ++i) {
-            const io::CaptureSource::Options so =
-                sourceOptions(frames[i], i == 0 && warmup.empty());
+        // One frame into `sink`: its capture opened, its notes said, its files recorded.
+        auto runFrame = [&](int frame, bool firstInSequence, FrameSink& sink,
+                            const ProgressFn& progress) {
+            io::CaptureSource::Options so = session.captureOptions(frame);
+            so.strict = opt->strict;
+            so.firstInSequence = firstInSequence;
             io::CaptureSource source(so, session.profile());
             FP_CHECK(!plan.needsCamera || source.frameInfo().hasCamera,
                      "{}: frame {}: no camera in the header and no sidecar ({}.camera.json)",
-                     so.path, frames[i], so.path);
-            const std::size_t before = writer.written().size();
-            logVerbose(fmt::format("frame {}:", frames[i]));
-            const FrameReport fr = executePlan(
-                plan, source, writer,
-                [&](int done, int total, const PassReport& pass) {
-                    verbosePass(done, total, pass);
-                    const double progress =
-                        (double(i) + double(done) / std::max(total, 1)) / frames.size();
-                    logProgress(int(progress * 100.0));
-                },
-                &history);
+                     so.path, frame, so.path);
+            const FrameReport fr = executePlan(plan, source, sink, progress, &history);
             for (const auto& [role, path] : source.filesRead())
                 addInput(role, path);
             const auto& s = source.sanitized();
             if (s.total() > 0)
-                logWarning(
-                    fmt::format("{}: sanitized {} non-finite, {} negative colour "
-                                "and {} non-unit normal values",
-                                so.path, s.nonFinite, s.negative, s.nonUnitNormals));
+                logWarning(fmt::format("{}: sanitized {} non-finite, {} negative colour and {} "
+                                       "non-unit normal values",
+                                       so.path, s.nonFinite, s.negative, s.nonUnitNormals));
+            for (const auto& n : source.notes())
+                if (notesShown.insert(n).second) logWarning(n);
             nlohmann::json fj = fr.toJson();
             fj["capture"] = so.path;
             fj["channelsRead"] = source.readLog();
-            for (const auto& n : source.notes())
-                if (notesShown.insert(n).second) logWarning(n);
-            fj["written"] =
-                std::vector<std::string>(writer.written().begin() + before, writer.written().end());
-            report["frames"].push_back(fj);
-            std::cout << fmt::format("frame {}: {} passes in {:.3f} s, peak {:.1f} MiB\n",
-                                     frames[i], fr.passes.size(), fr.seconds,
-                                     fr.peakBytes / 1048576.0);
-            for (const auto& p : fr.passes) {
-                std::string work;
-                for (const auto& [k, v] : p.work)
-                    work += fmt::format(" {}={}", k, v);
-                std::cout << fmt::format("  {:<24} {:>9.2f} ms{}\n", p.name, p.seconds * 1e3, work);
-                if (!p.metrics.empty()) {
-                    std::string m;
-                    for (const auto& [k, v] : p.metrics)
-                        m += fmt::format(" {}={:.5g}", k, v);
-                    std::cout << fmt::format("  {:<24} {}\n", "", m);
-                }
-            }
-            for (std::size_t w = before; w < writer.written().size(); ++w)
-                std::cout << "  wrote " << writer.written()[w] << "\n";
+            return std::make_pair(fr, fj);
+        };
+
+        // Warm-up: the frames before the first, at the sequence's step, that exist on disk.
+        const std::vector<int> warmup = warmupFrames(session, opt->warmupFrames);
+        for (std::size_t i = 0; i < warmup.size(); ++i) {
+            logVerbose(fmt::format("warm-up frame {}:", warmup[i]));
+            DiscardSink discard;
+            const auto [fr, fj] = runFrame(warmup[i], i == 0, discard, verbosePass);
+            std::cout << fmt::format("warm-up frame {}: {} passes in {:.3f} s\n", warmup[i],
+                                     fr.passes.size(), fr.seconds);
         }
-        if (!opt->report.empty()) {
-            for (const auto& [role, path] : session.inputs().filesRead())
-                addInput(role, path);
-            report["inputs"] = inputs;
-            report["plan"] = plan.toJson(session.extent());
-            const auto parent = std::filesystem::path(opt->report).parent_path();
-            if (!parent.empty())
-                std::filesystem::create_directories(parent);
-            std::ofstream(opt->report) << report.dump(2) << "\n";
-            std::cout << "  wrote " << opt->report << "\n";
+
+        // --skip-existing: frames whose every output is on disk. With temporal passes, those
+        // before a frame that is computed still run (writing nothing) so its history is the one
+        // a sequential run gives it.
+        std::vector<bool> skip(frames.size(), false);
+        if (opt->skipExisting)
+            for (std::size_t i = 0; i < frames.size(); ++i) {
+                bool all = !plan.outputs.empty();
+                for (const auto& o : plan.outputs)
+                    all = all && std::filesystem::exists(writer.pathFor(o, frames[i]));
+                skip[i] = all;
+            }
+        const auto lastComputed = std::find(skip.rbegin(), skip.rend(), false);
+        const std::size_t computeUntil =
+            lastComputed == skip.rend() ? 0 : std::size_t(skip.rend() - lastComputed);
+        const bool temporal = hasTemporalPass(plan);
+
+        std::vector<int> failed;
+        bool cut = warmup.empty();  // the next frame starts a sequence: no history
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            nlohmann::json status = {{"frame", frames[i]}};
+            if (skip[i] && !(temporal && i < computeUntil)) {
+                status["status"] = "skipped";
+                report["frames"].push_back(status);
+                cut = true;
+                logInfo(fmt::format("frame {}: every output exists, skipped", frames[i]));
+                continue;
+            }
+            try {
+                const std::size_t before = writer.written().size();
+                logVerbose(fmt::format("frame {}:", frames[i]));
+                DiscardSink discard;
+                auto [fr, fj] = runFrame(
+                    frames[i], cut, skip[i] ? static_cast<FrameSink&>(discard) : writer,
+                    [&](int done, int total, const PassReport& pass) {
+                        verbosePass(done, total, pass);
+                        const double progress =
+                            (double(i) + double(done) / std::max(total, 1)) / frames.size();
+                        logProgress(int(progress * 100.0));
+                    });
+                cut = false;
+                const std::vector<std::string> written(writer.written().begin() + before,
+                                                       writer.written().end());
+                fj["status"] = skip[i] ? "skipped (run for the history of later frames)" : "ok";
+                fj["written"] = written;
+                report["frames"].push_back(fj);
+                if (skip[i])
+                    logInfo(fmt::format("frame {}: every output exists, run for history only",
+                                        frames[i]));
+                else
+                    printFrame(fr, written);
+            } catch (const Error& e) {
+                status["status"] = "failed";
+                status["error"] = e.what();
+                report["frames"].push_back(status);
+                if (!opt->continueOnError) {
+                    writeReport();
+                    throw;
+                }
+                std::cerr << fmt::format("framepass error: frame {}: {}\n", frames[i], e.what());
+                failed.push_back(frames[i]);
+                history.clear();  // the next frame has no history: as after a camera cut
+                cut = true;
+            }
+        }
+        report["failedFrames"] = failed;
+        writeReport();
+        if (!failed.empty()) {
+            std::cerr << fmt::format("framepass: {} of {} frame(s) failed: {}\n", failed.size(),
+                                     frames.size(), fmt::join(failed, ","));
+            return int(ExitCode::FrameFailed);
         }
         return 0;
     };

@@ -4,26 +4,53 @@
 #include "io/PngWriter.h"
 #include "passes/core/Error.h"
 
+#include <cmath>
 #include <filesystem>
 
 namespace fp::io {
 
 namespace fs = std::filesystem;
 
+std::string OutputWriter::dumpDir() const {
+    return mOptions.dumpDir.empty() ? (fs::path(mOptions.outputDir) / "dump").string()
+                                    : mOptions.dumpDir;
+}
+
 std::string OutputWriter::pathFor(const OutputDesc& output, int64_t frame) const {
-    const std::string dir = output.isDump ? (mOptions.dumpDir.empty()
-                                                 ? (fs::path(mOptions.outputDir) / "dump").string()
-                                                 : mOptions.dumpDir)
-                                          : mOptions.outputDir;
+    const std::string dir = output.isDump ? dumpDir() : mOptions.outputDir;
     std::string file = FramePattern(output.file).path(int(frame));
     // Dumps of a sequence get the frame number so frames do not overwrite each other.
     if (output.isDump) file = fs::path(file).stem().string() + fmt::format(".{:04d}.exr", frame);
     return (fs::path(dir) / file).lexically_normal().string();
 }
 
+namespace {
+// DESIGN §5: no NaN reaches a file. A NaN (or an infinite colour; +inf is sky in depth-like data)
+// here is a pass's fault: the frame fails naming it instead of writing the pixels.
+void checkFinite(const OutputLayer& layer, const std::string& path, int64_t frame) {
+    for (int m = 0; m < layer.texture->mipCount(); ++m) {
+        const Image& img = layer.texture->mip(m);
+        uint64_t bad = 0;
+        for (int c = 0; c < img.channelCount(); ++c)
+            for (int y = 0; y < img.height(); ++y) {
+                const float* row = img.plane(c).row(y);
+                for (int x = 0; x < img.width(); ++x)
+                    bad += std::isnan(row[x]) ||
+                           (layer.kind == PortKind::Color && std::isinf(row[x]));
+            }
+        if (bad > 0)
+            throw Error(fmt::format("{}: frame {}: '{}' holds {} NaN{} value(s){}; not written",
+                                    path, frame, layer.name, bad,
+                                    layer.kind == PortKind::Color ? "/Inf" : "",
+                                    m ? fmt::format(" (mip {})", m) : ""));
+    }
+}
+}  // namespace
+
 void OutputWriter::write(const OutputDesc& output, const std::vector<OutputLayer>& layers,
                          const FrameInfo& frame) {
     const std::string path = pathFor(output, frame.number);
+    for (const auto& l : layers) checkFinite(l, path, frame.number);
     std::error_code ec;
     for (const auto& in : mOptions.protectedPaths)
         if (fs::exists(path) && fs::equivalent(path, in, ec))

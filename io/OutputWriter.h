@@ -25,6 +25,8 @@ public:
     /// The path an output takes for `frame`.
     std::string pathFor(const OutputDesc& output, int64_t frame) const;
     const std::vector<std::string>& written() const { return mWritten; }
+    /// Where dumps go: Options::dumpDir, else <outputDir>/dump.
+    std::string dumpDir() const;
 
 private:
     Options mOptions;

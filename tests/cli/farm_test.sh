@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Farm behaviour of `framepass run`: --continue-on-error, --skip-existing, the report written
+# whatever happens, kill -9 leaving only whole files at final names and a rerun cleaning the
+# temporaries, and no command writing over its inputs. Usage: farm_test.sh FRAMEPASS SOURCE_DIR SCRATCH
+set -u
+source "$(cd "$(dirname "$0")" && pwd)/checks.sh"
+FP="$1"; SRC="$2"; DIR="$3/farm"
+rm -rf "$DIR"; mkdir -p "$DIR"; DIR="$(cd "$DIR" && pwd)"; cd "$DIR"
+
+check "capture a 6-frame sequence" "$FP" capture "$SRC/examples/cornell/scene.json" -o seq.####.exr --frames 1-6 --width 64 --height 64
+echo '{ "version": 1, "capture": "seq.####.exr", "frames": "1-6" }' > seq.json
+check "a clean sequential run" "$FP" run seq.json -o clean
+
+# A bad frame in the middle.
+mkdir -p broken && cp seq.0*.exr broken/ && head -c 3000 seq.0003.exr > broken/seq.0003.exr
+echo '{ "version": 1, "capture": "broken/seq.####.exr", "frames": "1-6" }' > broken.json
+check "without --continue-on-error the run stops at the bad frame, exit 1, report still written" bash -c "
+    '$FP' run broken.json -o stop --report stop.json > stop.log 2>&1; [ \$? = 1 ] &&
+    python3 -c '
+import json; r = json.load(open(\"stop.json\")); s = [f[\"status\"] for f in r[\"frames\"]]
+assert s == [\"ok\", \"ok\", \"failed\"], s
+assert \"seq.0003.exr\" in r[\"frames\"][2][\"error\"]' && test ! -e stop/ssgi.0004.exr"
+check "--continue-on-error attempts every frame and lists the failed ones, exit 1" bash -c "
+    '$FP' run broken.json -o cont --report cont.json --continue-on-error > cont.log 2>&1; [ \$? = 1 ] &&
+    grep -q '1 of 6 frame(s) failed: 3' cont.log && test -f cont/ssgi.0006.exr && test ! -e cont/ssgi.0003.exr &&
+    python3 -c '
+import json; r = json.load(open(\"cont.json\")); s = [f[\"status\"] for f in r[\"frames\"]]
+assert s == [\"ok\", \"ok\", \"failed\", \"ok\", \"ok\", \"ok\"], s
+assert r[\"failedFrames\"] == [3]'"
+check "the frames before the bad one equal the clean run's" bash -c "cmp clean/ssgi.0002.exr cont/ssgi.0002.exr && cmp clean/indirect.0002.exr cont/indirect.0002.exr"
+
+# A re-queued task: the first half is done; the rest is computed with the history of a
+# sequential run (the skipped frames run again, writing nothing, since SSGI's denoiser is temporal).
+check "frames 1-3 written" "$FP" run seq.json --frames 1-3 -o requeue
+check "--skip-existing computes only frames 4-6" bash -c "'$FP' run seq.json -o requeue --skip-existing --report rq.json > rq.log 2>&1 &&
+    grep -q 'frame 2: every output exists, run for history only' rq.log && ! grep -q 'wrote requeue/ssgi.0002.exr' rq.log && grep -q 'wrote requeue/ssgi.0005.exr' rq.log"
+check "and writes the same bytes as the sequential run" diff -r clean requeue
+check "a run with every output on disk skips every frame" bash -c "'$FP' run seq.json -o requeue --skip-existing --report all.json > /dev/null 2>&1 &&
+    python3 -c '
+import json; r = json.load(open(\"all.json\")); assert all(f[\"status\"] == \"skipped\" for f in r[\"frames\"]), r[\"frames\"]'"
+
+# kill -9 in the middle of a run: every file at a final name is whole; a rerun finishes the job,
+# removes the temporaries the dead process left, and gives the clean run's bytes.
+check "capture a heavier 6-frame sequence" "$FP" capture "$SRC/examples/cornell/scene.json" -o big.####.exr --frames 1-6 --width 160 --height 160
+echo '{ "version": 1, "capture": "big.####.exr", "frames": "1-6" }' > big.json
+check "its clean run" "$FP" run big.json -o big_clean --dump all
+check "kill -9 mid-run leaves only whole files at final names" bash -c "
+    '$FP' --threads 1 run big.json -o big_kill --dump all > /dev/null 2>&1 & pid=\$!
+    for i in \$(seq 1 600); do [ -e big_kill/ssgi.0002.exr ] && break; sleep 0.05; done
+    kill -9 \$pid; wait \$pid 2>/dev/null
+    touch big_kill/.final.0004.png.999999999.tmp   # as a dead process would leave it
+    n=0; for f in \$(cd big_kill && find . -type f ! -name '.*.tmp'); do cmp -s big_kill/\$f big_clean/\$f || { echo \"\$f differs\"; exit 1; }; n=\$((n+1)); done
+    [ \$n -gt 0 ] && [ ! -e big_kill/ssgi.0006.exr ]"
+check "the rerun removes the temporaries and matches the clean run" bash -c "
+    '$FP' run big.json -o big_kill --dump all --skip-existing 2> rerun.err > /dev/null && grep -q 'temporary file(s) a killed run left' rerun.err &&
+    [ -z \"\$(find big_kill -name '.*.tmp')\" ] && diff -r big_clean big_kill"
+
+# No command writes over its inputs.
+cp -r "$SRC/examples/cornell" scene_copy
+check "run --report onto the capture is refused, exit 2, capture untouched" bash -c "cp seq.0001.exr keep.exr &&
+    echo '{ \"version\": 1, \"capture\": \"seq.0001.exr\" }' > one.json && '$FP' run one.json -o o1 --report seq.0001.exr > r.log 2>&1; [ \$? = 2 ] && grep -q 'that is an input of this command' r.log && cmp keep.exr seq.0001.exr"
+check "run --report onto the config is refused" expect_exit 2 "--report one.json: that is an input" "$FP" run one.json -o o2 --report one.json
+check "run --report where no file can be made fails before any frame" bash -c "'$FP' run one.json -o o3 --report /proc/version > p.log 2>&1; [ \$? = 2 ] && grep -q -- '--report /proc/version: cannot create a file in /proc' p.log && test ! -e o3"
+check "compare --heatmap onto an input is refused, the input untouched" bash -c "'$FP' compare seq.0001.exr keep.exr --layer SceneColor --heatmap seq.0001.exr > h.log 2>&1; [ \$? = 2 ] && cmp keep.exr seq.0001.exr"
+check "capture -o onto the scene's geometry is refused" bash -c "cp scene_copy/cornell.obj obj.keep && '$FP' capture scene_copy/scene.json -o scene_copy/cornell.obj > c.log 2>&1; [ \$? = 2 ] && grep -q 'that is an input' c.log && cmp obj.keep scene_copy/cornell.obj"
+
+finish
