@@ -5,8 +5,14 @@ DEBIAN_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimagei
     libopenexr-dev libopencolorio-dev libembree-dev libtbb-dev libcli11-dev nlohmann-json3-dev \
     doctest-dev libfmt-dev libtinygltf-dev libtinyobjloader-dev fonts-dejavu-core chromium python3
 FRAMEPASS = $(BUILD_DIR)/cli/framepass
+# make fuzz: the libFuzzer targets of fuzz/ under ASan + UBSan, each run FUZZ_SECONDS from its
+# seed corpus with a fixed seed (so CI's short run is the start of a long local one).
+FUZZ_PACKAGES = clang libclang-rt-14-dev
+FUZZ_DIR ?= build-fuzz
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS = ConfigFuzz CaptureFuzz SidecarFuzz ObjFuzz GltfFuzz
 
-.PHONY: demo test deps build
+.PHONY: demo test deps build fuzz
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
@@ -40,3 +46,18 @@ demo: build
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure
+
+fuzz: deps
+	@missing=$$(for p in $(FUZZ_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
+	if [ -n "$$missing" ]; then apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; fi
+	cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DFP_FUZZ=ON
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(FUZZ_TARGETS)
+	@for t in $(FUZZ_TARGETS); do \
+	  seeds=fuzz/corpus/$$(echo $$t | sed 's/Fuzz$$//' | tr A-Z a-z); \
+	  mkdir -p $(FUZZ_DIR)/corpus/$$t $(FUZZ_DIR)/findings; \
+	  echo "fuzzing $$t for $(FUZZ_SECONDS) s (seeds: $$seeds)"; \
+	  $(FUZZ_DIR)/fuzz/$$t -seed=1 -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
+	    -max_len=65536 -artifact_prefix=$(FUZZ_DIR)/findings/$$t- -print_final_stats=1 \
+	    $(FUZZ_DIR)/corpus/$$t $$seeds 2> $(FUZZ_DIR)/$$t.log || { tail -40 $(FUZZ_DIR)/$$t.log; exit 1; }; \
+	  grep -E "stat::number_of_executed_units|Done [0-9]+ runs" $(FUZZ_DIR)/$$t.log | tail -2; \
+	done

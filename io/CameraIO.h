@@ -17,7 +17,6 @@
 #include <string>
 #include <vector>
 
-namespace Imf = OPENEXR_IMF_NAMESPACE;
 
 namespace fp::io {
 

@@ -10,7 +10,6 @@
 #include <string>
 #include <vector>
 
-namespace Imf = OPENEXR_IMF_NAMESPACE;
 namespace OPENEXR_IMF_INTERNAL_NAMESPACE { class MultiPartInputFile; }
 
 namespace fp::io {

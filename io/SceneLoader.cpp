@@ -196,24 +196,35 @@ void loadObj(const std::string& path, Scene& scene) {
         // One framepass mesh per (shape, material): the GBuffer's material is per triangle.
         std::map<int, Mesh> byMaterial;
         for (std::size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
+            // tinyobjloader triangulates; a face it could not is not a triangle (and its indices
+            // would run past the list).
+            if (mesh.num_face_vertices[f] != 3 || 3 * f + 2 >= mesh.indices.size())
+                throw Error(fmt::format("{}: shape '{}' face {} is not a triangle tinyobjloader "
+                                        "could make",
+                                        path, shapes[s].name, f),
+                            ExitCode::Usage);
             const int mat =
                 mesh.material_ids.empty() || mesh.material_ids[f] < 0 ? 0 : mesh.material_ids[f];
             Mesh& m = byMaterial[mat];
             for (int k = 0; k < 3; ++k) {
                 const auto idx = mesh.indices[3 * f + k];
-                if (idx.vertex_index < 0 ||
-                    std::size_t(3 * idx.vertex_index + 2) >= attrib.vertices.size())
+                // size_t arithmetic: 3·index overflows int for the indices a broken file holds.
+                const std::size_t v = std::size_t(idx.vertex_index), n = std::size_t(idx.normal_index);
+                if (idx.vertex_index < 0 || 3 * v + 2 >= attrib.vertices.size())
                     throw Error(
                         fmt::format("{}: shape '{}' face {} has a vertex index out of range", path,
                                     shapes[s].name, f),
                         ExitCode::Usage);
-                m.positions.push_back({attrib.vertices[3 * idx.vertex_index],
-                                       attrib.vertices[3 * idx.vertex_index + 1],
-                                       attrib.vertices[3 * idx.vertex_index + 2]});
+                if (idx.normal_index >= 0 && 3 * n + 2 >= attrib.normals.size())
+                    throw Error(
+                        fmt::format("{}: shape '{}' face {} has a normal index out of range", path,
+                                    shapes[s].name, f),
+                        ExitCode::Usage);
+                m.positions.push_back(
+                    {attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]});
                 if (idx.normal_index >= 0)
-                    m.normals.push_back({attrib.normals[3 * idx.normal_index],
-                                         attrib.normals[3 * idx.normal_index + 1],
-                                         attrib.normals[3 * idx.normal_index + 2]});
+                    m.normals.push_back(
+                        {attrib.normals[3 * n], attrib.normals[3 * n + 1], attrib.normals[3 * n + 2]});
                 m.indices.push_back(uint32_t(m.indices.size()));
             }
         }
@@ -571,8 +582,9 @@ void SceneFile::loadGeometry() {
         for (const auto& m : scene.materials)
             names.push_back(m.name);
         for (const auto& [name, o] : mMaterialOverrides.items()) {
+            const std::string& wanted = name;  // clang 14 cannot capture a structured binding
             auto it = std::find_if(scene.materials.begin(), scene.materials.end(),
-                                   [&](const Material& m) { return m.name == name; });
+                                   [&](const Material& m) { return m.name == wanted; });
             if (it == scene.materials.end())
                 fail(path, "/materials/" + name,
                      "no material of that name in the geometry" + didYouMean(name, names));

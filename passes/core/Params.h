@@ -80,7 +80,9 @@ public:
                 diag.error(at, "unknown parameter '" + key + "'" + didYouMean(key, names()));
                 continue;
             }
-            std::visit([&](auto member) { assign(out.*member, *e, value, at, diag); }, e->member);
+            // (A named reference: clang 14 cannot capture a structured binding.)
+            const nlohmann::json& given = value;
+            std::visit([&](auto member) { assign(out.*member, *e, given, at, diag); }, e->member);
         }
         return out;
     }
