@@ -2,11 +2,13 @@
 #include "cli/Commands.h"
 #include "cli/Invocation.h"
 #include "passes/core/Error.h"
+#include "passes/core/Limits.h"
 
 #include <OpenEXR/ImfThreading.h>
 #include <OpenImageIO/imageio.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <thread>
@@ -20,9 +22,12 @@ int main(int argc, char** argv) {
     app.fallthrough();
     int threads = 0;
     bool verbose = false, quiet = false;
+    // Bounded: each thread is created up front (oneTBB, OpenEXR's pool), and tens of thousands
+    // of them end in std::system_error instead of a usage error.
     app.add_option("--threads", threads, "worker threads (0 = all cores); output is identical "
                                          "for any value")
-        ->check(CLI::NonNegativeNumber);
+        ->check(CLI::Range(0, fp::limits::kMaxThreads)
+                    .description(fmt::format("0..{} (the limit)", fp::limits::kMaxThreads)));
     auto* verboseFlag =
         app.add_flag("-v,--verbose", verbose, "also print each pass's time on stderr as it runs");
     app.add_flag("-q,--quiet", quiet,
@@ -55,7 +60,8 @@ int main(int argc, char** argv) {
 
     std::unique_ptr<tbb::global_control> limit;
     // OpenEXR compresses and decompresses on its own pool, which is off unless sized.
-    Imf::setGlobalThreadCount(threads > 0 ? threads : int(std::thread::hardware_concurrency()));
+    const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+    Imf::setGlobalThreadCount(threads > 0 ? std::min(threads, cores) : cores);
     if (threads > 0) {
         limit = std::make_unique<tbb::global_control>(
             tbb::global_control::max_allowed_parallelism, threads);
@@ -79,6 +85,10 @@ int main(int argc, char** argv) {
                   << (std::string(e.what()).back() == '\n' ? "" : "\n")
                   << "Full command line was:\n> " << fp::cli::invocation().commandLine() << "\n";
         return int(e.code());
+    } catch (const std::bad_alloc&) {
+        std::cerr << "framepass error: out of memory\nFull command line was:\n> "
+                  << fp::cli::invocation().commandLine() << "\n";
+        return int(fp::ExitCode::FrameFailed);
     } catch (const std::exception& e) {
         std::cerr << "framepass internal error: " << e.what() << "\n";
         return int(fp::ExitCode::FrameFailed);

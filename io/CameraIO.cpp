@@ -1,5 +1,7 @@
 #include "io/CameraIO.h"
 
+#include "io/JsonFile.h"
+
 #include "passes/core/Error.h"
 
 #include <OpenEXR/ImfDoubleAttribute.h>
@@ -55,8 +57,53 @@ Mat4d viewToNdc(const CameraView& c) {
 double number(const nlohmann::json& j, const char* key, const std::string& where) {
     if (!j.contains(key)) throw UsageError(fmt::format("{}: missing '{}'", where, key));
     if (!j[key].is_number())
-        throw UsageError(fmt::format("{}/{}: must be a number", where, key));
-    return j[key].get<double>();
+        throw UsageError(fmt::format("{}/{}: must be a number, not {}", where, key,
+                                     j[key].type_name()));
+    const double v = j[key].get<double>();
+    if (!std::isfinite(v)) throw UsageError(fmt::format("{}/{}: must be finite", where, key));
+    return v;
+}
+
+// A field of view in degrees, strictly inside (0, 180): 0 makes the projection infinite and 180
+// makes it zero, and both fill every reconstructed position with NaN.
+double fovDegrees(const nlohmann::json& j, const char* key, const std::string& where) {
+    const double v = number(j, key, where);
+    if (!(v > 0.0 && v < 180.0))
+        throw UsageError(fmt::format("{}/{}: {} is not a field of view in (0, 180) degrees", where,
+                                     key, v));
+    return v;
+}
+
+// Every camera, whatever its source, must give finite matrices: a unit, orthogonal basis, a
+// positive finite focal scale and near plane. Anything else puts NaN into every pixel that the
+// camera reconstructs, so it is refused where it is read.
+void checkCameraView(const CameraView& c, const std::string& where, ExitCode code) {
+    auto bad = [&](const std::string& what) {
+        throw Error(fmt::format("{}: unusable camera: {}", where, what), code);
+    };
+    const Vec3d axes[3] = {c.right, c.up, c.forward};
+    const char* names[3] = {"right", "up", "forward"};
+    for (int i = 0; i < 3; ++i) {
+        const Vec3d& a = axes[i];
+        if (!std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(a.z) ||
+            std::fabs(length(a) - 1.0) > 1e-3)
+            bad(fmt::format("its {} axis is not a finite unit vector (a singular or non-finite "
+                            "matrix, or a zero-length direction)",
+                            names[i]));
+    }
+    if (std::fabs(dot(c.right, c.up)) > 1e-3 || std::fabs(dot(c.up, c.forward)) > 1e-3 ||
+        std::fabs(dot(c.right, c.forward)) > 1e-3)
+        bad("its axes are not orthogonal (a skewed or singular matrix)");
+    if (!std::isfinite(c.position.x) || !std::isfinite(c.position.y) ||
+        !std::isfinite(c.position.z))
+        bad("its position is not finite");
+    if (!(c.fx > 0.0) || !(c.fy > 0.0) || !std::isfinite(c.fx) || !std::isfinite(c.fy) ||
+        !std::isfinite(c.cx) || !std::isfinite(c.cy))
+        bad(fmt::format("its projection scale is not positive and finite (fx {}, fy {}: a field "
+                        "of view of 0 or 180 degrees, or a singular projection)",
+                        c.fx, c.fy));
+    if (!(c.nearPlane > 0.0) || !std::isfinite(c.nearPlane))
+        bad(fmt::format("its near plane {} is not positive and finite", c.nearPlane));
 }
 
 Vec3d vec3(const nlohmann::json& j, const char* key, const std::string& where) {
@@ -82,10 +129,10 @@ void setRotator(CameraView& c, double pitch, double yaw, double roll) {
 // Unreal and MRQ give it); false when it has neither.
 bool setFieldOfView(CameraView& c, const nlohmann::json& j, Extent extent, const std::string& where) {
     if (j.contains("fovYDegrees")) {
-        c.fy = 1.0 / std::tan(number(j, "fovYDegrees", where) * kPi / 360.0);
+        c.fy = 1.0 / std::tan(fovDegrees(j, "fovYDegrees", where) * kPi / 360.0);
         c.fx = c.fy * extent.height / extent.width;
     } else if (j.contains("fovXDegrees")) {
-        c.fx = 1.0 / std::tan(number(j, "fovXDegrees", where) * kPi / 360.0);
+        c.fx = 1.0 / std::tan(fovDegrees(j, "fovXDegrees", where) * kPi / 360.0);
         c.fy = c.fx * extent.width / extent.height;
     } else {
         return false;
@@ -198,9 +245,10 @@ void writeCameraAttributes(Imf::Header& header, const FrameCamera& camera) {
     Imf::addWorldToNDC(header, w2ndc);
 }
 
-std::optional<FrameCamera> readCameraAttributes(const Imf::Header& header, Extent extent,
-                                                std::vector<std::string>& assumptions,
-                                                std::optional<double> profileUnits) {
+namespace {
+std::optional<FrameCamera> readHeaderCamera(const Imf::Header& header, Extent extent,
+                                            std::vector<std::string>& assumptions,
+                                            std::optional<double> profileUnits) {
     FrameCamera cam;
     const auto* units = header.findTypedAttribute<Imf::DoubleAttribute>(kUnits);
     if (units) cam.sceneUnitsPerMeter = units->value();
@@ -242,9 +290,28 @@ std::optional<FrameCamera> readCameraAttributes(const Imf::Header& header, Exten
     }
     return readUnrealCamera(header, extent, assumptions);
 }
+}  // namespace
 
-CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std::string& where,
-                              double defaultNear) {
+std::optional<FrameCamera> readCameraAttributes(const Imf::Header& header, Extent extent,
+                                                std::vector<std::string>& assumptions,
+                                                std::optional<double> profileUnits) {
+    auto cam = readHeaderCamera(header, extent, assumptions, profileUnits);
+    if (cam) {
+        // The header is the frame's own data: a broken camera there fails the frame (exit 1).
+        if (!(cam->sceneUnitsPerMeter > 0.0) || !std::isfinite(cam->sceneUnitsPerMeter))
+            throw Error(fmt::format("header: sceneUnitsPerMeter {} is not positive",
+                                    cam->sceneUnitsPerMeter));
+        checkCameraView(cam->current, "header camera", ExitCode::FrameFailed);
+        if (cam->previous)
+            checkCameraView(*cam->previous, "header camera (previous frame)",
+                            ExitCode::FrameFailed);
+    }
+    return cam;
+}
+
+namespace {
+CameraView parseCameraView(const nlohmann::json& j, Extent extent, const std::string& where,
+                           double defaultNear) {
     if (!j.is_object()) throw UsageError(fmt::format("{}: a camera must be a JSON object", where));
     const double nearPlane = j.contains("near") ? number(j, "near", where) : defaultNear;
     if (!(nearPlane > 0) || !std::isfinite(nearPlane))
@@ -274,6 +341,10 @@ CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std:
         const Vec3d up = j.contains("up") ? vec3(j, "up", where) : Vec3d{0, 1, 0};
         Vec3d target = j.contains("target") ? vec3(j, "target", where)
                                             : eye + vec3(j, "forward", where);
+        if (!(length(target - eye) > 0.0))
+            throw UsageError(fmt::format("{}: 'target' is 'position' (or 'forward' is zero): no "
+                                         "view direction",
+                                         where));
         CameraView c = CameraView::lookAt(eye, target, up, 60.0, extent.width, extent.height,
                                           nearPlane);
         if (!setFieldOfView(c, j, extent, where))
@@ -289,7 +360,16 @@ CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std:
             "numbers, row-major)",
             where));
     double m[16];
-    for (int i = 0; i < 16; ++i) m[i] = j["cameraToWorld"][i].get<double>();
+    for (int i = 0; i < 16; ++i) {
+        const auto& v = j["cameraToWorld"][i];
+        if (!v.is_number() || !std::isfinite(v.get<double>()))
+            throw UsageError(fmt::format("{}/cameraToWorld/{}: must be a finite number, not {}",
+                                         where, i, v.dump()));
+        m[i] = v.get<double>();
+    }
+    if (j.contains("axes") && !j["axes"].is_string())
+        throw UsageError(fmt::format("{}/axes: must be \"opengl\" or \"unreal\", not {}", where,
+                                     j["axes"].dump()));
     const std::string axes = j.value("axes", "opengl");
     const Vec3d col0{m[0], m[4], m[8]}, col1{m[1], m[5], m[9]}, col2{m[2], m[6], m[10]};
     CameraView c;
@@ -316,18 +396,23 @@ CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std:
     }
     return c;
 }
+}  // namespace
+
+CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std::string& where,
+                              double defaultNear) {
+    const CameraView c = parseCameraView(j, extent, where, defaultNear);
+    checkCameraView(c, where, ExitCode::Usage);
+    return c;
+}
 
 FrameCamera readCameraSidecar(const std::string& path, Extent extent,
                               std::vector<std::string>& assumptions,
                               std::optional<double> profileUnits) {
-    std::ifstream in(path);
-    FP_CHECK(in, "{}: cannot open the camera sidecar", path);
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(in, nullptr, true, true);
-    } catch (const std::exception& e) {
-        throw UsageError(fmt::format("{}: not valid JSON: {}", path, e.what()));
-    }
+    // A frame whose sidecar is missing is a failed frame (1); one that is there but wrong, a
+    // usage error (2) naming its JSON pointer.
+    FP_CHECK(std::ifstream(path) && !std::filesystem::is_directory(path),
+             "{}: cannot open the camera sidecar", path);
+    const nlohmann::json j = readJsonFile(path, "camera sidecar");
     FrameCamera cam;
     if (!j.is_object()) throw UsageError(fmt::format("{}: a camera sidecar is a JSON object", path));
     if (j.contains("sceneUnitsPerMeter")) {
@@ -365,7 +450,13 @@ std::optional<FoundCamera> findCamera(const CameraLookup& in) {
         return found;
     }
     if (!in.header) return std::nullopt;
-    auto cam = readCameraAttributes(*in.header, in.extent, found.assumptions, in.profileUnits);
+    std::optional<FrameCamera> cam;
+    try {
+        cam = readCameraAttributes(*in.header, in.extent, found.assumptions, in.profileUnits);
+    } catch (const Error& e) {
+        // The header's errors name their attribute; the file is named here.
+        throw Error(fmt::format("{}: {}", in.capturePath, e.what()), e.code());
+    }
     if (!cam) return std::nullopt;
     found.camera = *cam;
     found.source = in.header->findTypedAttribute<Imf::M44dAttribute>(kView)

@@ -1,5 +1,7 @@
 #include "io/CaptureProfile.h"
 
+#include "io/JsonFile.h"
+
 #include "io/ConfigLoader.h"
 #include "passes/core/Error.h"
 #include "passes/core/SemanticBuffers.h"
@@ -149,15 +151,7 @@ BufferMapping parseMapping(const nlohmann::json& j, const std::string& buffer, b
 }
 
 nlohmann::json readJsonFile(const std::string& path) {
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) throw UsageError(fmt::format("{}: is a folder, not a profile", path));
-    std::ifstream in(path);
-    if (!in) throw UsageError(fmt::format("{}: cannot open the capture profile", path));
-    try {
-        return nlohmann::json::parse(in, nullptr, true, true);
-    } catch (const std::exception& e) {
-        throw UsageError(fmt::format("{}: not valid JSON: {}", path, e.what()));
-    }
+    return io::readJsonFile(path, "capture profile");
 }
 
 std::string builtinPath(const std::string& name) {

@@ -135,8 +135,11 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
              mOptions.frame, buffer, img.width(), img.height(), mFiles.extent().width,
              mFiles.extent().height);
 
-    // DESIGN §5: no NaN ever reaches an output. Colour: non-finite or negative → 0. Depth: NaN or
-    // negative → sky. Normals: renormalised when off unit length by more than half precision.
+    // DESIGN §5: no NaN ever reaches an output. Colour: non-finite or negative → 0. Depth: NaN,
+    // zero or negative → sky (a view depth lies beyond the near plane, so never ≤ 0, and
+    // 1/depth would be infinite). Normals: renormalised when off unit length by more than half precision; zero is
+    // what sky pixels hold (the passes' normalize keeps it 0, never NaN), so a zero normal is bad
+    // only on a surface — checked against the depth under --strict.
     const bool isColor = sem ? sem->kind == PortKind::Color : true;
     const bool isDepth = buffer == "SceneDepth" || buffer == "PrevSceneDepth";
     SanitizeCounts counts;
@@ -146,7 +149,7 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
             for (int x = 0; x < img.width(); ++x) {
                 float& v = row[x];
                 if (isDepth) {
-                    if (std::isnan(v) || v < 0.0f) {
+                    if (std::isnan(v) || v <= 0.0f) {
                         ++counts.nonFinite;
                         v = std::numeric_limits<float>::infinity();
                     }
@@ -170,10 +173,22 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
                 for (int c = 0; c < 3; ++c)
                     img.plane(c).at(x, y) = n[c] / len;
             }
+    if (buffer == "WorldNormal" && mOptions.strict && mFiles.mappingFor("SceneDepth")) {
+        std::vector<std::string> notes;
+        const Image depth = mFiles.read("SceneDepth", 1, notes);
+        if (depth.width() == img.width() && depth.height() == img.height())
+            for (int y = 0; y < img.height(); ++y)
+                for (int x = 0; x < img.width(); ++x) {
+                    const float d = depth.plane(0).at(x, y);
+                    if (d > 0.0f && std::isfinite(d) && img.plane(0).at(x, y) == 0.0f &&
+                        img.plane(1).at(x, y) == 0.0f && img.plane(2).at(x, y) == 0.0f)
+                        ++counts.nonUnitNormals;  // a surface with no normal
+                }
+    }
     if (counts.total() > 0 && mOptions.strict)
         throw Error(
-            fmt::format("{}: frame {}: buffer '{}' has {} non-finite, {} negative and {} "
-                        "non-unit values (--strict)",
+            fmt::format("{}: frame {}: buffer '{}' has {} non-finite (or, for depth, ≤ 0), {} "
+                        "negative and {} non-unit values (--strict)",
                         mFiles.capturePath(), mOptions.frame, buffer, counts.nonFinite,
                         counts.negative, counts.nonUnitNormals));
     mSanitized.nonFinite += counts.nonFinite;

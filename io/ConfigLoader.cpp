@@ -1,5 +1,7 @@
 #include "io/ConfigLoader.h"
 
+#include "io/JsonFile.h"
+
 #include "passes/core/Diagnostics.h"
 #include "passes/core/Error.h"
 #include "passes/core/Suggest.h"
@@ -23,14 +25,7 @@ const std::vector<std::string> kLightTemplateKeys = {"passes", "colorIn", "color
 const std::vector<std::string> kEngines = {"ue4.27", "ue5"};
 
 nlohmann::json readJsonFile(const std::string& path) {
-    std::ifstream in(path);
-    if (!in)
-        throw UsageError(fmt::format("{}: cannot open the config", path));
-    try {
-        return nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
-    } catch (const nlohmann::json::parse_error& e) {
-        throw UsageError(fmt::format("{}: not valid JSON: {}", path, e.what()));
-    }
+    return io::readJsonFile(path, "config");
 }
 
 std::string resolvePath(const std::string& baseDir, const std::string& p) {
@@ -202,8 +197,11 @@ std::string configDirectory() {
 
 nlohmann::json parseCliValue(const std::string& text) {
     try {
-        return nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error&) {
+        return parseJsonLimited(text, "'" + text.substr(0, 40) + "'");
+    } catch (const UsageError& e) {
+        // Text that is not JSON is a string; JSON too deep to trust is an error.
+        if (std::string(e.what()).find("nested more than") != std::string::npos)
+            throw;
         return text;
     }
 }
@@ -231,7 +229,12 @@ RunConfig parseRunConfig(const nlohmann::json& j,
     rc.scene = resolvePath(baseDir, stringAt(j, "scene", "", diag));
     if (j.contains("frames")) {
         if (j["frames"].is_number_integer())
-            rc.frames = std::to_string(j["frames"].get<int>());
+            rc.frames = j["frames"].dump();  // range-checked with the spec (parseFrameSpec)
+        else if (j["frames"].is_number())    // at once: the frames are needed before planning
+            throw UsageError(
+                fmt::format("{}: /frames: {} is not a frame number (an integer) or "
+                            "a frame spec",
+                            source, j["frames"].dump()));
         else
             rc.frames = stringAt(j, "frames", "", diag);
     }

@@ -1,6 +1,7 @@
 #include "io/ExrReader.h"
 
 #include "passes/core/Error.h"
+#include "passes/core/Limits.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -9,12 +10,98 @@
 #include <OpenEXR/ImfPartType.h>
 
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 namespace fp::io {
 
+namespace {
+
+// The size a header declares is checked before OpenEXR sees the file: OpenEXR allocates what an
+// attribute or a data window claims, so a 4 KB file claiming a 2 GB string, or a 100000² image,
+// would take gigabytes before any check. This walks the header(s) (OpenEXR file layout: magic,
+// version flags, then per part name\0 type\0 int32 size, value..., ended by an empty name;
+// multi-part files end the list of headers with an empty header) without reading pixels.
+void checkImageSize(const std::string& path, int64_t width, int64_t height) {
+    if (width <= 0 || height <= 0 || width > limits::kMaxImageDimension ||
+        height > limits::kMaxImageDimension || width * height > limits::kMaxImagePixels)
+        throw Error(fmt::format("{}: the image is {}×{}; framepass reads at most {} pixels a side "
+                                "and {} pixels in all (the limit)",
+                                path, width, height, limits::kMaxImageDimension,
+                                limits::kMaxImagePixels));
+}
+
+void checkExrHeaders(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(fmt::format("{}: cannot open", path));
+    in.seekg(0, std::ios::end);
+    const int64_t fileSize = in.tellg();
+    in.seekg(0);
+    auto fail = [&](const std::string& what) {
+        throw Error(fmt::format("{}: not a readable OpenEXR file ({})", path, what));
+    };
+    auto readInt = [&](int32_t& v) {
+        unsigned char b[4];
+        if (!in.read(reinterpret_cast<char*>(b), 4)) fail("the header is truncated");
+        v = int32_t(uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 |
+                    uint32_t(b[3]) << 24);
+    };
+    auto readName = [&](std::string& s) {
+        s.clear();
+        for (char c; in.get(c);) {
+            if (c == '\0') return;
+            if (s.size() >= 255) fail("a header name is longer than 255 characters");
+            s += c;
+        }
+        fail("the header is truncated");
+    };
+    int32_t magic = 0, version = 0;
+    readInt(magic);
+    if (magic != 20000630) fail("no OpenEXR magic number");
+    readInt(version);
+    const bool multiPart = version & 0x1000;
+    for (int part = 0;; ++part) {
+        if (part >= 4096) fail("more than 4096 parts");
+        std::string name, type;
+        int attributes = 0;
+        for (;; ++attributes) {
+            readName(name);
+            if (name.empty()) break;
+            readName(type);
+            int32_t size = 0;
+            readInt(size);
+            const int64_t left = fileSize - int64_t(in.tellg());
+            if (size < 0 || size > left || size > limits::kMaxExrAttributeBytes)
+                throw Error(fmt::format("{}: header attribute '{}' ({}) claims {} bytes; the file "
+                                        "has {} after it and framepass reads at most {} (the "
+                                        "limit)",
+                                        path, name, type, size, left,
+                                        limits::kMaxExrAttributeBytes));
+            if (name == "dataWindow" && type == "box2i" && size == 16) {
+                int32_t b[4];
+                for (auto& v : b) readInt(v);
+                checkImageSize(path, int64_t(b[2]) - b[0] + 1, int64_t(b[3]) - b[1] + 1);
+            } else if (name == "chunkCount" && type == "int" && size == 4) {
+                int32_t chunks = 0;
+                readInt(chunks);
+                if (chunks < 0 || chunks > limits::kMaxImagePixels)
+                    fail(fmt::format("chunkCount {} is out of range", chunks));
+            } else {
+                in.seekg(size, std::ios::cur);
+            }
+        }
+        // A multi-part file's list of headers ends with an empty header.
+        if (!multiPart || attributes == 0) break;
+    }
+}
+
+}  // namespace
+
 ExrReader::ExrReader(const std::string& path) : mPath(path) {
     if (!std::filesystem::exists(path)) throw Error(fmt::format("{}: no such file", path));
+    if (std::filesystem::is_directory(path))
+        throw Error(fmt::format("{}: is a folder, not an EXR file", path));
+    checkExrHeaders(path);
     try {
         mFile = std::make_unique<Imf::MultiPartInputFile>(path.c_str());
     } catch (const std::exception& e) {
@@ -26,6 +113,7 @@ ExrReader::ExrReader(const std::string& path) : mPath(path) {
             throw Error(fmt::format("{}: part {} is a deep image, which framepass does not read",
                                     path, p));
         const auto dw = h.dataWindow();
+        checkImageSize(path, int64_t(dw.max.x) - dw.min.x + 1, int64_t(dw.max.y) - dw.min.y + 1);
         const Extent e{dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1};
         if (p == 0) mExtent = e;
         mPartExtents.push_back(e);

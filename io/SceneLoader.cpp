@@ -1,7 +1,9 @@
 #include "io/SceneLoader.h"
 
 #include "io/CameraIO.h"
+#include "io/JsonFile.h"
 #include "passes/core/Error.h"
+#include "passes/core/Limits.h"
 #include "passes/core/Suggest.h"
 
 #include <tiny_gltf.h>
@@ -69,12 +71,18 @@ Vec3d vec3(const nlohmann::json& v, const std::string& file, const std::string& 
     if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() ||
         !v[2].is_number())
         fail(file, where, "expected [x, y, z]");
-    return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+    const Vec3d r{v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+    if (!std::isfinite(r.x) || !std::isfinite(r.y) || !std::isfinite(r.z) ||
+        !std::isfinite(float(r.x)) || !std::isfinite(float(r.y)) || !std::isfinite(float(r.z)))
+        fail(file, where, "expected finite numbers");
+    return r;
 }
 
 float num(const nlohmann::json& v, const std::string& file, const std::string& where) {
     if (!v.is_number())
         fail(file, where, "expected a number");
+    if (!std::isfinite(v.get<float>()))
+        fail(file, where, "expected a finite number");
     return v.get<float>();
 }
 
@@ -123,6 +131,9 @@ Light parseLight(const nlohmann::json& j, const std::string& file, const std::st
         fail(file, where, "a light must be an object");
     checkKeys(j, kLightKeys, file, where);
     Light l;
+    for (const char* key : {"name", "type"})
+        if (j.contains(key) && !j[key].is_string())
+            fail(file, where + "/" + key, fmt::format("expected text, not {}", j[key].dump()));
     l.name = j.value("name", "");
     const std::string type = j.value("type", "point");
     if (type == "point")
@@ -163,6 +174,16 @@ Light parseLight(const nlohmann::json& j, const std::string& file, const std::st
             fail(file, where + "/samplesPerPixel", "expected an integer in 1..64");
         l.samplesPerPixel = int(spp);
     }
+    // Negative light or sizes make negative or NaN radiance downstream (sqrt, division by area).
+    for (int c = 0; c < 3; ++c)
+        if (l.color[c] < 0.0f)
+            fail(file, where + "/color", "expected values ≥ 0");
+    if (l.intensity < 0.0f)
+        fail(file, where + "/intensity", "expected a value ≥ 0");
+    if (l.radius < 0.0f || l.sourceAngleDegrees < 0.0f || l.attenuationRadius < 0.0f)
+        fail(file, where, "radius, sourceAngleDegrees and attenuationRadius must be ≥ 0");
+    if (j.contains("direction") && !(length(vec3(j["direction"], file, where)) > 0.0))
+        fail(file, where + "/direction", "a zero-length direction");
     if (l.type == LightType::Rect && length(cross(l.halfU, l.halfV)) <= 0.0)
         fail(file, where, "a rect light needs non-parallel, non-zero 'halfU' and 'halfV'");
     if (l.name.empty())
@@ -285,18 +306,43 @@ std::vector<T> readAccessor(const tinygltf::Model& model,
         throw Error(fmt::format("{}: {}: expected {} components, accessor {} has {}", path, what,
                                 components, index, n),
                     ExitCode::Usage);
-    if (acc.bufferView < 0)
+    auto bad = [&](const std::string& why) {
+        throw Error(fmt::format("{}: {}: /accessors/{}: {}", path, what, index, why),
+                    ExitCode::Usage);
+    };
+    if (acc.bufferView < 0) {
+        // No buffer view: all zeros (glTF), but never more of them than a mesh may hold.
+        if (acc.count > std::size_t(limits::kMaxImagePixels))
+            bad(fmt::format("count {} without a bufferView is beyond the limit", acc.count));
         return std::vector<T>(acc.count * components, T(0));
+    }
+    if (acc.bufferView >= int(model.bufferViews.size()))
+        bad(fmt::format("bufferView {} does not exist ({} bufferViews)", acc.bufferView,
+                        model.bufferViews.size()));
     const auto& view = model.bufferViews[acc.bufferView];
+    if (view.buffer < 0 || view.buffer >= int(model.buffers.size()))
+        bad(fmt::format("its bufferView {} names buffer {}, which does not exist", acc.bufferView,
+                        view.buffer));
     const auto& buffer = model.buffers[view.buffer];
     const int compSize = tinygltf::GetComponentSizeInBytes(acc.componentType);
+    if (compSize <= 0)
+        bad(fmt::format("unknown componentType {}", acc.componentType));
+    if (view.byteStride > 252)
+        bad(fmt::format("byteStride {} is over 252", view.byteStride));
     const std::size_t stride = view.byteStride ? view.byteStride : std::size_t(compSize) * n;
+    // Every size below is bounded by the buffer's before it is multiplied, so nothing wraps
+    // (an accessor count of 6148914691236517206 times a stride of 3 would).
+    const std::size_t size = buffer.data.size();
+    if (view.byteOffset > size || view.byteLength > size - view.byteOffset)
+        bad(fmt::format("its bufferView {} lies outside buffer {}", acc.bufferView, view.buffer));
+    const std::size_t viewEnd = view.byteOffset + view.byteLength;
+    if (acc.byteOffset > view.byteLength || acc.count > size)
+        bad(fmt::format("count {} / byteOffset {} reach past the end of its buffer", acc.count,
+                        acc.byteOffset));
     const std::size_t start = view.byteOffset + acc.byteOffset;
-    if (acc.count > 0 &&
-        start + stride * (acc.count - 1) + std::size_t(compSize) * n > buffer.data.size())
-        throw Error(
-            fmt::format("{}: {}: accessor {} reads past the end of its buffer", path, what, index),
-            ExitCode::Usage);
+    if (acc.count > 0 && (stride * (acc.count - 1) > viewEnd - start ||
+                          start + stride * (acc.count - 1) + std::size_t(compSize) * n > viewEnd))
+        bad("it reads past the end of its bufferView");
     std::vector<T> out;
     out.reserve(acc.count * n);
     for (std::size_t i = 0; i < acc.count; ++i) {
@@ -335,6 +381,128 @@ std::vector<T> readAccessor(const tinygltf::Model& model,
     return out;
 }
 
+bool finite(const std::vector<double>& v) {
+    for (double x : v)
+        if (!std::isfinite(x))
+            return false;
+    return true;
+}
+
+// tinygltf parses the JSON but leaves every index unchecked: each one is checked here, by its
+// JSON pointer, before any is followed.
+void validateGltf(const tinygltf::Model& model, const std::string& path) {
+    auto bad = [&](const std::string& where, const std::string& why) {
+        throw Error(fmt::format("{}: {}: {}", path, where, why), ExitCode::Usage);
+    };
+    auto index = [&](int i, std::size_t count, const std::string& where, const char* what) {
+        if (i < -1 || i >= int(count))
+            bad(where, fmt::format("{} {} does not exist (the file has {})", what, i, count));
+    };
+    if (!model.scenes.empty() || model.defaultScene != -1)
+        index(model.defaultScene, model.scenes.size(), "/scene", "scene");
+    for (std::size_t s = 0; s < model.scenes.size(); ++s)
+        for (std::size_t k = 0; k < model.scenes[s].nodes.size(); ++k) {
+            const std::string at = fmt::format("/scenes/{}/nodes/{}", s, k);
+            if (model.scenes[s].nodes[k] < 0)
+                bad(at, "a negative node index");
+            index(model.scenes[s].nodes[k], model.nodes.size(), at, "node");
+        }
+    std::vector<int> parents(model.nodes.size(), 0);
+    for (std::size_t n = 0; n < model.nodes.size(); ++n) {
+        const auto& node = model.nodes[n];
+        const std::string at = fmt::format("/nodes/{}", n);
+        for (int c : node.children)
+            if (c >= 0 && c < int(parents.size()) && ++parents[c] > 1)
+                bad(at + "/children", fmt::format("node {} has more than one parent (glTF nodes "
+                                                  "form a tree)",
+                                                  c));
+        index(node.mesh, model.meshes.size(), at + "/mesh", "mesh");
+        index(node.camera, model.cameras.size(), at + "/camera", "camera");
+        for (std::size_t c = 0; c < node.children.size(); ++c) {
+            if (node.children[c] < 0)
+                bad(at + fmt::format("/children/{}", c), "a negative index");
+            index(node.children[c], model.nodes.size(), at + fmt::format("/children/{}", c),
+                  "node");
+        }
+        if (!finite(node.matrix) || !finite(node.translation) || !finite(node.rotation) ||
+            !finite(node.scale))
+            bad(at, "a non-finite transform");
+        if (auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end()) {
+            const auto& l = it->second.Get("light");
+            if (!l.IsNumber() && !l.IsInt())
+                bad(at + "/extensions/KHR_lights_punctual/light", "expected a light index");
+            const int li = l.GetNumberAsInt();
+            if (li < 0 || li >= int(model.lights.size()))
+                bad(at + "/extensions/KHR_lights_punctual/light",
+                    fmt::format("light {} does not exist (the file has {})", li,
+                                model.lights.size()));
+        }
+    }
+    for (std::size_t c = 0; c < model.cameras.size(); ++c) {
+        const auto& cam = model.cameras[c];
+        const std::string at = fmt::format("/cameras/{}/perspective", c);
+        if (cam.type != "perspective")
+            continue;  // orthographic cameras are not used
+        if (!(cam.perspective.yfov > 0.0 && cam.perspective.yfov < kPi))
+            bad(at + "/yfov",
+                fmt::format("{} is not a field of view in (0, π) radians", cam.perspective.yfov));
+        if (!(cam.perspective.znear > 0.0) || !std::isfinite(cam.perspective.znear))
+            bad(at + "/znear", "expected a finite number > 0");
+    }
+    for (std::size_t m = 0; m < model.meshes.size(); ++m)
+        for (std::size_t p = 0; p < model.meshes[m].primitives.size(); ++p) {
+            const auto& prim = model.meshes[m].primitives[p];
+            const std::string at = fmt::format("/meshes/{}/primitives/{}", m, p);
+            index(prim.material, model.materials.size(), at + "/material", "material");
+            index(prim.indices, model.accessors.size(), at + "/indices", "accessor");
+            for (const auto& [name, a] : prim.attributes) {
+                if (a < 0)
+                    bad(at + "/attributes/" + name, "a negative accessor index");
+                index(a, model.accessors.size(), at + "/attributes/" + name, "accessor");
+            }
+        }
+    for (std::size_t m = 0; m < model.materials.size(); ++m) {
+        const auto& gm = model.materials[m];
+        const std::string at = fmt::format("/materials/{}", m);
+        if (gm.pbrMetallicRoughness.baseColorFactor.size() != 4 ||
+            !finite(gm.pbrMetallicRoughness.baseColorFactor))
+            bad(at + "/pbrMetallicRoughness/baseColorFactor", "expected 4 finite numbers");
+        if (gm.emissiveFactor.size() != 3 || !finite(gm.emissiveFactor))
+            bad(at + "/emissiveFactor", "expected 3 finite numbers");
+        if (!std::isfinite(gm.pbrMetallicRoughness.metallicFactor) ||
+            !std::isfinite(gm.pbrMetallicRoughness.roughnessFactor))
+            bad(at + "/pbrMetallicRoughness", "non-finite metallic or roughness factor");
+        if (auto it = gm.extensions.find("KHR_materials_emissive_strength");
+            it != gm.extensions.end()) {
+            const auto& s = it->second.Get("emissiveStrength");
+            if (!s.IsNumber() && !s.IsInt())
+                bad(at + "/extensions/KHR_materials_emissive_strength/emissiveStrength",
+                    "expected a number");
+            if (!(s.GetNumberAsDouble() >= 0) || !std::isfinite(s.GetNumberAsDouble()))
+                bad(at + "/extensions/KHR_materials_emissive_strength/emissiveStrength",
+                    "expected a finite number ≥ 0");
+        }
+    }
+    for (std::size_t l = 0; l < model.lights.size(); ++l) {
+        const auto& gl = model.lights[l];
+        const std::string at = fmt::format("/extensions/KHR_lights_punctual/lights/{}", l);
+        if (gl.type != "point" && gl.type != "spot" && gl.type != "directional")
+            bad(at + "/type", fmt::format("'{}' is not point, spot or directional", gl.type));
+        // color is optional (white when absent); when given, three finite numbers ≥ 0.
+        if (!gl.color.empty() && (gl.color.size() != 3 || !finite(gl.color) ||
+                                  *std::min_element(gl.color.begin(), gl.color.end()) < 0))
+            bad(at + "/color", "expected 3 finite numbers ≥ 0");
+        if (!(gl.intensity >= 0) || !std::isfinite(gl.intensity))
+            bad(at + "/intensity", "expected a finite number ≥ 0");
+        if (!(gl.range >= 0) || !std::isfinite(gl.range))
+            bad(at + "/range", "expected a finite number ≥ 0");
+        if (gl.type == "spot" && (!(gl.spot.innerConeAngle >= 0) || !(gl.spot.outerConeAngle > 0) ||
+                                  !(gl.spot.outerConeAngle <= kPi / 2) ||
+                                  !(gl.spot.innerConeAngle <= gl.spot.outerConeAngle)))
+            bad(at + "/spot", "expected 0 ≤ innerConeAngle ≤ outerConeAngle ≤ π/2");
+    }
+}
+
 void loadGltf(const std::string& path, SceneFile& sf) {
     tinygltf::Model model;
     tinygltf::TinyGLTF loader;
@@ -344,6 +512,7 @@ void loadGltf(const std::string& path, SceneFile& sf) {
                            : loader.LoadASCIIFromFile(&model, &err, &warn, path);
     if (!ok)
         throw Error(fmt::format("{}: cannot read glTF: {}", path, err), ExitCode::Usage);
+    validateGltf(model, path);
     Scene& scene = sf.scene;
     const int baseMaterial = int(scene.materials.size());
     for (const auto& gm : model.materials) {
@@ -365,7 +534,22 @@ void loadGltf(const std::string& path, SceneFile& sf) {
     scene.materials.push_back(Material{"default"});
     const int defaultMaterial = int(scene.materials.size()) - 1;
 
+    // Nodes form a forest (glTF §3.5.2); a node met again on its own path is a cycle, which would
+    // otherwise recurse until the stack overflows.
+    std::vector<char> onPath(model.nodes.size(), 0);
+    int depth = 0;
     std::function<void(int, const Mat4d&)> visit = [&](int nodeIndex, const Mat4d& parent) {
+        if (onPath[nodeIndex])
+            throw Error(fmt::format("{}: /nodes/{}: the node hierarchy has a cycle through node {}",
+                                    path, nodeIndex, nodeIndex),
+                        ExitCode::Usage);
+        if (depth >= limits::kMaxGltfNodeDepth)
+            throw Error(fmt::format("{}: /nodes/{}: the node hierarchy is deeper than {} (the "
+                                    "limit)",
+                                    path, nodeIndex, limits::kMaxGltfNodeDepth),
+                        ExitCode::Usage);
+        onPath[nodeIndex] = 1;
+        ++depth;
         const auto& node = model.nodes[nodeIndex];
         const Mat4d world = parent * nodeMatrix(node);
         if (node.mesh >= 0) {
@@ -391,6 +575,10 @@ void loadGltf(const std::string& path, SceneFile& sf) {
                 }
                 if (auto nrm = prim.attributes.find("NORMAL"); nrm != prim.attributes.end()) {
                     const auto normals = readAccessor<double>(model, nrm->second, 3, path, what);
+                    if (normals.size() != positions.size())
+                        throw Error(fmt::format("{}: {}: {} normals for {} positions", path, what,
+                                                normals.size() / 3, positions.size() / 3),
+                                    ExitCode::Usage);
                     // Normals transform by the inverse transpose of the node matrix.
                     const Mat4d nm = inverse(world).transposed();
                     for (std::size_t i = 0; i + 2 < normals.size(); i += 3) {
@@ -439,7 +627,10 @@ void loadGltf(const std::string& path, SceneFile& sf) {
             const auto& gl = model.lights.at(li);
             Light l;
             l.name = gl.name.empty() ? fmt::format("light{}", li) : gl.name;
-            l.color = {float(gl.color[0]), float(gl.color[1]), float(gl.color[2])};
+            // KHR_lights_punctual: color is optional, white by default.
+            l.color = gl.color.empty()
+                          ? Vec3f{1.0f, 1.0f, 1.0f}
+                          : Vec3f{float(gl.color[0]), float(gl.color[1]), float(gl.color[2])};
             l.intensity = float(gl.intensity);
             l.attenuationRadius = gl.range > 0.0 ? gl.range : 0.0;  // KHR: 0/absent = unlimited
             const auto h = world.apply({0, 0, 0});
@@ -458,6 +649,8 @@ void loadGltf(const std::string& path, SceneFile& sf) {
         }
         for (int child : node.children)
             visit(child, world);
+        onPath[nodeIndex] = 0;
+        --depth;
     };
     const int sceneIndex = model.defaultScene >= 0 ? model.defaultScene : 0;
     if (!model.scenes.empty())
@@ -473,6 +666,14 @@ void checkFinite(const Scene& scene, const std::string& file) {
         for (const auto& p : m.positions)
             if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
                 throw Error(fmt::format("{}: mesh '{}' has a non-finite vertex", file, m.name),
+                            ExitCode::Usage);
+    for (const auto& m : scene.meshes)
+        for (const auto& n : m.normals)
+            if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z) ||
+                !(length(n) > 0.0f))
+                throw Error(fmt::format("{}: mesh '{}' has a zero-length or non-finite normal (or "
+                                        "a node scaled to 0)",
+                                        file, m.name),
                             ExitCode::Usage);
 }
 
@@ -500,15 +701,7 @@ FrameCamera SceneFile::cameraForFrame(int64_t frame, Extent extent) const {
 }
 
 SceneFile loadScene(const std::string& path, SceneParts parts) {
-    std::ifstream in(path);
-    if (!in)
-        throw Error(fmt::format("{}: cannot open the scene", path), ExitCode::Usage);
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(in, nullptr, true, true);
-    } catch (const nlohmann::json::parse_error& e) {
-        throw Error(fmt::format("{}: not valid JSON: {}", path, e.what()), ExitCode::Usage);
-    }
+    const nlohmann::json j = readJsonFile(path, "scene");
     if (!j.is_object())
         fail(path, "/", "a scene must be a JSON object");
     checkKeys(j, kSceneKeys, path, "");
@@ -526,6 +719,8 @@ SceneFile loadScene(const std::string& path, SceneParts parts) {
 
     if (j.contains("sceneUnitsPerMeter"))
         sf.scene.sceneUnitsPerMeter = num(j["sceneUnitsPerMeter"], path, "/sceneUnitsPerMeter");
+    if (!(sf.scene.sceneUnitsPerMeter > 0.0f))
+        fail(path, "/sceneUnitsPerMeter", "expected a number > 0");
     if (j.contains("offset"))
         sf.offset = vec3(j["offset"], path, "/offset");
     if (j.contains("cameraMotion"))
@@ -541,7 +736,13 @@ SceneFile loadScene(const std::string& path, SceneParts parts) {
         if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() ||
             !r[1].is_number_integer())
             fail(path, "/resolution", "expected [width, height]");
-        sf.resolution = {r[0].get<int>(), r[1].get<int>()};
+        const int64_t w = r[0].get<int64_t>(), h = r[1].get<int64_t>();
+        if (w <= 0 || h <= 0 || w > limits::kMaxImageDimension || h > limits::kMaxImageDimension ||
+            w * h > limits::kMaxImagePixels)
+            fail(path, "/resolution",
+                 fmt::format("{}×{}: at most {} pixels a side and {} in all (the limit)", w, h,
+                             limits::kMaxImageDimension, limits::kMaxImagePixels));
+        sf.resolution = {int(w), int(h)};
     }
     if (j.contains("materials")) {
         if (!j["materials"].is_object())

@@ -1,5 +1,7 @@
 #pragma once
 // Unreal's shading-model ids (reference §1.6), as the capture's ShadingModel buffer holds them.
+#include "passes/core/FloatToInt.h"
+
 #include <cmath>
 
 namespace fp {
@@ -11,7 +13,7 @@ enum ShadingModelId {
 
 /// A pixel with a surface that takes lighting: finite positive depth (not sky) and not unlit.
 inline bool isLitSurface(double depth, float shadingModel) {
-    return depth > 0.0 && !std::isinf(depth) && int(shadingModel) != kUnlit;
+    return depth > 0.0 && !std::isinf(depth) && truncToInt(shadingModel, 0, 255) != kUnlit;
 }
 
 }  // namespace fp

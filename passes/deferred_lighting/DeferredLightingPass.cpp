@@ -204,7 +204,7 @@ void DeferredLightingPass::execute(PassContext& ctx) {
                 Vec3f c{sceneColor.plane(0).at(x, y), sceneColor.plane(1).at(x, y),
                         sceneColor.plane(2).at(x, y)};
                 const double d = depth.at(x, y);
-                const int model = int(models.at(x, y));
+                const int model = truncToInt(models.at(x, y), 0, 255);
                 const bool lit = isLitSurface(d, models.at(x, y));
                 const Vec3f p = lit ? Vec3f(cam.translatedFromPixel(x, y, d)) : Vec3f{};
                 const int n = lit ? incomingLight(geometry, p, in.data()) : 0;

@@ -2,6 +2,7 @@
 
 #include "passes/common/GBuffer.h"
 #include "passes/core/Error.h"
+#include "passes/core/FloatToInt.h"
 #include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
 
@@ -165,7 +166,7 @@ void DiffuseIndirectCompositePass::execute(PassContext& ctx) {
         uint64_t pixels = 0, skipped = 0;
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
-                const int model = int(shadingModel.at(x, y));
+                const int model = truncToInt(shadingModel.at(x, y), 0, 255);
                 float rgb[3] = {sceneColor.plane(0).at(x, y), sceneColor.plane(1).at(x, y),
                                 sceneColor.plane(2).at(x, y)};
                 if (model == kUnlit) {  // AOMask = 0 and no diffuse: colour is untouched

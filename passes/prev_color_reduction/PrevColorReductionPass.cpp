@@ -3,6 +3,7 @@
 #include "passes/common/GBuffer.h"
 #include "passes/common/Reprojection.h"
 #include "passes/core/Error.h"
+#include "passes/core/FloatToInt.h"
 #include "passes/core/Tiles.h"
 
 #include <algorithm>
@@ -31,8 +32,10 @@ float depthWeight(double dRef, double d, double radius) {
 float bilinear(const Plane& p, float u, float v) {
     // u, v in pixels with centres at +0.5, clamp addressing.
     const float x = u - 0.5f, y = v - 0.5f;
-    const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
-    const float fx = x - x0, fy = y - y0;
+    // Clamp addressing: anything beyond one texel outside reads the edge (NaN reads the corner).
+    const int x0 = floorToInt(x, -1, p.width()), y0 = floorToInt(y, -1, p.height());
+    const float fx = std::isfinite(x) ? std::clamp(x - float(x0), 0.0f, 1.0f) : 0.0f;
+    const float fy = std::isfinite(y) ? std::clamp(y - float(y0), 0.0f, 1.0f) : 0.0f;
     return (p.clampedAt(x0, y0) * (1 - fx) + p.clampedAt(x0 + 1, y0) * fx) * (1 - fy) +
            (p.clampedAt(x0, y0 + 1) * (1 - fx) + p.clampedAt(x0 + 1, y0 + 1) * fx) * fy;
 }
@@ -75,8 +78,8 @@ void reprojectColor(const ReprojectInputs& in, int px, int py, float out[4]) {
             rgb[c] = bilinear(in.prevColor.plane(c), float(pu), float(pv));
     } else {
         // Clamp to the bilinear-safe rect, then point-sample colour and depth.
-        const int qx = std::clamp(int(std::floor(pu)), 0, W - 1);
-        const int qy = std::clamp(int(std::floor(pv)), 0, H - 1);
+        const int qx = floorToInt(pu, 0, W - 1);
+        const int qy = floorToInt(pv, 0, H - 1);
         for (int c = 0; c < 3; ++c)
             rgb[c] = in.prevColor.plane(c).at(qx, qy);
         const double pd = in.prevDepth->at(qx, qy);

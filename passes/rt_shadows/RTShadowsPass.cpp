@@ -156,7 +156,9 @@ private:
         if (s.model == kHair)
             s.n = mGenerator.centreDirection(s.p);
         s.opacity = mCustomData ? mCustomData->image().plane(3).at(x, py) : 1.0f;
-        s.instance = mInstances ? uint32_t(mInstances->image().plane(0).at(x, py)) : 0u;
+        s.instance =
+            mInstances ? uint32_t(truncToInt(mInstances->image().plane(0).at(x, py), 0, 1 << 30))
+                       : 0u;
         return s;
     }
 

@@ -56,6 +56,10 @@ Image copyOf(const Image& from) {
 void tapOffset(int k, int taps, float rotation, float radius, int& dx, int& dy) {
     const float r = radius * std::sqrt((float(k) + 0.5f) / float(taps));
     const float a = float(k) * kGoldenAngle + rotation;
+    if (!(std::fabs(r) < 1e6f)) {  // a NaN/inf radius: the centre tap (lround of NaN is UB)
+        dx = dy = 0;
+        return;
+    }
     dx = int(std::lround(r * std::cos(a)));
     dy = int(std::lround(r * std::sin(a)));
 }

@@ -2,6 +2,7 @@
 
 #include "passes/common/GBuffer.h"
 #include "passes/core/Error.h"
+#include "passes/core/FloatToInt.h"
 #include "passes/core/Sampling.h"
 #include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
@@ -33,7 +34,7 @@ Vec3f quantiseNormal(const Vec3f& n) {
 
 // Point sampling with an explicit fractional level: the nearest mip (reference §2, §13.10).
 int nearestMip(float level, int mipCount) {
-    return std::clamp(int(std::floor(level + 0.5f)), 0, mipCount - 1);
+    return floorToInt(level + 0.5f, 0, mipCount - 1);
 }
 
 // Position in "half-resolution pixel" units: HZB mip 0 and reduced-colour mip 0 both have one
@@ -166,8 +167,9 @@ int marchRay(const TraceSetup& s, const RaySteps& r, float& level, uint64_t& hzb
             const float hx = r.origin.hx + r.step.hx * float(k);
             const float hy = r.origin.hy + r.step.hy * float(k);
             const float rz = r.origin.z + r.step.z * float(k);
-            const float hz = s.hzb.mip(mip).plane(0).clampedAt(int(std::floor(hx * scale)),
-                                                               int(std::floor(hy * scale)));
+            const float hz = s.hzb.mip(mip).plane(0).clampedAt(
+                floorToInt(hx * scale, -1, s.hzb.mip(mip).width()),
+                floorToInt(hy * scale, -1, s.hzb.mip(mip).height()));
             const float diff = rz - hz;
             // A sky cell (device Z 0) is never hit: a ray extended past the point at infinity
             // would otherwise "hit" it [framepass guard].
@@ -184,8 +186,8 @@ int marchRay(const TraceSetup& s, const RaySteps& r, float& level, uint64_t& hzb
 void hitColor(const TraceSetup& s, const RayPoint& hit, float level, float c[3]) {
     const int mip = nearestMip(level, kReducedMips);
     const float scale = 1.0f / float(1 << mip);
-    const int rx = std::clamp(int(std::floor(hit.hx * scale)), 0, s.reducedMaxX[mip]);
-    const int ry = std::clamp(int(std::floor(hit.hy * scale)), 0, s.reducedMaxY[mip]);
+    const int rx = floorToInt(hit.hx * scale, 0, s.reducedMaxX[mip]);
+    const int ry = floorToInt(hit.hy * scale, 0, s.reducedMaxY[mip]);
     const Image& rc = s.reduced.mip(mip);
     c[0] = rc.plane(0).at(rx, ry);
     c[1] = rc.plane(1).at(rx, ry);

@@ -5,6 +5,7 @@
 #include "passes/common/Reprojection.h"
 #include "passes/common/Surface.h"
 #include "passes/core/Error.h"
+#include "passes/core/FloatToInt.h"
 #include "passes/core/Tiles.h"
 #include "passes/core/UnrealRandom.h"
 #include "passes/ssgi/SSGIPass.h"
@@ -113,8 +114,10 @@ HistoryTap pickHistoryTexel(const TemporalInputs& in,
     const PreviousPixel prev =
         reprojectPixel(px, py, p, in.cam.position, in.velocity, in.past->camera);
     const double tu = prev.u / in.toFull - 0.5, tv = prev.v / in.toFull - 0.5;
-    const int x0 = int(std::floor(tu)), y0 = int(std::floor(tv));
-    const float fx = float(tu - x0), fy = float(tv - y0);
+    // Far off screen (or NaN) only the clamped edge texel is read, and then with no weight.
+    const int x0 = floorToInt(tu, -2, TW + 1), y0 = floorToInt(tv, -2, TH + 1);
+    const float fx = std::isfinite(tu) ? std::clamp(float(tu - x0), 0.0f, 1.0f) : 0.0f;
+    const float fy = std::isfinite(tv) ? std::clamp(float(tv - y0), 0.0f, 1.0f) : 0.0f;
     const float u = ue::interleavedGradientNoise(float(x) + 0.5f, float(y) + 0.5f, in.frameMod8);
     const float w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
     const int pick = pickTexel(w, u);
