@@ -34,7 +34,8 @@ inline nlohmann::json parseJsonLimited(std::istream& in, const std::string& what
     } catch (const detail::JsonTooDeep&) {
         throw UsageError(fmt::format("{}: JSON nested more than {} levels deep (the limit)", what,
                                      limits::kMaxJsonDepth));
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {
+        // parse_error, and out_of_range for a number too large for a double (1e999).
         throw UsageError(fmt::format("{}: not valid JSON: {}", what, e.what()));
     }
 }
