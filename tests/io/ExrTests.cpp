@@ -3,6 +3,7 @@
 #include "io/ExrWriter.h"
 #include "io/FramePattern.h"
 #include "passes/core/Error.h"
+#include "tests/support/Scratch.h"
 
 #include <OpenEXR/ImfHeader.h>
 #include <doctest/doctest.h>
@@ -14,10 +15,7 @@ using namespace fp;
 namespace fs = std::filesystem;
 
 namespace {
-std::string scratch(const std::string& name) {
-    fs::create_directories(FP_TEST_SCRATCH);
-    return (fs::path(FP_TEST_SCRATCH) / name).string();
-}
+std::string scratch(const std::string& name) { return test::scratchPath("", name); }
 
 Image ramp(int w, int h, std::vector<std::string> channels, float scale) {
     Image img(w, h, channels);

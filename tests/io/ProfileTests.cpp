@@ -6,6 +6,7 @@
 #include "io/CaptureProfile.h"
 #include "io/CaptureSource.h"
 #include "passes/core/Error.h"
+#include "tests/support/Scratch.h"
 
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfStringAttribute.h>
@@ -21,11 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string scratch(const std::string& name) {
-    const fs::path dir = fs::path(FP_TEST_SCRATCH) / "profiles";
-    fs::create_directories(dir);
-    return (dir / name).string();
-}
+std::string scratch(const std::string& name) { return test::scratchPath("profiles", name); }
 
 // One EXR through OpenImageIO, as Unreal's writers lay it out: `channels` in the order given
 // (BGRA sources give B, G, R, A), every channel `type`, string attributes as MRQ writes them.

@@ -4,6 +4,7 @@
 #include "io/OutputWriter.h"
 #include "io/SafeFiles.h"
 #include "passes/core/Error.h"
+#include "tests/support/Scratch.h"
 
 #include <doctest/doctest.h>
 #include <unistd.h>
@@ -16,11 +17,7 @@ using namespace fp;
 namespace fs = std::filesystem;
 
 namespace {
-std::string scratch(const std::string& name) {
-    const fs::path dir = fs::path(FP_TEST_SCRATCH) / "safe_files";
-    fs::create_directories(dir);
-    return (dir / name).string();
-}
+std::string scratch(const std::string& name) { return test::scratchPath("safe_files", name); }
 }  // namespace
 
 TEST_SUITE("io") {
