@@ -2,6 +2,7 @@
 #include "cli/Commands.h"
 #include "cli/Invocation.h"
 #include "cli/RunSession.h"
+#include "passes/core/Cuda.h"
 
 #include <iostream>
 
@@ -50,8 +51,18 @@ Command addPlanCommand(CLI::App& app) {
             std::vector<std::string> ins;
             for (const auto& [port, ref] : s.inputs)
                 ins.push_back(port + "←" + ref.key);
-            std::cout << fmt::format("  {}. {} ({})  in: {}  out: {}\n", i++, s.name, s.type,
+            std::cout << fmt::format("  {}. {} ({}){}  in: {}  out: {}\n", i++, s.name, s.type,
+                                     plan.device == Device::Cuda
+                                         ? (s.device == Device::Cuda ? " [gpu]" : " [cpu]")
+                                         : "",
                                      fmt::join(ins, ", "), fmt::join(s.requestedOutputs, ", "));
+        }
+        if (plan.device == Device::Cuda) {
+            const std::string why = cuda::unavailableReason();
+            std::cout << fmt::format("device: cuda ({}); [cpu] passes have no CUDA kernel, and "
+                                     "images cross only where a pass on the other side reads "
+                                     "them\n",
+                                     why.empty() ? cuda::deviceName() : "not usable here: " + why);
         }
         std::cout << "reads:\n";
         for (const auto& r : j["captureReads"])

@@ -26,6 +26,10 @@ void SessionOptions::addTo(CLI::App& sub) {
     sub.add_option("--set", sets, "set a pass parameter, e.g. --set hzb.halfPrecision=false");
     sub.add_option("--dump", dumps, "also write PASS.PORT (or 'all') to <out>/dump/");
     sub.add_option("--frames", frames, "frame spec (overrides the config), e.g. 1001-1010");
+    sub.add_option("--device", device,
+                   "cpu, or cuda: the passes with a CUDA kernel run on the GPU, images stay "
+                   "there between them (overrides the config's \"device\")")
+        ->check(CLI::IsMember({"cpu", "cuda"}));
     sub.add_flag("--allow-unknown-cvars", allowUnknownCvars,
                  "a cvar framepass does not know (--cvar or the config's \"cvars\") is a "
                  "warning instead of an error");
@@ -61,6 +65,7 @@ void RunSession::plan(const SessionOptions& o) {
     }
     inputs.overrides.dumps = o.dumps;
     inputs.allowUnknownCvars = o.allowUnknownCvars;
+    inputs.overrides.device = o.device;
 
     const io::FramePattern pattern(mConfig.capture);
     const std::string spec = !o.frames.empty()         ? o.frames

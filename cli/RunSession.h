@@ -24,9 +24,10 @@ struct SessionOptions {
     std::string frames;
     std::string profile;  //!< NAME or FILE.json; overrides the config's "profile"
     bool allowUnknownCvars = false;  //!< an unknown cvar is a warning, not an error
+    std::string device;              //!< cpu or cuda; "" = the config's "device"
 
-    /// Registers --cvar, --set, --dump, --frames, --profile and --allow-unknown-cvars on a
-    /// subcommand.
+    /// Registers --cvar, --set, --dump, --frames, --profile, --device and --allow-unknown-cvars
+    /// on a subcommand.
     void addTo(CLI::App& sub);
 };
 

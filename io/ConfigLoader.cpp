@@ -18,7 +18,7 @@ namespace {
 
 const std::vector<std::string> kTopKeys = {"version", "engine", "capture", "profile",    "camera",
                                            "scene",   "frames", "cvars",   "passes",     "outputs",
-                                           "color",   "exr",    "$schema", "description"};
+                                           "color",   "exr",    "$schema", "description", "device"};
 const std::vector<std::string> kPassKeys = {"name", "type", "params", "inputs", "description"};
 const std::vector<std::string> kLightTemplateKeys = {"passes", "colorIn", "colorOut",
                                                      "rewire", "outputs", "description"};
@@ -221,6 +221,9 @@ RunConfig parseRunConfig(const nlohmann::json& j,
     else if (j["version"] != 1)
         diag.error("/version", "only version 1 is understood");
     rc.graph.engine = j.contains("engine") ? stringAt(j, "engine", "", diag) : "ue4.27";
+    rc.graph.device = j.contains("device") ? stringAt(j, "device", "", diag) : "cpu";
+    if (rc.graph.device != "cpu" && rc.graph.device != "cuda")
+        diag.error("/device", fmt::format("unknown device '{}'; known: cpu, cuda", rc.graph.device));
     if (std::find(kEngines.begin(), kEngines.end(), rc.graph.engine) == kEngines.end())
         diag.error("/engine", fmt::format("unknown engine '{}'{}; known: ue4.27, ue5",
                                           rc.graph.engine, didYouMean(rc.graph.engine, kEngines)));

@@ -93,47 +93,11 @@ Mat4d CameraView::projectionMatrix() const {
     p(0, 2) = cx;
     p(1, 1) = fy;
     p(1, 2) = cy;
-    if (std::isinf(farPlane)) {
-        p(2, 2) = 0.0;  // reference §1.2: infinite reversed Z, M[2][2] = 0, M[3][2] = NearZ
-        p(2, 3) = nearPlane;
-    } else {
-        p(2, 2) = -nearPlane / (farPlane - nearPlane);
-        p(2, 3) = nearPlane * farPlane / (farPlane - nearPlane);
-    }
+    // reference §1.2: infinite reversed Z has M[2][2] = 0, M[3][2] = NearZ
+    p(2, 2) = projectionZScale();
+    p(2, 3) = projectionZOffset();
     p(3, 2) = 1.0;
     return p;
-}
-
-double CameraView::deviceZFromDepth(double depth) const {
-    if (std::isinf(depth)) return std::isinf(farPlane) ? 0.0 : -nearPlane / (farPlane - nearPlane);
-    Mat4d p = projectionMatrix();
-    return p(2, 2) + p(2, 3) / depth;
-}
-
-double CameraView::depthFromDeviceZ(double deviceZ) const {
-    Mat4d p = projectionMatrix();
-    if (deviceZ <= p(2, 2)) return std::numeric_limits<double>::infinity();
-    return p(2, 3) / (deviceZ - p(2, 2));
-}
-
-Vec3d CameraView::translatedFromPixel(double px, double py, double depth) const {
-    const double vx = (screenX(px) - cx) * depth / fx;
-    const double vy = (screenY(py) - cy) * depth / fy;
-    return right * vx + up * vy + forward * depth;
-}
-
-Vec3d CameraView::rayDirection(double px, double py) const {
-    return normalize(translatedFromPixel(px, py, 1.0));
-}
-
-CameraView::Projection CameraView::projectOffset(const Vec3d& offset, const Vec3d& origin) const {
-    // Offset relative to this eye, computed as (origin − eye) + offset: both terms are small when
-    // the two eyes are close, whatever their distance from the world origin.
-    const Vec3d rel = (origin - position) + offset;
-    const double z = dot(rel, forward);
-    const double sx = fx * dot(rel, right) / z + cx;
-    const double sy = fy * dot(rel, up) / z + cy;
-    return {(sx + 1.0) * 0.5 * width, (1.0 - sy) * 0.5 * height, z};
 }
 
 }  // namespace fp

@@ -2,6 +2,7 @@
 
 #include "passes/core/Scene.h"
 
+#include "passes/core/Cuda.h"
 #include "passes/core/Error.h"
 
 #include <chrono>
@@ -13,37 +14,79 @@ namespace fp {
 
 namespace {
 
-// The store of images alive during one frame, keyed "pass.port" or "capture:Buffer".
+// The store of images alive during one frame, keyed "pass.port" or "capture:Buffer". An image
+// may live on the host, on the GPU or both: it is copied across only when a step on the other
+// side (or the sink) reads it, so a chain of GPU passes keeps its images resident.
 class ImageStore {
 public:
     explicit ImageStore(FrameSource& source) : mSource(source) {}
 
     void load(const std::string& buffer, int channels) {
-        mImages["capture:" + buffer] = mSource.loadBuffer(buffer, channels);
-        track();
+        put("capture:" + buffer, mSource.loadBuffer(buffer, channels));
     }
     Texture& put(const std::string& key, Texture t) {
-        Texture& slot = mImages[key] = std::move(t);
+        Slot& slot = mSlots[key] = Slot{};
+        slot.host = std::move(t);
+        slot.onHost = true;
         track();
-        return slot;
+        return slot.host;
     }
-    const Texture* find(const std::string& key) const {
-        auto it = mImages.find(key);
-        return it == mImages.end() ? nullptr : &it->second;
+    DeviceTexture& putDevice(const std::string& key, DeviceTexture t) {
+        Slot& slot = mSlots[key] = Slot{};
+        slot.device = std::move(t);
+        slot.onDevice = true;
+        track();
+        return slot.device;
     }
-    void release(const std::string& key) { mImages.erase(key); }
+    bool contains(const std::string& key) const { return mSlots.count(key) > 0; }
+    /// The host copy (downloaded from the GPU on first use); nullptr if the key is unknown.
+    const Texture* find(const std::string& key) {
+        auto it = mSlots.find(key);
+        if (it == mSlots.end())
+            return nullptr;
+        Slot& slot = it->second;
+        if (!slot.onHost) {
+            slot.host = cuda::download(slot.device);
+            slot.onHost = true;
+            track();
+        }
+        return &slot.host;
+    }
+    /// The device copy (uploaded on first use); nullptr if the key is unknown.
+    const DeviceTexture* findDevice(const std::string& key) {
+        auto it = mSlots.find(key);
+        if (it == mSlots.end())
+            return nullptr;
+        Slot& slot = it->second;
+        if (!slot.onDevice) {
+            slot.device = cuda::upload(slot.host);
+            slot.onDevice = true;
+            track();
+        }
+        return &slot.device;
+    }
+    void release(const std::string& key) { mSlots.erase(key); }
     std::size_t peak() const { return mPeak; }
+    std::size_t peakDevice() const { return mPeakDevice; }
 
 private:
+    struct Slot {
+        Texture host;
+        DeviceTexture device;
+        bool onHost = false, onDevice = false;
+    };
     void track() {
-        std::size_t total = 0;
-        for (const auto& [k, t] : mImages)
-            total += t.bytes();
-        mPeak = std::max(mPeak, total);
+        std::size_t host = 0, device = 0;
+        for (const auto& [k, slot] : mSlots) {
+            host += slot.onHost ? slot.host.bytes() : 0;
+            device += slot.onDevice ? slot.device.bytes() : 0;
+        }
+        mPeak = std::max(mPeak, host);
+        mPeakDevice = std::max(mPeakDevice, device);
     }
     FrameSource& mSource;
-    std::map<std::string, Texture> mImages;
-    std::size_t mPeak = 0;
+    std::map<std::string, Slot> mSlots;
+    std::size_t mPeak = 0, mPeakDevice = 0;
 };
 
 class StepContext final : public PassContext {
@@ -75,13 +118,19 @@ public:
     std::optional<Texture>& kept() { return mKept; }
 
     const Texture* input(std::string_view port) const override {
-        auto it = mStep.inputs.find(std::string(port));
-        if (it == mStep.inputs.end()) {
-            checkDeclared(mStep.io.inputs, port, "input");
+        const std::string* key = boundKey(port);
+        if (!key)
             return nullptr;  // unbound optional input
-        }
-        const Texture* t = mStore.find(it->second.key);
-        FP_ASSERT(t);
+        const Texture* t = mStore.find(*key);
+        FP_CHECK(t, "internal: input '{}' of pass '{}' is not in the store", port, mStep.name);
+        return t;
+    }
+    const DeviceTexture* deviceInput(std::string_view port) override {
+        const std::string* key = boundKey(port);
+        if (!key)
+            return nullptr;
+        const DeviceTexture* t = mStore.findDevice(*key);
+        FP_CHECK(t, "internal: input '{}' of pass '{}' is not in the store", port, mStep.name);
         return t;
     }
     PortKind inputKind(std::string_view port) const override {
@@ -97,6 +146,11 @@ public:
         for (const Extent& e : mips)
             levels.emplace_back(e.width, e.height, spec.channels);
         return mStore.put(mStep.name + "." + std::string(port), Texture(std::move(levels)));
+    }
+    DeviceTexture& deviceOutput(std::string_view port, const std::vector<Extent>& mips) override {
+        const PortSpec& spec = checkDeclared(mStep.io.outputs, port, "output");
+        return mStore.putDevice(mStep.name + "." + std::string(port),
+                                cuda::allocate(mips, spec.channels));
     }
     const FrameInfo& frame() const override { return mFrame; }
     const RayScene& scene() override {
@@ -120,6 +174,15 @@ public:
     }
 
 private:
+    // The store key bound to an input port; nullptr for an unbound optional input.
+    const std::string* boundKey(std::string_view port) const {
+        auto it = mStep.inputs.find(std::string(port));
+        if (it == mStep.inputs.end()) {
+            checkDeclared(mStep.io.inputs, port, "input");
+            return nullptr;
+        }
+        return &it->second.key;
+    }
     // Filament's rule: a pass may only touch what it declared.
     const PortSpec& checkDeclared(const std::vector<PortSpec>& ports,
                                   std::string_view port,
@@ -162,6 +225,10 @@ FrameReport executePlan(const Plan& plan,
                         HistoryStore* history) {
     using Clock = std::chrono::steady_clock;
     const auto frameStart = Clock::now();
+    if (plan.device == Device::Cuda)
+        if (const std::string why = cuda::unavailableReason(); !why.empty())
+            throw UsageError(fmt::format("--device cuda: {}", why));
+    const cuda::TransferTotals transfersBefore = cuda::transferTotals();
     const FrameInfo frame = source.frameInfo();
     FrameReport report;
     report.frame = frame.number;
@@ -184,7 +251,7 @@ FrameReport executePlan(const Plan& plan,
             std::vector<OutputLayer> layers;
             for (const auto& src : out.sources) {
                 const bool capture = src.rfind("capture:", 0) == 0;
-                if (capture && !store.find(src))
+                if (capture && !store.contains(src))
                     store.load(src.substr(8), channelsOf(src.substr(8)));
                 const Texture* t = store.find(src);
                 FP_CHECK(t && !t->empty(), "frame {}: '{}' was not produced by its pass",
@@ -205,9 +272,9 @@ FrameReport executePlan(const Plan& plan,
         const PlanStep& step = plan.steps[s];
         if (auto it = plan.loadsBefore.find(s); it != plan.loadsBefore.end())
             for (const auto& b : it->second)
-                if (!store.find("capture:" + b))
+                if (!store.contains("capture:" + b))
                     store.load(b, channelsOf(b));
-        PassReport pr{step.name, step.type, 0, {}, {}};
+        PassReport pr{.name = step.name, .type = step.type};
         const PassHistory* past = nullptr;
         if (history && step.io.temporal && !frame.firstInSequence) {
             past = history->find(step.name);
@@ -215,9 +282,29 @@ FrameReport executePlan(const Plan& plan,
                 past = nullptr;
         }
         StepContext ctx(step, store, source, frame, pr, past);
+        std::optional<cuda::EventTimer> gpuTimer;
+        try {
+            if (step.device == Device::Cuda) {
+                // Inputs cross before the clock starts: the GPU time is the kernels' alone.
+                for (const auto& [port, ref] : step.inputs)
+                    store.findDevice(ref.key);
+                gpuTimer.emplace();
+                gpuTimer->start();
+            }
+        } catch (const Error& e) {
+            throw Error(fmt::format("frame {}: pass '{}' ({}): {}", frame.number, step.name,
+                                    step.type, e.what()),
+                        e.code());
+        }
         const auto t0 = Clock::now();
         try {
-            step.pass->execute(ctx);
+            if (step.device == Device::Cuda) {
+                step.pass->executeCuda(ctx);
+                gpuTimer->stop();
+                pr.gpuSeconds = gpuTimer->seconds();
+            } else {
+                step.pass->execute(ctx);
+            }
         } catch (const Error& e) {
             throw Error(fmt::format("frame {}: pass '{}' ({}): {}", frame.number, step.name,
                                     step.type, e.what()),
@@ -227,7 +314,7 @@ FrameReport executePlan(const Plan& plan,
         if (history && ctx.kept())
             history->keep(step.name, {std::move(*ctx.kept()), frame.camera.current});
         for (const auto& port : step.requestedOutputs)
-            FP_CHECK(store.find(step.name + "." + port),
+            FP_CHECK(store.contains(step.name + "." + port),
                      "frame {}: pass '{}' did not write its "
                      "requested output '{}'",
                      frame.number, step.name, port);
@@ -239,16 +326,32 @@ FrameReport executePlan(const Plan& plan,
     }
     writeOutputs(-1);  // outputs that only copy capture buffers, in a plan with no steps
     report.peakBytes = store.peak();
+    report.peakDeviceBytes = store.peakDevice();
+    const cuda::TransferTotals transfersAfter = cuda::transferTotals();
+    report.uploadBytes = transfersAfter.uploadBytes - transfersBefore.uploadBytes;
+    report.downloadBytes = transfersAfter.downloadBytes - transfersBefore.downloadBytes;
+    report.transferSeconds = (transfersAfter.uploadSeconds - transfersBefore.uploadSeconds) +
+                             (transfersAfter.downloadSeconds - transfersBefore.downloadSeconds);
     report.seconds = std::chrono::duration<double>(Clock::now() - frameStart).count();
     return report;
 }
 
 nlohmann::json FrameReport::toJson() const {
     nlohmann::json j = {{"frame", frame}, {"seconds", seconds}, {"peakBytes", peakBytes}};
+    if (peakDeviceBytes > 0 || uploadBytes > 0) {
+        j["peakDeviceBytes"] = peakDeviceBytes;
+        j["transfers"] = {{"uploadBytes", uploadBytes},
+                          {"downloadBytes", downloadBytes},
+                          {"seconds", transferSeconds}};
+    }
     j["passes"] = nlohmann::json::array();
     for (const auto& p : passes) {
         nlohmann::json pj = {
             {"name", p.name}, {"type", p.type}, {"seconds", p.seconds}, {"work", p.work}};
+        if (p.gpuSeconds) {
+            pj["device"] = "cuda";
+            pj["gpuSeconds"] = *p.gpuSeconds;
+        }
         if (!p.metrics.empty())
             pj["metrics"] = p.metrics;
         j["passes"].push_back(pj);

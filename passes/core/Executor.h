@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,7 +46,8 @@ public:
 
 struct PassReport {
     std::string name, type;
-    double seconds = 0;
+    double seconds = 0;                //!< wall time (on the GPU: launch to finish, host side)
+    std::optional<double> gpuSeconds;  //!< GPU steps: the kernels' time from CUDA events
     std::map<std::string, uint64_t> work;
     std::map<std::string, double> metrics;  //!< what error_measure-like passes measured
 };
@@ -55,6 +57,9 @@ struct FrameReport {
     double seconds = 0;
     std::vector<PassReport> passes;
     std::size_t peakBytes = 0;  //!< measured: most bytes of images held at once
+    std::size_t peakDeviceBytes = 0;  //!< the same in GPU memory (0 on the CPU)
+    std::size_t uploadBytes = 0, downloadBytes = 0;  //!< what crossed between host and GPU
+    double transferSeconds = 0;
     nlohmann::json toJson() const;
 };
 

@@ -2,13 +2,15 @@
 // Float → int conversions of values that came from pixels. Converting NaN, ±inf or anything
 // outside int's range is undefined behaviour in C++, so every such conversion goes through here:
 // the value is clamped in floating point first and NaN goes to `lo`.
+#include "passes/core/HostDevice.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace fp {
 
 /// ⌊v⌋ clamped to [lo, hi]; NaN gives lo.
-inline int floorToInt(double v, int lo, int hi) {
+FP_HD inline int floorToInt(double v, int lo, int hi) {
     if (!(v >= double(lo)))
         return lo;  // NaN and −inf land here
     if (v >= double(hi))
@@ -17,7 +19,7 @@ inline int floorToInt(double v, int lo, int hi) {
 }
 
 /// v rounded towards zero and clamped to [lo, hi]; NaN gives lo.
-inline int truncToInt(double v, int lo, int hi) {
+FP_HD inline int truncToInt(double v, int lo, int hi) {
     if (!(v >= double(lo)))
         return lo;
     if (v >= double(hi))

@@ -49,6 +49,7 @@ struct GraphDesc {
     std::vector<LightTemplate> lightTemplates;        //!< empty once expanded
     nlohmann::json cvars = nlohmann::json::object();  //!< Unreal cvar name → value
     std::string engine = "ue4.27";
+    std::string device = "cpu";  //!< "cpu" or "cuda": where the passes with a CUDA kernel run
 };
 
 /// Command-line adjustments applied by the planner on top of the config.
@@ -56,6 +57,7 @@ struct PlanOverrides {
     nlohmann::json cvars = nlohmann::json::object();           //!< --cvar NAME=VALUE
     std::vector<std::pair<std::string, nlohmann::json>> sets;  //!< --set PASS.PARAM=VALUE
     std::vector<std::string> dumps;                            //!< --dump PASS.PORT, or "all"
+    std::string device;  //!< --device cpu|cuda ("" = the config's)
 };
 
 }  // namespace fp

@@ -1,6 +1,8 @@
 #pragma once
 // Rounding to IEEE half precision, for passes that mirror a PF_R16F render target (the HZB,
 // reference §2) so their texels carry the same quantisation as Unreal's.
+#include "passes/core/HostDevice.h"
+
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -8,7 +10,7 @@
 namespace fp {
 
 /// The float nearest to `v` that a half can hold (round to nearest even; overflow → ±inf).
-inline float roundToHalf(float v) {
+FP_HD inline float roundToHalf(float v) {
     if (!std::isfinite(v) || v == 0.0f) return v;
     const uint32_t bits = std::bit_cast<uint32_t>(v);
     const uint32_t sign = bits & 0x80000000u;

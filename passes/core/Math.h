@@ -1,6 +1,8 @@
 #pragma once
 // Small vector and matrix types. Doubles where precision matters (camera, world positions far
 // from the origin); floats in per-pixel kernels, which work camera-relative (reference §1.2–1.3).
+#include "passes/core/HostDevice.h"
+
 #include <array>
 #include <cmath>
 
@@ -10,38 +12,38 @@ template <class T>
 struct Vec3T {
     T x = 0, y = 0, z = 0;
     constexpr Vec3T() = default;
-    constexpr Vec3T(T a, T b, T c) : x(a), y(b), z(c) {}
+    FP_HD constexpr Vec3T(T a, T b, T c) : x(a), y(b), z(c) {}
     template <class U>
-    constexpr explicit Vec3T(const Vec3T<U>& o) : x(T(o.x)), y(T(o.y)), z(T(o.z)) {}
-    constexpr T operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
-    constexpr Vec3T operator+(const Vec3T& o) const { return {x + o.x, y + o.y, z + o.z}; }
-    constexpr Vec3T operator-(const Vec3T& o) const { return {x - o.x, y - o.y, z - o.z}; }
-    constexpr Vec3T operator-() const { return {-x, -y, -z}; }
-    constexpr Vec3T operator*(T s) const { return {x * s, y * s, z * s}; }
-    constexpr Vec3T operator*(const Vec3T& o) const { return {x * o.x, y * o.y, z * o.z}; }
-    constexpr Vec3T operator/(T s) const { return {x / s, y / s, z / s}; }
-    Vec3T& operator+=(const Vec3T& o) { x += o.x; y += o.y; z += o.z; return *this; }
-    Vec3T& operator*=(T s) { x *= s; y *= s; z *= s; return *this; }
+    FP_HD constexpr explicit Vec3T(const Vec3T<U>& o) : x(T(o.x)), y(T(o.y)), z(T(o.z)) {}
+    FP_HD constexpr T operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+    FP_HD constexpr Vec3T operator+(const Vec3T& o) const { return {x + o.x, y + o.y, z + o.z}; }
+    FP_HD constexpr Vec3T operator-(const Vec3T& o) const { return {x - o.x, y - o.y, z - o.z}; }
+    FP_HD constexpr Vec3T operator-() const { return {-x, -y, -z}; }
+    FP_HD constexpr Vec3T operator*(T s) const { return {x * s, y * s, z * s}; }
+    FP_HD constexpr Vec3T operator*(const Vec3T& o) const { return {x * o.x, y * o.y, z * o.z}; }
+    FP_HD constexpr Vec3T operator/(T s) const { return {x / s, y / s, z / s}; }
+    FP_HD Vec3T& operator+=(const Vec3T& o) { x += o.x; y += o.y; z += o.z; return *this; }
+    FP_HD Vec3T& operator*=(T s) { x *= s; y *= s; z *= s; return *this; }
 };
 using Vec3f = Vec3T<float>;
 using Vec3d = Vec3T<double>;
 
 template <class T>
-constexpr T dot(const Vec3T<T>& a, const Vec3T<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+FP_HD constexpr T dot(const Vec3T<T>& a, const Vec3T<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 template <class T>
-constexpr Vec3T<T> cross(const Vec3T<T>& a, const Vec3T<T>& b) {
+FP_HD constexpr Vec3T<T> cross(const Vec3T<T>& a, const Vec3T<T>& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 template <class T>
-T length(const Vec3T<T>& a) { return std::sqrt(dot(a, a)); }
+FP_HD T length(const Vec3T<T>& a) { return std::sqrt(dot(a, a)); }
 template <class T>
-Vec3T<T> normalize(const Vec3T<T>& a) {
+FP_HD Vec3T<T> normalize(const Vec3T<T>& a) {
     T l = length(a);
     return l > T(0) ? a / l : Vec3T<T>{};
 }
 
 /// Clamp to [0, 1] (HLSL saturate).
-inline float saturate(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
+FP_HD inline float saturate(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
 
 /// Row-major 4×4 double matrix acting on column vectors: p' = M·p.
 struct Mat4d {

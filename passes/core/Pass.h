@@ -19,7 +19,11 @@
 // - Bad input is an fp::Error with context; a bug is an FP_ASSERT.
 // - Work counts ("pixels", "skippedPixels", "rays", ...) go through addWork so the run report can
 //   show throughput next to wall time.
+// - A pass with a CUDA kernel (DESIGN §7) keeps its per-pixel maths in an FP_HD function that
+//   execute() and the kernel in its .cu file both call; on the GPU it reads deviceInput() and writes
+//   deviceOutput(), and the executor moves images between host and device only where they cross.
 #include "passes/core/Camera.h"
+#include "passes/core/DeviceImage.h"
 #include "passes/core/Image.h"
 
 #include <OpenColorIO/OpenColorIO.h>
@@ -33,6 +37,9 @@ namespace fp {
 
 class RayScene;
 struct Light;
+
+/// Where a step of the plan runs.
+enum class Device { Cpu, Cuda };
 
 /// Colour buffers may be colour-managed and stored as half; data buffers never are.
 enum class PortKind { Color, Data };
@@ -100,6 +107,12 @@ public:
     virtual void keepHistory(Texture state) = 0;
     /// Reports a measured figure (error_measure's RMSE, ...) for the run report.
     virtual void addMetric(std::string_view name, double value) = 0;
+
+    // The GPU side, for executeCuda: the same ports, resident in device memory.
+    /// The device copy of an input (uploaded on first use); nullptr for an unbound optional input.
+    virtual const DeviceTexture* deviceInput(std::string_view port) = 0;
+    /// Allocates (zero-filled) the output in device memory.
+    virtual DeviceTexture& deviceOutput(std::string_view port, const std::vector<Extent>& mips) = 0;
 };
 
 class Pass {
@@ -112,6 +125,10 @@ public:
     virtual std::vector<Extent> outputExtents(std::string_view port, Extent frame) const {
         return {frame};
     }
+    /// True where this build compiled the pass's CUDA kernel (its .cu file, FP_HAVE_CUDA).
+    virtual bool hasCudaKernel() const { return false; }
+    /// Runs the pass on the GPU; called only when hasCudaKernel().
+    virtual void executeCuda(PassContext& ctx);
 };
 
 }  // namespace fp

@@ -1,5 +1,7 @@
 #include "passes/core/PassRegistry.h"
 
+#include "passes/core/Error.h"
+
 namespace fp {
 
 const PassType* PassRegistry::find(const std::string& id) const {
@@ -12,6 +14,10 @@ std::vector<std::string> PassRegistry::ids() const {
     std::vector<std::string> ids;
     for (const auto& t : mTypes) ids.push_back(t.id);
     return ids;
+}
+
+void Pass::executeCuda(PassContext&) {
+    throw Error("internal: executeCuda called on a pass without a CUDA kernel");
 }
 
 }  // namespace fp

@@ -1,7 +1,9 @@
 #include "passes/core/Planner.h"
 
 #include "passes/core/ChainTemplate.h"
+#include "passes/core/Cuda.h"
 #include "passes/core/CvarTable.h"
+#include "passes/core/Error.h"
 #include "passes/core/SemanticBuffers.h"
 #include "passes/core/Suggest.h"
 
@@ -338,6 +340,23 @@ public:
         }
     }
 
+    /// Where each step runs: with --device cuda (or "device": "cuda"), every pass with a CUDA
+    /// kernel goes to the GPU and the rest stay on the CPU (DESIGN §7).
+    void placeSteps() {
+        const std::string& device =
+            mIn.overrides.device.empty() ? mGraph.device : mIn.overrides.device;
+        if (device == "cpu")
+            return;
+        if (device != "cuda")
+            throw UsageError(fmt::format("unknown device '{}'; known: cpu, cuda", device));
+        if (!cuda::built())
+            throw UsageError(fmt::format("--device cuda: {}", cuda::unavailableReason()));
+        mPlan.device = Device::Cuda;
+        for (PlanStep& s : mPlan.steps)
+            if (s.pass->hasCudaKernel())
+                s.device = Device::Cuda;
+    }
+
     /// Which outputs each step must produce, when each image can be freed, and which capture
     /// buffers are read (and before which step).
     void computeLifetimes() {
@@ -569,6 +588,7 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
     b.order();
     b.finishValidation();
     b.makeSteps();
+    b.placeSteps();
     b.computeLifetimes();
     return b.take();
 }
@@ -622,6 +642,7 @@ nlohmann::json Plan::toJson(Extent frame) const {
         step["outputs"] =
             std::vector<std::string>(s.requestedOutputs.begin(), s.requestedOutputs.end());
         step["needsScene"] = s.io.needsScene;
+        step["device"] = s.device == Device::Cuda ? "cuda" : "cpu";
         j["steps"].push_back(step);
     }
     j["culled"] = nlohmann::json::array();
@@ -637,6 +658,7 @@ nlohmann::json Plan::toJson(Extent frame) const {
     for (const auto& t : templates)
         j["templates"].push_back(
             {{"pointer", t.pointer}, {"lights", t.lights}, {"passes", t.passes}});
+    j["device"] = device == Device::Cuda ? "cuda" : "cpu";
     j["needsScene"] = needsScene;
     j["needsLights"] = needsLights;
     j["needsCamera"] = needsCamera;

@@ -40,6 +40,7 @@ struct PlanStep {
     nlohmann::json params;                    //!< resolved parameter values
     std::map<std::string, SourceRef> inputs;  //!< bound input ports
     std::set<std::string> requestedOutputs;
+    Device device = Device::Cpu;  //!< Cuda where the plan asks for the GPU and the pass has a kernel
 };
 
 struct CulledPass {
@@ -54,6 +55,7 @@ struct CaptureRead {
 
 struct Plan {
     std::vector<PlanStep> steps;  //!< live passes in execution order
+    Device device = Device::Cpu;  //!< what the config or --device asked for
     std::vector<CulledPass> culled;
     std::vector<OutputDesc> outputs;        //!< files to write, dumps included
     std::vector<CaptureRead> captureReads;  //!< capture buffers the live passes read

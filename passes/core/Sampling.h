@@ -2,6 +2,7 @@
 // Sampling primitives shared by the ray-traced passes and the reference tracer (reference §1.9):
 // the branchless orthonormal basis, cosine-weighted hemisphere directions from the concentric
 // disk, and GGX visible-normal sampling with its pdf.
+#include "passes/core/HostDevice.h"
 #include "passes/core/Math.h"
 
 #include <algorithm>
@@ -10,7 +11,7 @@
 namespace fp {
 
 /// Orthonormal basis (t, b) around unit n (Duff et al. 2017, branchless; reference §1.9).
-inline void orthonormalBasis(const Vec3f& n, Vec3f& t, Vec3f& b) {
+FP_HD inline void orthonormalBasis(const Vec3f& n, Vec3f& t, Vec3f& b) {
     const float s = n.z >= 0.0f ? 1.0f : -1.0f;
     const float a = -1.0f / (s + n.z);
     const float c = n.x * n.y * a;

@@ -1,6 +1,7 @@
 #pragma once
 // Unreal's shading-model ids (reference §1.6), as the capture's ShadingModel buffer holds them.
 #include "passes/core/FloatToInt.h"
+#include "passes/core/HostDevice.h"
 
 #include <cmath>
 
@@ -12,7 +13,7 @@ enum ShadingModelId {
 };
 
 /// A pixel with a surface that takes lighting: finite positive depth (not sky) and not unlit.
-inline bool isLitSurface(double depth, float shadingModel) {
+FP_HD inline bool isLitSurface(double depth, float shadingModel) {
     return depth > 0.0 && !std::isinf(depth) && truncToInt(shadingModel, 0, 255) != kUnlit;
 }
 

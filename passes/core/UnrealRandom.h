@@ -2,17 +2,19 @@
 // Unreal's own per-pixel random sequences (reference §1.9), reproduced so that a pass that mirrors
 // an Unreal shader draws the same numbers for the same pixel and frame index: interleaved gradient
 // noise, the 16-bit PCG hash of (x, y, frame) and the scrambled Hammersley point set.
+#include "passes/core/HostDevice.h"
+
 #include <cmath>
 #include <cstdint>
 
 namespace fp::ue {
 
 /// View.StateFrameIndexMod8 of an absolute frame number (also for negative frames).
-inline uint32_t frameIndexMod8(int64_t frame) { return uint32_t(((frame % 8) + 8) % 8); }
+FP_HD inline uint32_t frameIndexMod8(int64_t frame) { return uint32_t(((frame % 8) + 8) % 8); }
 
 /// Interleaved gradient noise at pixel position (x, y) (usually pixel + 0.5) for frame index
 /// `frameMod8` (View.StateFrameIndexMod8).
-inline float interleavedGradientNoise(float x, float y, uint32_t frameMod8) {
+FP_HD inline float interleavedGradientNoise(float x, float y, uint32_t frameMod8) {
     x += float(frameMod8) * 47.0f * 0.695f;
     y += float(frameMod8) * 17.0f * 0.695f;
     const float inner = 0.06711056f * x + 0.00583715f * y;
@@ -25,7 +27,7 @@ struct Rand3 {
 };
 
 /// Rand3DPCG16: an LCG step on each component, two rounds of the three-way mix, top 16 bits.
-constexpr Rand3 rand3DPCG16(int32_t px, int32_t py, int32_t pz) {
+FP_HD constexpr Rand3 rand3DPCG16(int32_t px, int32_t py, int32_t pz) {
     uint32_t x = uint32_t(px) * 1664525u + 1013904223u;
     uint32_t y = uint32_t(py) * 1664525u + 1013904223u;
     uint32_t z = uint32_t(pz) * 1664525u + 1013904223u;
@@ -37,7 +39,7 @@ constexpr Rand3 rand3DPCG16(int32_t px, int32_t py, int32_t pz) {
     return {x >> 16u, y >> 16u, z >> 16u};
 }
 
-constexpr uint32_t reverseBits32(uint32_t v) {
+FP_HD constexpr uint32_t reverseBits32(uint32_t v) {
     v = ((v >> 1u) & 0x55555555u) | ((v & 0x55555555u) << 1u);
     v = ((v >> 2u) & 0x33333333u) | ((v & 0x33333333u) << 2u);
     v = ((v >> 4u) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4u);
@@ -47,7 +49,7 @@ constexpr uint32_t reverseBits32(uint32_t v) {
 
 /// Point `index` of `count` of the Hammersley set, scrambled by a 16-bit seed pair:
 /// E1 = frac(i/N + seed.x/65536), E2 = ((reverse(i) >> 16) xor seed.y)/65536.
-inline void hammersley16(uint32_t index, uint32_t count, uint32_t seedX, uint32_t seedY, float& e1,
+FP_HD inline void hammersley16(uint32_t index, uint32_t count, uint32_t seedX, uint32_t seedY, float& e1,
                          float& e2) {
     const float a = float(index) / float(count) + float(seedX & 0xFFFFu) * (1.0f / 65536.0f);
     e1 = a - std::floor(a);
@@ -56,7 +58,7 @@ inline void hammersley16(uint32_t index, uint32_t count, uint32_t seedX, uint32_
 
 /// Unreal's concentric disk mapping (reference §1.9): the angle is built in the first quadrant
 /// from Lo/Hi and the signs of the input are copied onto the result.
-inline void concentricDisk(float e1, float e2, float& x, float& y) {
+FP_HD inline void concentricDisk(float e1, float e2, float& x, float& y) {
     const float px = 2.0f * e1 - 1.0f, py = 2.0f * e2 - 1.0f;
     const float ax = std::fabs(px), ay = std::fabs(py);
     const float lo = ax < ay ? ax : ay, hi = ax < ay ? ay : ax;
@@ -66,6 +68,6 @@ inline void concentricDisk(float e1, float e2, float& x, float& y) {
 }
 
 /// Unreal's luminance weights (Common.ush Luminance), used by Karis weighting.
-inline float luma(float r, float g, float b) { return 0.3f * r + 0.59f * g + 0.11f * b; }
+FP_HD inline float luma(float r, float g, float b) { return 0.3f * r + 0.59f * g + 0.11f * b; }
 
 }  // namespace fp::ue

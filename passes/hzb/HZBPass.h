@@ -25,6 +25,11 @@ public:
     /// as the larger exponent (1920×1080 → 1024×1024, 10 mips).
     static std::vector<Extent> mipExtents(Extent frame);
 
+#if FP_HAVE_CUDA
+    bool hasCudaKernel() const override { return true; }
+    void executeCuda(PassContext& ctx) override;  // HZBPass.cu
+#endif
+
 private:
     Params mParams;
 };

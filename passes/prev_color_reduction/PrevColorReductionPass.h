@@ -31,6 +31,11 @@ public:
     /// saturate(1 − |c|²) with c = saturate(|s|·5 − 4) per axis, i.e. the outer 20 % fade out.
     static float vignette(float sx, float sy);
 
+#if FP_HAVE_CUDA
+    bool hasCudaKernel() const override { return true; }
+    void executeCuda(PassContext& ctx) override;  // PrevColorReductionPass.cu
+#endif
+
 private:
     Params mParams;
 };

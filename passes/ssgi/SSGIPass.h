@@ -40,6 +40,11 @@ public:
     static Vec3f rayDirection(const Vec3f& n, int x, int y, uint32_t frameMod8, int index,
                               int count);
 
+#if FP_HAVE_CUDA
+    bool hasCudaKernel() const override { return true; }
+    void executeCuda(PassContext& ctx) override;  // SSGIPass.cu
+#endif
+
 private:
     Params mParams;
 };

@@ -1,0 +1,16 @@
+// HZBPass on the GPU: hzb::run with device images and one thread per texel.
+#include "passes/common/GBuffer.h"
+#include "passes/core/CudaLaunch.cuh"
+#include "passes/core/PassPorts.h"
+#include "passes/hzb/HZBKernel.h"
+#include "passes/hzb/HZBPass.h"
+
+namespace fp {
+
+void HZBPass::executeCuda(PassContext& ctx) {
+    const DeviceImage& depth = ctx.deviceInput(gbuffer::kDepth)->image();
+    hzb::run(ctx, DevicePorts{ctx}, CudaPixels{}, mParams.halfPrecision,
+             mipExtents({depth.width(), depth.height()}));
+}
+
+}  // namespace fp

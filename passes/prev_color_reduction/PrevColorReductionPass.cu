@@ -1,0 +1,12 @@
+// PrevColorReductionPass on the GPU: prev_color::run with device images, a thread per texel.
+#include "passes/core/CudaLaunch.cuh"
+#include "passes/core/PassPorts.h"
+#include "passes/prev_color_reduction/PrevColorReductionKernel.h"
+
+namespace fp {
+
+void PrevColorReductionPass::executeCuda(PassContext& ctx) {
+    prev_color::run(ctx, DevicePorts{ctx}, CudaPixels{}, mParams);
+}
+
+}  // namespace fp

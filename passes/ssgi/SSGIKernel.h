@@ -1,0 +1,335 @@
+#pragma once
+// SSGI's per-pixel work (reference §4.3–4.8), written once for both backends: SSGIPass::execute
+// calls ssgiPixel from its tile loop, SSGIPass.cu from one CUDA thread per traced pixel. Everything
+// a pixel reads is in SSGIFrame, plain views passed by value.
+#include "passes/common/GBuffer.h"
+#include "passes/common/HzbMarch.h"
+#include "passes/core/Camera.h"
+#include "passes/core/Error.h"
+#include "passes/core/HostDevice.h"
+#include "passes/core/Math.h"
+#include "passes/core/Pass.h"
+#include "passes/core/PerPixel.h"
+#include "passes/core/PlaneView.h"
+#include "passes/core/Sampling.h"
+#include "passes/core/ShadingModel.h"
+#include "passes/core/UnrealRandom.h"
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace fp::ssgi {
+
+// Ports (besides the GBuffer's, gbuffer::k*).
+inline constexpr const char* kFurthestHzb = "furthestHzb";
+inline constexpr const char* kReducedColor = "reducedColor";
+inline constexpr const char* kDiffuse = "diffuse";
+inline constexpr const char* kAo = "ao";
+inline constexpr const char* kHitMask = "hitMask";
+inline constexpr const char* kHitDistance = "hitDistance";
+
+constexpr float kStepOffsetBias = -0.9f;  // reference §4.6: IGN − 0.9 for SSGI (−0.5 for SSR)
+constexpr float kToleranceScale = 2.0f;   // reference §4.5: k = 2 for SSGI (4 for SSR)
+constexpr int kReducedMips = 5;           // prev_color_reduction's chain (reference §3.1)
+
+/// What every ray of the frame shares.
+struct TraceSetup {
+    CameraView cam;
+    HzbView hzb;
+    PlaneView reduced[kReducedMips][3];  //!< last frame's colour, R G B per mip
+    int rays, steps;
+    uint32_t frameMod8;
+    float invSteps, levelStep;
+    float halfW, halfH;
+    float fx, fy, cx, cy;
+    // Largest valid reduced-colour texel per mip (reference §3.4 ReducedColorUVMax).
+    int reducedMaxX[kReducedMips], reducedMaxY[kReducedMips];
+};
+
+/// Everything one frame's pixels read and write. Absent outputs have null data.
+struct Frame {
+    TraceSetup setup;
+    PlaneView depth, normal[3], shadingModel;
+    PlaneSpan diffuse[3], ao, hitMask, hitDistance;
+    int width, height;  //!< full resolution
+    int toFull;         //!< 2 when tracing at half resolution
+    float colorScale;   //!< indirectLightingColorScale
+};
+
+/// Work counted per pixel, in this order.
+enum Counter { kTraced, kSkipped, kRays, kHzbSamples, kCounterCount };
+
+
+// The view-space normal goes through 8 bits per axis in Unreal's LDS (reference §4.3).
+FP_HD inline Vec3f quantiseNormal(const Vec3f& n) {
+    auto q = [](float v) { return std::round((v * 0.5f + 0.5f) * 255.0f) / 255.0f * 2.0f - 1.0f; };
+    return normalize(Vec3f{q(n.x), q(n.y), q(n.z)});
+}
+
+/// Ray `index` of `count` of trace pixel (x, y) on frame index `frameMod8`, in view space around
+/// unit view-space normal `n` (reference §4.4: PCG seed, Hammersley, concentric-disk cosine).
+FP_HD inline Vec3f rayDirection(const Vec3f& n, int x, int y, uint32_t frameMod8, int index,
+                                int count) {
+    const ue::Rand3 seed = ue::rand3DPCG16(x, y, int32_t(frameMod8));
+    float e1, e2, dx, dy;
+    ue::hammersley16(uint32_t(index), uint32_t(count), seed.x, seed.y, e1, e2);
+    ue::concentricDisk(e1, e2, dx, dy);
+    const float dz = std::sqrt(std::max(0.0f, 1.0f - dx * dx - dy * dy));
+    Vec3f t, b;
+    orthonormalBasis(n, t, b);
+    return t * dx + b * dy + n * dz;
+}
+
+// The per-pixel start of every ray (reference §4.3–4.5).
+struct PixelStart {
+    double depth;
+    Vec3f nView;  // quantised view-space normal
+    float sx, sy, z0, zTwice, stepOffset;
+    RayPoint start;
+};
+
+FP_HD inline PixelStart
+pixelStart(const Frame& f, int x, int y, int px, int py, double d) {
+    const TraceSetup& s = f.setup;
+    const CameraView& cam = s.cam;
+    const Vec3d nw(Vec3f{f.normal[0].at(px, py), f.normal[1].at(px, py), f.normal[2].at(px, py)});
+    PixelStart p;
+    p.depth = d;
+    p.nView = quantiseNormal(
+        Vec3f{float(dot(nw, cam.right)), float(dot(nw, cam.up)), float(dot(nw, cam.forward))});
+    p.sx = float(cam.screenX(px));
+    p.sy = float(cam.screenY(py));
+    p.z0 = float(cam.deviceZFromDepth(d));
+    // reference §4.5: tolerance T = max(|ΔZ|, (Z − Z(2·depth))·k) for the whole ray.
+    p.zTwice = float(cam.deviceZFromDepth(2.0 * d));
+    p.stepOffset = ue::interleavedGradientNoise(float(x) + 0.5f, float(y) + 0.5f, s.frameMod8) +
+                   kStepOffsetBias;
+    p.start = {(p.sx * 0.5f + 0.5f) * s.halfW, (0.5f - p.sy * 0.5f) * s.halfH, p.z0};
+    return p;
+}
+
+// Reference §4.5: the end point of a ray as long as the pixel is deep, projected, then rescaled
+// so the end lies exactly on the screen border (extends short rays). False for a ray straight
+// along the view axis: a miss.
+FP_HD inline bool raySteps(const TraceSetup& s, const PixelStart& p, const Vec3f& L, RaySteps& r) {
+    const float w = std::max(1.0f + L.z, 1e-6f);
+    const float ex = (p.sx + s.fx * L.x + s.cx * L.z) / w;
+    const float ey = (p.sy + s.fy * L.y + s.cy * L.z) / w;
+    const float ez = float(s.cam.deviceZFromDepth(p.depth * double(w)));
+    float stepX = ex - p.sx, stepY = ey - p.sy, stepZ = ez - p.z0;
+    float fit = std::numeric_limits<float>::infinity();
+    if (stepX > 0.0f)
+        fit = std::min(fit, (1.0f - p.sx) / stepX);
+    if (stepX < 0.0f)
+        fit = std::min(fit, (-1.0f - p.sx) / stepX);
+    if (stepY > 0.0f)
+        fit = std::min(fit, (1.0f - p.sy) / stepY);
+    if (stepY < 0.0f)
+        fit = std::min(fit, (-1.0f - p.sy) / stepY);
+    if (!std::isfinite(fit))
+        return false;
+    stepX *= fit;
+    stepY *= fit;
+    stepZ *= fit;
+    r.tolerance = std::max(std::fabs(stepZ), (p.z0 - p.zTwice) * kToleranceScale) * s.invSteps;
+    r.step = {stepX * 0.5f * s.halfW * s.invSteps, -stepY * 0.5f * s.halfH * s.invSteps,
+              stepZ * s.invSteps};
+    r.origin = {p.start.hx + r.step.hx * p.stepOffset, p.start.hy + r.step.hy * p.stepOffset,
+                p.start.z + r.step.z * p.stepOffset};
+    return true;
+}
+
+// Last frame's colour where a ray hit, at the level it reached (point, nearest mip; §4.7).
+FP_HD inline void hitColor(const TraceSetup& s, const RayPoint& hit, float level, float c[3]) {
+    const int mip = nearestMip(level, kReducedMips);
+    const float scale = 1.0f / float(1 << mip);
+    const int rx = floorToInt(hit.hx * scale, 0, s.reducedMaxX[mip]);
+    const int ry = floorToInt(hit.hy * scale, 0, s.reducedMaxY[mip]);
+    c[0] = s.reduced[mip][0].at(rx, ry);
+    c[1] = s.reduced[mip][1].at(rx, ry);
+    c[2] = s.reduced[mip][2].at(rx, ry);
+}
+
+// View-space distance from the pixel to a hit (debug output); false for a hit on the sky.
+FP_HD inline bool viewDistanceToHit(const TraceSetup& s,
+                                    const PixelStart& p,
+                                    const RayPoint& hit,
+                                    double& distance) {
+    const double hd = s.cam.depthFromDeviceZ(hit.z);
+    if (!std::isfinite(hd))
+        return false;
+    const double d = p.depth;
+    const double hsx = hit.hx / s.halfW * 2.0 - 1.0;
+    const double hsy = 1.0 - hit.hy / s.halfH * 2.0;
+    const Vec3d a{(p.sx - s.cx) * d / s.fx, (p.sy - s.cy) * d / s.fy, d};
+    const Vec3d b{(hsx - s.cx) * hd / s.fx, (hsy - s.cy) * hd / s.fy, hd};
+    distance = std::sqrt(dot(b - a, b - a));
+    return true;
+}
+
+// What one pixel's rays gathered.
+struct PixelTrace {
+    float diffuse[3];
+    float hitFraction;
+    int measuredHits;
+    double distanceSum;
+};
+
+// Reference §4.4–4.8 for one traced pixel: every ray marched, hits gathering last frame's
+// colour Karis-weighted (§4.7), the weighting undone after the mean.
+FP_HD inline PixelTrace tracePixel(const TraceSetup& s,
+                                   const PixelStart& p,
+                                   int x,
+                                   int y,
+                                   bool wantDistance,
+                                   unsigned long long& rays,
+                                   unsigned long long& hzbSamples) {
+    float sum[3] = {0, 0, 0};
+    int hits = 0;
+    PixelTrace t{{0, 0, 0}, 0.0f, 0, 0.0};
+    for (int r = 0; r < s.rays; ++r) {
+        const Vec3f L = rayDirection(p.nView, x, y, s.frameMod8, r, s.rays);
+        RaySteps steps;
+        ++rays;
+        if (!raySteps(s, p, L, steps))
+            continue;
+        float level;
+        const int hitSample = marchHzb(s.hzb, steps, s.steps, s.levelStep, level, hzbSamples);
+        if (hitSample < 0)
+            continue;
+        const RayPoint hit{steps.origin.hx + steps.step.hx * float(hitSample),
+                           steps.origin.hy + steps.step.hy * float(hitSample),
+                           steps.origin.z + steps.step.z * float(hitSample)};
+        float c[3];
+        hitColor(s, hit, level, c);
+        const float karis = 1.0f / (1.0f + ue::luma(c[0], c[1], c[2]));
+        for (int ch = 0; ch < 3; ++ch)
+            sum[ch] += c[ch] * karis;
+        ++hits;
+        double distance;
+        if (wantDistance && viewDistanceToHit(s, p, hit, distance)) {
+            t.distanceSum += distance;
+            ++t.measuredHits;
+        }
+    }
+    const float invRays = 1.0f / float(s.rays);
+    const float mean[3] = {sum[0] * invRays, sum[1] * invRays, sum[2] * invRays};
+    const float inverseKaris = 1.0f / (1.0f - ue::luma(mean[0], mean[1], mean[2]));
+    for (int ch = 0; ch < 3; ++ch)
+        t.diffuse[ch] = mean[ch] * inverseKaris;
+    t.hitFraction = float(hits) * invRays;
+    return t;
+}
+
+/// One trace pixel (x, y) of the frame: skipped (unlit or sky: AO 1, the rest 0) or traced, its
+/// outputs written and its work added to `counts` (indexed by Counter).
+FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* counts) {
+    const int px = std::min(x * f.toFull, f.width - 1), py = std::min(y * f.toFull, f.height - 1);
+    const double d = f.depth.at(px, py);
+    if (!isLitSurface(d, f.shadingModel.at(px, py))) {
+        f.ao.at(x, y) = 1.0f;  // diffuse, hit mask, distance stay 0
+        ++counts[kSkipped];
+        return;
+    }
+    ++counts[kTraced];
+    const PixelStart start = pixelStart(f, x, y, px, py, d);
+    const PixelTrace r = tracePixel(f.setup, start, x, y, bool(f.hitDistance), counts[kRays],
+                                    counts[kHzbSamples]);
+    for (int ch = 0; ch < 3; ++ch)
+        f.diffuse[ch].at(x, y) = r.diffuse[ch] * f.colorScale;
+    f.ao.at(x, y) = 1.0f - r.hitFraction;
+    if (f.hitMask)
+        f.hitMask.at(x, y) = r.hitFraction;
+    if (f.hitDistance && r.measuredHits > 0)
+        f.hitDistance.at(x, y) = float(r.distanceSum / r.measuredHits);
+}
+
+/// Trace resolution: the frame, or half of it rounded up (reference §4.3).
+inline Extent traceExtent(Extent frame, bool halfRes) {
+    return halfRes ? Extent{(frame.width + 1) / 2, (frame.height + 1) / 2} : frame;
+}
+
+/// The frame as ssgiPixel reads it, bound through HostPorts or DevicePorts (PassPorts.h).
+/// Outputs are allocated here; hitMask and hitDistance only when something reads them.
+template <class Ports>
+Frame bindFrame(const Ports& ports,
+                const FrameInfo& frame,
+                int rays,
+                int steps,
+                bool halfRes,
+                float colorScale) {
+    const auto& depth = *ports.input(gbuffer::kDepth);
+    const auto& normal = *ports.input(gbuffer::kNormal);
+    const auto& shadingModel = *ports.input(gbuffer::kShadingModel);
+    const auto& hzb = *ports.input(kFurthestHzb);
+    const auto& reduced = *ports.input(kReducedColor);
+    FP_CHECK(reduced.mipCount() >= kReducedMips, "reducedColor has {} mips; SSGI needs {}",
+             reduced.mipCount(), kReducedMips);
+    FP_CHECK(hzb.mipCount() >= 1 && hzb.mipCount() <= kMaxHzbMips,
+             "furthestHzb has {} mips; SSGI reads 1 to {}", hzb.mipCount(), kMaxHzbMips);
+    Frame f{};
+    f.width = depth.image().width();
+    f.height = depth.image().height();
+    f.toFull = halfRes ? 2 : 1;
+    f.colorScale = colorScale;
+    const std::vector<Extent> trace = {traceExtent({f.width, f.height}, halfRes)};
+
+    TraceSetup& s = f.setup;
+    s.cam = frame.camera.current;
+    s.hzb = hzbViewOf(hzb);
+    s.rays = rays;
+    s.steps = steps;
+    s.frameMod8 = ue::frameIndexMod8(frame.number);
+    s.invSteps = 1.0f / float(steps);
+    s.levelStep = 8.0f * s.invSteps;  // reference §4.6: (8/N)·Roughness, Roughness = 1
+    s.halfW = 0.5f * float(f.width);
+    s.halfH = 0.5f * float(f.height);
+    s.fx = float(s.cam.fx);
+    s.fy = float(s.cam.fy);
+    s.cx = float(s.cam.cx);
+    s.cy = float(s.cam.cy);
+    for (int m = 0; m < kReducedMips; ++m) {
+        for (int c = 0; c < 3; ++c)
+            s.reduced[m][c] = viewOf(reduced.mip(m).plane(c));
+        s.reducedMaxX[m] = std::max(0, int(std::ceil(s.halfW / float(1 << m))) - 1);
+        s.reducedMaxY[m] = std::max(0, int(std::ceil(s.halfH / float(1 << m))) - 1);
+    }
+
+    f.depth = viewOf(depth.image().plane(0));
+    f.shadingModel = viewOf(shadingModel.image().plane(0));
+    auto& diffuse = ports.output(kDiffuse, trace);
+    for (int c = 0; c < 3; ++c) {
+        f.normal[c] = viewOf(normal.image().plane(c));
+        f.diffuse[c] = spanOf(diffuse.image().plane(c));
+    }
+    f.ao = spanOf(ports.output(kAo, trace).image().plane(0));
+    if (auto* hitMask = ports.outputIfRequested(kHitMask, trace))
+        f.hitMask = spanOf(hitMask->image().plane(0));
+    if (auto* hitDistance = ports.outputIfRequested(kHitDistance, trace))
+        f.hitDistance = spanOf(hitDistance->image().plane(0));
+    return f;
+}
+
+/// The whole pass on either backend (PerPixel.h): one ssgiPixel per trace pixel.
+template <class Ports, class Pixels>
+void run(PassContext& ctx,
+         const Ports& ports,
+         const Pixels& pixels,
+         int rays,
+         int steps,
+         bool halfRes,
+         float colorScale) {
+    const Frame f = bindFrame(ports, ctx.frame(), rays, steps, halfRes, colorScale);
+    const auto counts = pixels.template forEach<kCounterCount>(
+        f.ao.width, f.ao.height,
+        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& c) { ssgiPixel(f, x, y, c.value); },
+        "ssgi");
+    ctx.addWork("pixels", counts[kTraced]);
+    ctx.addWork("skippedPixels", counts[kSkipped]);
+    ctx.addWork("rays", counts[kRays]);
+    ctx.addWork("hzbSamples", counts[kHzbSamples]);
+}
+
+}  // namespace fp::ssgi

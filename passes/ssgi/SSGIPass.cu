@@ -1,0 +1,15 @@
+// SSGIPass on the GPU: ssgi::run with device images, one thread per trace pixel.
+#include "passes/core/CudaLaunch.cuh"
+#include "passes/core/PassPorts.h"
+#include "passes/ssgi/SSGIKernel.h"
+#include "passes/ssgi/SSGIPass.h"
+
+namespace fp {
+
+void SSGIPass::executeCuda(PassContext& ctx) {
+    const SSGIQuality q = qualityTable(mParams.quality);
+    ssgi::run(ctx, DevicePorts{ctx}, CudaPixels{}, q.rays, q.steps, mParams.halfRes,
+              mParams.indirectLightingColorScale);
+}
+
+}  // namespace fp
