@@ -251,7 +251,7 @@ BenchSetting benchSetting(const RunSession& session,
     result.frame = frame;
     result.extent = session.extent();
 
-    std::vector<std::vector<double>> stepSeconds(plan.steps.size());
+    std::vector<std::vector<double>> stepSeconds(plan.steps.size()), stepGpuSeconds(plan.steps.size());
     std::vector<double> frameSeconds;
     FrameReport last;
     for (int r = 0; r < opt.warmup + opt.runs; ++r) {
@@ -259,8 +259,11 @@ BenchSetting benchSetting(const RunSession& session,
         last = executePlan(plan, source, sink);
         if (r >= opt.warmup) {
             frameSeconds.push_back(last.seconds);
-            for (std::size_t s = 0; s < last.passes.size(); ++s)
+            for (std::size_t s = 0; s < last.passes.size(); ++s) {
                 stepSeconds[s].push_back(last.passes[s].seconds);
+                if (last.passes[s].gpuSeconds)
+                    stepGpuSeconds[s].push_back(*last.passes[s].gpuSeconds);
+            }
         }
         logProgress(100 * ++runsDone / totalRuns);
     }
@@ -270,7 +273,9 @@ BenchSetting benchSetting(const RunSession& session,
     setting.frame = TimingStats::of(frameSeconds);
     for (std::size_t s = 0; s < plan.steps.size(); ++s) {
         const PlanStep& step = plan.steps[s];
-        PassTiming t{step.name, step.type, step.io.workUnit, 0, TimingStats::of(stepSeconds[s])};
+        PassTiming t{step.name, step.type, step.io.workUnit, 0, TimingStats::of(stepSeconds[s]), {}};
+        if (!stepGpuSeconds[s].empty())
+            t.gpuSeconds = TimingStats::of(stepGpuSeconds[s]);
         if (auto it = last.passes[s].work.find(t.unit); it != last.passes[s].work.end())
             t.work = it->second;
         setting.passes.push_back(t);
@@ -309,6 +314,9 @@ void printBench(const BenchResult& result) {
                                      p.seconds.max * 1e3);
             if (p.work)
                 std::cout << fmt::format("  {:.2f} M{}/s", p.throughput() * 1e-6, p.unit);
+            if (p.gpuSeconds)
+                std::cout << fmt::format("  [gpu {:.3f} ms by CUDA events]",
+                                         p.gpuSeconds->median * 1e3);
             std::cout << "\n";
         }
         for (const auto& e : s.errors) {

@@ -38,7 +38,7 @@ nlohmann::json BenchResult::toJson() const {
                              {"frameSeconds",
                               {{"median", s.frame.median}, {"min", s.frame.min}, {"max", s.frame.max}}}};
         sj["passes"] = nlohmann::json::array();
-        for (const auto& p : s.passes)
+        for (const auto& p : s.passes) {
             sj["passes"].push_back({{"name", p.name},
                                     {"type", p.type},
                                     {"median", p.seconds.median},
@@ -47,6 +47,11 @@ nlohmann::json BenchResult::toJson() const {
                                     {"unit", p.unit},
                                     {"work", p.work},
                                     {"throughput", p.throughput()}});
+            if (p.gpuSeconds)
+                sj["passes"].back()["gpuSeconds"] = {{"median", p.gpuSeconds->median},
+                                                     {"min", p.gpuSeconds->min},
+                                                     {"max", p.gpuSeconds->max}};
+        }
         sj["errors"] = nlohmann::json::array();
         for (const auto& e : s.errors)
             sj["errors"].push_back({{"name", e.name}, {"source", e.source},

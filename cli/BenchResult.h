@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@ struct PassTiming {
     std::string name, type, unit;  //!< unit: the work counter that measures throughput
     uint64_t work = 0;             //!< of one run
     TimingStats seconds;
+    std::optional<TimingStats> gpuSeconds;  //!< passes run on the GPU: kernel time (CUDA events)
     double throughput() const { return seconds.median > 0 ? double(work) / seconds.median : 0; }
 };
 

@@ -108,6 +108,18 @@ Texture download(const DeviceTexture& texture) {
     return Texture(std::move(levels));
 }
 
+unsigned long long* counterBuffer(int count) {
+    static unsigned long long* buffer = nullptr;
+    static int capacity = 0;
+    if (count > capacity) {
+        cudaFree(buffer);
+        buffer = nullptr;
+        check(cudaMalloc(&buffer, sizeof(unsigned long long) * count), "allocating counters");
+        capacity = count;
+    }
+    return buffer;
+}
+
 void checkStatus(int cudaStatus, const char* what) {
     check(cudaError_t(cudaStatus), what);
 }

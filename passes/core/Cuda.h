@@ -25,6 +25,9 @@ DeviceTexture upload(const Texture& texture);
 Texture download(const DeviceTexture& texture);
 /// Waits for the GPU; a failed kernel becomes an fp::Error naming `what`.
 void synchronize(const char* what);
+/// Device memory for `count` work counters, kept for the process (one launch uses it at a time:
+/// kernels run in order on the default stream).
+unsigned long long* counterBuffer(int count);
 /// Throws an fp::Error naming `what` unless `cudaStatus` (a cudaError_t) is cudaSuccess.
 void checkStatus(int cudaStatus, const char* what);
 

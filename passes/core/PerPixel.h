@@ -2,7 +2,8 @@
 // How a pass runs its per-pixel function on either backend. A pass writes its work once, as a
 // template over a Ports type (PassPorts.h) and a Pixels type — CpuPixels here, CudaPixels in
 // CudaLaunch.cuh — calling `pixels.forEach<N>(w, h, fn)` with fn an FP_HD lambda
-// (int x, int y, WorkCounts<N>& counts). execute() instantiates it with (HostPorts, CpuPixels),
+// (int x, int y, WorkCounts<N>& counts); N = 0 when the loop counts nothing (the GPU then need
+// not wait for it). execute() instantiates it with (HostPorts, CpuPixels),
 // the pass's .cu file with (DevicePorts, CudaPixels): the same code, the same arithmetic.
 #include "passes/core/HostDevice.h"
 #include "passes/core/Tiles.h"

@@ -35,13 +35,13 @@ struct PlaneSpan {
 };
 
 /// Views of a host Plane, or (unchanged) of a device plane, so templates serve both backends.
-inline PlaneView viewOf(const PlaneView& v) {
+FP_HD inline PlaneView viewOf(const PlaneView& v) {
     return v;
 }
-inline PlaneSpan spanOf(const PlaneSpan& v) {
+FP_HD inline PlaneSpan spanOf(const PlaneSpan& v) {
     return v;
 }
-inline PlaneView viewOf(const PlaneSpan& v) {
+FP_HD inline PlaneView viewOf(const PlaneSpan& v) {
     return {v.data, v.width, v.height, v.stride};
 }
 inline PlaneView viewOf(const Plane& p) {

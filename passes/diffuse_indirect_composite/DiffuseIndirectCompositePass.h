@@ -28,6 +28,11 @@ public:
     /// than 16 × 2√2 pixel radii from the pixel's (reference §7.3).
     static constexpr double kUpsampleRejection = 16.0 * 2.0 * 1.4142135623730951;
 
+#if FP_HAVE_CUDA
+    bool hasCudaKernel() const override { return true; }
+    void executeCuda(PassContext& ctx) override;  // DiffuseIndirectCompositePass.cu
+#endif
+
 private:
     bool ue5() const { return mParams.engine == "ue5"; }
     Params mParams;

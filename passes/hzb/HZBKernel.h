@@ -64,9 +64,9 @@ void run(PassContext& ctx,
     auto* closest = ports.outputIfRequested(kClosest, extents);
     const PlaneSpan furthest0 = furthest ? spanOf(furthest->mip(0).plane(0)) : PlaneSpan{};
     const PlaneSpan closest0 = closest ? spanOf(closest->mip(0).plane(0)) : PlaneSpan{};
-    pixels.template forEach<1>(
+    pixels.template forEach<0>(
         extents[0].width, extents[0].height,
-        [=] FP_HD(int x, int y, WorkCounts<1>&) {
+        [=] FP_HD(int x, int y, WorkCounts<0>&) {
             firstMipTexel(cam, depth, furthest0, closest0, halfPrecision, x, y);
         },
         "hzb");
@@ -77,9 +77,9 @@ void run(PassContext& ctx,
             const bool isMin = chain == furthest;
             const PlaneView src = viewOf(chain->mip(m - 1).plane(0));
             const PlaneSpan dst = spanOf(chain->mip(m).plane(0));
-            pixels.template forEach<1>(
+            pixels.template forEach<0>(
                 extents[m].width, extents[m].height,
-                [=] FP_HD(int x, int y, WorkCounts<1>&) { reduceTexel(src, dst, isMin, x, y); },
+                [=] FP_HD(int x, int y, WorkCounts<0>&) { reduceTexel(src, dst, isMin, x, y); },
                 "hzb");
         }
     uint64_t texels = 0;

@@ -215,6 +215,21 @@ FP_HD inline void reduceAgainstHzbTexel(const CameraView& cam, bool leakFree, co
         dst.plane[c].at(x, y) = out[c];
 }
 
+/// Texel (x, y) of mip m ≥ 1 from mip m − 1: against the HZB for mip 2 (reference §3.3), from
+/// the level's own depths otherwise.
+struct ReduceLevel {
+    CameraView cam;
+    bool leakFree, againstHzb;
+    PlaneView hzb2, hzb1;
+    Level src, dst;
+    FP_HD void operator()(int x, int y, WorkCounts<0>&) const {
+        if (againstHzb)
+            reduceAgainstHzbTexel(cam, leakFree, hzb2, hzb1, src, dst, x, y);
+        else
+            reduceLevelTexel(cam, leakFree, src, dst, x, y);
+    }
+};
+
 /// The whole pass on either backend (PerPixel.h): mip 0 from the reprojected pixels, mip 1 from
 /// mip 0, mip 2 against the HZB, mips 3–4 from the level above; then the colour and the weight
 /// copied out (both are computed together: alpha is what the colour is premultiplied by).
@@ -260,21 +275,10 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels,
         "prev_color_reduction");
     ctx.addWork("pixels", inside[0]);
     for (int m = 1; m < PrevColorReductionPass::kMipCount; ++m) {
-        const Level src = levelOf(levels, m - 1), dst = levelOf(levels, m);
-        if (m == 2)
-            pixels.template forEach<1>(
-                extents[m].width, extents[m].height,
-                [=] FP_HD(int x, int y, WorkCounts<1>&) {
-                    reduceAgainstHzbTexel(cam, leakFree, hzb2, hzb1, src, dst, x, y);
-                },
-                "prev_color_reduction");
-        else
-            pixels.template forEach<1>(
-                extents[m].width, extents[m].height,
-                [=] FP_HD(int x, int y, WorkCounts<1>&) {
-                    reduceLevelTexel(cam, leakFree, src, dst, x, y);
-                },
-                "prev_color_reduction");
+        const ReduceLevel reduce{cam, leakFree, m == 2, hzb2, hzb1, levelOf(levels, m - 1),
+                                 levelOf(levels, m)};
+        pixels.template forEach<0>(extents[m].width, extents[m].height, reduce,
+                                   "prev_color_reduction");
     }
 
     auto& color = ports.output(kColor, extents);
@@ -286,9 +290,9 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels,
             dst[c] = spanOf(color.mip(m).plane(c));
         if (alpha)
             dst[3] = spanOf(alpha->mip(m).plane(0));
-        pixels.template forEach<1>(
+        pixels.template forEach<0>(
             extents[m].width, extents[m].height,
-            [=] FP_HD(int x, int y, WorkCounts<1>&) {
+            [=] FP_HD(int x, int y, WorkCounts<0>&) {
                 for (int c = 0; c < 4; ++c)
                     if (dst[c])
                         dst[c].at(x, y) = src.plane[c].at(x, y);

@@ -67,6 +67,21 @@ JSON
 check "a missing capture exits 1 naming the file" expect_exit 1 "nowhere.exr: no such file" "$FP" run "$DIR/missing.json" -o "$DIR/m"
 check "--set with a bad value exits 2 naming the flag" expect_exit 2 "--set hzb.halfPrecision: 'halfPrecision' must be a boolean" \
     "$FP" plan "$DIR/config.json" --set hzb.halfPrecision=maybe
+# The GPU backend: placement shown by plan; without a usable GPU (or without CUDA in the build)
+# run says why and exits 2 before reading a pixel.
+if "$FP" plan "$DIR/config.json" --device cuda > "$DIR/plan_cuda.txt" 2>&1; then
+    check "plan --device cuda marks the GPU passes" bash -c "grep -q 'ssgi (ssgi) \[gpu\]' '$DIR/plan_cuda.txt' && grep -q 'ssgi_denoise (ssgi_denoise) \[cpu\]' '$DIR/plan_cuda.txt'"
+    check "plan --json gives each step's device" bash -c "'$FP' plan '$DIR/config.json' --device cuda --json | grep -q '\"device\": \"cuda\"'"
+    if ! grep -q "not usable here" "$DIR/plan_cuda.txt"; then
+        echo "  (a GPU is here: run --device cuda is checked by framepass_gpu_check)"
+    else
+        check "run --device cuda without a GPU exits 2 saying why" expect_exit 2 "--device cuda: no" \
+            "$FP" run "$DIR/config.json" -o "$DIR/gpu_out" --device cuda
+    fi
+else
+    check "a build without CUDA says so" expect_exit 2 "no GPU backend" "$FP" plan "$DIR/config.json" --device cuda
+fi
+check "an unknown device is a usage error" expect_exit 2 "--device: tpu not in {cpu,cuda}" "$FP" plan "$DIR/config.json" --device tpu
 check "passes documents every type" bash -c "'$FP' passes | grep -q prev_color_reduction && '$FP' passes hzb | grep -q halfPrecision"
 check "an unknown pass type gets a suggestion" expect_exit 2 "did you mean 'display'?" "$FP" passes dispaly
 check "the hard-case glTF scene captures (10^7 from the origin)" "$FP" capture "$SRC/examples/hard/scene.json" -o "$DIR/hard.exr" --width 64 --height 64

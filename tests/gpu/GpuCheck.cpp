@@ -76,18 +76,21 @@ struct Difference {
     std::string layer;
     double maxAbs = 0, maxRel = 0;  //!< rel: |a − b| / max(|a|, |b|, 1e-3)
     int64_t differing = 0, pixels = 0;
+    std::string first;  //!< the first differing value, for a look
 };
 
+// Per layer and mip (mips after the first are reported as "layer@mip"), with the first
+// differing value of each for a look.
 std::vector<Difference> compare(const test::MemorySink& cpu, const test::MemorySink& gpu) {
     std::vector<Difference> out;
     for (const auto& [name, a] : cpu.layers) {
-        Difference d;
-        d.layer = name;
         auto it = gpu.layers.find(name);
         REQUIRE_MESSAGE(it != gpu.layers.end(), "the GPU run did not write " << name);
         const Texture& b = it->second;
         REQUIRE(a.mipCount() == b.mipCount());
-        for (int m = 0; m < a.mipCount(); ++m)
+        for (int m = 0; m < a.mipCount(); ++m) {
+            Difference d;
+            d.layer = m == 0 ? name : fmt::format("{}@{}", name, m);
             for (int c = 0; c < a.mip(m).channelCount(); ++c) {
                 const Plane& pa = a.mip(m).plane(c);
                 const Plane& pb = b.mip(m).plane(c);
@@ -99,7 +102,8 @@ std::vector<Difference> compare(const test::MemorySink& cpu, const test::MemoryS
                         ++d.pixels;
                         if (std::memcmp(&va, &vb, sizeof va) == 0)
                             continue;
-                        ++d.differing;
+                        if (d.differing++ == 0)
+                            d.first = fmt::format("({},{}) ch {}: cpu {} gpu {}", x, y, c, va, vb);
                         const double diff = std::fabs(double(va) - double(vb));
                         d.maxAbs = std::max(d.maxAbs, diff);
                         d.maxRel = std::max(
@@ -107,7 +111,8 @@ std::vector<Difference> compare(const test::MemorySink& cpu, const test::MemoryS
                                                        1e-3}));
                     }
             }
-        out.push_back(d);
+            out.push_back(d);
+        }
     }
     return out;
 }
@@ -125,8 +130,9 @@ void printDifferences(const std::string& what, const std::vector<Difference>& di
     std::cout << fmt::format("  {:<40} {:>12} {:>12} {:>10}\n", "layer", "max |Δ|", "max rel",
                              "differing");
     for (const auto& d : diffs)
-        std::cout << fmt::format("  {:<40} {:>12.3g} {:>12.3g} {:>9.4f}%\n", d.layer, d.maxAbs,
-                                 d.maxRel, 100.0 * double(d.differing) / double(d.pixels));
+        std::cout << fmt::format("  {:<40} {:>12.3g} {:>12.3g} {:>9.4f}%  {}\n", d.layer, d.maxAbs,
+                                 d.maxRel, 100.0 * double(d.differing) / double(d.pixels),
+                                 d.first);
 }
 
 std::vector<Difference> runBoth(const std::string& scene, Extent extent) {
@@ -135,6 +141,22 @@ std::vector<Difference> runBoth(const std::string& scene, Extent extent) {
     executePlan(demoPlan("cpu", true), cap->source, cpu);
     executePlan(demoPlan("cuda", true), cap->source, gpu);
     return compare(cpu, gpu);
+}
+
+// The tolerance of each output (README "GPU"). The kernels run the CPU's own FP_HD code without
+// FMA contraction, with IEEE division and square root, so every output is expected bit for bit,
+// except ssgi.hitDistance, a debug output: its distance goes through a float→double→float path
+// whose last bit was seen to differ (largest relative difference 1.4e-4 on the hard capture,
+// whose hits are 10⁷ units from the origin); 1e-3 leaves room for other scenes.
+void checkAgreement(const std::vector<Difference>& diffs) {
+    REQUIRE(diffs.size() >= 6);  // every pass of the demo chain wrote something
+    for (const auto& d : diffs) {
+        INFO(d.layer << ": " << d.first);
+        if (d.layer.rfind("ssgi.hitDistance", 0) == 0)
+            CHECK(d.maxRel <= 1e-3);
+        else
+            CHECK(d.differing == 0);
+    }
 }
 
 double median(std::vector<double> v) {
@@ -209,7 +231,7 @@ TEST_CASE("gpu: the demo chain on the GPU matches the CPU on the Cornell capture
         return;
     const auto diffs = runBoth(sourceDir() + "/examples/cornell/scene.json", {256, 256});
     printDifferences("Cornell 256×256", diffs);
-    CHECK(!diffs.empty());
+    checkAgreement(diffs);
 }
 
 TEST_CASE("gpu: the demo chain on the GPU matches the CPU on the hard capture") {
@@ -217,7 +239,7 @@ TEST_CASE("gpu: the demo chain on the GPU matches the CPU on the hard capture") 
         return;
     const auto diffs = runBoth(sourceDir() + "/examples/hard/scene.json", {256, 192});
     printDifferences("hard 256×192", diffs);
-    CHECK(!diffs.empty());
+    checkAgreement(diffs);
 }
 
 int main(int argc, char** argv) {
