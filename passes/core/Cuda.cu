@@ -5,6 +5,8 @@
 #include <cuda_runtime.h>
 
 #include <chrono>
+#include <map>
+#include <mutex>
 
 namespace fp::cuda {
 
@@ -20,15 +22,51 @@ std::ptrdiff_t paddedStride(int width) {
     return (std::ptrdiff_t(width) + 31) / 32 * 32;
 }
 
-DeviceImage allocateImage(int width, int height, const std::vector<std::string>& channels) {
+// Freed device images go back to a pool by size instead of to the driver: cudaMalloc and cudaFree
+// synchronise the GPU and cost tens of microseconds, and a sequence allocates the same sizes every
+// frame. The pool holds at most what one frame held at its peak.
+class DevicePool {
+public:
+    float* take(std::size_t bytes) {
+        {
+            std::lock_guard<std::mutex> lock(mMutex);
+            auto it = mFree.find(bytes);
+            if (it != mFree.end()) {
+                float* p = it->second;
+                mFree.erase(it);
+                return p;
+            }
+        }
+        float* p = nullptr;
+        check(cudaMalloc(&p, bytes), "allocating an image");
+        return p;
+    }
+    void give(std::size_t bytes, float* p) {
+        std::lock_guard<std::mutex> lock(mMutex);
+        mFree.emplace(bytes, p);
+    }
+
+private:
+    std::mutex mMutex;
+    std::multimap<std::size_t, float*> mFree;
+};
+
+DevicePool& pool() {
+    static DevicePool* p = new DevicePool;  // never destroyed: images may outlive static teardown
+    return *p;
+}
+
+// `zeroed`: outputs start at zero (the pass contract); an upload overwrites every row anyway.
+DeviceImage allocateImage(int width, int height, const std::vector<std::string>& channels,
+                          bool zeroed) {
     const std::ptrdiff_t stride = paddedStride(std::max(width, 1));
     const std::size_t bytes =
         std::size_t(stride) * std::max(height, 1) * std::max<std::size_t>(channels.size(), 1) *
         sizeof(float);
-    float* p = nullptr;
-    check(cudaMalloc(&p, bytes), "allocating an image");
-    std::shared_ptr<float> memory(p, [](float* q) { cudaFree(q); });
-    check(cudaMemset(p, 0, bytes), "clearing an image");
+    float* p = pool().take(bytes);
+    std::shared_ptr<float> memory(p, [bytes](float* q) { pool().give(bytes, q); });
+    if (zeroed)
+        check(cudaMemsetAsync(p, 0, bytes), "clearing an image");
     return DeviceImage(width, height, channels, std::move(memory), stride);
 }
 
@@ -64,7 +102,7 @@ std::string deviceName() {
 DeviceTexture allocate(const std::vector<Extent>& mips, const std::vector<std::string>& channels) {
     std::vector<DeviceImage> levels;
     for (const Extent& e : mips)
-        levels.push_back(allocateImage(e.width, e.height, channels));
+        levels.push_back(allocateImage(e.width, e.height, channels, true));
     return DeviceTexture(std::move(levels));
 }
 
@@ -73,7 +111,7 @@ DeviceTexture upload(const Texture& texture) {
     std::vector<DeviceImage> levels;
     for (int m = 0; m < texture.mipCount(); ++m) {
         const Image& host = texture.mip(m);
-        DeviceImage dev = allocateImage(host.width(), host.height(), host.channels());
+        DeviceImage dev = allocateImage(host.width(), host.height(), host.channels(), false);
         for (int c = 0; c < host.channelCount(); ++c) {
             const Plane& src = host.plane(c);
             check(cudaMemcpy2D(dev.plane(c).data, dev.stride() * sizeof(float), src.row(0),
