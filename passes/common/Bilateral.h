@@ -3,6 +3,7 @@
 // shadows): a neighbour counts as much as it lies on the receiver's tangent plane and faces the
 // same way, so a blur neither crosses a crease nor reaches a surface in front of or behind it.
 #include "passes/common/Surface.h"
+#include "passes/core/HostDevice.h"
 #include "passes/core/Math.h"
 
 #include <algorithm>
@@ -12,7 +13,7 @@ namespace fp {
 
 /// W = saturate(1 − |N_ref·(P − P_ref)|/D) × max(N_ref·N, 0)⁴ for a neighbour at camera-relative
 /// `position` with world `normal`, `distance` D the plane-distance tolerance (scene units).
-inline float bilateralWeight(const Surface& ref,
+FP_HD inline float bilateralWeight(const Surface& ref,
                              const Vec3f& position,
                              const Vec3f& normal,
                              float distance) {
@@ -22,7 +23,7 @@ inline float bilateralWeight(const Surface& ref,
     return wPos * (c * c) * (c * c);
 }
 
-inline float bilateralWeight(const Surface& ref, const Surface& neighbour, float distance) {
+FP_HD inline float bilateralWeight(const Surface& ref, const Surface& neighbour, float distance) {
     return bilateralWeight(ref, neighbour.position, neighbour.normal, distance);
 }
 

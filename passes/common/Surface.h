@@ -4,8 +4,11 @@
 // tan(halfFOVx)/ViewW × depth, the unit of its bilateral distances. Built once per frame (or per
 // trace grid) because every tap of every filtering pass reads it again.
 #include "passes/core/Camera.h"
+#include "passes/core/HostDevice.h"
 #include "passes/core/Image.h"
 #include "passes/core/Math.h"
+#include "passes/core/PlaneView.h"
+#include "passes/core/ShadingModel.h"
 
 #include <cstddef>
 #include <vector>
@@ -30,18 +33,66 @@ struct SurfaceInputs {
     const Plane& shadingModel;
 };
 
+/// The same planes as per-pixel code reads them, on either backend (PlaneView.h).
+struct SurfaceInputsView {
+    PlaneView depth, normal[3], shadingModel;
+};
+
+inline SurfaceInputsView viewOf(const SurfaceInputs& in) {
+    return {viewOf(in.depth),
+            {viewOf(in.normal.plane(0)), viewOf(in.normal.plane(1)), viewOf(in.normal.plane(2))},
+            viewOf(in.shadingModel)};
+}
+
 /// The surface at full-resolution pixel (px, py); its radius is the pixel world radius × `scale`
 /// (2 when it stands for a 2×2 block of a half-resolution trace).
-Surface pixelSurface(const CameraView& cam,
-                     const SurfaceInputs& in,
-                     int px,
-                     int py,
-                     float scale,
-                     NormalRead read);
+FP_HD inline Surface pixelSurface(const CameraView& cam,
+                                  const SurfaceInputsView& in,
+                                  int px,
+                                  int py,
+                                  float scale,
+                                  NormalRead read) {
+    Surface s;
+    const double d = in.depth.at(px, py);
+    if (!isLitSurface(d, in.shadingModel.at(px, py)))
+        return s;
+    const Vec3d p = cam.translatedFromPixel(px, py, d);
+    s.valid = true;
+    s.position = {float(p.x), float(p.y), float(p.z)};
+    s.normal = {in.normal[0].at(px, py), in.normal[1].at(px, py), in.normal[2].at(px, py)};
+    if (read == NormalRead::Normalised)
+        s.normal = normalize(s.normal);
+    s.radius = float(cam.pixelRadiusAtDepth(d)) * scale;
+    return s;
+}
 
-/// The surfaces of a grid whose texel (x, y) stands for full-resolution pixel
-/// (min(x·step, W − 1), min(y·step, H − 1)): the frame itself (step 1) or a half-resolution trace
+inline Surface pixelSurface(const CameraView& cam,
+                            const SurfaceInputs& in,
+                            int px,
+                            int py,
+                            float scale,
+                            NormalRead read) {
+    return pixelSurface(cam, viewOf(in), px, py, scale, read);
+}
+
+/// A grid of surfaces in memory of either backend: texel (x, y) stands for full-resolution pixel
+/// (min(x·step, W − 1), min(y·step, H − 1)) — the frame itself (step 1) or a half-resolution trace
 /// (step 2, the top-left pixel of each 2×2 block).
+struct SurfaceGridView {
+    Surface* data = nullptr;
+    int width = 0, height = 0, step = 1;
+
+    FP_HD const Surface& at(int x, int y) const { return data[y * width + x]; }
+    /// Builds texel (x, y) from the GBuffer (every texel once, before any is read).
+    FP_HD void build(const CameraView& cam, const SurfaceInputsView& in, NormalRead read, int x,
+                     int y) const {
+        const int px = x * step < in.depth.width - 1 ? x * step : in.depth.width - 1;
+        const int py = y * step < in.depth.height - 1 ? y * step : in.depth.height - 1;
+        data[y * width + x] = pixelSurface(cam, in, px, py, float(step), read);
+    }
+};
+
+/// A SurfaceGridView's texels in host memory, built on the CPU.
 class SurfaceGrid {
 public:
     SurfaceGrid(const CameraView& cam,
@@ -50,9 +101,10 @@ public:
                 int step,
                 NormalRead read);
     const Surface& at(int x, int y) const { return mSurfaces[std::size_t(y) * mWidth + x]; }
+    SurfaceGridView view() { return {mSurfaces.data(), mWidth, mHeight, mStep}; }
 
 private:
-    int mWidth;
+    int mWidth, mHeight, mStep;
     std::vector<Surface> mSurfaces;
 };
 

@@ -106,6 +106,13 @@ DeviceTexture allocate(const std::vector<Extent>& mips, const std::vector<std::s
     return DeviceTexture(std::move(levels));
 }
 
+std::shared_ptr<void> allocateBytes(std::size_t bytes) {
+    // Rounded up to a float so the memory shares the image pool.
+    const std::size_t rounded = std::max<std::size_t>((bytes + 3) / 4 * 4, 4);
+    float* p = pool().take(rounded);
+    return std::shared_ptr<void>(p, [rounded](void* q) { pool().give(rounded, static_cast<float*>(q)); });
+}
+
 DeviceTexture upload(const Texture& texture) {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<DeviceImage> levels;

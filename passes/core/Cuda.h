@@ -21,6 +21,8 @@ std::string deviceName();
 
 /// Zero-filled device images, one per extent, with the given channels.
 DeviceTexture allocate(const std::vector<Extent>& mips, const std::vector<std::string>& channels);
+/// Uninitialised device memory of `bytes` bytes (scratch arrays of a pass).
+std::shared_ptr<void> allocateBytes(std::size_t bytes);
 DeviceTexture upload(const Texture& texture);
 Texture download(const DeviceTexture& texture);
 /// Waits for the GPU; a failed kernel becomes an fp::Error naming `what`.

@@ -24,6 +24,9 @@ std::string deviceName() {
 DeviceTexture allocate(const std::vector<Extent>&, const std::vector<std::string>&) {
     noBackend();
 }
+std::shared_ptr<void> allocateBytes(std::size_t) {
+    noBackend();
+}
 DeviceTexture upload(const Texture&) {
     noBackend();
 }

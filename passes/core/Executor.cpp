@@ -112,10 +112,15 @@ public:
     void keepHistory(Texture state) override {
         FP_CHECK(mStep.io.temporal, "pass '{}' keeps history without declaring temporal",
                  mStep.name);
-        mKept = std::move(state);
+        mKept = PassHistory{std::move(state), {}, mFrame.camera.current};
+    }
+    void keepHistory(DeviceTexture state) override {
+        FP_CHECK(mStep.io.temporal, "pass '{}' keeps history without declaring temporal",
+                 mStep.name);
+        mKept = PassHistory{{}, std::move(state), mFrame.camera.current};
     }
     /// The state the pass kept this frame, if any.
-    std::optional<Texture>& kept() { return mKept; }
+    std::optional<PassHistory>& kept() { return mKept; }
 
     const Texture* input(std::string_view port) const override {
         const std::string* key = boundKey(port);
@@ -199,11 +204,23 @@ private:
     const FrameInfo& mFrame;
     PassReport& mReport;
     const PassHistory* mHistory;
-    std::optional<Texture> mKept;
+    std::optional<PassHistory> mKept;
     std::mutex mMutex;
 };
 
 }  // namespace
+
+const PassHistory* HistoryStore::placeOn(const std::string& pass, Device device) {
+    auto it = mHistories.find(pass);
+    if (it == mHistories.end())
+        return nullptr;
+    PassHistory& h = it->second;
+    if (device == Device::Cuda && h.deviceState.empty() && !h.state.empty())
+        h.deviceState = cuda::upload(h.state);
+    if (device == Device::Cpu && h.state.empty() && !h.deviceState.empty())
+        h.state = cuda::download(h.deviceState);
+    return &h;
+}
 
 bool isCameraCut(const CameraView& h, const FrameCamera& frame) {
     if (!frame.previous)
@@ -280,6 +297,8 @@ FrameReport executePlan(const Plan& plan,
             past = history->find(step.name);
             if (past && isCameraCut(past->camera, frame.camera))
                 past = nullptr;
+            if (past)
+                past = history->placeOn(step.name, step.device);
         }
         StepContext ctx(step, store, source, frame, pr, past);
         std::optional<cuda::EventTimer> gpuTimer;
@@ -312,7 +331,7 @@ FrameReport executePlan(const Plan& plan,
         }
         pr.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         if (history && ctx.kept())
-            history->keep(step.name, {std::move(*ctx.kept()), frame.camera.current});
+            history->keep(step.name, std::move(*ctx.kept()));
         for (const auto& port : step.requestedOutputs)
             FP_CHECK(store.contains(step.name + "." + port),
                      "frame {}: pass '{}' did not write its "

@@ -74,6 +74,9 @@ public:
         mHistories[pass] = std::move(history);
     }
     void clear() { mHistories.clear(); }
+    /// The history of `pass` with its state copied to `device` if it is only on the other side
+    /// (nullptr if there is none).
+    const PassHistory* placeOn(const std::string& pass, Device device);
 
 private:
     std::map<std::string, PassHistory> mHistories;

@@ -75,9 +75,12 @@ struct FrameInfo {
 };
 
 /// What a temporal pass kept at the end of its last frame, with the camera it was made with (the
-/// pass reprojects through that camera, so a history is usable whatever the frame step).
+/// pass reprojects through that camera, so a history is usable whatever the frame step). The
+/// state lives where the pass ran: `state` on the host, `deviceState` on the GPU; the executor
+/// copies it across before the pass runs if the pass now runs on the other side.
 struct PassHistory {
     Texture state;
+    DeviceTexture deviceState;
     CameraView camera;
 };
 
@@ -105,6 +108,8 @@ public:
     virtual const PassHistory* history() const = 0;
     /// Keeps `state` (made with this frame's camera) for the next frame.
     virtual void keepHistory(Texture state) = 0;
+    /// The same for a pass on the GPU: the state stays in device memory between frames.
+    virtual void keepHistory(DeviceTexture state) = 0;
     /// Reports a measured figure (error_measure's RMSE, ...) for the run report.
     virtual void addMetric(std::string_view name, double value) = 0;
 

@@ -5,6 +5,8 @@
 #include "passes/core/Cuda.h"
 #include "passes/core/Pass.h"
 
+#include <cstddef>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,6 +29,16 @@ struct HostPorts {
             levels.emplace_back(e.width, e.height, channels);
         return Texture(std::move(levels));
     }
+    /// Last frame's state of a temporal pass; nullptr without a usable history.
+    const Texture* historyState() const {
+        return ctx.history() ? &ctx.history()->state : nullptr;
+    }
+    void keepHistory(Texture state) const { ctx.keepHistory(std::move(state)); }
+    /// Uninitialised scratch memory for `count` values of a plain type, freed with the pass.
+    template <class T>
+    std::shared_ptr<T> scratchArray(std::size_t count) const {
+        return std::shared_ptr<T>(new T[count], std::default_delete<T[]>());
+    }
 };
 
 struct DevicePorts {
@@ -41,6 +53,14 @@ struct DevicePorts {
     DeviceTexture scratch(const std::vector<Extent>& mips,
                           const std::vector<std::string>& channels) const {
         return cuda::allocate(mips, channels);
+    }
+    const DeviceTexture* historyState() const {
+        return ctx.history() ? &ctx.history()->deviceState : nullptr;
+    }
+    void keepHistory(DeviceTexture state) const { ctx.keepHistory(std::move(state)); }
+    template <class T>
+    std::shared_ptr<T> scratchArray(std::size_t count) const {
+        return std::static_pointer_cast<T>(cuda::allocateBytes(count * sizeof(T)));
     }
 };
 

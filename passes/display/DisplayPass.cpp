@@ -4,10 +4,6 @@
 
 namespace fp {
 
-namespace {
-constexpr const char* kColor = "color";
-constexpr const char* kImage = "image";
-}  // namespace
 
 ParamSpec<DisplayParams> DisplayPass::paramSpec() {
     ParamSpec<DisplayParams> s;
@@ -21,12 +17,12 @@ ParamSpec<DisplayParams> DisplayPass::paramSpec() {
 PassIO DisplayPass::describe() const {
     PassIO io;
     // No channel list: any 1–4 channel buffer can be previewed (1 channel shows as grey).
-    io.inputs = {{.name = kColor,
+    io.inputs = {{.name = kDisplayColor,
                   .channels = {},
                   .kind = PortKind::Color,
                   .captureDefault = "SceneColor",
                   .doc = "buffer to preview"}};
-    io.outputs = {{.name = kImage,
+    io.outputs = {{.name = kDisplayImage,
                    .channels = {"R", "G", "B"},
                    .kind = PortKind::Color,
                    .doc = "display-referred RGB in [0, 1] (write it to a .png)"}};
@@ -34,13 +30,16 @@ PassIO DisplayPass::describe() const {
     return io;
 }
 
+DisplayTransform DisplayPass::transform(PassContext& ctx) const {
+    const bool colorManaged = ctx.inputKind(kDisplayColor) == PortKind::Color;
+    return DisplayTransform(colorManaged ? ctx.colorConfig() : nullptr, mParams.inputSpace,
+                            mParams.display, mParams.view, mParams.exposure, colorManaged);
+}
+
 void DisplayPass::execute(PassContext& ctx) {
-    const Image& src = ctx.input(kColor)->image();
-    const bool colorManaged = ctx.inputKind(kColor) == PortKind::Color;
-    Texture& out = ctx.output(kImage, {{src.width(), src.height()}});
-    const DisplayTransform transform(colorManaged ? ctx.colorConfig() : nullptr, mParams.inputSpace,
-                                     mParams.display, mParams.view, mParams.exposure, colorManaged);
-    transform.apply(src, out.image());
+    const Image& src = ctx.input(kDisplayColor)->image();
+    Texture& out = ctx.output(kDisplayImage, {{src.width(), src.height()}});
+    transform(ctx).apply(src, out.image());
     ctx.addWork("pixels", uint64_t(src.width()) * src.height());
 }
 

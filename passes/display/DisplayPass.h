@@ -14,6 +14,11 @@ struct DisplayParams {
     float exposure = 0.0f;                      //!< stops applied before the transform, [-20, 20]
 };
 
+class DisplayTransform;
+
+inline constexpr const char* kDisplayColor = "color";
+inline constexpr const char* kDisplayImage = "image";
+
 class DisplayPass final : public Pass {
 public:
     using Params = DisplayParams;
@@ -23,8 +28,20 @@ public:
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
 
+#if FP_HAVE_CUDA
+    bool hasCudaKernel() const override { return true; }
+    void executeCuda(PassContext& ctx) override;  // DisplayPass.cu
+#endif
+
 private:
+    /// The OCIO transform of this pass's parameters (exposure only for a data input).
+    DisplayTransform transform(PassContext& ctx) const;
+
     Params mParams;
+    // The baked transform on the GPU, made on the first frame (DisplayKernel.h); empty when the
+    // input is data or the transform mixes channels.
+    bool mLutBaked = false;
+    DeviceTexture mDeviceLut;
 };
 
 }  // namespace fp

@@ -1,6 +1,7 @@
 #include "passes/display/DisplayTransform.h"
 
 #include "passes/core/Error.h"
+#include "passes/display/DisplayKernel.h"
 #include "passes/core/Tiles.h"
 
 #include <algorithm>
@@ -48,10 +49,8 @@ void DisplayTransform::apply(const Image& src, Image& dst) const {
                     continue;
                 }
                 const float* s = src.plane(from).row(y);
-                for (int x = t.x0; x < t.x1; ++x) {
-                    const float v = s[x] * mGain;
-                    d[x] = std::isfinite(v) ? v : 0.0f;  // no NaN/Inf reaches a preview
-                }
+                for (int x = t.x0; x < t.x1; ++x)
+                    d[x] = display::exposed(s[x], mGain);
             }
         if (mCpu) {
             const long w = t.x1 - t.x0, h = t.y1 - t.y0;
@@ -67,6 +66,23 @@ void DisplayTransform::apply(const Image& src, Image& dst) const {
                 for (int x = t.x0; x < t.x1; ++x) d[x] = std::clamp(d[x], 0.0f, 1.0f);
             }
     });
+}
+
+std::optional<Image> DisplayTransform::halfLut() const {
+    if (!mCpu || mCpu->hasChannelCrosstalk())
+        return std::nullopt;
+    Image lut(display::kHalfLutSize, 1, {"R", "G", "B"});
+    for (int i = 0; i < display::kHalfLutSize; ++i) {
+        // Infinities and NaNs are never looked up; they hold the largest finite half's value.
+        const uint32_t magnitude = std::min<uint32_t>(uint32_t(i) & 0x7FFFu, display::kMaxFiniteHalf);
+        const float v = display::halfValue(magnitude);
+        for (int c = 0; c < 3; ++c)
+            lut.plane(c).at(i, 0) = (i & 0x8000) ? -v : v;
+    }
+    OCIO::PlanarImageDesc desc(lut.plane(0).row(0), lut.plane(1).row(0), lut.plane(2).row(0),
+                               nullptr, display::kHalfLutSize, 1);
+    mCpu->apply(desc);
+    return lut;
 }
 
 }  // namespace fp

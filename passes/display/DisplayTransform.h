@@ -7,6 +7,7 @@
 
 #include <OpenColorIO/OpenColorIO.h>
 
+#include <optional>
 #include <string>
 
 namespace fp {
@@ -21,6 +22,10 @@ public:
     /// Writes the preview of `src` into `dst` (same size, 3 channels).
     void apply(const Image& src, Image& dst) const;
     Image apply(const Image& src) const;
+    /// The transform baked for the GPU (DisplayKernel.h): 3 planes of kHalfLutSize × 1, entry i
+    /// the processor's output at the half with bits i (non-finite halves hold ±65504's value).
+    /// Empty for a data buffer or a transform with channel crosstalk.
+    std::optional<Image> halfLut() const;
 
 private:
     OCIO_NAMESPACE::ConstCPUProcessorRcPtr mCpu;  // null for data buffers

@@ -10,14 +10,6 @@
 
 namespace fp {
 
-namespace {
-constexpr const char* kSource = "source";
-constexpr const char* kReference = "reference";
-constexpr const char* kReferenceStdErr = "referenceStdErr";
-constexpr const char* kHeat = "heat";
-constexpr const char* kAbsError = "absError";
-}  // namespace
-
 ParamSpec<ErrorMeasureParams> ErrorMeasurePass::paramSpec() {
     ParamSpec<ErrorMeasureParams> s;
     s.add("tolerance", &Params::tolerance, "relative tolerance for the over-tolerance fraction")
@@ -52,9 +44,20 @@ PassIO ErrorMeasurePass::describe() const {
     return io;
 }
 
+float ErrorMeasurePass::skyDepth() const {
+    return mParams.skyDistance > 0.0f ? mParams.skyDistance
+                                      : std::numeric_limits<float>::infinity();
+}
+
+void ErrorMeasurePass::reportStats(PassContext& ctx, const ErrorStats& s) const {
+    for (const auto& [name, value] : s.figures())
+        ctx.addMetric(name, value);
+    ctx.addWork("pixels", s.pixels);
+    ctx.addWork("skippedPixels", s.maskedPixels);
+}
+
 namespace {
-// A half-resolution source (a half-res SSGI trace) is measured as the 4.27 composite reads it:
-// point-upsampled, full-res pixel (x, y) taking texel (x/2, y/2).
+// The point upsampling isHalfResolution describes.
 Image pointUpsample(const Image& half, int width, int height) {
     Image full(width, height, half.channels());
     for (int c = 0; c < half.channelCount(); ++c)
@@ -69,18 +72,14 @@ void ErrorMeasurePass::execute(PassContext& ctx) {
     const Image& b = ctx.input(kReference)->image();
     const Image& source = ctx.input(kSource)->image();
     std::optional<Image> upsampled;
-    if (source.width() == (b.width() + 1) / 2 && source.height() == (b.height() + 1) / 2 &&
-        source.width() < b.width())
+    if (isHalfResolution({source.width(), source.height()}, {b.width(), b.height()}))
         upsampled = pointUpsample(source, b.width(), b.height());
     const Image& a = upsampled ? *upsampled : source;
     const Texture* sigma = ctx.input(kReferenceStdErr);
     const Texture* depth = ctx.input(gbuffer::kDepth);
     std::optional<Image> mask;
-    if (depth) {
-        const float sky = mParams.skyDistance > 0.0f ? mParams.skyDistance
-                                                     : std::numeric_limits<float>::infinity();
-        mask = notSkyMask(depth->image(), sky);
-    }
+    if (depth)
+        mask = notSkyMask(depth->image(), skyDepth());
     Image absError(a.width(), a.height(), {"Y"});
     ErrorInputs in;
     in.result = &a;
@@ -89,11 +88,7 @@ void ErrorMeasurePass::execute(PassContext& ctx) {
     in.mask = mask ? &*mask : nullptr;
     in.tolerance = mParams.tolerance;
     const ErrorStats s = measureError(in, &absError);
-
-    for (const auto& [name, value] : s.figures())
-        ctx.addMetric(name, value);
-    ctx.addWork("pixels", s.pixels);
-    ctx.addWork("skippedPixels", s.maskedPixels);
+    reportStats(ctx, s);
 
     if (ctx.isRequested(kHeat)) {
         const float scale =

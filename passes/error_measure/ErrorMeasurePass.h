@@ -14,6 +14,8 @@ struct ErrorMeasureParams {
     float heatScale = 0.0f;    //!< |error| at the top of the heat map; 0 = 99th percentile
 };
 
+struct ErrorStats;
+
 class ErrorMeasurePass final : public Pass {
 public:
     using Params = ErrorMeasureParams;
@@ -23,7 +25,30 @@ public:
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
 
+#if FP_HAVE_CUDA
+    bool hasCudaKernel() const override { return true; }
+    void executeCuda(PassContext& ctx) override;  // ErrorMeasurePass.cu
+#endif
+
+    static constexpr const char* kSource = "source";
+    static constexpr const char* kReference = "reference";
+    static constexpr const char* kReferenceStdErr = "referenceStdErr";
+    static constexpr const char* kHeat = "heat";
+    static constexpr const char* kAbsError = "absError";
+
+    /// A half-resolution source (a half-res SSGI trace) is measured as the 4.27 composite reads
+    /// it: point-upsampled, full-res pixel (x, y) taking texel (x/2, y/2).
+    static bool isHalfResolution(Extent source, Extent reference) {
+        return source.width == (reference.width + 1) / 2 &&
+               source.height == (reference.height + 1) / 2 && source.width < reference.width;
+    }
+
 private:
+    /// Depths at or beyond this are sky.
+    float skyDepth() const;
+    /// The figures and work counts into the run report.
+    void reportStats(PassContext& ctx, const ErrorStats& s) const;
+
     Params mParams;
 };
 

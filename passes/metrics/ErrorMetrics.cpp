@@ -6,21 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <vector>
 
 namespace fp {
-
-namespace {
-
-// Sums of one tile, combined in tile order afterwards so the result does not depend on which
-// thread finished first (floating-point addition is not associative).
-struct Sums {
-    uint64_t pixels = 0, masked = 0, values = 0, over = 0;
-    double sq = 0, rel = 0, smape = 0, abs = 0, bias = 0, max = 0, noise = 0;
-};
-
-}  // namespace
 
 std::map<std::string, double> ErrorStats::figures() const {
     std::map<std::string, double> f = {{"rmse", rmse}, {"relMse", relMse},     {"smape", smape},
@@ -51,64 +39,45 @@ ErrorStats measureError(const ErrorInputs& in, Image* absError) {
     FP_CHECK(!s || (s->width() == b.width() && s->height() == b.height() &&
                     s->channelCount() == b.channelCount()),
              "the reference's standard error does not match the reference's size");
-    const int C = a.channelCount(), W = a.width(), H = a.height();
+    FP_CHECK(a.channelCount() <= ErrorPixelInputs::kMaxChannels,
+             "error_measure compares 1 to {} channels; the result has {}",
+             ErrorPixelInputs::kMaxChannels, a.channelCount());
+    ErrorPixelInputs pin;
+    pin.channels = a.channelCount();
+    pin.tolerance = in.tolerance;
+    for (int c = 0; c < pin.channels; ++c) {
+        pin.a[c] = viewOf(a.plane(c));
+        pin.b[c] = viewOf(b.plane(c));
+        if (s)
+            pin.sigma[c] = viewOf(s->plane(c));
+    }
+    if (in.mask)
+        pin.mask = viewOf(in.mask->plane(0));
+    const int W = a.width(), H = a.height();
     const int tilesX = (W + kTileSize - 1) / kTileSize;
-    std::vector<Sums> tiles(std::size_t(tilesX) * ((H + kTileSize - 1) / kTileSize));
-
+    // Sums per tile, combined in tile order afterwards so the result does not depend on which
+    // thread finished first (floating-point addition is not associative).
+    std::vector<ErrorSums> tiles(std::size_t(tilesX) * ((H + kTileSize - 1) / kTileSize));
     forEachTile(W, H, [&](const Tile& t) {
-        Sums& sum = tiles[std::size_t(t.y0 / kTileSize) * tilesX + t.x0 / kTileSize];
+        ErrorSums& sum = tiles[std::size_t(t.y0 / kTileSize) * tilesX + t.x0 / kTileSize];
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
-                float* err = absError ? &absError->plane(0).at(x, y) : nullptr;
-                if (in.mask && !(in.mask->plane(0).at(x, y) > 0.0f)) {
-                    ++sum.masked;
-                    if (err) *err = 0.0f;
-                    continue;
-                }
-                ++sum.pixels;
-                double pixelAbs = 0;
-                bool over = false;
-                for (int c = 0; c < C; ++c) {
-                    const double av = a.plane(c).at(x, y), bv = b.plane(c).at(x, y);
-                    const double e = av - bv, ae = std::abs(e);
-                    sum.sq += e * e;
-                    sum.rel += e * e / (bv * bv + kRelativeEpsilon);
-                    const double denom = std::abs(av) + std::abs(bv);
-                    sum.smape += denom > 0.0 ? 2.0 * ae / denom : 0.0;
-                    sum.abs += ae;
-                    sum.bias += e;
-                    sum.max = std::max(sum.max, ae);
-                    if (s) {
-                        const double sigma = s->plane(c).at(x, y);
-                        sum.noise += sigma * sigma;
-                    }
-                    over = over || ae > in.tolerance * (std::abs(bv) + kRelativeEpsilon);
-                    pixelAbs += ae;
-                }
-                sum.values += uint64_t(C);
-                sum.over += over ? 1 : 0;
-                if (err) *err = float(pixelAbs / C);
+                const float e = measurePixel(pin, x, y, sum);
+                if (absError)
+                    absError->plane(0).at(x, y) = e;
             }
     });
+    ErrorSums total;
+    for (const ErrorSums& t : tiles)
+        total.add(t);
+    return finishError(total, in.tolerance, s != nullptr);
+}
 
-    Sums total;
-    for (const Sums& t : tiles) {
-        total.pixels += t.pixels;
-        total.masked += t.masked;
-        total.values += t.values;
-        total.over += t.over;
-        total.sq += t.sq;
-        total.rel += t.rel;
-        total.smape += t.smape;
-        total.abs += t.abs;
-        total.bias += t.bias;
-        total.max = std::max(total.max, t.max);
-        total.noise += t.noise;
-    }
+ErrorStats finishError(const ErrorSums& total, double tolerance, bool hasSigma) {
     ErrorStats r;
     r.pixels = total.pixels;
     r.maskedPixels = total.masked;
-    r.tolerance = in.tolerance;
+    r.tolerance = tolerance;
     if (total.values == 0) return r;
     const double n = double(total.values);
     r.rmse = std::sqrt(total.sq / n);
@@ -118,7 +87,7 @@ ErrorStats measureError(const ErrorInputs& in, Image* absError) {
     r.bias = total.bias / n;
     r.maxError = total.max;
     r.overTolerance = double(total.over) / double(total.pixels);
-    if (s) r.noiseRmse = std::sqrt(total.noise / n);
+    if (hasSigma) r.noiseRmse = std::sqrt(total.noise / n);
     return r;
 }
 
@@ -127,8 +96,7 @@ Image notSkyMask(const Image& sceneDepth, float skyDistance) {
     forEachTile(mask.width(), mask.height(), [&](const Tile& t) {
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
-                const float d = sceneDepth.plane(0).at(x, y);
-                mask.plane(0).at(x, y) = std::isfinite(d) && d < skyDistance ? 1.0f : 0.0f;
+                mask.plane(0).at(x, y) = isNotSky(sceneDepth.plane(0).at(x, y), skyDistance);
             }
     });
     return mask;

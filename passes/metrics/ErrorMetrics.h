@@ -8,10 +8,13 @@
 // When the reference carries its standard error σ (a Truth.*.StdErr layer), `noiseRmse` =
 // √(Σσ²/N) is the RMSE that a perfect result would still show against this reference: the floor
 // below which a comparison says nothing.
+#include "passes/core/HostDevice.h"
 #include "passes/core/Image.h"
+#include "passes/core/PlaneView.h"
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -45,9 +48,82 @@ struct ErrorInputs {
     double tolerance = 0.1;
 };
 
+/// Running sums of a region of pixels. The CPU sums each 64×64 tile and then the tiles in order;
+/// the GPU sums each row of a tile in lanes (ErrorMeasurePass.cu): the same per-value terms, added
+/// in another order.
+struct ErrorSums {
+    unsigned long long pixels = 0, masked = 0, values = 0, over = 0;
+    double sq = 0, rel = 0, smape = 0, abs = 0, bias = 0, max = 0, noise = 0;
+
+    FP_HD void add(const ErrorSums& o) {
+        pixels += o.pixels;
+        masked += o.masked;
+        values += o.values;
+        over += o.over;
+        sq += o.sq;
+        rel += o.rel;
+        smape += o.smape;
+        abs += o.abs;
+        bias += o.bias;
+        max = max < o.max ? o.max : max;  // std::max's order
+        noise += o.noise;
+    }
+};
+
+/// One pixel's planes as per-pixel code reads them (either backend). `mask` and `sigma` have
+/// null data when absent; `halfSource`: the result is at half resolution and pixel (x, y) reads
+/// its texel (x/2, y/2), as the 4.27 composite point-upsamples a half-resolution trace.
+struct ErrorPixelInputs {
+    static constexpr int kMaxChannels = 4;
+    PlaneView a[kMaxChannels], b[kMaxChannels], sigma[kMaxChannels], mask;
+    int channels = 0;
+    bool halfSource = false;
+    double tolerance = 0.1;
+};
+
+/// Adds pixel (x, y) to `sum` and returns its mean |e| over the channels (0 outside the mask).
+FP_HD inline float measurePixel(const ErrorPixelInputs& in, int x, int y, ErrorSums& sum) {
+    if (in.mask.data && !(in.mask.at(x, y) > 0.0f)) {
+        ++sum.masked;
+        return 0.0f;
+    }
+    ++sum.pixels;
+    const int ax = in.halfSource ? x / 2 : x, ay = in.halfSource ? y / 2 : y;
+    double pixelAbs = 0;
+    bool over = false;
+    for (int c = 0; c < in.channels; ++c) {
+        const double av = in.a[c].at(ax, ay), bv = in.b[c].at(x, y);
+        const double e = av - bv, ae = e < 0 ? -e : e;
+        sum.sq += e * e;
+        sum.rel += e * e / (bv * bv + kRelativeEpsilon);
+        const double denom = (av < 0 ? -av : av) + (bv < 0 ? -bv : bv);
+        sum.smape += denom > 0.0 ? 2.0 * ae / denom : 0.0;
+        sum.abs += ae;
+        sum.bias += e;
+        sum.max = sum.max < ae ? ae : sum.max;  // std::max's order
+        if (in.sigma[c].data) {
+            const double sigma = in.sigma[c].at(x, y);
+            sum.noise += sigma * sigma;
+        }
+        over = over || ae > in.tolerance * ((bv < 0 ? -bv : bv) + kRelativeEpsilon);
+        pixelAbs += ae;
+    }
+    sum.values += (unsigned long long)in.channels;
+    sum.over += over ? 1 : 0;
+    return float(pixelAbs / in.channels);
+}
+
+/// The figures of the summed pixels.
+ErrorStats finishError(const ErrorSums& total, double tolerance, bool hasSigma);
+
 /// Computes the statistics; if `absError` is given it receives the per-pixel mean |e| over the
 /// channels (0 outside the mask), same size, 1 channel.
 ErrorStats measureError(const ErrorInputs& in, Image* absError = nullptr);
+
+/// A pixel of view depth `depth` is compared (not sky): finite and nearer than `skyDistance`.
+FP_HD inline float isNotSky(float depth, float skyDistance) {
+    return std::isfinite(depth) && depth < skyDistance ? 1.0f : 0.0f;
+}
 
 /// Mask of the pixels that are not sky: finite depth below `skyDistance`.
 Image notSkyMask(const Image& sceneDepth, float skyDistance);

@@ -9,23 +9,6 @@
 
 namespace fp {
 
-namespace {
-
-// Viridis sampled at 11 evenly spaced points (display-referred sRGB values).
-constexpr std::array<std::array<float, 3>, 11> kViridis = {{
-    {0.267f, 0.005f, 0.329f}, {0.283f, 0.141f, 0.458f}, {0.254f, 0.265f, 0.530f},
-    {0.207f, 0.372f, 0.553f}, {0.164f, 0.471f, 0.558f}, {0.128f, 0.567f, 0.551f},
-    {0.135f, 0.659f, 0.518f}, {0.267f, 0.749f, 0.441f}, {0.478f, 0.821f, 0.318f},
-    {0.741f, 0.873f, 0.150f}, {0.993f, 0.906f, 0.144f},
-}};
-
-// sRGB electro-optical transfer function: display code value → linear.
-float srgbToLinear(float v) {
-    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
-
-}  // namespace
-
 float heatScale(const Image& absError, const Image* mask) {
     std::vector<float> v;
     for (int y = 0; y < absError.height(); ++y)
@@ -39,23 +22,15 @@ float heatScale(const Image& absError, const Image* mask) {
 
 Image heatmap(const Image& absError, const Image* mask, float scale) {
     Image out(absError.width(), absError.height(), {"R", "G", "B"});
-    const float grey = srgbToLinear(0.5f);
+    const float grey = heatMaskedGrey();
     forEachTile(out.width(), out.height(), [&](const Tile& t) {
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
-                if (mask && !(mask->plane(0).at(x, y) > 0.0f)) {
-                    for (int c = 0; c < 3; ++c) out.plane(c).at(x, y) = grey;
-                    continue;
-                }
-                const float e = absError.plane(0).at(x, y);
-                const float u = scale > 0.0f && std::isfinite(e) ? std::clamp(e / scale, 0.0f, 1.0f)
-                                                                 : (e > 0.0f ? 1.0f : 0.0f);
-                const float f = u * float(kViridis.size() - 1);
-                const int i = std::min(int(f), int(kViridis.size()) - 2);
-                const float w = f - float(i);
+                float rgb[3] = {grey, grey, grey};
+                if (!mask || mask->plane(0).at(x, y) > 0.0f)
+                    heatColor(absError.plane(0).at(x, y), scale, rgb);
                 for (int c = 0; c < 3; ++c)
-                    out.plane(c).at(x, y) =
-                        srgbToLinear(kViridis[i][c] * (1.0f - w) + kViridis[i + 1][c] * w);
+                    out.plane(c).at(x, y) = rgb[c];
             }
     });
     return out;
@@ -69,7 +44,10 @@ Image heatmapRamp(int steps) {
 }
 
 std::vector<std::array<float, 3>> heatColorStops() {
-    return {kViridis.begin(), kViridis.end()};
+    std::vector<std::array<float, 3>> stops(kViridisStops);
+    for (int i = 0; i < kViridisStops; ++i)
+        stops[i] = {viridisStop(i, 0), viridisStop(i, 1), viridisStop(i, 2)};
+    return stops;
 }
 
 }  // namespace fp

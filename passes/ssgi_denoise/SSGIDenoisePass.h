@@ -7,8 +7,6 @@
 #include "passes/core/Params.h"
 #include "passes/core/Pass.h"
 
-#include <array>
-
 namespace fp {
 
 struct SSGIDenoiseParams {
@@ -27,16 +25,10 @@ public:
     void execute(PassContext& ctx) override;
     std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
 
-    static constexpr int kTracks = 4;       //!< one per pixel of a 2×2 quad
-    static constexpr int kTaps = 8;         //!< reconstruction samples besides the centre
-    static constexpr float kClampSigma = 1.25f;
-    static constexpr float kTargetSamples = 128.0f;
-    static constexpr float kHistoryCap = 64.0f;  //!< R8 storage of SampleCount/64
-    struct Offset {
-        float x, y;  //!< from the quad centre, pixels (half-integers)
-    };
-    /// The reconstruction kernel: per track, 8 pixel offsets from the centre of the 2×2 quad.
-    static const std::array<std::array<Offset, kTaps>, kTracks>& kernel();
+#if FP_HAVE_CUDA
+    bool hasCudaKernel() const override { return true; }
+    void executeCuda(PassContext& ctx) override;  // SSGIDenoisePass.cu
+#endif
 
 private:
     Params mParams;

@@ -70,7 +70,7 @@ check "--set with a bad value exits 2 naming the flag" expect_exit 2 "--set hzb.
 # The GPU backend: placement shown by plan; without a usable GPU (or without CUDA in the build)
 # run says why and exits 2 before reading a pixel.
 if "$FP" plan "$DIR/config.json" --device cuda > "$DIR/plan_cuda.txt" 2>&1; then
-    check "plan --device cuda marks the GPU passes" bash -c "grep -q 'ssgi (ssgi) \[gpu\]' '$DIR/plan_cuda.txt' && grep -q 'ssgi_denoise (ssgi_denoise) \[cpu\]' '$DIR/plan_cuda.txt'"
+    check "plan --device cuda marks the GPU passes" bash -c "grep -q 'ssgi (ssgi) \[gpu\]' '$DIR/plan_cuda.txt' && grep -q 'display (display) \[gpu\]' '$DIR/plan_cuda.txt'"
     check "plan --json gives each step's device" bash -c "'$FP' plan '$DIR/config.json' --device cuda --json | grep -q '\"device\": \"cuda\"'"
     if ! grep -q "not usable here" "$DIR/plan_cuda.txt"; then
         echo "  (a GPU is here: run --device cuda is checked by framepass_gpu_check)"

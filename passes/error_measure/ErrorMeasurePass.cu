@@ -1,0 +1,186 @@
+// ErrorMeasurePass on the GPU. Each pixel's terms and |error| are the CPU's (measurePixel, the
+// same double arithmetic); only the order of the sums differs: each row is summed by one warp, 32
+// lanes striding along it and the lanes added in lane order, and the rows are added on the host
+// in row order — deterministic from run to run, and within a few double roundings of the CPU's
+// tile-order sums. The heat map's 99th percentile is selected exactly, by radix selection over the
+// float bits of |error| (4 rounds of 256-bin histograms).
+#include "passes/common/GBuffer.h"
+#include "passes/core/Cuda.h"
+#include "passes/core/CudaLaunch.cuh"
+#include "passes/core/Error.h"
+#include "passes/error_measure/ErrorMeasurePass.h"
+#include "passes/metrics/ErrorMetrics.h"
+#include "passes/metrics/Heatmap.h"
+
+#include <cuda_runtime.h>
+
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace fp {
+
+namespace {
+
+constexpr int kRowsPerBlock = 4;  // one warp per row
+
+__global__ void __launch_bounds__(32 * kRowsPerBlock)
+    sumRows(const __grid_constant__ ErrorPixelInputs in, int width, int height, PlaneSpan absError,
+            ErrorSums* rowSums) {
+    __shared__ ErrorSums lanes[kRowsPerBlock][32];
+    const int lane = threadIdx.x, row = threadIdx.y;
+    const int y = blockIdx.x * kRowsPerBlock + row;
+    ErrorSums sum;
+    if (y < height)
+        for (int x = lane; x < width; x += 32) {
+            const float e = measurePixel(in, x, y, sum);
+            if (absError)
+                absError.at(x, y) = e;
+        }
+    lanes[row][lane] = sum;
+    __syncthreads();
+    if (lane == 0 && y < height) {
+        ErrorSums total = lanes[row][0];
+        for (int i = 1; i < 32; ++i)
+            total.add(lanes[row][i]);
+        rowSums[y] = total;
+    }
+}
+
+// Histogram of byte `shift` of the bits of the masked-in |error| values whose higher bytes equal
+// `prefix` (non-negative floats order as their bits do).
+__global__ void byteHistogram(PlaneView absError, PlaneView mask, uint32_t prefix, uint32_t highMask,
+                              int shift, unsigned int* bins) {
+    __shared__ unsigned int local[256];
+    const int lane = threadIdx.y * blockDim.x + threadIdx.x;
+    for (int i = lane; i < 256; i += blockDim.x * blockDim.y)
+        local[i] = 0;
+    __syncthreads();
+    const int x = blockIdx.x * blockDim.x + threadIdx.x;
+    const int y = blockIdx.y * blockDim.y + threadIdx.y;
+    if (x < absError.width && y < absError.height && (!mask.data || mask.at(x, y) > 0.0f)) {
+        const uint32_t bits = std::bit_cast<uint32_t>(absError.at(x, y));
+        if ((bits & highMask) == prefix)
+            atomicAdd(&local[(bits >> shift) & 0xFFu], 1u);
+    }
+    __syncthreads();
+    for (int i = lane; i < 256; i += blockDim.x * blockDim.y)
+        if (local[i])
+            atomicAdd(&bins[i], local[i]);
+}
+
+// The value of rank `k` (0-based, ascending) among the masked-in |error| values: what
+// heatScale's nth_element picks on the CPU.
+float selectRank(PlaneView absError, PlaneView mask, unsigned long long k) {
+    auto bins = std::static_pointer_cast<unsigned int>(cuda::allocateBytes(256 * sizeof(unsigned)));
+    uint32_t prefix = 0, highMask = 0;
+    const dim3 block(16, 8);
+    const dim3 grid((absError.width + 15) / 16, (absError.height + 7) / 8);
+    for (int shift = 24; shift >= 0; shift -= 8) {
+        cuda::checkStatus(cudaMemsetAsync(bins.get(), 0, 256 * sizeof(unsigned)), "error_measure");
+        byteHistogram<<<grid, block>>>(absError, mask, prefix, highMask, shift, bins.get());
+        cuda::checkStatus(cudaGetLastError(), "error_measure");
+        unsigned int host[256];
+        cuda::checkStatus(cudaMemcpy(host, bins.get(), sizeof host, cudaMemcpyDeviceToHost),
+                          "error_measure");
+        uint32_t byte = 0;
+        for (; byte < 255 && k >= host[byte]; ++byte)
+            k -= host[byte];
+        prefix |= byte << shift;
+        highMask |= 0xFFu << shift;
+    }
+    return std::bit_cast<float>(prefix);
+}
+
+}  // namespace
+
+void ErrorMeasurePass::executeCuda(PassContext& ctx) {
+    const DeviceImage& b = ctx.deviceInput(kReference)->image();
+    const DeviceImage& a = ctx.deviceInput(kSource)->image();
+    const DeviceTexture* sigma = ctx.deviceInput(kReferenceStdErr);
+    const DeviceTexture* depth = ctx.deviceInput(gbuffer::kDepth);
+    const int W = b.width(), H = b.height();
+    ErrorPixelInputs in;
+    in.halfSource = isHalfResolution({a.width(), a.height()}, {W, H});
+    const int aw = in.halfSource ? W : a.width(), ah = in.halfSource ? H : a.height();
+    FP_CHECK(aw == W && ah == H, "result is {}×{} but the reference is {}×{}", aw, ah, W, H);
+    FP_CHECK(a.channelCount() == b.channelCount(),
+             "result has {} channels but the reference has {}", a.channelCount(), b.channelCount());
+    FP_CHECK(!sigma || (sigma->image().width() == W && sigma->image().height() == H &&
+                        sigma->image().channelCount() == b.channelCount()),
+             "the reference's standard error does not match the reference's size");
+    FP_CHECK(a.channelCount() <= ErrorPixelInputs::kMaxChannels,
+             "error_measure compares 1 to {} channels; the result has {}",
+             ErrorPixelInputs::kMaxChannels, a.channelCount());
+    in.channels = a.channelCount();
+    in.tolerance = mParams.tolerance;
+    for (int c = 0; c < in.channels; ++c) {
+        in.a[c] = a.plane(c);
+        in.b[c] = b.plane(c);
+        if (sigma)
+            in.sigma[c] = sigma->image().plane(c);
+    }
+    DeviceTexture mask;
+    if (depth) {
+        mask = cuda::allocate({{W, H}}, {"Y"});
+        const PlaneView d = depth->image().plane(0);
+        const PlaneSpan m = mask.image().plane(0);
+        const float sky = skyDepth();
+        CudaPixels{}.forEach<0>(
+            W, H, [=] FP_HD(int x, int y, WorkCounts<0>&) { m.at(x, y) = isNotSky(d.at(x, y), sky); },
+            "error_measure mask");
+        in.mask = viewOf(m);
+    }
+
+    const bool wantHeat = ctx.isRequested(kHeat);
+    DeviceTexture absError;
+    if (ctx.isRequested(kAbsError))
+        absError = ctx.deviceOutput(kAbsError, {{W, H}});
+    else if (wantHeat)
+        absError = cuda::allocate({{W, H}}, {"Y"});
+    const PlaneSpan err = absError.empty() ? PlaneSpan{} : absError.image().plane(0);
+
+    auto rowSums = std::static_pointer_cast<ErrorSums>(
+        cuda::allocateBytes(sizeof(ErrorSums) * std::size_t(std::max(H, 1))));
+    sumRows<<<(H + kRowsPerBlock - 1) / kRowsPerBlock, dim3(32, kRowsPerBlock)>>>(in, W, H, err,
+                                                                                   rowSums.get());
+    cuda::checkStatus(cudaGetLastError(), "error_measure");
+    std::vector<ErrorSums> rows(H);
+    cuda::checkStatus(cudaMemcpy(rows.data(), rowSums.get(), sizeof(ErrorSums) * H,
+                                 cudaMemcpyDeviceToHost),
+                      "error_measure");
+    ErrorSums total;
+    for (const ErrorSums& r : rows)
+        total.add(r);
+    const ErrorStats s = finishError(total, mParams.tolerance, sigma != nullptr);
+    reportStats(ctx, s);
+
+    if (wantHeat) {
+        const float scale =
+            mParams.heatScale > 0.0f
+                ? mParams.heatScale
+                : (s.pixels == 0 ? 0.0f
+                                 : selectRank(viewOf(err), in.mask,
+                                              std::min<unsigned long long>(
+                                                  s.pixels - 1, (unsigned long long)(0.99 * double(s.pixels)))));
+        DeviceImage& heat = ctx.deviceOutput(kHeat, {{W, H}}).image();
+        const PlaneSpan r = heat.plane(0), g = heat.plane(1), bl = heat.plane(2);
+        const PlaneView mask = in.mask, e = viewOf(err);
+        CudaPixels{}.forEach<0>(
+            W, H,
+            [=] FP_HD(int x, int y, WorkCounts<0>&) {
+                const float grey = heatMaskedGrey();
+                float rgb[3] = {grey, grey, grey};
+                if (!mask.data || mask.at(x, y) > 0.0f)
+                    heatColor(e.at(x, y), scale, rgb);
+                r.at(x, y) = rgb[0];
+                g.at(x, y) = rgb[1];
+                bl.at(x, y) = rgb[2];
+            },
+            "error_measure heat");
+        ctx.addMetric("heatScale", scale);
+    }
+}
+
+}  // namespace fp
