@@ -8,6 +8,7 @@
 #include "passes/core/HostDevice.h"
 #include "passes/core/PlaneView.h"
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -30,6 +31,11 @@ HzbView hzbViewOf(const TextureT& hzb) {
     for (int m = 0; m < v.mipCount; ++m)
         v.mips[m] = viewOf(hzb.mip(m).plane(0));
     return v;
+}
+
+/// 2^−m exactly (m in 0…126), without a division: the march scales by it at every sample.
+FP_HD inline float inversePowerOfTwo(int m) {
+    return std::bit_cast<float>(uint32_t(127 - m) << 23);
 }
 
 /// Point sampling with an explicit fractional level: the nearest mip (reference §2, §13.10).
@@ -64,7 +70,7 @@ FP_HD inline int marchHzb(const HzbView& hzb,
         for (int j = 0; j < 4; ++j) {
             const int k = batch * 4 + j + 1;
             const int mip = nearestMip(j < 2 ? level : level + levelStep, hzb.mipCount);
-            const float scale = 1.0f / float(1 << mip);
+            const float scale = inversePowerOfTwo(mip);
             const float hx = r.origin.hx + r.step.hx * float(k);
             const float hy = r.origin.hy + r.step.hy * float(k);
             const float rz = r.origin.z + r.step.z * float(k);

@@ -144,7 +144,7 @@ FP_HD inline bool raySteps(const TraceSetup& s, const PixelStart& p, const Vec3f
 // Last frame's colour where a ray hit, at the level it reached (point, nearest mip; §4.7).
 FP_HD inline void hitColor(const TraceSetup& s, const RayPoint& hit, float level, float c[3]) {
     const int mip = nearestMip(level, kReducedMips);
-    const float scale = 1.0f / float(1 << mip);
+    const float scale = inversePowerOfTwo(mip);
     const int rx = floorToInt(hit.hx * scale, 0, s.reducedMaxX[mip]);
     const int ry = floorToInt(hit.hy * scale, 0, s.reducedMaxY[mip]);
     c[0] = s.reduced[mip][0].at(rx, ry);
@@ -169,81 +169,113 @@ FP_HD inline bool viewDistanceToHit(const TraceSetup& s,
     return true;
 }
 
-// What one pixel's rays gathered.
-struct PixelTrace {
-    float diffuse[3];
-    float hitFraction;
-    int measuredHits;
-    double distanceSum;
+// What one ray brought back.
+struct RayTrace {
+    bool hit = false;
+    bool measured = false;  // a hit whose distance was measured (not the sky)
+    float weighted[3] = {0, 0, 0};  // last frame's colour at the hit, Karis-weighted (§4.7)
+    double distance = 0;
 };
 
-// Reference §4.4–4.8 for one traced pixel: every ray marched, hits gathering last frame's
-// colour Karis-weighted (§4.7), the weighting undone after the mean.
-FP_HD inline PixelTrace tracePixel(const TraceSetup& s,
-                                   const PixelStart& p,
-                                   int x,
-                                   int y,
-                                   bool wantDistance,
-                                   unsigned long long& rays,
-                                   unsigned long long& hzbSamples) {
-    float sum[3] = {0, 0, 0};
-    int hits = 0;
-    PixelTrace t{{0, 0, 0}, 0.0f, 0, 0.0};
-    for (int r = 0; r < s.rays; ++r) {
-        const Vec3f L = rayDirection(p.nView, x, y, s.frameMod8, r, s.rays);
-        RaySteps steps;
-        ++rays;
-        if (!raySteps(s, p, L, steps))
-            continue;
-        float level;
-        const int hitSample = marchHzb(s.hzb, steps, s.steps, s.levelStep, level, hzbSamples);
-        if (hitSample < 0)
-            continue;
-        const RayPoint hit{steps.origin.hx + steps.step.hx * float(hitSample),
-                           steps.origin.hy + steps.step.hy * float(hitSample),
-                           steps.origin.z + steps.step.z * float(hitSample)};
-        float c[3];
-        hitColor(s, hit, level, c);
-        const float karis = 1.0f / (1.0f + ue::luma(c[0], c[1], c[2]));
-        for (int ch = 0; ch < 3; ++ch)
-            sum[ch] += c[ch] * karis;
-        ++hits;
-        double distance;
-        if (wantDistance && viewDistanceToHit(s, p, hit, distance)) {
-            t.distanceSum += distance;
-            ++t.measuredHits;
-        }
-    }
-    const float invRays = 1.0f / float(s.rays);
-    const float mean[3] = {sum[0] * invRays, sum[1] * invRays, sum[2] * invRays};
-    const float inverseKaris = 1.0f / (1.0f - ue::luma(mean[0], mean[1], mean[2]));
+// Reference §4.4–4.7 for ray `r` of a traced pixel: marched, and at a hit last frame's colour
+// Karis-weighted.
+FP_HD inline RayTrace traceRay(const TraceSetup& s,
+                               const PixelStart& p,
+                               int x,
+                               int y,
+                               int r,
+                               bool wantDistance,
+                               unsigned long long& hzbSamples) {
+    RayTrace t;
+    const Vec3f L = rayDirection(p.nView, x, y, s.frameMod8, r, s.rays);
+    RaySteps steps;
+    if (!raySteps(s, p, L, steps))
+        return t;
+    float level;
+    const int hitSample = marchHzb(s.hzb, steps, s.steps, s.levelStep, level, hzbSamples);
+    if (hitSample < 0)
+        return t;
+    const RayPoint hit{steps.origin.hx + steps.step.hx * float(hitSample),
+                       steps.origin.hy + steps.step.hy * float(hitSample),
+                       steps.origin.z + steps.step.z * float(hitSample)};
+    float c[3];
+    hitColor(s, hit, level, c);
+    const float karis = 1.0f / (1.0f + ue::luma(c[0], c[1], c[2]));
     for (int ch = 0; ch < 3; ++ch)
-        t.diffuse[ch] = mean[ch] * inverseKaris;
-    t.hitFraction = float(hits) * invRays;
+        t.weighted[ch] = c[ch] * karis;
+    t.hit = true;
+    t.measured = wantDistance && viewDistanceToHit(s, p, hit, t.distance);
     return t;
 }
 
-/// One trace pixel (x, y) of the frame: skipped (unlit or sky: AO 1, the rest 0) or traced, its
+// What one pixel's rays gathered, summed in ray order.
+struct PixelTrace {
+    float sum[3] = {0, 0, 0};
+    int hits = 0;
+    int measuredHits = 0;
+    double distanceSum = 0;
+
+    FP_HD void add(const RayTrace& t) {
+        if (!t.hit)
+            return;
+        for (int ch = 0; ch < 3; ++ch)
+            sum[ch] += t.weighted[ch];
+        ++hits;
+        if (t.measured) {
+            distanceSum += t.distance;
+            ++measuredHits;
+        }
+    }
+};
+
+/// The pixel (px, py) traced at trace texel (x, y) is lit (not sky, not unlit).
+FP_HD inline bool tracesPixel(const Frame& f, int px, int py) {
+    return isLitSurface(f.depth.at(px, py), f.shadingModel.at(px, py));
+}
+
+/// A skipped trace pixel: AO 1, the rest stays 0.
+FP_HD inline void skipPixel(const Frame& f, int x, int y) {
+    f.ao.at(x, y) = 1.0f;
+}
+
+/// Reference §4.8: the mean of the rays with the Karis weighting undone, written out.
+FP_HD inline void finishPixel(const Frame& f, int x, int y, const PixelTrace& t) {
+    const float invRays = 1.0f / float(f.setup.rays);
+    const float mean[3] = {t.sum[0] * invRays, t.sum[1] * invRays, t.sum[2] * invRays};
+    const float inverseKaris = 1.0f / (1.0f - ue::luma(mean[0], mean[1], mean[2]));
+    for (int ch = 0; ch < 3; ++ch)
+        f.diffuse[ch].at(x, y) = mean[ch] * inverseKaris * f.colorScale;
+    const float hitFraction = float(t.hits) * invRays;
+    f.ao.at(x, y) = 1.0f - hitFraction;
+    if (f.hitMask)
+        f.hitMask.at(x, y) = hitFraction;
+    if (f.hitDistance && t.measuredHits > 0)
+        f.hitDistance.at(x, y) = float(t.distanceSum / t.measuredHits);
+}
+
+/// The full-resolution pixel that trace texel (x, y) stands for.
+FP_HD inline void tracedPixel(const Frame& f, int x, int y, int& px, int& py) {
+    px = std::min(x * f.toFull, f.width - 1);
+    py = std::min(y * f.toFull, f.height - 1);
+}
+
+/// One trace pixel (x, y) of the frame: skipped (unlit or sky) or traced ray after ray, its
 /// outputs written and its work added to `counts` (indexed by Counter).
 FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* counts) {
-    const int px = std::min(x * f.toFull, f.width - 1), py = std::min(y * f.toFull, f.height - 1);
-    const double d = f.depth.at(px, py);
-    if (!isLitSurface(d, f.shadingModel.at(px, py))) {
-        f.ao.at(x, y) = 1.0f;  // diffuse, hit mask, distance stay 0
+    int px, py;
+    tracedPixel(f, x, y, px, py);
+    if (!tracesPixel(f, px, py)) {
+        skipPixel(f, x, y);
         ++counts[kSkipped];
         return;
     }
     ++counts[kTraced];
-    const PixelStart start = pixelStart(f, x, y, px, py, d);
-    const PixelTrace r = tracePixel(f.setup, start, x, y, bool(f.hitDistance), counts[kRays],
-                                    counts[kHzbSamples]);
-    for (int ch = 0; ch < 3; ++ch)
-        f.diffuse[ch].at(x, y) = r.diffuse[ch] * f.colorScale;
-    f.ao.at(x, y) = 1.0f - r.hitFraction;
-    if (f.hitMask)
-        f.hitMask.at(x, y) = r.hitFraction;
-    if (f.hitDistance && r.measuredHits > 0)
-        f.hitDistance.at(x, y) = float(r.distanceSum / r.measuredHits);
+    const PixelStart start = pixelStart(f, x, y, px, py, f.depth.at(px, py));
+    PixelTrace t;
+    for (int r = 0; r < f.setup.rays; ++r)
+        t.add(traceRay(f.setup, start, x, y, r, bool(f.hitDistance), counts[kHzbSamples]));
+    counts[kRays] += (unsigned long long)f.setup.rays;
+    finishPixel(f, x, y, t);
 }
 
 /// Trace resolution: the frame, or half of it rounded up (reference §4.3).

@@ -64,7 +64,8 @@ std::unique_ptr<Capture> captureScene(const std::string& scenePath, Extent exten
 // every intermediate written when `dumpAll`; `withErrors` adds two error_measure steps (the GI
 // against the capture's colour, with a standard error, and the AO against the GBuffer's AO) so
 // every pass with a kernel runs.
-Plan demoPlan(const std::string& device, bool dumpAll, bool withErrors = false) {
+Plan demoPlan(const std::string& device, bool dumpAll, bool withErrors = false, int quality = 4,
+              bool halfRes = false) {
     nlohmann::json config = {{"version", 1}, {"capture", "memory.exr"}};
     if (withErrors) {
         config["passes"] = nlohmann::json::parse(R"([
@@ -85,6 +86,8 @@ Plan demoPlan(const std::string& device, bool dumpAll, bool withErrors = false) 
           { "name": "ao_vs_gbuffer", "type": "error_measure", "params": { "skyDistance": 1e6 },
             "inputs": { "source": "ssgi_denoise.ao", "reference": "capture:GBufferAO" } }
         ])");
+        config["passes"][2]["params"] = {{"quality", quality}, {"halfRes", halfRes}};
+        config["passes"][3]["params"] = {{"halfRes", halfRes}};
         config["outputs"] = {{"final.####.exr", {"display.image", "gi_vs_color.heat",
                                                  "gi_vs_color.absError", "ao_vs_gbuffer.heat"}}};
     }
@@ -172,10 +175,11 @@ void printDifferences(const std::string& what, const Comparison& c) {
 
 // Frames 1–3 of a scene on both devices, the temporal passes' history carried from frame to frame
 // (on the GPU it stays in device memory). Every layer of every frame, and every metric.
-Comparison runBoth(const std::string& scene, Extent extent) {
+Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, bool halfRes = false) {
     Comparison out;
     HistoryStore cpuHistory, gpuHistory;
-    const Plan cpuPlan = demoPlan("cpu", true, true), gpuPlan = demoPlan("cuda", true, true);
+    const Plan cpuPlan = demoPlan("cpu", true, true, quality, halfRes);
+    const Plan gpuPlan = demoPlan("cuda", true, true, quality, halfRes);
     for (int frame = 1; frame <= 3; ++frame) {
         auto cap = captureScene(scene, extent, frame);
         cap->source.info.firstInSequence = frame == 1;
@@ -254,12 +258,15 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
         const Plan plan = demoPlan(device, false);
         std::map<std::string, std::vector<double>> wall, gpu;
         std::vector<double> frames, transfers;
+        double upBytes = 0, downBytes = 0;
         for (int r = 0; r < runs + 1; ++r) {  // the first run warms up (allocations, module load)
             test::MemorySink sink;
             const FrameReport rep = executePlan(plan, cap->source, sink);
             if (r == 0)
                 continue;
             frames.push_back(rep.seconds);
+            upBytes = double(rep.uploadBytes);
+            downBytes = double(rep.downloadBytes);
             transfers.push_back(rep.transferSeconds);
             for (const auto& p : rep.passes) {
                 wall[p.name].push_back(p.seconds);
@@ -288,8 +295,9 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
         }
         dj["passSeconds"] = kernels;
         std::cout << fmt::format("  passes {:.3f} ms (GPU passes by events); frame {:.3f} ms wall, "
-                                 "of it host↔GPU copies {:.3f} ms\n",
-                                 kernels * 1e3, median(frames) * 1e3, median(transfers) * 1e3);
+                                 "of it host↔GPU copies {:.3f} ms ({:.1f} MB up, {:.1f} MB down)\n",
+                                 kernels * 1e3, median(frames) * 1e3, median(transfers) * 1e3,
+                                 upBytes / 1e6, downBytes / 1e6);
         result[device] = dj;
     }
     if (!jsonPath.empty())
@@ -301,15 +309,19 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
 
 TEST_CASE("gpu: the check's chain runs on the CPU, with every figure it compares") {
     // Runs without a GPU too, so a machine without one still checks the chain the GPU cases use.
-    auto cap = captureScene(sourceDir() + "/examples/cornell/scene.json", {64, 64}, 1);
-    test::MemorySink sink;
-    const FrameReport r = executePlan(demoPlan("cpu", true, true), cap->source, sink);
-    int figures = 0;
-    for (const auto& p : r.passes)
-        figures += int(p.metrics.size());
-    CHECK(figures >= 2 * 7);
-    CHECK(sink.layers.count("gi_vs_color.heat") == 1);
-    CHECK(sink.layers.count("display.image") == 1);
+    auto cap = captureScene(sourceDir() + "/examples/cornell/scene.json", {64, 48}, 1);
+    for (const bool halfRes : {false, true}) {
+        test::MemorySink sink;
+        const FrameReport r =
+            executePlan(demoPlan("cpu", true, true, halfRes ? 1 : 4, halfRes), cap->source, sink);
+        int figures = 0;
+        for (const auto& p : r.passes)
+            figures += int(p.metrics.size());
+        CHECK(figures >= 2 * 7);
+        CHECK(sink.layers.count("gi_vs_color.heat") == 1);
+        CHECK(sink.layers.count("display.image") == 1);
+        CHECK(sink.layers.at("ssgi.diffuse").image().width() == (halfRes ? 32 : 64));
+    }
 }
 
 TEST_CASE("gpu: the demo chain on the GPU matches the CPU on the Cornell capture") {
@@ -325,6 +337,14 @@ TEST_CASE("gpu: the demo chain on the GPU matches the CPU on the hard capture") 
         return;
     const auto diffs = runBoth(sourceDir() + "/examples/hard/scene.json", {256, 192});
     printDifferences("hard 256×192, frames 1–3", diffs);
+    checkAgreement(diffs);
+}
+
+TEST_CASE("gpu: quality 1 at half resolution on the GPU matches the CPU (8 pixels a warp)") {
+    if (skipWithoutGpu())
+        return;
+    const auto diffs = runBoth(sourceDir() + "/examples/cornell/scene.json", {250, 190}, 1, true);
+    printDifferences("Cornell 250×190, r.SSGI.Quality 1, half resolution, frames 1–3", diffs);
     checkAgreement(diffs);
 }
 
