@@ -18,6 +18,17 @@ FP_HD inline int floorToInt(double v, int lo, int hi) {
     return std::clamp(int(std::floor(v)), lo, hi);
 }
 
+/// The same for a float, in float arithmetic (GPUs convert and floor doubles at a fraction of the
+/// float rate, and the HZB march does this at every sample). Identical results while |lo| and
+/// |hi| are at most 2²⁴ (exact in float), which image coordinates are.
+FP_HD inline int floorToInt(float v, int lo, int hi) {
+    if (!(v >= float(lo)))
+        return lo;
+    if (v >= float(hi))
+        return hi;
+    return std::clamp(int(std::floor(v)), lo, hi);
+}
+
 /// v rounded towards zero and clamped to [lo, hi]; NaN gives lo.
 FP_HD inline int truncToInt(double v, int lo, int hi) {
     if (!(v >= double(lo)))
