@@ -105,18 +105,15 @@ public:
           mHistory(history) {}
 
     const PassHistory* history() const override {
-        FP_CHECK(mStep.io.temporal, "pass '{}' reads history without declaring temporal",
-                 mStep.name);
+        requireTemporal("reads");
         return mHistory;
     }
     void keepHistory(Texture state) override {
-        FP_CHECK(mStep.io.temporal, "pass '{}' keeps history without declaring temporal",
-                 mStep.name);
+        requireTemporal("keeps");
         mKept = PassHistory{std::move(state), {}, mFrame.camera.current};
     }
     void keepHistory(DeviceTexture state) override {
-        FP_CHECK(mStep.io.temporal, "pass '{}' keeps history without declaring temporal",
-                 mStep.name);
+        requireTemporal("keeps");
         mKept = PassHistory{{}, std::move(state), mFrame.camera.current};
     }
     /// The state the pass kept this frame, if any.
@@ -179,6 +176,11 @@ public:
     }
 
 private:
+    // Filament's rule again: only a pass that declared itself temporal has a history.
+    void requireTemporal(const char* verb) const {
+        FP_CHECK(mStep.io.temporal, "pass '{}' {} history without declaring temporal", mStep.name,
+                 verb);
+    }
     // The store key bound to an input port; nullptr for an unbound optional input.
     const std::string* boundKey(std::string_view port) const {
         auto it = mStep.inputs.find(std::string(port));

@@ -24,6 +24,13 @@ FP_HD inline float exposed(float v, float gain) {
     return std::isfinite(e) ? e : 0.0f;
 }
 
+/// The source channel of preview channel `c` (0–2) of a `channels`-channel buffer: 1 channel
+/// shows as grey; 2 channels as R, G and a black B (−1: no source).
+FP_HD inline int previewSource(int c, int channels) {
+    const int from = channels == 1 ? 0 : c;
+    return from < channels ? from : -1;
+}
+
 /// Magnitude bits of the largest half not above `a` (finite, ≥ 0); 65504 and above give 65504.
 FP_HD inline uint32_t halfBitsBelow(float a) {
     if (a >= 65504.0f)
@@ -66,11 +73,11 @@ struct Frame {
     PlaneSpan dst[3];
 };
 
-/// The preview pixel (x, y): 1 channel shows as grey; 2 channels as R, G and a black B.
+/// The preview pixel (x, y).
 FP_HD inline void displayPixel(const Frame& f, int x, int y) {
     for (int c = 0; c < 3; ++c) {
-        const int from = f.channels == 1 ? 0 : c;
-        float v = from < f.channels ? exposed(f.src[from].at(x, y), f.gain) : 0.0f;
+        const int from = previewSource(c, f.channels);
+        float v = from >= 0 ? exposed(f.src[from].at(x, y), f.gain) : 0.0f;
         if (f.lut[c].data)
             v = halfLutLookup(f.lut[c], v);
         f.dst[c].at(x, y) = v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);

@@ -41,10 +41,9 @@ void DisplayTransform::apply(const Image& src, Image& dst) const {
     forEachTile(src.width(), src.height(), [&](const Tile& t) {
         for (int y = t.y0; y < t.y1; ++y)
             for (int c = 0; c < 3; ++c) {
-                // 1 channel → grey; 2 channels → R, G and a black B.
-                const int from = channels == 1 ? 0 : c;
+                const int from = display::previewSource(c, channels);
                 float* d = dst.plane(c).row(y);
-                if (from >= channels) {
+                if (from < 0) {
                     std::fill(d + t.x0, d + t.x1, 0.0f);
                     continue;
                 }

@@ -56,48 +56,33 @@ void ErrorMeasurePass::reportStats(PassContext& ctx, const ErrorStats& s) const 
     ctx.addWork("skippedPixels", s.maskedPixels);
 }
 
-namespace {
-// The point upsampling isHalfResolution describes.
-Image pointUpsample(const Image& half, int width, int height) {
-    Image full(width, height, half.channels());
-    for (int c = 0; c < half.channelCount(); ++c)
-        for (int y = 0; y < height; ++y)
-            for (int x = 0; x < width; ++x)
-                full.plane(c).at(x, y) = half.plane(c).at(x / 2, y / 2);
-    return full;
-}
-}  // namespace
-
 void ErrorMeasurePass::execute(PassContext& ctx) {
     const Image& b = ctx.input(kReference)->image();
-    const Image& source = ctx.input(kSource)->image();
-    std::optional<Image> upsampled;
-    if (isHalfResolution({source.width(), source.height()}, {b.width(), b.height()}))
-        upsampled = pointUpsample(source, b.width(), b.height());
-    const Image& a = upsampled ? *upsampled : source;
+    const Image& a = ctx.input(kSource)->image();
     const Texture* sigma = ctx.input(kReferenceStdErr);
     const Texture* depth = ctx.input(gbuffer::kDepth);
     std::optional<Image> mask;
     if (depth)
         mask = notSkyMask(depth->image(), skyDepth());
-    Image absError(a.width(), a.height(), {"Y"});
+    Image absError(b.width(), b.height(), {"Y"});
     ErrorInputs in;
     in.result = &a;
     in.reference = &b;
     in.referenceStdErr = sigma ? &sigma->image() : nullptr;
     in.mask = mask ? &*mask : nullptr;
     in.tolerance = mParams.tolerance;
+    in.halfSource = isHalfResolution({a.width(), a.height()}, {b.width(), b.height()});
     const ErrorStats s = measureError(in, &absError);
     reportStats(ctx, s);
 
     if (ctx.isRequested(kHeat)) {
         const float scale =
             mParams.heatScale > 0.0f ? mParams.heatScale : heatScale(absError, in.mask);
-        ctx.output(kHeat, {{a.width(), a.height()}}).image() = heatmap(absError, in.mask, scale);
+        ctx.output(kHeat, {{b.width(), b.height()}}).image() = heatmap(absError, in.mask, scale);
         ctx.addMetric("heatScale", scale);
     }
     if (ctx.isRequested(kAbsError))
-        ctx.output(kAbsError, {{a.width(), a.height()}}).image() = std::move(absError);
+        ctx.output(kAbsError, {{b.width(), b.height()}}).image() = std::move(absError);
 }
 
 }  // namespace fp

@@ -103,16 +103,12 @@ void ErrorMeasurePass::executeCuda(PassContext& ctx) {
     const int W = b.width(), H = b.height();
     ErrorPixelInputs in;
     in.halfSource = isHalfResolution({a.width(), a.height()}, {W, H});
-    const int aw = in.halfSource ? W : a.width(), ah = in.halfSource ? H : a.height();
-    FP_CHECK(aw == W && ah == H, "result is {}×{} but the reference is {}×{}", aw, ah, W, H);
-    FP_CHECK(a.channelCount() == b.channelCount(),
-             "result has {} channels but the reference has {}", a.channelCount(), b.channelCount());
-    FP_CHECK(!sigma || (sigma->image().width() == W && sigma->image().height() == H &&
-                        sigma->image().channelCount() == b.channelCount()),
-             "the reference's standard error does not match the reference's size");
-    FP_CHECK(a.channelCount() <= ErrorPixelInputs::kMaxChannels,
-             "error_measure compares 1 to {} channels; the result has {}",
-             ErrorPixelInputs::kMaxChannels, a.channelCount());
+    const ImageShape sigmaShape =
+        sigma ? ImageShape{sigma->image().width(), sigma->image().height(),
+                           sigma->image().channelCount()}
+              : ImageShape{};
+    checkComparable({a.width(), a.height(), a.channelCount()}, {W, H, b.channelCount()},
+                    sigma ? &sigmaShape : nullptr, in.halfSource);
     in.channels = a.channelCount();
     in.tolerance = mParams.tolerance;
     for (int c = 0; c < in.channels; ++c) {

@@ -30,21 +30,16 @@ nlohmann::json ErrorStats::toJson() const {
 ErrorStats measureError(const ErrorInputs& in, Image* absError) {
     const Image& a = *in.result;
     const Image& b = *in.reference;
-    FP_CHECK(a.width() == b.width() && a.height() == b.height(),
-             "result is {}×{} but the reference is {}×{}", a.width(), a.height(), b.width(),
-             b.height());
-    FP_CHECK(a.channelCount() == b.channelCount(),
-             "result has {} channels but the reference has {}", a.channelCount(), b.channelCount());
     const Image* s = in.referenceStdErr;
-    FP_CHECK(!s || (s->width() == b.width() && s->height() == b.height() &&
-                    s->channelCount() == b.channelCount()),
-             "the reference's standard error does not match the reference's size");
-    FP_CHECK(a.channelCount() <= ErrorPixelInputs::kMaxChannels,
-             "error_measure compares 1 to {} channels; the result has {}",
-             ErrorPixelInputs::kMaxChannels, a.channelCount());
+    const ImageShape sigmaShape =
+        s ? ImageShape{s->width(), s->height(), s->channelCount()} : ImageShape{};
+    checkComparable({a.width(), a.height(), a.channelCount()},
+                    {b.width(), b.height(), b.channelCount()}, s ? &sigmaShape : nullptr,
+                    in.halfSource);
     ErrorPixelInputs pin;
     pin.channels = a.channelCount();
     pin.tolerance = in.tolerance;
+    pin.halfSource = in.halfSource;
     for (int c = 0; c < pin.channels; ++c) {
         pin.a[c] = viewOf(a.plane(c));
         pin.b[c] = viewOf(b.plane(c));
@@ -53,7 +48,7 @@ ErrorStats measureError(const ErrorInputs& in, Image* absError) {
     }
     if (in.mask)
         pin.mask = viewOf(in.mask->plane(0));
-    const int W = a.width(), H = a.height();
+    const int W = b.width(), H = b.height();
     const int tilesX = (W + kTileSize - 1) / kTileSize;
     // Sums per tile, combined in tile order afterwards so the result does not depend on which
     // thread finished first (floating-point addition is not associative).
@@ -71,6 +66,26 @@ ErrorStats measureError(const ErrorInputs& in, Image* absError) {
     for (const ErrorSums& t : tiles)
         total.add(t);
     return finishError(total, in.tolerance, s != nullptr);
+}
+
+void checkComparable(ImageShape result, ImageShape reference, const ImageShape* stdErr,
+                     bool halfSource) {
+    const bool sizesMatch = halfSource ? result.width == (reference.width + 1) / 2 &&
+                                             result.height == (reference.height + 1) / 2
+                                       : result.width == reference.width &&
+                                             result.height == reference.height;
+    FP_CHECK(sizesMatch,
+             "result is {}×{} but the reference is {}×{}", result.width, result.height,
+             reference.width, reference.height);
+    FP_CHECK(result.channels == reference.channels,
+             "result has {} channels but the reference has {}", result.channels,
+             reference.channels);
+    FP_CHECK(!stdErr || (stdErr->width == reference.width && stdErr->height == reference.height &&
+                         stdErr->channels == reference.channels),
+             "the reference's standard error does not match the reference's size");
+    FP_CHECK(result.channels <= ErrorPixelInputs::kMaxChannels,
+             "error_measure compares 1 to {} channels; the result has {}",
+             ErrorPixelInputs::kMaxChannels, result.channels);
 }
 
 ErrorStats finishError(const ErrorSums& total, double tolerance, bool hasSigma) {

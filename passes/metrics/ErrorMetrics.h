@@ -46,7 +46,20 @@ struct ErrorInputs {
     const Image* referenceStdErr = nullptr;  //!< σ of b, optional
     const Image* mask = nullptr;       //!< 1 channel, > 0 = compare this pixel; null = all
     double tolerance = 0.1;
+    /// The result is at half the reference's resolution (⌈W/2⌉ × ⌈H/2⌉) and is measured
+    /// point-upsampled, as ErrorPixelInputs::halfSource reads it.
+    bool halfSource = false;
 };
+
+/// Size and channel count of an image about to be compared (host or device).
+struct ImageShape {
+    int width, height, channels;
+};
+
+/// Checks that a result (point-upsampled when `halfSource`), a reference and its standard error
+/// (nullptr: none) can be compared; fp::Error says why not.
+void checkComparable(ImageShape result, ImageShape reference, const ImageShape* stdErr,
+                     bool halfSource);
 
 /// Running sums of a region of pixels. The CPU sums each 64×64 tile and then the tiles in order;
 /// the GPU sums each row of a tile in lanes (ErrorMeasurePass.cu): the same per-value terms, added

@@ -75,6 +75,29 @@ TEST_CASE("mismatched sizes and channel counts are errors") {
     CHECK_THROWS_AS(measureError({&a, &c, nullptr, nullptr, 0.1}), Error);
 }
 
+TEST_CASE("a half-resolution result is measured point-upsampled") {
+    // 2×2 against 3×3: full-res pixel (x, y) reads texel (x/2, y/2).
+    const Image half = fromValues({1, 2, 3, 4}, 2, 2);
+    const Image ref = fromValues({1, 1, 2, 1, 1, 2, 3, 3, 4}, 3, 3);
+    const Image upsampled = fromValues({1, 1, 2, 1, 1, 2, 3, 3, 4}, 3, 3);
+    ErrorInputs in{&half, &ref, nullptr, nullptr, 0.1};
+    in.halfSource = true;
+    Image abs(3, 3, {"Y"});
+    const ErrorStats s = measureError(in, &abs);
+    CHECK(s.pixels == 9);
+    CHECK(s.rmse == 0.0);
+    const Image off = fromValues({1, 1, 2, 1, 1, 2, 3, 3, 5}, 3, 3);
+    in.reference = &off;
+    const ErrorStats t = measureError(in, &abs);
+    CHECK(t.maxError == 1.0);
+    CHECK(abs.plane(0).at(2, 2) == 1.0f);
+    CHECK(t.rmse == measureError({&upsampled, &off, nullptr, nullptr, 0.1}).rmse);
+    // Only ⌈W/2⌉ × ⌈H/2⌉ is half of the reference.
+    const Image wrong(1, 2, {"Y"});
+    in.result = &wrong;
+    CHECK_THROWS_AS(measureError(in), Error);
+}
+
 TEST_CASE("sky mask, relative noise and heat map scale") {
     const float inf = std::numeric_limits<float>::infinity();
     const Image depth = fromValues({1, inf, 50, 2000}, 2, 2);
