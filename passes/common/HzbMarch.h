@@ -55,6 +55,13 @@ struct RaySteps {
     float tolerance;
 };
 
+/// Furthest device Z of the cell of mip view `cells` under (hx, hy) in half-res pixels scaled
+/// by `scale` = 2^−mip, clamped to the mip (the GPU's clamp addressing).
+FP_HD inline float hzbCell(const PlaneView& cells, float scale, float hx, float hy) {
+    return cells.at(floorToInt(hx * scale, 0, cells.width - 1),
+                    floorToInt(hy * scale, 0, cells.height - 1));
+}
+
 /// Marches `steps` samples (a multiple of 4) with the level rising `levelStep` per pair of
 /// samples from 1. Returns the first sample behind the furthest surface of its cell by less than
 /// 2·tolerance (−1: a miss) and leaves `level` at the mip level the ray reached.
@@ -63,25 +70,27 @@ FP_HD inline int marchHzb(const HzbView& hzb,
                           int steps,
                           float levelStep,
                           float& level,
-                          unsigned long long& hzbSamples) {
+                          unsigned& hzbSamples) {
     level = 1.0f;
     int hitSample = -1;
     for (int batch = 0; batch * 4 < steps && hitSample < 0; ++batch) {
-        for (int j = 0; j < 4; ++j) {
-            const int k = batch * 4 + j + 1;
-            const int mip = nearestMip(j < 2 ? level : level + levelStep, hzb.mipCount);
-            const float scale = inversePowerOfTwo(mip);
-            const float hx = r.origin.hx + r.step.hx * float(k);
-            const float hy = r.origin.hy + r.step.hy * float(k);
-            const float rz = r.origin.z + r.step.z * float(k);
-            const PlaneView& cells = hzb.mips[mip];
-            const float hz = cells.clampedAt(floorToInt(hx * scale, -1, cells.width),
-                                             floorToInt(hy * scale, -1, cells.height));
-            const float diff = rz - hz;
-            // A sky cell (device Z 0) is never hit: a ray extended past the point at infinity
-            // would otherwise "hit" it [framepass guard].
-            if (hitSample < 0 && hz > 0.0f && std::fabs(diff + r.tolerance) < r.tolerance)
-                hitSample = k;
+        // A batch's first two samples read the mip nearest `level`, its last two the one nearest
+        // `level + levelStep`: each mip view is read once per pair.
+        int mips[2] = {nearestMip(level, hzb.mipCount), nearestMip(level + levelStep, hzb.mipCount)};
+        for (int pair = 0; pair < 2; ++pair) {
+            const PlaneView cells = hzb.mips[mips[pair]];
+            const float scale = inversePowerOfTwo(mips[pair]);
+            for (int j = 0; j < 2; ++j) {
+                const int k = batch * 4 + pair * 2 + j + 1;
+                const float rz = r.origin.z + r.step.z * float(k);
+                const float hz = hzbCell(cells, scale, r.origin.hx + r.step.hx * float(k),
+                                         r.origin.hy + r.step.hy * float(k));
+                const float diff = rz - hz;
+                // A sky cell (device Z 0) is never hit: a ray extended past the point at
+                // infinity would otherwise "hit" it [framepass guard].
+                if (hitSample < 0 && hz > 0.0f && std::fabs(diff + r.tolerance) < r.tolerance)
+                    hitSample = k;
+            }
         }
         hzbSamples += 4;
         level += 2.0f * levelStep;

@@ -18,15 +18,15 @@ FP_HD inline int floorToInt(double v, int lo, int hi) {
     return std::clamp(int(std::floor(v)), lo, hi);
 }
 
-/// The same for a float, in float arithmetic (GPUs convert and floor doubles at a fraction of the
-/// float rate, and the HZB march does this at every sample). Identical results while |lo| and
-/// |hi| are at most 2²⁴ (exact in float), which image coordinates are.
+/// The same for a float, in float arithmetic and without a branch (GPUs convert and floor doubles
+/// at a fraction of the float rate, and the HZB march does this at every sample). Clamping v to
+/// the integers [lo, hi] before the floor gives the same integer as clamping after it, so this is
+/// two min/max and one converting floor. Identical results while |lo| and |hi| are at most 2²⁴
+/// (exact in float), which image coordinates are.
 FP_HD inline int floorToInt(float v, int lo, int hi) {
-    if (!(v >= float(lo)))
-        return lo;
-    if (v >= float(hi))
-        return hi;
-    return std::clamp(int(std::floor(v)), lo, hi);
+    float c = v >= float(lo) ? v : float(lo);  // NaN and −inf give lo
+    c = c <= float(hi) ? c : float(hi);
+    return int(std::floor(c));
 }
 
 /// v rounded towards zero and clamped to [lo, hi]; NaN gives lo.

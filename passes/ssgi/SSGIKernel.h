@@ -185,7 +185,7 @@ FP_HD inline RayTrace traceRay(const TraceSetup& s,
                                int y,
                                int r,
                                bool wantDistance,
-                               unsigned long long& hzbSamples) {
+                               unsigned& hzbSamples) {
     RayTrace t;
     const Vec3f L = rayDirection(p.nView, x, y, s.frameMod8, r, s.rays);
     RaySteps steps;
@@ -272,9 +272,11 @@ FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* co
     ++counts[kTraced];
     const PixelStart start = pixelStart(f, x, y, px, py, f.depth.at(px, py));
     PixelTrace t;
+    unsigned hzbSamples = 0;  // a pixel's rays × steps fits; one 32-bit register on the GPU
     for (int r = 0; r < f.setup.rays; ++r)
-        t.add(traceRay(f.setup, start, x, y, r, bool(f.hitDistance), counts[kHzbSamples]));
+        t.add(traceRay(f.setup, start, x, y, r, bool(f.hitDistance), hzbSamples));
     counts[kRays] += (unsigned long long)f.setup.rays;
+    counts[kHzbSamples] += hzbSamples;
     finishPixel(f, x, y, t);
 }
 

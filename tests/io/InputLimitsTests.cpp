@@ -2,12 +2,14 @@
 #include "io/JsonFile.h"
 #include "passes/core/FloatToInt.h"
 #include "passes/core/Limits.h"
+#include "passes/core/Random.h"
 
 #include <doctest/doctest.h>
 
 #include <climits>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 using namespace fp;
 
@@ -58,5 +60,33 @@ TEST_SUITE("core") {
         CHECK(truncToInt(-1.5, -5, 5) == -1);
         CHECK(truncToInt(nan, 0, 255) == 0);
         CHECK(truncToInt(3e9, 0, 255) == 255);
+    }
+
+    TEST_CASE("the float floorToInt (clamp, then one floor) gives the double one's integer") {
+        // The HZB march floors in float without a branch; it must pick the texel the clamp-after-
+        // floor definition picks, for every bound pair a march uses and for NaN and ±inf.
+        const float specials[] = {std::numeric_limits<float>::quiet_NaN(),
+                                  std::numeric_limits<float>::infinity(),
+                                  -std::numeric_limits<float>::infinity(),
+                                  -0.0f,
+                                  1e30f,
+                                  -1e30f,
+                                  std::nextafter(0.0f, -1.0f),
+                                  std::nextafter(7.0f, 0.0f),
+                                  7.0f};
+        const std::pair<int, int> bounds[] = {{0, 0}, {0, 7}, {-1, 8}, {0, 32767}, {-3, -1}};
+        Rng rng(0, 0, 0, 17);
+        for (const auto [lo, hi] : bounds) {
+            for (const float v : specials)
+                CHECK(floorToInt(v, lo, hi) == floorToInt(double(v), lo, hi));
+            for (int i = 0; i < 20000; ++i) {
+                const float v = (rng.nextFloat() * 80.0f - 40.0f) * (i % 2 ? 1.0f : 1000.0f);
+                REQUIRE(floorToInt(v, lo, hi) == floorToInt(double(v), lo, hi));
+            }
+        }
+        CHECK(floorToInt(std::numeric_limits<float>::quiet_NaN(), 2, 9) == 2);
+        CHECK(floorToInt(-0.5f, 0, 9) == 0);
+        CHECK(floorToInt(8.999f, 0, 9) == 8);
+        CHECK(floorToInt(9.5f, 0, 9) == 9);
     }
 }
