@@ -12,7 +12,7 @@ FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS = ConfigFuzz CaptureFuzz SidecarFuzz ObjFuzz GltfFuzz
 
-.PHONY: demo test deps build fuzz
+.PHONY: demo test deps build fuzz bench
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
@@ -46,6 +46,11 @@ demo: build
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure
+
+# make bench: the README's 1080p speed table (captures out/bench/ once; BENCH_RUNS timed runs).
+BENCH_RUNS ?= 3
+bench: build
+	python3 examples/bench/bench_1080p.py --framepass $(FRAMEPASS) --runs $(BENCH_RUNS)
 
 fuzz: deps
 	@missing=$$(for p in $(FUZZ_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \

@@ -271,6 +271,7 @@ BenchSetting benchSetting(const RunSession& session,
     BenchSetting setting;
     setting.label = label.empty() ? "default" : label;
     setting.frame = TimingStats::of(frameSeconds);
+    setting.peakBytes = last.peakBytes;
     for (std::size_t s = 0; s < plan.steps.size(); ++s) {
         const PlanStep& step = plan.steps[s];
         PassTiming t{step.name, step.type, step.io.workUnit, 0, TimingStats::of(stepSeconds[s]), {}};
@@ -303,8 +304,11 @@ void printBench(const BenchResult& result) {
         result.config, result.capture, result.frame, result.extent.width, result.extent.height,
         result.runs, result.warmup, result.threads);
     for (const auto& s : result.settings) {
-        std::cout << fmt::format("{}: frame {:.2f} ms (min {:.2f}, max {:.2f})", s.label,
-                                 s.frame.median * 1e3, s.frame.min * 1e3, s.frame.max * 1e3);
+        std::cout << fmt::format("{}: frame {:.2f} ms (min {:.2f}, max {:.2f}), peak {:.1f} MiB "
+                                 "({:.0f} B/pixel)",
+                                 s.label, s.frame.median * 1e3, s.frame.min * 1e3,
+                                 s.frame.max * 1e3, double(s.peakBytes) / 1048576.0,
+                                 double(s.peakBytes) / (double(result.extent.width) * result.extent.height));
         if (s.hasError())
             std::cout << fmt::format(", RMSE {:.5g}{}", s.error(), s.pareto ? " [Pareto]" : "");
         std::cout << "\n";

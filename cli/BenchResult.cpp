@@ -36,7 +36,9 @@ nlohmann::json BenchResult::toJson() const {
     for (const auto& s : settings) {
         nlohmann::json sj = {{"label", s.label},
                              {"frameSeconds",
-                              {{"median", s.frame.median}, {"min", s.frame.min}, {"max", s.frame.max}}}};
+                              {{"median", s.frame.median}, {"min", s.frame.min}, {"max", s.frame.max}}},
+                             {"peakBytes", s.peakBytes},
+                             {"peakBytesPerPixel", double(s.peakBytes) / (double(extent.width) * extent.height)}};
         sj["passes"] = nlohmann::json::array();
         for (const auto& p : s.passes) {
             sj["passes"].push_back({{"name", p.name},

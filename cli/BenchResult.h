@@ -40,6 +40,7 @@ struct BenchSetting {
     std::string label;  //!< "r.SSGI.Quality=2 ssgi.halfRes=true", or "default"
     std::vector<PassTiming> passes;
     TimingStats frame;  //!< all passes of the frame, inputs cached in memory
+    std::size_t peakBytes = 0;  //!< most bytes of images held at once in a run (FrameReport)
     std::vector<ErrorNodeResult> errors;
     bool pareto = false;  //!< no other setting is both faster and more accurate
     /// The error the speed-against-error table sorts by: the first error node's RMSE.

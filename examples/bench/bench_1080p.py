@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""make bench: the 1080p speed table the README quotes ("Speed at 1080p").
+
+Captures the Cornell and hard scenes at 1920x1080 once (out/bench/<scene>.exr, kept between
+runs), times the default lit chain on each with `framepass bench --json` (medians), and times the
+capture read: `framepass inspect` against `oiiotool -a --stats` on the same file. Prints one
+Markdown table; the bench JSON of each scene stays beside the captures.
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+SCENES = ["cornell", "hard"]
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+
+
+def run(cmd, **kw):
+    """Runs cmd, its progress lines dropped; stops the script with its stderr if it fails."""
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+    if p.returncode != 0:
+        sys.exit(f"make bench: {' '.join(cmd)} failed ({p.returncode}):\n{p.stderr}")
+    return p.stdout
+
+
+def median_seconds(cmd, runs):
+    times = []
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        run(cmd)
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--framepass", default=os.path.join(ROOT, "build/cli/framepass"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out/bench"))
+    ap.add_argument("--runs", type=int, default=3, help="timed runs per chain (medians)")
+    ap.add_argument("--read-runs", type=int, default=5, help="timed reads per tool (medians)")
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+
+    rows = []
+    for scene in SCENES:
+        exr = os.path.join(a.out, f"{scene}.exr")
+        if not os.path.exists(exr):
+            print(f"capturing {scene} at 1920x1080 (once) ...", file=sys.stderr)
+            run([a.framepass, "capture", os.path.join(ROOT, "examples", scene, "scene.json"),
+                 "-o", exr, "--width", "1920", "--height", "1080"])
+        print(f"timing the lit chain on {scene} ({a.runs} runs) ...", file=sys.stderr)
+        result = json.loads(run([a.framepass, "bench", os.path.join(HERE, f"{scene}.json"),
+                                 "--runs", str(a.runs), "--json"]))
+        with open(os.path.join(a.out, f"{scene}.json"), "w") as f:
+            json.dump(result, f, indent=2)
+        setting = result["settings"][0]
+        passes = {p["name"]: p for p in setting["passes"]}
+        bare8 = passes.get("bare loop rtcOccluded8")
+        shadowSteps = sum(p["type"] == "rt_shadows" for p in setting["passes"])
+        for p in setting["passes"]:
+            if p["name"].startswith("bare loop"):
+                continue
+            note = ""
+            if p["type"] == "rt_shadows" and bare8 and bare8["throughput"] > 0:
+                # The bare loop replays the rays of every rt_shadows step of the chain together.
+                        note = (f"{100 * p['throughput'] / bare8['throughput']:.0f} % of the bare "
+                        f"rtcOccluded8 loop ({bare8['throughput'] / 1e6:.1f} M rays/s"
+                        f"{', every light' if shadowSteps > 1 else ''})")
+            rate = f"{p['throughput'] / 1e6:.1f} M {p['unit']}/s" if p["work"] else ""
+            rows.append((scene, p["name"], f"{p['median'] * 1e3:,.1f}", rate, note))
+        pixels = result["width"] * result["height"]
+        rows.append((scene, "**the frame**", f"**{setting['frameSeconds']['median'] * 1e3:,.0f}**",
+                     "", f"peak {setting['peakBytes'] / 2**20:.0f} MiB of images, "
+                         f"{setting['peakBytes'] / pixels:.0f} B/pixel"))
+        print(f"timing the capture read on {scene} ({a.read_runs} runs each) ...", file=sys.stderr)
+        ours = median_seconds([a.framepass, "inspect", exr], a.read_runs)
+        oiio = median_seconds(["oiiotool", "-a", "--stats", exr], a.read_runs)
+        rows.append((scene, "capture read (`inspect`)", f"{ours * 1e3:,.0f}", "",
+                     f"`oiiotool -a --stats` {oiio * 1e3:,.0f} ms: framepass reads at "
+                     f"{100 * oiio / ours:.0f} % of its speed"))
+
+    threads = result["threads"]
+    print(f"\n1920x1080, {threads} threads, medians of {a.runs} runs "
+          f"(capture read: medians of {a.read_runs})\n")
+    print("| scene | pass | ms | throughput | note |")
+    print("|---|---|---|---|---|")
+    for r in rows:
+        print("| " + " | ".join(r) + " |")
+
+
+if __name__ == "__main__":
+    main()
