@@ -76,7 +76,7 @@ TEST_SUITE("core") {
                                   7.0f};
         const std::pair<int, int> bounds[] = {{0, 0}, {0, 7}, {-1, 8}, {0, 32767}, {-3, -1}};
         Rng rng(0, 0, 0, 17);
-        for (const auto [lo, hi] : bounds) {
+        for (const auto& [lo, hi] : bounds) {
             for (const float v : specials)
                 CHECK(floorToInt(v, lo, hi) == floorToInt(double(v), lo, hi));
             for (int i = 0; i < 20000; ++i) {
