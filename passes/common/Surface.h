@@ -44,6 +44,18 @@ inline SurfaceInputsView viewOf(const SurfaceInputs& in) {
             viewOf(in.shadingModel)};
 }
 
+/// A pixel's coordinates.
+struct PixelCoord {
+    int x, y;
+};
+
+/// The full-resolution pixel of a `width` × `height` frame that texel (x, y) of a grid `step`
+/// pixels apart stands for: (min(x·step, W − 1), min(y·step, H − 1)) — the pixel itself at step 1,
+/// the top-left pixel of its 2×2 block at step 2 (a half-resolution trace, reference §4.3).
+FP_HD inline PixelCoord fullResPixel(int x, int y, int step, int width, int height) {
+    return {x * step < width - 1 ? x * step : width - 1, y * step < height - 1 ? y * step : height - 1};
+}
+
 /// The surface at full-resolution pixel (px, py); its radius is the pixel world radius × `scale`
 /// (2 when it stands for a 2×2 block of a half-resolution trace).
 FP_HD inline Surface pixelSurface(const CameraView& cam,
@@ -76,8 +88,7 @@ inline Surface pixelSurface(const CameraView& cam,
 }
 
 /// A grid of surfaces in memory of either backend: texel (x, y) stands for full-resolution pixel
-/// (min(x·step, W − 1), min(y·step, H − 1)) — the frame itself (step 1) or a half-resolution trace
-/// (step 2, the top-left pixel of each 2×2 block).
+/// fullResPixel(x, y, step, W, H) — the frame itself (step 1) or a half-resolution trace (step 2).
 struct SurfaceGridView {
     Surface* data = nullptr;
     int width = 0, height = 0, step = 1;
@@ -86,9 +97,8 @@ struct SurfaceGridView {
     /// Builds texel (x, y) from the GBuffer (every texel once, before any is read).
     FP_HD void build(const CameraView& cam, const SurfaceInputsView& in, NormalRead read, int x,
                      int y) const {
-        const int px = x * step < in.depth.width - 1 ? x * step : in.depth.width - 1;
-        const int py = y * step < in.depth.height - 1 ? y * step : in.depth.height - 1;
-        data[y * width + x] = pixelSurface(cam, in, px, py, float(step), read);
+        const PixelCoord p = fullResPixel(x, y, step, in.depth.width, in.depth.height);
+        data[y * width + x] = pixelSurface(cam, in, p.x, p.y, float(step), read);
     }
 };
 

@@ -56,6 +56,11 @@ DevicePool& pool() {
     return *p;
 }
 
+// `bytes` of device memory from the pool, given back to it when the last owner lets go.
+std::shared_ptr<float> pooledMemory(std::size_t bytes) {
+    return std::shared_ptr<float>(pool().take(bytes), [bytes](float* q) { pool().give(bytes, q); });
+}
+
 // `zeroed`: outputs start at zero (the pass contract); an upload overwrites every row anyway.
 DeviceImage allocateImage(int width, int height, const std::vector<std::string>& channels,
                           bool zeroed) {
@@ -63,10 +68,9 @@ DeviceImage allocateImage(int width, int height, const std::vector<std::string>&
     const std::size_t bytes =
         std::size_t(stride) * std::max(height, 1) * std::max<std::size_t>(channels.size(), 1) *
         sizeof(float);
-    float* p = pool().take(bytes);
-    std::shared_ptr<float> memory(p, [bytes](float* q) { pool().give(bytes, q); });
+    std::shared_ptr<float> memory = pooledMemory(bytes);
     if (zeroed)
-        check(cudaMemsetAsync(p, 0, bytes), "clearing an image");
+        check(cudaMemsetAsync(memory.get(), 0, bytes), "clearing an image");
     return DeviceImage(width, height, channels, std::move(memory), stride);
 }
 
@@ -108,9 +112,7 @@ DeviceTexture allocate(const std::vector<Extent>& mips, const std::vector<std::s
 
 std::shared_ptr<void> allocateBytes(std::size_t bytes) {
     // Rounded up to a float so the memory shares the image pool.
-    const std::size_t rounded = std::max<std::size_t>((bytes + 3) / 4 * 4, 4);
-    float* p = pool().take(rounded);
-    return std::shared_ptr<void>(p, [rounded](void* q) { pool().give(rounded, static_cast<float*>(q)); });
+    return pooledMemory(std::max<std::size_t>((bytes + 3) / 4 * 4, 4));
 }
 
 DeviceTexture upload(const Texture& texture) {

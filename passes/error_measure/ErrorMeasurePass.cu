@@ -101,22 +101,9 @@ void ErrorMeasurePass::executeCuda(PassContext& ctx) {
     const DeviceTexture* sigma = ctx.deviceInput(kReferenceStdErr);
     const DeviceTexture* depth = ctx.deviceInput(gbuffer::kDepth);
     const int W = b.width(), H = b.height();
-    ErrorPixelInputs in;
-    in.halfSource = isHalfResolution({a.width(), a.height()}, {W, H});
-    const ImageShape sigmaShape =
-        sigma ? ImageShape{sigma->image().width(), sigma->image().height(),
-                           sigma->image().channelCount()}
-              : ImageShape{};
-    checkComparable({a.width(), a.height(), a.channelCount()}, {W, H, b.channelCount()},
-                    sigma ? &sigmaShape : nullptr, in.halfSource);
-    in.channels = a.channelCount();
-    in.tolerance = mParams.tolerance;
-    for (int c = 0; c < in.channels; ++c) {
-        in.a[c] = a.plane(c);
-        in.b[c] = b.plane(c);
-        if (sigma)
-            in.sigma[c] = sigma->image().plane(c);
-    }
+    ErrorPixelInputs in =
+        errorPixelInputs(a, b, sigma ? &sigma->image() : nullptr, mParams.tolerance,
+                         isHalfResolution({a.width(), a.height()}, {W, H}));
     DeviceTexture mask;
     if (depth) {
         mask = cuda::allocate({{W, H}}, {"Y"});
@@ -163,13 +150,12 @@ void ErrorMeasurePass::executeCuda(PassContext& ctx) {
         DeviceImage& heat = ctx.deviceOutput(kHeat, {{W, H}}).image();
         const PlaneSpan r = heat.plane(0), g = heat.plane(1), bl = heat.plane(2);
         const PlaneView mask = in.mask, e = viewOf(err);
+        const float grey = heatMaskedGrey();
         CudaPixels{}.forEach<0>(
             W, H,
             [=] FP_HD(int x, int y, WorkCounts<0>&) {
-                const float grey = heatMaskedGrey();
-                float rgb[3] = {grey, grey, grey};
-                if (!mask.data || mask.at(x, y) > 0.0f)
-                    heatColor(e.at(x, y), scale, rgb);
+                float rgb[3];
+                heatPixel(e, mask, scale, grey, x, y, rgb);
                 r.at(x, y) = rgb[0];
                 g.at(x, y) = rgb[1];
                 bl.at(x, y) = rgb[2];

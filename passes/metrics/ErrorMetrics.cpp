@@ -31,21 +31,7 @@ ErrorStats measureError(const ErrorInputs& in, Image* absError) {
     const Image& a = *in.result;
     const Image& b = *in.reference;
     const Image* s = in.referenceStdErr;
-    const ImageShape sigmaShape =
-        s ? ImageShape{s->width(), s->height(), s->channelCount()} : ImageShape{};
-    checkComparable({a.width(), a.height(), a.channelCount()},
-                    {b.width(), b.height(), b.channelCount()}, s ? &sigmaShape : nullptr,
-                    in.halfSource);
-    ErrorPixelInputs pin;
-    pin.channels = a.channelCount();
-    pin.tolerance = in.tolerance;
-    pin.halfSource = in.halfSource;
-    for (int c = 0; c < pin.channels; ++c) {
-        pin.a[c] = viewOf(a.plane(c));
-        pin.b[c] = viewOf(b.plane(c));
-        if (s)
-            pin.sigma[c] = viewOf(s->plane(c));
-    }
+    ErrorPixelInputs pin = errorPixelInputs(a, b, s, in.tolerance, in.halfSource);
     if (in.mask)
         pin.mask = viewOf(in.mask->plane(0));
     const int W = b.width(), H = b.height();

@@ -126,6 +126,29 @@ FP_HD inline float measurePixel(const ErrorPixelInputs& in, int x, int y, ErrorS
     return float(pixelAbs / in.channels);
 }
 
+/// measurePixel's inputs for result `a`, reference `b` and b's standard error (nullptr: none),
+/// host Images or device images alike, after checkComparable; the caller sets the mask.
+template <class ImageT>
+ErrorPixelInputs errorPixelInputs(const ImageT& a, const ImageT& b, const ImageT* sigma,
+                                  double tolerance, bool halfSource) {
+    const ImageShape sigmaShape =
+        sigma ? ImageShape{sigma->width(), sigma->height(), sigma->channelCount()} : ImageShape{};
+    checkComparable({a.width(), a.height(), a.channelCount()},
+                    {b.width(), b.height(), b.channelCount()}, sigma ? &sigmaShape : nullptr,
+                    halfSource);
+    ErrorPixelInputs in;
+    in.channels = a.channelCount();
+    in.tolerance = tolerance;
+    in.halfSource = halfSource;
+    for (int c = 0; c < in.channels; ++c) {
+        in.a[c] = viewOf(a.plane(c));
+        in.b[c] = viewOf(b.plane(c));
+        if (sigma)
+            in.sigma[c] = viewOf(sigma->plane(c));
+    }
+    return in;
+}
+
 /// The figures of the summed pixels.
 ErrorStats finishError(const ErrorSums& total, double tolerance, bool hasSigma);
 

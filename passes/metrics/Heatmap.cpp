@@ -23,12 +23,13 @@ float heatScale(const Image& absError, const Image* mask) {
 Image heatmap(const Image& absError, const Image* mask, float scale) {
     Image out(absError.width(), absError.height(), {"R", "G", "B"});
     const float grey = heatMaskedGrey();
+    const PlaneView error = viewOf(absError.plane(0));
+    const PlaneView inside = mask ? viewOf(mask->plane(0)) : PlaneView{};
     forEachTile(out.width(), out.height(), [&](const Tile& t) {
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
-                float rgb[3] = {grey, grey, grey};
-                if (!mask || mask->plane(0).at(x, y) > 0.0f)
-                    heatColor(absError.plane(0).at(x, y), scale, rgb);
+                float rgb[3];
+                heatPixel(error, inside, scale, grey, x, y, rgb);
                 for (int c = 0; c < 3; ++c)
                     out.plane(c).at(x, y) = rgb[c];
             }

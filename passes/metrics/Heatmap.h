@@ -4,6 +4,7 @@
 // are stored scene-linear, so the display transform (sRGB) shows exactly the colour map.
 #include "passes/core/HostDevice.h"
 #include "passes/core/Image.h"
+#include "passes/core/PlaneView.h"
 
 #include <cmath>
 
@@ -45,6 +46,15 @@ FP_HD inline void heatColor(float e, float scale, float rgb[3]) {
     const float w = f - float(i);
     for (int c = 0; c < 3; ++c)
         rgb[c] = srgbToLinear(viridisStop(i, c) * (1.0f - w) + viridisStop(i + 1, c) * w);
+}
+
+/// The heat-map colour of pixel (x, y): its |error| through the colour map, or `grey`
+/// (heatMaskedGrey()) outside the mask (null data: no mask). Both backends write heat maps with it.
+FP_HD inline void heatPixel(const PlaneView& absError, const PlaneView& mask, float scale,
+                            float grey, int x, int y, float rgb[3]) {
+    rgb[0] = rgb[1] = rgb[2] = grey;
+    if (!mask.data || mask.at(x, y) > 0.0f)
+        heatColor(absError.at(x, y), scale, rgb);
 }
 
 /// The 99th percentile of the masked values of a 1-channel image (robust to a few fireflies);

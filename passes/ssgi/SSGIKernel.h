@@ -4,6 +4,7 @@
 // a pixel reads is in SSGIFrame, plain views passed by value.
 #include "passes/common/GBuffer.h"
 #include "passes/common/HzbMarch.h"
+#include "passes/common/Surface.h"
 #include "passes/core/Camera.h"
 #include "passes/core/Error.h"
 #include "passes/core/HostDevice.h"
@@ -228,16 +229,6 @@ struct PixelTrace {
     }
 };
 
-/// The pixel (px, py) traced at trace texel (x, y) is lit (not sky, not unlit).
-FP_HD inline bool tracesPixel(const Frame& f, int px, int py) {
-    return isLitSurface(f.depth.at(px, py), f.shadingModel.at(px, py));
-}
-
-/// A skipped trace pixel: AO 1, the rest stays 0.
-FP_HD inline void skipPixel(const Frame& f, int x, int y) {
-    f.ao.at(x, y) = 1.0f;
-}
-
 /// Reference §4.8: the mean of the rays with the Karis weighting undone, written out.
 FP_HD inline void finishPixel(const Frame& f, int x, int y, const PixelTrace& t) {
     const float invRays = 1.0f / float(f.setup.rays);
@@ -253,24 +244,18 @@ FP_HD inline void finishPixel(const Frame& f, int x, int y, const PixelTrace& t)
         f.hitDistance.at(x, y) = float(t.distanceSum / t.measuredHits);
 }
 
-/// The full-resolution pixel that trace texel (x, y) stands for.
-FP_HD inline void tracedPixel(const Frame& f, int x, int y, int& px, int& py) {
-    px = std::min(x * f.toFull, f.width - 1);
-    py = std::min(y * f.toFull, f.height - 1);
-}
-
 /// One trace pixel (x, y) of the frame: skipped (unlit or sky) or traced ray after ray, its
 /// outputs written and its work added to `counts` (indexed by Counter).
 FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* counts) {
-    int px, py;
-    tracedPixel(f, x, y, px, py);
-    if (!tracesPixel(f, px, py)) {
-        skipPixel(f, x, y);
+    const PixelCoord p = fullResPixel(x, y, f.toFull, f.width, f.height);
+    const double d = f.depth.at(p.x, p.y);
+    if (!isLitSurface(d, f.shadingModel.at(p.x, p.y))) {
+        f.ao.at(x, y) = 1.0f;  // diffuse, hit mask, distance stay 0
         ++counts[kSkipped];
         return;
     }
     ++counts[kTraced];
-    const PixelStart start = pixelStart(f, x, y, px, py, f.depth.at(px, py));
+    const PixelStart start = pixelStart(f, x, y, p.x, p.y, d);
     PixelTrace t;
     unsigned hzbSamples = 0;  // a pixel's rays × steps fits; one 32-bit register on the GPU
     for (int r = 0; r < f.setup.rays; ++r)

@@ -181,8 +181,8 @@ FP_HD inline HistoryTap pickHistoryTexel(const Frame& f, int x, int y, int px, i
 // history multiplier max(3, 3) = 3), rebuilt from the depth and normal the history kept.
 FP_HD inline float historyWeight(const Frame& f, const Surface& ref, int cx, int cy) {
     const double hd = f.hist[kViewDepth].at(cx, cy);
-    const Vec3d hp = f.prevCam.translatedFromPixel(std::min(cx * f.toFull, f.full.width - 1),
-                                                   std::min(cy * f.toFull, f.full.height - 1), hd) +
+    const PixelCoord hpx = fullResPixel(cx, cy, f.toFull, f.full.width, f.full.height);
+    const Vec3d hp = f.prevCam.translatedFromPixel(hpx.x, hpx.y, hd) +
                      (f.prevCam.position - f.cam.position);
     const Vec3f hn{f.hist[kNX].at(cx, cy), f.hist[kNY].at(cx, cy), f.hist[kNZ].at(cx, cy)};
     return bilateralWeight(ref, {float(hp.x), float(hp.y), float(hp.z)}, hn,
@@ -229,8 +229,7 @@ struct Accumulated {
 // else the clamped history blended with it by sample counts.
 FP_HD inline Accumulated accumulatePixel(const Frame& f, int x, int y) {
     const Surface& ref = f.surfaces.at(x, y);
-    const int px = std::min(x * f.toFull, f.full.width - 1);  // the full-res pixel traced
-    const int py = std::min(y * f.toFull, f.full.height - 1);
+    const PixelCoord traced = fullResPixel(x, y, f.toFull, f.full.width, f.full.height);
     float cur[4];
     for (int c = 0; c < 4; ++c)
         cur[c] = f.recon[c].at(x, y);
@@ -238,7 +237,7 @@ FP_HD inline Accumulated accumulatePixel(const Frame& f, int x, int y) {
     Accumulated a{{cur[0], cur[1], cur[2], cur[3]}, curCount, 0.0f, false};
     if (!f.hasHistory() || !ref.valid)
         return a;
-    const HistoryTap tap = pickHistoryTexel(f, x, y, px, py, ref);
+    const HistoryTap tap = pickHistoryTexel(f, x, y, traced.x, traced.y, ref);
     if (tap.count <= 0.0f)
         return a;
     const float wHist = historyWeight(f, ref, tap.x, tap.y);
@@ -277,8 +276,8 @@ FP_HD inline bool denoisePixel(const Frame& f, int x, int y) {
     for (int c = 0; c < 4; ++c)
         f.state[c].at(x, y) = a.value[c];
     f.state[kCount].at(x, y) = ref.valid ? std::min(a.count, float(kHistoryCap)) : 0.0f;
-    f.state[kViewDepth].at(x, y) =
-        f.depth.at(std::min(x * f.toFull, f.full.width - 1), std::min(y * f.toFull, f.full.height - 1));
+    const PixelCoord traced = fullResPixel(x, y, f.toFull, f.full.width, f.full.height);
+    f.state[kViewDepth].at(x, y) = f.depth.at(traced.x, traced.y);
     f.state[kNX].at(x, y) = ref.normal.x;
     f.state[kNY].at(x, y) = ref.normal.y;
     f.state[kNZ].at(x, y) = ref.normal.z;
