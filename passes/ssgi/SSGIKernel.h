@@ -16,6 +16,7 @@
 #include "passes/core/ShadingModel.h"
 #include "passes/core/UnrealRandom.h"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -178,24 +179,15 @@ struct RayTrace {
     double distance = 0;
 };
 
-// Reference §4.4–4.7 for ray `r` of a traced pixel: marched, and at a hit last frame's colour
-// Karis-weighted.
-FP_HD inline RayTrace traceRay(const TraceSetup& s,
+// Reference §4.7 for a ray that hit at sample `hitSample` having reached mip level `level`:
+// last frame's colour there, Karis-weighted, and (when wanted) the distance to the hit.
+FP_HD inline RayTrace shadeHit(const TraceSetup& s,
                                const PixelStart& p,
-                               int x,
-                               int y,
-                               int r,
-                               bool wantDistance,
-                               unsigned& hzbSamples) {
+                               const RaySteps& steps,
+                               int hitSample,
+                               float level,
+                               bool wantDistance) {
     RayTrace t;
-    const Vec3f L = rayDirection(p.nView, x, y, s.frameMod8, r, s.rays);
-    RaySteps steps;
-    if (!raySteps(s, p, L, steps))
-        return t;
-    float level;
-    const int hitSample = marchHzb(s.hzb, steps, s.steps, s.levelStep, level, hzbSamples);
-    if (hitSample < 0)
-        return t;
     const RayPoint hit{steps.origin.hx + steps.step.hx * float(hitSample),
                        steps.origin.hy + steps.step.hy * float(hitSample),
                        steps.origin.z + steps.step.z * float(hitSample)};
@@ -207,6 +199,26 @@ FP_HD inline RayTrace traceRay(const TraceSetup& s,
     t.hit = true;
     t.measured = wantDistance && viewDistanceToHit(s, p, hit, t.distance);
     return t;
+}
+
+// Reference §4.4–4.7 for ray `r` of a traced pixel, one ray at a time: the scalar reference that
+// the CPU's SIMD lanes (SSGILanes.cpp) reproduce bit for bit, and the GPU's per-thread loop.
+FP_HD inline RayTrace traceRay(const TraceSetup& s,
+                               const PixelStart& p,
+                               int x,
+                               int y,
+                               int r,
+                               bool wantDistance,
+                               unsigned& hzbSamples) {
+    const Vec3f L = rayDirection(p.nView, x, y, s.frameMod8, r, s.rays);
+    RaySteps steps;
+    if (!raySteps(s, p, L, steps))
+        return {};
+    float level;
+    const int hitSample = marchHzb(s.hzb, steps, s.steps, s.levelStep, level, hzbSamples);
+    if (hitSample < 0)
+        return {};
+    return shadeHit(s, p, steps, hitSample, level, wantDistance);
 }
 
 // What one pixel's rays gathered, summed in ray order.
@@ -244,18 +256,28 @@ FP_HD inline void finishPixel(const Frame& f, int x, int y, const PixelTrace& t)
         f.hitDistance.at(x, y) = float(t.distanceSum / t.measuredHits);
 }
 
-/// One trace pixel (x, y) of the frame: skipped (unlit or sky) or traced ray after ray, its
-/// outputs written and its work added to `counts` (indexed by Counter).
-FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* counts) {
+/// The start of trace pixel (x, y): false for a pixel SSGI skips (unlit or sky), whose outputs
+/// are then written and which is counted as skipped; otherwise counted as traced.
+FP_HD inline bool beginPixel(const Frame& f, int x, int y, unsigned long long* counts,
+                             PixelStart& start) {
     const PixelCoord p = fullResPixel(x, y, f.toFull, f.width, f.height);
     const double d = f.depth.at(p.x, p.y);
     if (!isLitSurface(d, f.shadingModel.at(p.x, p.y))) {
         f.ao.at(x, y) = 1.0f;  // diffuse, hit mask, distance stay 0
         ++counts[kSkipped];
-        return;
+        return false;
     }
     ++counts[kTraced];
-    const PixelStart start = pixelStart(f, x, y, p.x, p.y, d);
+    start = pixelStart(f, x, y, p.x, p.y, d);
+    return true;
+}
+
+/// One trace pixel (x, y) of the frame: skipped (unlit or sky) or traced ray after ray, its
+/// outputs written and its work added to `counts` (indexed by Counter).
+FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* counts) {
+    PixelStart start;
+    if (!beginPixel(f, x, y, counts, start))
+        return;
     PixelTrace t;
     unsigned hzbSamples = 0;  // a pixel's rays × steps fits; one 32-bit register on the GPU
     for (int r = 0; r < f.setup.rays; ++r)
@@ -331,7 +353,16 @@ Frame bindFrame(const Ports& ports,
     return f;
 }
 
-/// The whole pass on either backend (PerPixel.h): one ssgiPixel per trace pixel.
+/// The pass's work counts, as the report shows them.
+inline void reportWork(PassContext& ctx, const std::array<uint64_t, kCounterCount>& counts) {
+    ctx.addWork("pixels", counts[kTraced]);
+    ctx.addWork("skippedPixels", counts[kSkipped]);
+    ctx.addWork("rays", counts[kRays]);
+    ctx.addWork("hzbSamples", counts[kHzbSamples]);
+}
+
+/// The whole pass one ray at a time (PerPixel.h): one ssgiPixel per trace pixel. The GPU runs
+/// this; the CPU too when `ssgi.lanes` is off.
 template <class Ports, class Pixels>
 void run(PassContext& ctx,
          const Ports& ports,
@@ -341,14 +372,12 @@ void run(PassContext& ctx,
          bool halfRes,
          float colorScale) {
     const Frame f = bindFrame(ports, ctx.frame(), rays, steps, halfRes, colorScale);
-    const auto counts = pixels.template forEach<kCounterCount>(
-        f.ao.width, f.ao.height,
-        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& c) { ssgiPixel(f, x, y, c.value); },
-        "ssgi");
-    ctx.addWork("pixels", counts[kTraced]);
-    ctx.addWork("skippedPixels", counts[kSkipped]);
-    ctx.addWork("rays", counts[kRays]);
-    ctx.addWork("hzbSamples", counts[kHzbSamples]);
+    reportWork(ctx, pixels.template forEach<kCounterCount>(
+                        f.ao.width, f.ao.height,
+                        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& c) {
+                            ssgiPixel(f, x, y, c.value);
+                        },
+                        "ssgi"));
 }
 
 }  // namespace fp::ssgi

@@ -4,6 +4,7 @@
 #include "passes/core/PassPorts.h"
 #include "passes/core/PerPixel.h"
 #include "passes/ssgi/SSGIKernel.h"
+#include "passes/ssgi/SSGILanes.h"
 
 #include <algorithm>
 
@@ -23,6 +24,9 @@ ParamSpec<SSGIParams> SSGIPass::paramSpec() {
     s.add("indirectLightingColorScale", &Params::indirectLightingColorScale,
           "4.27 only: post-process IndirectLightingIntensity (× white IndirectLightingColor)")
         .range(0.0, 1e6);
+    s.add("lanes", &Params::lanes,
+          "CPU only: trace a pixel's rays a SIMD vector at a time (the widest instruction set the "
+          "CPU has); false runs the scalar reference one ray at a time. Both give the same bits");
     return s;
 }
 
@@ -82,8 +86,14 @@ Vec3f SSGIPass::rayDirection(const Vec3f& n,
 
 void SSGIPass::execute(PassContext& ctx) {
     const SSGIQuality q = qualityTable(mParams.quality);
-    ssgi::run(ctx, HostPorts{ctx}, CpuPixels{}, q.rays, q.steps, mParams.halfRes,
-              mParams.indirectLightingColorScale);
+    if (!mParams.lanes) {
+        ssgi::run(ctx, HostPorts{ctx}, CpuPixels{}, q.rays, q.steps, mParams.halfRes,
+                  mParams.indirectLightingColorScale);
+        return;
+    }
+    const ssgi::Frame f = ssgi::bindFrame(HostPorts{ctx}, ctx.frame(), q.rays, q.steps,
+                                          mParams.halfRes, mParams.indirectLightingColorScale);
+    ssgi::reportWork(ctx, ssgi::traceInLanes(f));
 }
 
 }  // namespace fp

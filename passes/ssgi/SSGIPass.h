@@ -14,6 +14,7 @@ struct SSGIParams {
     int quality = 4;       //!< 1..4 → 4/8/16/32 rays, 8/8/8/12 steps
     bool halfRes = false;  //!< trace at half resolution
     float indirectLightingColorScale = 1.0f;  //!< 4.27's PP IndirectLightingIntensity × colour
+    bool lanes = true;  //!< CPU: a pixel's rays in SIMD lanes (false: the scalar reference)
 };
 
 /// What one quality level costs (reference §4.2).

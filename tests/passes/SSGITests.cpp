@@ -4,6 +4,7 @@
 #include "passes/core/Sampling.h"
 #include "passes/core/UnrealRandom.h"
 #include "passes/prev_color_reduction/PrevColorReductionPass.h"
+#include "passes/ssgi/SSGILanes.h"
 #include "passes/ssgi/SSGIPass.h"
 #include "passes/ssgi_denoise/SSGIDenoisePass.h"
 #include "tests/support/TestScenes.h"
@@ -105,6 +106,70 @@ TEST_CASE("quality levels trace 4/8/16/32 rays of 8/8/8/12 steps") {
         CHECK(work.at("hzbSamples") <= all);
         CHECK(work.at("hzbSamples") >= all - border);
     }
+}
+
+TEST_CASE("SIMD lanes give the scalar reference's bits") {
+    // The CPU traces a pixel's rays a vector at a time (SSGILanes.cpp) doing the scalar
+    // ssgiPixel's IEEE operations lane by lane, so every output must match it bit for bit: on a
+    // closed room (every ray can hit) and on a floor under an open sky (rays leave the screen and
+    // hit the sky), a sphere on the floor for occlusion, every quality (4 to 32 rays, so whole and
+    // part-filled vectors), full and half resolution, two frame indices, a size that is no
+    // multiple of any vector width; and every instruction set the build has lanes for that this
+    // CPU runs (SSE4, AVX2, AVX-512…).
+    Scene room = floorAndWall();
+    room.meshes.push_back(test::sphere({2, 3, 10}, 3.0, 16));
+    Scene open = test::floorScene();
+    open.meshes.push_back(test::sphere({0, 3, 10}, 3.0, 16));
+    FrameCamera openCam;
+    openCam.current = CameraView::lookAt({0, 8, -10}, {0, 2, 20}, {0, 1, 0}, 60.0, 37, 29, 1.0);
+    openCam.previous = openCam.current;
+    FrameCamera roomCam = wallCamera(37);
+    const std::vector<std::string> outputs = {"ssgi.diffuse", "ssgi.ao", "ssgi.hitMask",
+                                              "ssgi.hitDistance"};
+    const std::vector<int64_t> targets = ssgi::laneTargetsHere();
+    REQUIRE(!targets.empty());
+    int compared = 0;
+    for (int64_t target : targets)
+    for (const auto& [scene, cam] : {std::pair{&room, &roomCam}, std::pair{&open, &openCam}})
+        for (int64_t frame : {1, 6}) {
+            auto src = test::captureToMemory(*scene, *cam, frame);
+            for (int q = 1; q <= 4; ++q)
+                for (bool halfRes : {false, true}) {
+                    const nlohmann::json params = {{"quality", q}, {"halfRes", halfRes}};
+                    nlohmann::json scalarParams = params;
+                    scalarParams["lanes"] = false;
+                    test::MemorySink lanes, scalar;
+                    ssgi::useOnlyLaneTarget(target);
+                    const std::string laneName = ssgi::laneTarget().name;
+                    INFO("lanes: ", laneName);
+                    const FrameReport a =
+                        executePlan(test::planFor(ssgiChain(params), outputs), src, lanes);
+                    ssgi::useOnlyLaneTarget(0);
+                    const FrameReport b =
+                        executePlan(test::planFor(ssgiChain(scalarParams), outputs), src, scalar);
+                    CHECK(a.passes.back().work == b.passes.back().work);
+                    CHECK(a.passes.back().work.at("hzbSamples") > 0);
+                    for (const auto& o : outputs) {
+                        const Image& img = lanes.layers.at(o).image();
+                        for (int c = 0; c < img.channelCount(); ++c)
+                            CHECK_MESSAGE(test::sameBits(img.plane(c),
+                                                         scalar.layers.at(o).image().plane(c)),
+                                          o, " quality ", q, " halfRes ", halfRes);
+                    }
+                    // The comparison means something: some rays hit, some miss.
+                    const Plane& hitMask = lanes.layers.at("ssgi.hitMask").image().plane(0);
+                    float lo = 1, hi = 0;
+                    for (int y = 0; y < hitMask.height(); ++y)
+                        for (int x = 0; x < hitMask.width(); ++x) {
+                            lo = std::min(lo, hitMask.at(x, y));
+                            hi = std::max(hi, hitMask.at(x, y));
+                        }
+                    CHECK(hi > 0.0f);
+                    CHECK(lo < 1.0f);
+                    ++compared;
+                }
+        }
+    CHECK(compared == 32 * int(targets.size()));
 }
 
 TEST_CASE("ray directions are cosine-distributed around the normal") {

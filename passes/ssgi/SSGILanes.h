@@ -1,0 +1,30 @@
+#pragma once
+// SSGI on the CPU with a pixel's rays in SIMD lanes (Google Highway, the widest instruction set the
+// CPU has, chosen at run time): the same arithmetic as the scalar ssgiPixel, lane by lane, so the
+// outputs are the same bits (SSGITests checks it). SSGIPass::execute uses it unless `ssgi.lanes`
+// is off.
+#include "passes/ssgi/SSGIKernel.h"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace fp::ssgi {
+
+/// Traces every pixel of the frame (one ssgiPixel's outputs each) on the CPU's thread pool, a
+/// pixel's rays a vector at a time; returns the work counted (indexed by Counter).
+std::array<uint64_t, kCounterCount> traceInLanes(const Frame& f);
+
+/// The instruction set the lanes run on here and how many rays one vector holds ("AVX2", 8).
+struct LaneTarget {
+    const char* name;
+    int lanes;
+};
+LaneTarget laneTarget();
+
+/// Tests: the instruction sets this build has lanes for that this CPU runs (Highway target bits),
+/// and a way to make traceInLanes use only one of them (0: the widest again).
+std::vector<int64_t> laneTargetsHere();
+void useOnlyLaneTarget(int64_t target);
+
+}  // namespace fp::ssgi
