@@ -2,8 +2,8 @@
 """make bench: the 1080p speed table the README quotes ("Speed at 1080p").
 
 Captures the Cornell and hard scenes at 1920x1080 once (out/bench/<scene>.exr, kept between
-runs), times the default lit chain on each with `framepass bench --json` (medians), and times the
-capture read: `framepass inspect` against `oiiotool -a --stats` on the same file. Prints one
+runs), times the default lit chain on each with `framepass bench --json` (medians; SSGI's SIMD
+lanes and, in the same run, its scalar reference `ssgi.lanes=false`), and times the capture read: `framepass inspect` against `oiiotool -a --stats` on the same file. Prints one
 Markdown table; the bench JSON of each scene stays beside the captures.
 """
 import argparse
@@ -54,10 +54,13 @@ def main():
                  "-o", exr, "--width", "1920", "--height", "1080"])
         print(f"timing the lit chain on {scene} ({a.runs} runs) ...", file=sys.stderr)
         result = json.loads(run([a.framepass, "bench", os.path.join(HERE, f"{scene}.json"),
-                                 "--runs", str(a.runs), "--json"]))
+                                 "--runs", str(a.runs), "--sweep", "ssgi.lanes=true,false",
+                                 "--json"]))
         with open(os.path.join(a.out, f"{scene}.json"), "w") as f:
             json.dump(result, f, indent=2)
-        setting = result["settings"][0]
+        settings = {s["label"]: s for s in result["settings"]}
+        setting = settings["ssgi.lanes=true"]
+        scalar = {p["name"]: p for p in settings["ssgi.lanes=false"]["passes"]}
         passes = {p["name"]: p for p in setting["passes"]}
         bare8 = passes.get("bare loop rtcOccluded8")
         shadowSteps = sum(p["type"] == "rt_shadows" for p in setting["passes"])
@@ -70,6 +73,11 @@ def main():
                         note = (f"{100 * p['throughput'] / bare8['throughput']:.0f} % of the bare "
                         f"rtcOccluded8 loop ({bare8['throughput'] / 1e6:.1f} M rays/s"
                         f"{', every light' if shadowSteps > 1 else ''})")
+            if p["type"] == "ssgi" and scalar[p["name"]]["throughput"] > 0:
+                reference = scalar[p["name"]]
+                note = (f"{p['throughput'] / reference['throughput']:.1f}× the scalar reference "
+                        f"(`ssgi.lanes=false`: {reference['median'] * 1e3:,.0f} ms, "
+                        f"{reference['throughput'] / 1e6:.1f} M {p['unit']}/s; same bits)")
             rate = f"{p['throughput'] / 1e6:.1f} M {p['unit']}/s" if p["work"] else ""
             rows.append((scene, p["name"], f"{p['median'] * 1e3:,.1f}", rate, note))
         pixels = result["width"] * result["height"]

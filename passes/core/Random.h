@@ -14,6 +14,8 @@ constexpr uint32_t pcgHash(uint32_t v) {
 
 class Rng {
 public:
+    /// A placeholder, to be assigned a seeded stream before use.
+    Rng() = default;
     /// `frame` is the absolute frame number so a chunked farm run equals a sequential one.
     constexpr Rng(int64_t frame, int x, int y, uint32_t seed)
         : mState(pcgHash(uint32_t(x) ^ pcgHash(uint32_t(y) ^
@@ -28,7 +30,7 @@ public:
     constexpr float nextFloat() { return float(nextUint() >> 8) * (1.0f / 16777216.0f); }
 
 private:
-    uint32_t mState;
+    uint32_t mState = 0;
 };
 
 }  // namespace fp

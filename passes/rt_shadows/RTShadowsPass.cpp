@@ -104,35 +104,49 @@ public:
           mInstances(ctx.input(kInstanceId)),
           mWantDistance(ctx.isRequested(kHitDistance)) {}
 
-    /// Pixels [x0, x1) of row py (x1 − x0 ≤ kPacketSize).
-    void tracePacket(int x0, int x1, int py, const ShadowOutputs& out, TileWork& work) const {
-        std::array<PixelSetup, kPacketSize> px{};
-        std::array<PixelResult, kPacketSize> res{};
-        // Per-pixel streams: packets and single rays draw the same numbers.
-        auto pixelRng = [&](int i) { return Rng(mFrame, x0 + i, py, mSeed); };
-        std::array<Rng, kPacketSize> rng{pixelRng(0), pixelRng(1), pixelRng(2), pixelRng(3),
-                                         pixelRng(4), pixelRng(5), pixelRng(6), pixelRng(7)};
-        static_assert(kPacketSize == 8);
-        for (int i = 0; i < kPacketSize && x0 + i < x1; ++i) {
+    /// Pixels [x0, x1) of row py (x1 − x0 ≤ kTileSize). Each sample's rays are gathered from the
+    /// pixels that trace one (unlit, sky, unreachable and back-facing pixels trace none) and
+    /// traced in full packets of kPacketSize, as the bare Embree loop traces them: a packet of
+    /// eight neighbouring pixels, most of them idle at a shadow's or the light's edge, costs a
+    /// full packet's traversal. Every pixel still draws its own random stream in sample order, so
+    /// the result is that of one ray at a time.
+    void traceRow(int x0, int x1, int py, const ShadowOutputs& out, TileWork& work) const {
+        const int n = x1 - x0;
+        std::array<PixelSetup, kTileSize> px;
+        std::array<PixelResult, kTileSize> res;
+        std::array<Rng, kTileSize> rng;
+        int active[kTileSize], activeCount = 0;
+        for (int i = 0; i < n; ++i) {
             px[i] = setupPixel(x0 + i, py);
-            ++(px[i].active ? work.pixels : work.skipped);
-        }
-        for (int sample = 0; sample < mSpp; ++sample) {
-            std::array<Ray, kPacketSize> ray{};
-            bool traced[kPacketSize] = {}, blocked[kPacketSize] = {};
-            for (int i = 0; i < kPacketSize; ++i) {
-                if (!px[i].active)
-                    continue;
-                traced[i] = shadowRay(px[i], rng[i], ray[i]);
-                work.rays += traced[i];
+            res[i] = {};
+            if (!px[i].active) {
+                ++work.skipped;
+                continue;
             }
-            float hitT[kPacketSize];
-            trace(ray, traced, blocked, hitT, work);
-            for (int i = 0; i < kPacketSize; ++i)
-                if (traced[i])
-                    addSample(px[i], ray[i], blocked[i], hitT[i], res[i], work);
+            ++work.pixels;
+            rng[i] = Rng(mFrame, x0 + i, py, mSeed);  // per-pixel streams
+            active[activeCount++] = i;
         }
-        for (int i = 0; i < kPacketSize && x0 + i < x1; ++i)
+        // One sample's rays, gathered, and the pixel each belongs to; padded to whole packets.
+        std::array<Ray, kTileSize + kPacketSize> ray;
+        int owner[kTileSize];
+        bool blocked[kTileSize + kPacketSize];
+        float hitT[kTileSize + kPacketSize];
+        for (int sample = 0; sample < mSpp && activeCount > 0; ++sample) {
+            int rays = 0;
+            for (int k = 0; k < activeCount; ++k) {
+                const int i = active[k];
+                if (shadowRay(px[i], rng[i], ray[rays]))
+                    owner[rays++] = i;
+            }
+            work.rays += uint64_t(rays);
+            for (int first = 0; first < rays; first += kPacketSize)
+                trace(&ray[first], std::min(kPacketSize, rays - first), &blocked[first],
+                      &hitT[first], work);
+            for (int k = 0; k < rays; ++k)
+                addSample(px[owner[k]], ray[k], blocked[k], hitT[k], res[owner[k]], work);
+        }
+        for (int i = 0; i < n; ++i)
             resolvePixel(px[i], res[i], x0 + i, py, out);
     }
 
@@ -183,34 +197,36 @@ private:
         return true;
     }
 
-    // Occlusion of the traced rays, and where a blocked ray's distance is wanted (the denoiser's
-    // input) its closest hit (−1: none); as a packet or one ray at a time, with the same result.
-    void trace(const std::array<Ray, kPacketSize>& ray,
-               const bool traced[],
-               bool blocked[],
-               float hitT[],
-               TileWork& work) const {
+    // Occlusion of the first `count` (1 to kPacketSize) of the rays, and where a blocked ray's
+    // distance is wanted (the denoiser's input) its closest hit (−1: none); as a packet or one ray
+    // at a time, with the same result.
+    void trace(const Ray* ray, int count, bool blocked[], float hitT[], TileWork& work) const {
+        bool inPacket[kPacketSize];
+        for (int i = 0; i < kPacketSize; ++i)
+            inPacket[i] = i < count;
         if (mParams.rayPackets) {
-            mRs.occluded8(ray.data(), traced, blocked);
+            mRs.occluded8(ray, inPacket, blocked);
         } else {
-            for (int i = 0; i < kPacketSize; ++i)
-                blocked[i] =
-                    traced[i] && mRs.occluded(ray[i].org, ray[i].dir, ray[i].tnear, ray[i].tfar);
+            for (int i = 0; i < count; ++i)
+                blocked[i] = mRs.occluded(ray[i].org, ray[i].dir, ray[i].tnear, ray[i].tfar);
         }
-        std::fill(hitT, hitT + kPacketSize, -1.0f);
+        std::fill(hitT, hitT + count, -1.0f);
         if (!mWantDistance)
             return;
         if (mParams.rayPackets) {
-            mRs.closestHit8(ray.data(), blocked, hitT);
-        } else {
+            bool wanted[kPacketSize];
             for (int i = 0; i < kPacketSize; ++i)
+                wanted[i] = i < count && blocked[i];
+            mRs.closestHit8(ray, wanted, hitT);
+        } else {
+            for (int i = 0; i < count; ++i)
                 if (blocked[i]) {
                     const RayHit h =
                         mRs.intersect(ray[i].org, ray[i].dir, ray[i].tnear, ray[i].tfar);
                     hitT[i] = h.hit ? h.t : -1.0f;
                 }
         }
-        for (int i = 0; i < kPacketSize; ++i)
+        for (int i = 0; i < count; ++i)
             work.distanceRays += blocked[i];
     }
 
@@ -400,8 +416,7 @@ void RTShadowsPass::execute(PassContext& ctx) {
     forEachTile(size.width, size.height, [&](const Tile& t) {
         TileWork work;
         for (int py = t.y0; py < t.y1; ++py)
-            for (int x0 = t.x0; x0 < t.x1; x0 += kPacketSize)
-                tracer.tracePacket(x0, t.x1, py, out, work);
+            tracer.traceRow(t.x0, t.x1, py, out, work);
         ctx.addWork("rays", work.rays);
         ctx.addWork("transmissionRays", work.transmissionRays);
         ctx.addWork("distanceRays", work.distanceRays);
