@@ -12,10 +12,9 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
-#include "passes/core/Tiles.h"
+#include "passes/core/PerPixel.h"
 #include "passes/ssgi/SSGILanes.h"
 
-#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -212,19 +211,12 @@ std::array<uint64_t, kCounterCount> traceFrame(const Frame& f) {
         reversed[i] = int32_t(ue::reverseBits32(uint32_t(i)) >> 16u);
     }
     const double zScale = f.setup.cam.projectionZScale(), zOffset = f.setup.cam.projectionZOffset();
-    std::array<std::atomic<uint64_t>, kCounterCount> totals{};
-    forEachTile(f.ao.width, f.ao.height, [&](const Tile& tile) {
-        unsigned long long counts[kCounterCount] = {};
-        for (int y = tile.y0; y < tile.y1; ++y)
-            for (int x = tile.x0; x < tile.x1; ++x)
-                tracePixel(f, x, y, indexOverCount, reversed, zScale, zOffset, counts);
-        for (int i = 0; i < kCounterCount; ++i)
-            totals[i] += counts[i];
-    });
-    std::array<uint64_t, kCounterCount> result{};
-    for (int i = 0; i < kCounterCount; ++i)
-        result[i] = totals[i];
-    return result;
+    return CpuPixels{}.forEach<kCounterCount>(
+        f.ao.width, f.ao.height,
+        [&](int x, int y, WorkCounts<kCounterCount>& c) {
+            tracePixel(f, x, y, indexOverCount, reversed, zScale, zOffset, c.value);
+        },
+        "ssgi");
 }
 
 LaneTarget target() {
