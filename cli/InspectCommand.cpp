@@ -9,6 +9,7 @@
 #include <OpenEXR/ImfHeader.h>
 
 #include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
 
 #include <cmath>
 #include <filesystem>
@@ -21,6 +22,29 @@ namespace {
 const char* typeName(Imf::PixelType t) {
     return t == Imf::HALF ? "half" : (t == Imf::FLOAT ? "float" : "uint");
 }
+
+// One channel's statistics over its finite values, with NaN and infinities counted apart.
+struct ChannelStats {
+    double lo = INFINITY, hi = -INFINITY, sum = 0;
+    uint64_t nan = 0, inf = 0, finite = 0;
+
+    static ChannelStats of(const Plane& plane) {
+        ChannelStats s;
+        for (int y = 0; y < plane.height(); ++y)
+            for (int x = 0; x < plane.width(); ++x) {
+                const float v = plane.at(x, y);
+                if (std::isnan(v)) ++s.nan;
+                else if (std::isinf(v)) ++s.inf;
+                else {
+                    s.lo = std::min(s.lo, double(v));
+                    s.hi = std::max(s.hi, double(v));
+                    s.sum += v;
+                    ++s.finite;
+                }
+            }
+        return s;
+    }
+};
 }  // namespace
 
 Command addInspectCommand(CLI::App& app) {
@@ -56,23 +80,28 @@ Command addInspectCommand(CLI::App& app) {
         for (const auto& [key, constReader] : files.files()) {
             // Statistics read pixels; the file stays the one CaptureFiles opened.
             io::ExrReader reader(constReader->path());
-            for (const auto& c : reader.channels()) {
-                // One channel at a time keeps memory at one plane whatever the file's size.
-                const Image img = reader.read(std::vector<const io::ExrChannel*>{&c}, {"v"});
-                double lo = INFINITY, hi = -INFINITY, sum = 0;
-                uint64_t nan = 0, inf = 0, finite = 0;
-                for (int y = 0; y < img.height(); ++y)
-                    for (int x = 0; x < img.width(); ++x) {
-                        const float v = img.plane(0).at(x, y);
-                        if (std::isnan(v)) ++nan;
-                        else if (std::isinf(v)) ++inf;
-                        else {
-                            lo = std::min(lo, double(v));
-                            hi = std::max(hi, double(v));
-                            sum += v;
-                            ++finite;
-                        }
-                    }
+            // A part's channels are read together: OpenEXR decompresses a part's pixel blocks
+            // whole, so reading its channels one by one would decompress the part once a channel.
+            // One part at a time keeps memory at one part's planes whatever the file's size.
+            const std::vector<io::ExrChannel>& channels = reader.channels();
+            std::vector<ChannelStats> stats(channels.size());
+            for (std::size_t first = 0; first < channels.size();) {
+                std::size_t end = first;
+                std::vector<const io::ExrChannel*> part;
+                std::vector<std::string> names;
+                for (; end < channels.size() && channels[end].part == channels[first].part; ++end) {
+                    part.push_back(&channels[end]);
+                    names.push_back(fmt::format("c{}", end - first));
+                }
+                const Image img = reader.read(part, names);
+                tbb::parallel_for(std::size_t(0), part.size(), [&](std::size_t i) {
+                    stats[first + i] = ChannelStats::of(img.plane(int(i)));
+                });
+                first = end;
+            }
+            for (std::size_t i = 0; i < channels.size(); ++i) {
+                const io::ExrChannel& c = channels[i];
+                const ChannelStats& st = stats[i];
                 // In a mip chain every part repeats the channel names: show "<part>/<channel>".
                 const Imf::Header& h = reader.header(c.part);
                 std::string shown = reader.partCount() > 1 && h.hasName()
@@ -83,9 +112,10 @@ Command addInspectCommand(CLI::App& app) {
                 j["channels"].push_back({{"name", shown}, {"type", typeName(c.type)},
                                          {"part", c.part},
                                          {"buffer", files.bufferOfChannel(key, c.name)},
-                                         {"min", finite ? lo : 0.0}, {"max", finite ? hi : 0.0},
-                                         {"mean", finite ? sum / finite : 0.0}, {"nan", nan},
-                                         {"inf", inf}});
+                                         {"min", st.finite ? st.lo : 0.0},
+                                         {"max", st.finite ? st.hi : 0.0},
+                                         {"mean", st.finite ? st.sum / st.finite : 0.0},
+                                         {"nan", st.nan}, {"inf", st.inf}});
             }
         }
         j["buffers"] = nlohmann::json::object();
