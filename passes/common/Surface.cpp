@@ -12,7 +12,8 @@ SurfaceGrid::SurfaceGrid(const CameraView& cam,
     : mWidth(grid.width),
       mHeight(grid.height),
       mStep(step),
-      mSurfaces(std::size_t(grid.width) * grid.height) {
+      mSurfaces(static_cast<Surface*>(
+          ::operator new(std::size_t(grid.width) * grid.height * sizeof(Surface)))) {
     const SurfaceGridView v = view();
     const SurfaceInputsView inputs = viewOf(in);
     forEachTile(grid.width, grid.height, [&](const Tile& t) {

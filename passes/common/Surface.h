@@ -11,6 +11,9 @@
 #include "passes/core/ShadingModel.h"
 
 #include <cstddef>
+#include <memory>
+#include <new>
+#include <type_traits>
 #include <vector>
 
 namespace fp {
@@ -111,11 +114,18 @@ public:
                 int step,
                 NormalRead read);
     const Surface& at(int x, int y) const { return mSurfaces[std::size_t(y) * mWidth + x]; }
-    SurfaceGridView view() { return {mSurfaces.data(), mWidth, mHeight, mStep}; }
+    SurfaceGridView view() { return {mSurfaces.get(), mWidth, mHeight, mStep}; }
 
 private:
     int mWidth, mHeight, mStep;
-    std::vector<Surface> mSurfaces;
+    // Left unwritten on allocation: the tiles build every texel in parallel (a value-initialised
+    // vector would first write the whole grid on one thread).
+    struct RawDelete {
+        void operator()(Surface* p) const { ::operator delete(p); }
+    };
+    static_assert(std::is_trivially_copyable_v<Surface> && std::is_trivially_destructible_v<Surface>,
+                  "texels are assigned into raw storage");
+    std::unique_ptr<Surface[], RawDelete> mSurfaces;
 };
 
 }  // namespace fp

@@ -38,4 +38,17 @@ FP_HD inline int truncToInt(double v, int lo, int hi) {
     return std::clamp(int(v), lo, hi);
 }
 
+/// std::lround(v) for |v| < 2³¹ (the caller guarantees it; NaN is out of range too), without
+/// libm's call: truncate, then step away from zero where the fraction is at least one half.
+/// v − trunc(v) is exact in float, so the result is lround's for every such v.
+FP_HD inline int roundHalfAwayToInt(float v) {
+    int i = int(v);
+    const float fraction = v - float(i);
+    if (fraction >= 0.5f)
+        ++i;
+    else if (fraction <= -0.5f)
+        --i;
+    return i;
+}
+
 }  // namespace fp

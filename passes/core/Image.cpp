@@ -1,5 +1,8 @@
 #include "passes/core/Image.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <new>
 
@@ -17,7 +20,12 @@ Plane::Plane(int width, int height, float fill) : mWidth(width), mHeight(height)
     mStride = (std::ptrdiff_t(width) + kRowAlignFloats - 1) / kRowAlignFloats * kRowAlignFloats;
     std::size_t count = std::max<std::size_t>(1, std::size_t(mStride) * std::size_t(height));
     float* p = static_cast<float*>(::operator new[](count * sizeof(float), std::align_val_t{64}));
-    std::fill(p, p + count, fill);
+    // Filled by row blocks on all threads: a frame's plane is megabytes, and the first write of
+    // each fresh page also faults it in, which one thread would do serially.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, std::size_t(1) << 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          std::fill(p + r.begin(), p + r.end(), fill);
+                      });
     mData = std::shared_ptr<float>(p, AlignedDelete{});
 }
 

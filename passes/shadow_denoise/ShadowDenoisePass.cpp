@@ -3,14 +3,16 @@
 #include "passes/common/Bilateral.h"
 #include "passes/common/GBuffer.h"
 #include "passes/common/Surface.h"
+#include "passes/core/Error.h"
+#include "passes/core/FloatToInt.h"
 #include "passes/core/Tiles.h"
 #include "passes/core/UnrealRandom.h"
 #include "passes/lighting/LightAttenuation.h"
 #include "passes/lighting/NamedLight.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <cstring>
 
 namespace fp {
 
@@ -41,28 +43,63 @@ float penumbraRadius(const Light& light, float hit, float lightDistance) {
     }
 }
 
-// Planes share their pixels when copied: the filter works on copies of its own.
-Image copyOf(const Image& from) {
-    Image to(from.width(), from.height(), from.channels());
-    for (int c = 0; c < from.channelCount(); ++c)
-        for (int y = 0; y < from.height(); ++y)
-            std::memcpy(to.plane(c).row(y), from.plane(c).row(y), sizeof(float) * from.width());
-    return to;
-}
+// The radii of a golden-angle spiral of `taps` points in the unit disk: √((k + ½)/taps).
+struct Spiral {
+    int taps;
+    std::array<float, 64> unitRadius;  // reconstructionSamples ≤ 64
 
-// Tap k of a golden-angle spiral of `taps` points in the unit disk, scaled to `radius` pixels and
-// rotated by `rotation` (per pixel from IGN, and per pass), so the few taps of each pass cover
-// the disk evenly and neighbouring pixels sample it differently.
-void tapOffset(int k, int taps, float rotation, float radius, int& dx, int& dy) {
-    const float r = radius * std::sqrt((float(k) + 0.5f) / float(taps));
-    const float a = float(k) * kGoldenAngle + rotation;
-    if (!(std::fabs(r) < 1e6f)) {  // a NaN/inf radius: the centre tap (lround of NaN is UB)
-        dx = dy = 0;
-        return;
+    explicit Spiral(int tapCount) : taps(tapCount), unitRadius{} {
+        FP_CHECK(taps >= 0 && taps <= int(unitRadius.size()), "{} taps: at most {}", taps,
+                 unitRadius.size());
+        for (int k = 0; k < taps; ++k)
+            unitRadius[k] = std::sqrt((float(k) + 0.5f) / float(taps));
     }
-    dx = int(std::lround(r * std::cos(a)));
-    dy = int(std::lround(r * std::sin(a)));
-}
+
+    // Tap k scaled to `radius` pixels and rotated by `rotation` (per pixel from IGN, and per
+    // pass), so the few taps of each pass cover the disk evenly and neighbouring pixels sample it
+    // differently.
+    void tapOffset(int k, float rotation, float radius, int& dx, int& dy) const {
+        const float r = radius * unitRadius[k];
+        const float a = float(k) * kGoldenAngle + rotation;
+        if (!(std::fabs(r) < 1e6f)) {  // a NaN/inf radius: the centre tap
+            dx = dy = 0;
+            return;
+        }
+        dx = roundHalfAwayToInt(r * std::cos(a));
+        dy = roundHalfAwayToInt(r * std::sin(a));
+    }
+};
+
+// How many pixels hold an occluder distance (a valid surface with a hit) in any rectangle: a
+// summed-area table, so a pixel whose every tap would land where no occluder is skips its taps.
+class OccluderCounts {
+public:
+    OccluderCounts(const SurfaceGrid& surfaces, const Plane& hits)
+        : mWidth(hits.width()), mHeight(hits.height()),
+          mSum(std::size_t(mWidth + 1) * (mHeight + 1), 0u) {
+        for (int y = 0; y < mHeight; ++y) {
+            uint32_t row = 0;
+            for (int x = 0; x < mWidth; ++x) {
+                row += hits.at(x, y) >= 0.0f && surfaces.at(x, y).valid;
+                at(x + 1, y + 1) = at(x + 1, y) + row;
+            }
+        }
+    }
+
+    /// Occluder pixels in the square of half-width `reach` around (x, y), clipped to the image.
+    uint32_t around(int x, int y, int reach) const {
+        const int x0 = std::max(x - reach, 0), x1 = std::min(x + reach + 1, mWidth);
+        const int y0 = std::max(y - reach, 0), y1 = std::min(y + reach + 1, mHeight);
+        return at(x1, y1) - at(x0, y1) - at(x1, y0) + at(x0, y0);
+    }
+
+private:
+    uint32_t& at(int x, int y) { return mSum[std::size_t(y) * (mWidth + 1) + x]; }
+    uint32_t at(int x, int y) const { return mSum[std::size_t(y) * (mWidth + 1) + x]; }
+
+    int mWidth, mHeight;
+    std::vector<uint32_t> mSum;
+};
 
 // What the blur radius of a pixel depends on (reference §6.3).
 struct RadiusInputs {
@@ -70,7 +107,8 @@ struct RadiusInputs {
     Vec3f lightPos;  // camera-relative
     const SurfaceGrid& surfaces;
     const Plane& hits;
-    int taps;
+    const OccluderCounts& occluders;
+    const Spiral& spiral;
     float maxRadius;  // pixels
 };
 
@@ -80,10 +118,15 @@ struct RadiusInputs {
 float blurRadius(const RadiusInputs& in, int x, int y) {
     const int W = in.hits.width(), H = in.hits.height();
     float hit = in.hits.at(x, y);
+    // A tap lands at most round(maxRadius) pixels away (clamped into the image): with no occluder
+    // in that square the search below finds none, so it is not run.
+    const int reach = int(std::ceil(in.maxRadius)) + 1;
+    if (hit < 0.0f && in.occluders.around(x, y, reach) == 0)
+        return 0.0f;
     const float rotation = 2.0f * kPiF * ue::interleavedGradientNoise(float(x), float(y), 0);
-    for (int k = 0; k < in.taps && hit < 0.0f; ++k) {
+    for (int k = 0; k < in.spiral.taps && hit < 0.0f; ++k) {
         int dx, dy;
-        tapOffset(k, in.taps, rotation, in.maxRadius, dx, dy);
+        in.spiral.tapOffset(k, rotation, in.maxRadius, dx, dy);
         const int sx = std::clamp(x + dx, 0, W - 1), sy = std::clamp(y + dy, 0, H - 1);
         const float h = in.hits.at(sx, sy);
         if (h >= 0.0f && in.surfaces.at(sx, sy).valid)
@@ -101,7 +144,7 @@ float blurRadius(const RadiusInputs& in, int x, int y) {
 // weighted by the receiver's plane and normal⁴ (reference §6.3); S and T are filtered together.
 void filterPixel(const SurfaceGrid& surfaces,
                  const Image& signal,
-                 int taps,
+                 const Spiral& spiral,
                  int pass,
                  int x,
                  int y,
@@ -114,9 +157,9 @@ void filterPixel(const SurfaceGrid& surfaces,
     float sumW = 1.0f;
     const float rotation =
         2.0f * kPiF * ue::interleavedGradientNoise(float(x), float(y), uint32_t(pass + 1));
-    for (int k = 0; k < taps; ++k) {
+    for (int k = 0; k < spiral.taps; ++k) {
         int dx, dy;
-        tapOffset(k, taps, rotation, r, dx, dy);
+        spiral.tapOffset(k, rotation, r, dx, dy);
         const int sx = x + dx, sy = y + dy;
         if (sx < 0 || sy < 0 || sx >= W || sy >= H || !surfaces.at(sx, sy).valid)
             continue;
@@ -177,8 +220,10 @@ Plane ShadowDenoisePass::blurRadii(PassContext& ctx,
     const CameraView& cam = ctx.frame().camera.current;
     const Plane& hits = ctx.input(kHitDistance)->image().plane(0);
     const int W = hits.width(), H = hits.height();
-    const RadiusInputs in{light, Vec3f(light.position - cam.position), surfaces,
-                          hits,  mParams.reconstructionSamples,        mParams.maxRadius};
+    const OccluderCounts occluders(surfaces, hits);
+    const Spiral spiral(mParams.reconstructionSamples);
+    const RadiusInputs in{light,     Vec3f(light.position - cam.position), surfaces, hits,
+                          occluders, spiral,                               mParams.maxRadius};
     // Pixels without a radius of at least half a pixel are left as they are (and counted).
     Plane radius(W, H);
     forEachTile(W, H, [&](const Tile& t) {
@@ -199,16 +244,19 @@ Plane ShadowDenoisePass::blurRadii(PassContext& ctx,
 Image ShadowDenoisePass::filter(const SurfaceGrid& surfaces,
                                 const Plane& radius,
                                 Image signal) const {
+    const Spiral spiral(mParams.reconstructionSamples);
     for (int pass = 0; pass <= mParams.preConvolution; ++pass) {
-        Image out = copyOf(signal);
+        Image out(signal.width(), signal.height(), signal.channels());
         forEachTile(signal.width(), signal.height(), [&](const Tile& t) {
             for (int y = t.y0; y < t.y1; ++y)
                 for (int x = t.x0; x < t.x1; ++x) {
                     const float r = radius.at(x, y);
-                    if (!surfaces.at(x, y).valid || r < 0.5f)
-                        continue;  // no penumbra: nothing to blur
-                    filterPixel(surfaces, signal, mParams.reconstructionSamples, pass, x, y, r,
-                                out);
+                    if (!surfaces.at(x, y).valid || r < 0.5f) {  // no penumbra: nothing to blur
+                        out.plane(0).at(x, y) = signal.plane(0).at(x, y);
+                        out.plane(1).at(x, y) = signal.plane(1).at(x, y);
+                    } else {
+                        filterPixel(surfaces, signal, spiral, pass, x, y, r, out);
+                    }
                 }
         });
         signal = std::move(out);
@@ -232,9 +280,9 @@ void ShadowDenoisePass::execute(PassContext& ctx) {
             {ctx.input(gbuffer::kDepth)->image().plane(0), ctx.input(gbuffer::kNormal)->image(),
              ctx.input(gbuffer::kShadingModel)->image().plane(0)},
             size, 1, NormalRead::AsStored);
-        signal = filter(surfaces, blurRadii(ctx, light, surfaces), copyOf(raw));
+        signal = filter(surfaces, blurRadii(ctx, light, surfaces), raw);
     } else {
-        signal = copyOf(raw);
+        signal = raw;
         ctx.addWork("pixels", 0);
         ctx.addWork("skippedPixels", uint64_t(W) * H);
     }

@@ -5,6 +5,7 @@
 #include "passes/common/GBuffer.h"
 #include "passes/common/Reprojection.h"
 #include "passes/common/Surface.h"
+#include "passes/core/FloatToInt.h"
 #include "passes/core/ShadingModel.h"
 
 #include <doctest/doctest.h>
@@ -43,6 +44,21 @@ struct FlatGBuffer {
 };
 
 }  // namespace
+
+TEST_CASE("roundHalfAwayToInt is std::lround: halves away from zero, and every float in between") {
+    // The shadow denoiser's tap offsets use it in place of lround; its taps must not move.
+    for (float v : {0.0f, -0.0f, 0.5f, -0.5f, 1.5f, -1.5f, 2.5f, -2.5f, 0.49999997f, -0.49999997f,
+                    31.5f, -31.5f, 8388607.5f, -8388607.5f, 8388609.0f, 1e9f, -1e9f})
+        CHECK(roundHalfAwayToInt(v) == std::lround(v));
+    // Every float of [−64, 64] at a step of 2⁻¹⁶ and the ulps around each half.
+    int mismatches = 0;
+    for (int i = -64 * 65536; i <= 64 * 65536; ++i) {
+        const float v = float(i) / 65536.0f;
+        for (float w : {v, std::nextafter(v, -INFINITY), std::nextafter(v, INFINITY)})
+            mismatches += roundHalfAwayToInt(w) != std::lround(w);
+    }
+    CHECK(mismatches == 0);
+}
 
 TEST_CASE("bilateral weight: plane distance and normal⁴") {
     const Surface ref = receiver();
