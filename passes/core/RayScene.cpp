@@ -148,7 +148,9 @@ void RayScene::occluded8(const Ray* rays, const bool* active, bool* occluded) co
         occluded[i] = active[i] && r.tfar[i] == -std::numeric_limits<float>::infinity();
 }
 
-void RayScene::closestHit8(const Ray* rays, const bool* active, float* t) const {
+void RayScene::occludedWithDistance8(const Ray* rays, const bool* active, bool* occluded,
+                                     float* t) const {
+    if (mLog) log(rays, active, kPacketSize);
     alignas(32) int valid[kPacketSize];
     alignas(32) RTCRayHit8 rh;
     fillRay8(rh.ray, valid, rays, active);
@@ -156,8 +158,10 @@ void RayScene::closestHit8(const Ray* rays, const bool* active, float* t) const 
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     rtcIntersect8(valid, static_cast<RTCScene>(mRtcScene), &context, &rh);
-    for (int i = 0; i < kPacketSize; ++i)
+    for (int i = 0; i < kPacketSize; ++i) {
         t[i] = active[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar[i] : -1.0f;
+        occluded[i] = t[i] >= 0.0f;
+    }
 }
 
 RayHit RayScene::intersectInstance(const Vec3f& org, const Vec3f& dir, float tnear, float tfar,

@@ -47,8 +47,12 @@ public:
 
     /// rtcOccluded8: occluded[i] for each active[i] ray of the packet (inactive lanes: false).
     void occluded8(const Ray* rays, const bool* active, bool* occluded) const;
-    /// rtcIntersect8: closest-hit distance of each active ray, −1 for a miss or an inactive lane.
-    void closestHit8(const Ray* rays, const bool* active, float* t) const;
+    /// occluded8 and each blocked ray's closest hit in one traversal (rtcIntersect8): t[i] is the
+    /// closest-hit distance of active ray i, −1 for a miss or an inactive lane, and occluded[i]
+    /// is t[i] ≥ 0 — what occluded8 answers, for the price of finding the nearest occluder
+    /// instead of any.
+    void occludedWithDistance8(const Ray* rays, const bool* active, bool* occluded,
+                               float* t) const;
     /// Closest hit of the ray on the meshes with this InstanceId only (other geometry is passed
     /// through): the thickness of a pixel's own object along a ray.
     RayHit intersectInstance(const Vec3f& org, const Vec3f& dir, float tnear, float tfar,
@@ -56,7 +60,8 @@ public:
     /// The farthest distance from `p` (relative to origin()) to any point of the scene's bounds.
     float farthestDistance(const Vec3f& p) const;
 
-    /// While a log is set, every active ray of occluded() and occluded8() is appended to it, so
+    /// While a log is set, every active ray of occluded(), occluded8() and
+    /// occludedWithDistance8() is appended to it, so
     /// `bench` can time a bare Embree loop over exactly the rays a pass traced. nullptr stops.
     void setOcclusionLog(std::vector<Ray>* log) const;
 

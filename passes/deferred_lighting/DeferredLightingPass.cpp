@@ -3,6 +3,7 @@
 #include "passes/common/GBuffer.h"
 #include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
+#include "passes/deferred_lighting/DeferredLightingLanes.h"
 #include "passes/lighting/BRDF.h"
 #include "passes/lighting/LightAttenuation.h"
 #include "passes/lighting/NamedLight.h"
@@ -29,11 +30,26 @@ struct Incoming {
 struct LightGeometry {
     const Light& light;
     Vec3f position, axis, color;
-    int grid;  // rect lights: grid × grid points
+    deferred::RectGrid rect;  // rect lights: the grid of points that integrates the area
 };
 
-// The light's unshadowed contributions at p: one direction, or a grid over a rect light. Returns
-// how many were written to `in` (0: out of the light's reach).
+// A rect light's grid × grid cell centres, emitter normal and cell area.
+deferred::RectGrid rectGrid(const Light& light, const Vec3f& position, const Vec3f& color,
+                            int grid) {
+    deferred::RectGrid g;
+    const Vec3f hu(light.halfU), hv(light.halfV);
+    g.normal = normalize(cross(hu, hv));
+    g.cellArea = 4.0f * length(cross(hu, hv)) / float(grid * grid);
+    g.color = color;
+    for (int j = 0; j < grid; ++j)
+        for (int i = 0; i < grid; ++i)
+            g.points.push_back(position + hu * ((2.0f * i + 1.0f) / grid - 1.0f) +
+                               hv * ((2.0f * j + 1.0f) / grid - 1.0f));
+    return g;
+}
+
+// The light's unshadowed contributions at p: one direction, or the rect light's grid points in
+// front of the emitter. Returns how many were written to `in` (0: out of the light's reach).
 int incomingLight(const LightGeometry& g, const Vec3f& p, Incoming* in) {
     const Light& light = g.light;
     if (light.type == LightType::Directional) {
@@ -41,23 +57,16 @@ int incomingLight(const LightGeometry& g, const Vec3f& p, Incoming* in) {
         return 1;
     }
     if (light.type == LightType::Rect) {
-        const int grid = g.grid;
-        const Vec3f hu(light.halfU), hv(light.halfV);
-        const Vec3f nl = normalize(cross(hu, hv));
-        const float cellArea = 4.0f * length(cross(hu, hv)) / float(grid * grid);
         int n = 0;
-        for (int j = 0; j < grid; ++j)
-            for (int i = 0; i < grid; ++i) {
-                const Vec3f q = g.position + hu * ((2.0f * i + 1.0f) / grid - 1.0f) +
-                                hv * ((2.0f * j + 1.0f) / grid - 1.0f);
-                const Vec3f d = q - p;
-                const float dist2 = dot(d, d);
-                const Vec3f L = d / std::sqrt(dist2);
-                const float cosL = -dot(L, nl);
-                if (cosL <= 0.0f)
-                    continue;
-                in[n++] = {L, g.color * (cosL * cellArea / dist2)};
-            }
+        for (const Vec3f& q : g.rect.points) {
+            const Vec3f d = q - p;
+            const float dist2 = dot(d, d);
+            const Vec3f L = d / std::sqrt(dist2);
+            const float cosL = -dot(L, g.rect.normal);
+            if (cosL <= 0.0f)
+                continue;
+            in[n++] = {L, g.color * (cosL * g.rect.cellArea / dist2)};
+        }
         return n;
     }
     const Vec3f d = g.position - p;
@@ -136,6 +145,9 @@ ParamSpec<DeferredLightingParams> DeferredLightingPass::paramSpec() {
     s.add("rectSamples", &Params::rectSamples,
           "rect lights: an N×N grid of points integrates the light's area")
         .range(1, 16);
+    s.add("lanes", &Params::lanes,
+          "rect lights: default-lit pixels a SIMD vector at a time (false: the scalar reference; "
+          "same bits)");
     return s;
 }
 
@@ -173,6 +185,26 @@ PassIO DeferredLightingPass::describe() const {
     return io;
 }
 
+namespace {
+
+// The shading models whose BxDF is the default-lit lobe alone (evaluateBxDF's default branch):
+// the ones the lanes shade.
+bool isDefaultLitLobe(int model) {
+    return model != kUnlit && model != kSubsurface && model != kPreintegratedSkin &&
+           model != kClearCoat && model != kTwoSidedFoliage && model != kCloth;
+}
+
+// One pixel as both paths start it: its scene colour and, on a lit surface, its model and
+// camera-relative position.
+struct PixelStart {
+    Vec3f color;
+    bool lit = false;
+    int model = 0;
+    Vec3f p;
+};
+
+}  // namespace
+
 void DeferredLightingPass::execute(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
     const CameraView& cam = frame.camera.current;
@@ -192,39 +224,112 @@ void DeferredLightingPass::execute(PassContext& ctx) {
     Image& out = ctx.output(kColor, {size}).image();
 
     const int grid = mParams.rectSamples;
-    const LightGeometry geometry{light, Vec3f(light.position - cam.position),
-                                 normalize(Vec3f(light.direction)), light.color * light.intensity,
-                                 grid};
+    const Vec3f position(light.position - cam.position), color(light.color * light.intensity);
+    const LightGeometry geometry{
+        light, position, normalize(Vec3f(light.direction)), color,
+        light.type == LightType::Rect ? rectGrid(light, position, color, grid)
+                                      : deferred::RectGrid{}};
+    // Only a rect light's grid is worth a vector: other lights have one direction a pixel.
+    const bool inLanes = mParams.lanes && light.type == LightType::Rect;
+    const int lanes = inLanes ? deferred::lanes() : 1;
+
+    const auto start = [&](int x, int y) {
+        PixelStart s;
+        s.color = {sceneColor.plane(0).at(x, y), sceneColor.plane(1).at(x, y),
+                   sceneColor.plane(2).at(x, y)};
+        const double d = depth.at(x, y);
+        s.model = truncToInt(models.at(x, y), 0, 255);
+        s.lit = isLitSurface(d, models.at(x, y));
+        if (s.lit)
+            s.p = Vec3f(cam.translatedFromPixel(x, y, d));
+        return s;
+    };
+    const auto shadows = [&](int x, int y, float& surfaceShadow, float& transmissionShadow) {
+        surfaceShadow = transmissionShadow = 1.0f;
+        if (attenuation) {
+            const LightAttenuation la = LightAttenuation::load(attenuation->image(), x, y);
+            surfaceShadow = la.surfaceShadow(light.type);
+            transmissionShadow = la.transmissionShadow(light.type);
+        }
+    };
+    const auto store = [&](int x, int y, const Vec3f& c) {
+        for (int ch = 0; ch < 3; ++ch)
+            out.plane(ch).at(x, y) = c[ch];
+    };
 
     forEachTile(size.width, size.height, [&](const Tile& t) {
-        std::vector<Incoming> in(std::size_t(std::max(1, grid * grid)));
+        std::vector<Incoming> in(std::max<std::size_t>(1, geometry.rect.points.size()));
         uint64_t pixels = 0, skipped = 0;
-        for (int y = t.y0; y < t.y1; ++y)
-            for (int x = t.x0; x < t.x1; ++x) {
-                Vec3f c{sceneColor.plane(0).at(x, y), sceneColor.plane(1).at(x, y),
-                        sceneColor.plane(2).at(x, y)};
-                const double d = depth.at(x, y);
-                const int model = truncToInt(models.at(x, y), 0, 255);
-                const bool lit = isLitSurface(d, models.at(x, y));
-                const Vec3f p = lit ? Vec3f(cam.translatedFromPixel(x, y, d)) : Vec3f{};
-                const int n = lit ? incomingLight(geometry, p, in.data()) : 0;
-                if (n == 0) {
-                    ++skipped;  // sky, unlit, or out of the light's reach: colour unchanged
-                } else {
-                    ++pixels;
-                    float surfaceShadow = 1.0f, transmissionShadow = 1.0f;
-                    if (attenuation) {
-                        const LightAttenuation la =
-                            LightAttenuation::load(attenuation->image(), x, y);
-                        surfaceShadow = la.surfaceShadow(light.type);
-                        transmissionShadow = la.transmissionShadow(light.type);
-                    }
-                    c += reflectedLight(materialAt(material, model, x, y), p, in.data(), n,
-                                        surfaceShadow, transmissionShadow);
-                }
-                for (int ch = 0; ch < 3; ++ch)
-                    out.plane(ch).at(x, y) = c[ch];
+        // The scalar reference: every pixel, every model.
+        const auto shadeOne = [&](int x, int y, PixelStart s) {
+            const int n = s.lit ? incomingLight(geometry, s.p, in.data()) : 0;
+            if (n == 0) {
+                ++skipped;  // sky, unlit, or out of the light's reach: colour unchanged
+            } else {
+                ++pixels;
+                float surfaceShadow, transmissionShadow;
+                shadows(x, y, surfaceShadow, transmissionShadow);
+                s.color += reflectedLight(materialAt(material, s.model, x, y), s.p, in.data(), n,
+                                          surfaceShadow, transmissionShadow);
             }
+            store(x, y, s.color);
+        };
+        for (int y = t.y0; y < t.y1; ++y) {
+            if (!inLanes) {
+                for (int x = t.x0; x < t.x1; ++x)
+                    shadeOne(x, y, start(x, y));
+                continue;
+            }
+            // Default-lit pixels of `lanes` neighbours share a vector; the others go one by one.
+            for (int x0 = t.x0; x0 < t.x1; x0 += lanes) {
+                deferred::PixelLanes group;
+                int laneX[deferred::kMaxLanes];
+                Vec3f laneColor[deferred::kMaxLanes];
+                for (int x = x0; x < std::min(x0 + lanes, t.x1); ++x) {
+                    const PixelStart s = start(x, y);
+                    if (!s.lit || !isDefaultLitLobe(s.model)) {
+                        shadeOne(x, y, s);
+                        continue;
+                    }
+                    const int k = group.count++;
+                    laneX[k] = x;
+                    laneColor[k] = s.color;
+                    const BxDFSurface m = materialAt(material, s.model, x, y);
+                    const Vec3f V = normalize(-s.p);
+                    group.px[k] = s.p.x, group.py[k] = s.p.y, group.pz[k] = s.p.z;
+                    group.vx[k] = V.x, group.vy[k] = V.y, group.vz[k] = V.z;
+                    group.nx[k] = m.N.x, group.ny[k] = m.N.y, group.nz[k] = m.N.z;
+                    group.diffuseR[k] = m.diffuseColor.x, group.diffuseG[k] = m.diffuseColor.y,
+                    group.diffuseB[k] = m.diffuseColor.z;
+                    group.specularR[k] = m.specularColor.x, group.specularG[k] = m.specularColor.y,
+                    group.specularB[k] = m.specularColor.z;
+                    group.roughness[k] = m.roughness;
+                    shadows(x, y, group.surfaceShadow[k], group.transmissionShadow[k]);
+                }
+                if (group.count == 0)
+                    continue;
+                // Lanes past the count repeat the first pixel: finite work, results unread.
+                for (int k = group.count; k < lanes; ++k)
+                    for (float* a : {group.px, group.py, group.pz, group.vx, group.vy, group.vz,
+                                     group.nx, group.ny, group.nz, group.diffuseR, group.diffuseG,
+                                     group.diffuseB, group.specularR, group.specularG,
+                                     group.specularB, group.roughness, group.surfaceShadow,
+                                     group.transmissionShadow})
+                        a[k] = a[0];
+                deferred::LaneSums sums;
+                deferred::shadeRectDefaultLit(geometry.rect, group, sums);
+                for (int k = 0; k < group.count; ++k) {
+                    Vec3f c = laneColor[k];
+                    if (!sums.reached[k]) {
+                        ++skipped;
+                    } else {
+                        ++pixels;
+                        c += Vec3f{sums.r[k], sums.g[k], sums.b[k]};
+                    }
+                    store(laneX[k], y, c);
+                }
+            }
+        }
         ctx.addWork("pixels", pixels);
         ctx.addWork("skippedPixels", skipped);
     });

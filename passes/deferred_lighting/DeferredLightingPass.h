@@ -15,6 +15,7 @@ namespace fp {
 struct DeferredLightingParams {
     std::string light;    //!< the light's name ("" = the scene's only light)
     int rectSamples = 4;  //!< rect lights: an N×N grid of points integrates the area (unshadowed)
+    bool lanes = true;    //!< rect lights: default-lit pixels in SIMD lanes (false: scalar reference)
 };
 
 class DeferredLightingPass final : public Pass {

@@ -34,15 +34,6 @@ Geometry geometryOf(const Vec3f& N, const Vec3f& V, const Vec3f& L) {
     return g;
 }
 
-float pow4(float x) {
-    const float x2 = x * x;
-    return x2 * x2;
-}
-
-float pow5(float x) {
-    return pow4(x) * x;
-}
-
 // α = roughness², a2 = α², with roughness held off 0 as for every analytic light (BRDF.h).
 float lightA2(float roughness) {
     return pow4(std::max(roughness, kMinLightRoughness));

@@ -157,13 +157,17 @@ private:
         PixelSetup s;
         const double d = mDepth.at(x, py);
         const float model = mModels.at(x, py);
+        if (!isLitSurface(d, model))
+            return s;  // sky and unlit pixels: nothing to rebuild
         const Vec3d offset = mCam.translatedFromPixel(x, py, d);
-        if (!isLitSurface(d, model) || !mGenerator.reaches(Vec3f(mEyeOffset + offset)))
+        const Vec3f p(mEyeOffset + offset);
+        if (!mGenerator.reaches(p))
             return s;
         s.active = true;
-        s.p = Vec3f(mEyeOffset + offset);
-        s.eyeDistance = float(length(offset));
-        s.toEye = Vec3f(-offset / length(offset));
+        s.p = p;
+        const double eyeDistance = length(offset);
+        s.eyeDistance = float(eyeDistance);
+        s.toEye = Vec3f(-offset / eyeDistance);
         s.n = gbuffer::worldNormalAt(mNormal, x, py);
         s.model = int(model);
         // Hair's GBuffer normal is its tangent: Unreal biases along the light instead.
@@ -198,36 +202,33 @@ private:
     }
 
     // Occlusion of the first `count` (1 to kPacketSize) of the rays, and where a blocked ray's
-    // distance is wanted (the denoiser's input) its closest hit (−1: none); as a packet or one ray
-    // at a time, with the same result.
+    // distance is wanted (the denoiser's input) its closest hit (−1: none), found in the same
+    // traversal; as a packet or one ray at a time, with the same result.
     void trace(const Ray* ray, int count, bool blocked[], float hitT[], TileWork& work) const {
-        bool inPacket[kPacketSize];
-        for (int i = 0; i < kPacketSize; ++i)
-            inPacket[i] = i < count;
         if (mParams.rayPackets) {
-            mRs.occluded8(ray, inPacket, blocked);
-        } else {
-            for (int i = 0; i < count; ++i)
-                blocked[i] = mRs.occluded(ray[i].org, ray[i].dir, ray[i].tnear, ray[i].tfar);
-        }
-        std::fill(hitT, hitT + count, -1.0f);
-        if (!mWantDistance)
-            return;
-        if (mParams.rayPackets) {
-            bool wanted[kPacketSize];
+            bool inPacket[kPacketSize];
             for (int i = 0; i < kPacketSize; ++i)
-                wanted[i] = i < count && blocked[i];
-            mRs.closestHit8(ray, wanted, hitT);
+                inPacket[i] = i < count;
+            if (mWantDistance) {
+                mRs.occludedWithDistance8(ray, inPacket, blocked, hitT);
+            } else {
+                mRs.occluded8(ray, inPacket, blocked);
+                std::fill(hitT, hitT + count, -1.0f);
+            }
         } else {
-            for (int i = 0; i < count; ++i)
-                if (blocked[i]) {
+            for (int i = 0; i < count; ++i) {
+                blocked[i] = mRs.occluded(ray[i].org, ray[i].dir, ray[i].tnear, ray[i].tfar);
+                hitT[i] = -1.0f;
+                if (mWantDistance && blocked[i]) {
                     const RayHit h =
                         mRs.intersect(ray[i].org, ray[i].dir, ray[i].tnear, ray[i].tfar);
                     hitT[i] = h.hit ? h.t : -1.0f;
                 }
+            }
         }
-        for (int i = 0; i < count; ++i)
-            work.distanceRays += blocked[i];
+        if (mWantDistance)
+            for (int i = 0; i < count; ++i)
+                work.distanceRays += blocked[i];
     }
 
     // What one traced sample adds to its pixel.

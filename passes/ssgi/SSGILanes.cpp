@@ -12,6 +12,7 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include "passes/common/LaneMath.h"
 #include "passes/core/PerPixel.h"
 #include "passes/ssgi/SSGILanes.h"
 
@@ -31,10 +32,8 @@ using M = hn::Mask<D>;
 constexpr int kMaxLanes = HWY_MAX_BYTES / sizeof(float);  // 16 with AVX-512
 constexpr int kMaxRays = 32;                               // r.SSGI.Quality 4 (reference §4.2)
 
-// std::min / std::max as the scalar code calls them: (b < a) ? b : a and (a < b) ? b : a, which
-// decide NaN the same way.
-HWY_INLINE V minLike(V a, V b) { return hn::IfThenElse(b < a, b, a); }
-HWY_INLINE V maxLike(V a, V b) { return hn::IfThenElse(a < b, b, a); }
+using fp::HWY_NAMESPACE::maxLike;
+using fp::HWY_NAMESPACE::minLike;
 
 // hzbCell's index in lanes: floorToInt(v, 0, hi) — the clamp leaves v ≥ 0, so truncation floors.
 HWY_INLINE VI clampedFloor(V v, V hi) {
@@ -238,14 +237,6 @@ std::array<uint64_t, kCounterCount> traceInLanes(const Frame& f) {
 
 LaneTarget laneTarget() {
     return HWY_DYNAMIC_DISPATCH(target)();
-}
-
-std::vector<int64_t> laneTargetsHere() {
-    return hwy::SupportedAndGeneratedTargets();
-}
-
-void useOnlyLaneTarget(int64_t target) {
-    hwy::SetSupportedTargetsForTest(target);
 }
 
 }  // namespace fp::ssgi

@@ -22,9 +22,4 @@ struct LaneTarget {
 };
 LaneTarget laneTarget();
 
-/// Tests: the instruction sets this build has lanes for that this CPU runs (Highway target bits),
-/// and a way to make traceInLanes use only one of them (0: the widest again).
-std::vector<int64_t> laneTargetsHere();
-void useOnlyLaneTarget(int64_t target);
-
 }  // namespace fp::ssgi

@@ -4,6 +4,7 @@
 #include "passes/core/Sampling.h"
 #include "passes/core/UnrealRandom.h"
 #include "passes/prev_color_reduction/PrevColorReductionPass.h"
+#include "passes/common/Lanes.h"
 #include "passes/ssgi/SSGILanes.h"
 #include "passes/ssgi/SSGIPass.h"
 #include "passes/ssgi_denoise/SSGIDenoisePass.h"
@@ -126,7 +127,7 @@ TEST_CASE("SIMD lanes give the scalar reference's bits") {
     FrameCamera roomCam = wallCamera(37);
     const std::vector<std::string> outputs = {"ssgi.diffuse", "ssgi.ao", "ssgi.hitMask",
                                               "ssgi.hitDistance"};
-    const std::vector<int64_t> targets = ssgi::laneTargetsHere();
+    const std::vector<int64_t> targets = laneTargetsHere();
     REQUIRE(!targets.empty());
     int compared = 0;
     for (int64_t target : targets)
@@ -139,12 +140,12 @@ TEST_CASE("SIMD lanes give the scalar reference's bits") {
                     nlohmann::json scalarParams = params;
                     scalarParams["lanes"] = false;
                     test::MemorySink lanes, scalar;
-                    ssgi::useOnlyLaneTarget(target);
+                    useOnlyLaneTarget(target);
                     const std::string laneName = ssgi::laneTarget().name;
                     INFO("lanes: ", laneName);
                     const FrameReport a =
                         executePlan(test::planFor(ssgiChain(params), outputs), src, lanes);
-                    ssgi::useOnlyLaneTarget(0);
+                    useOnlyLaneTarget(0);
                     const FrameReport b =
                         executePlan(test::planFor(ssgiChain(scalarParams), outputs), src, scalar);
                     CHECK(a.passes.back().work == b.passes.back().work);

@@ -1,0 +1,153 @@
+// DeferredLightingLanes.h: compiled once per x86 instruction set (foreach_target.h re-includes
+// this file); lanes() and shadeRectDefaultLit call the widest one the CPU has.
+//
+// Each lane repeats, operation for operation, what DeferredLightingPass.cpp's incomingLight (rect
+// branch) and reflectedLight do with ShadingModelBxDF.cpp's default-lit lobe and BRDF.h's terms:
+// the same products and sums in the same order, divisions where they divide, std::min/max/clamp's
+// NaN rules (LaneMath.h). A grid point behind the emitter is left out of a lane's sum as the
+// scalar loop leaves it out of its list.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "passes/deferred_lighting/DeferredLightingLanes.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include "passes/common/LaneMath.h"
+#include "passes/deferred_lighting/DeferredLightingLanes.h"
+#include "passes/lighting/BRDF.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace fp::deferred::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+using fp::HWY_NAMESPACE::clampLike;
+using fp::HWY_NAMESPACE::maxLike;
+
+using D = hn::ScalableTag<float>;
+using V = hn::Vec<D>;
+using M = hn::Mask<D>;
+
+// A vector of three components, as Vec3f's operators combine them.
+struct V3 {
+    V x, y, z;
+};
+
+HWY_INLINE V3 load3(const float* x, const float* y, const float* z) {
+    const D d;
+    return {hn::LoadU(d, x), hn::LoadU(d, y), hn::LoadU(d, z)};
+}
+
+// dot(a, b) = a.x·b.x + a.y·b.y + a.z·b.z, left to right.
+HWY_INLINE V dot3(const V3& a, const V3& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+// normalize(a): a / length(a) where the length is positive, else the zero vector.
+HWY_INLINE V3 normalize3(const V3& a) {
+    const D d;
+    const V l = hn::Sqrt(dot3(a, a));
+    const M positive = l > hn::Zero(d);
+    return {hn::IfThenElseZero(positive, a.x / l), hn::IfThenElseZero(positive, a.y / l),
+            hn::IfThenElseZero(positive, a.z / l)};
+}
+
+int lanesHere() {
+    return int(hn::Lanes(D()));
+}
+
+void shadeRect(const RectGrid& grid, const PixelLanes& in, LaneSums& out) {
+    const D d;
+    const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
+    const V3 p = load3(in.px, in.py, in.pz);
+    const V3 view = load3(in.vx, in.vy, in.vz);
+    const V3 n = load3(in.nx, in.ny, in.nz);
+    const V3 diffuseColor = load3(in.diffuseR, in.diffuseG, in.diffuseB);
+    const V3 f0 = load3(in.specularR, in.specularG, in.specularB);
+    const V surfaceShadow = hn::LoadU(d, in.surfaceShadow);
+    const V transmissionShadow = hn::LoadU(d, in.transmissionShadow);
+
+    // What the default-lit lobe computes the same way for every point: NoV, a2 = roughness⁴
+    // (pow4 of the clamped roughness), √a2 and Schlick's 2% cut-off.
+    const V NoV = maxLike(dot3(n, view), hn::Set(d, 1e-4f));
+    const V r = maxLike(hn::LoadU(d, in.roughness), hn::Set(d, kMinLightRoughness));
+    const V r2 = r * r;
+    const V a2 = r2 * r2;
+    const V a = hn::Sqrt(a2);
+    const V cut = clampLike(hn::Set(d, 50.0f) * f0.y, zero, one);
+    // The transmission term of a default-lit pixel is 0, scaled by its shadow all the same.
+    const V transmission = zero * transmissionShadow;
+
+    V3 sum{zero, zero, zero};
+    M reached = hn::FirstN(d, 0);
+    const V3 nl{hn::Set(d, grid.normal.x), hn::Set(d, grid.normal.y), hn::Set(d, grid.normal.z)};
+    const V cellArea = hn::Set(d, grid.cellArea);
+    for (const Vec3f& q : grid.points) {
+        // incomingLight: the direction to the point and its unshadowed irradiance.
+        const V3 toPoint{hn::Set(d, q.x) - p.x, hn::Set(d, q.y) - p.y, hn::Set(d, q.z) - p.z};
+        const V dist2 = dot3(toPoint, toPoint);
+        const V dist = hn::Sqrt(dist2);
+        const V3 L{toPoint.x / dist, toPoint.y / dist, toPoint.z / dist};
+        const V cosL = hn::Neg(dot3(L, nl));
+        const M inFront = hn::Not(cosL <= zero);
+        const V f = cosL * cellArea / dist2;
+        const V3 falloff{hn::Set(d, grid.color.x) * f, hn::Set(d, grid.color.y) * f,
+                         hn::Set(d, grid.color.z) * f};
+
+        // geometryOf.
+        const V NoL = dot3(n, L);
+        const V3 H = normalize3({view.x + L.x, view.y + L.y, view.z + L.z});
+        const V NoH = clampLike(dot3(n, H), zero, one);
+        const V VoH = clampLike(dot3(view, H), zero, one);
+
+        // defaultLit: Lambert and the GGX lobe (schlickF × ggxD × smithJointApproxVis × NoL).
+        const M lit = hn::Not(NoL <= zero);
+        const V diffuseScale = NoL / hn::Set(d, kPiF);
+        const V x = one - clampLike(VoH, zero, one);
+        const V x2 = x * x;
+        const V fc = x2 * x2 * x;
+        const V cutFc = cut * fc, oneMinusFc = one - fc;
+        const V dd = (NoH * a2 - NoH) * NoH + one;
+        const V ggx = a2 / (hn::Set(d, kPiF) * dd * dd);
+        const V visV = NoL * (NoV * (one - a) + a);
+        const V visL = NoV * (NoL * (one - a) + a);
+        const V vis = hn::Set(d, 0.5f) / maxLike(visV + visL, hn::Set(d, 1e-8f));
+        const V lobe = ggx * vis * NoL;
+        const auto channel = [&](V diffuse, V specular, V light) {
+            const V dTerm = hn::IfThenElseZero(lit, diffuse * diffuseScale);
+            const V sTerm = hn::IfThenElseZero(lit, (cutFc + specular * oneMinusFc) * lobe);
+            return ((dTerm + sTerm) * surfaceShadow + transmission) * light;
+        };
+        const V3 term{channel(diffuseColor.x, f0.x, falloff.x),
+                      channel(diffuseColor.y, f0.y, falloff.y),
+                      channel(diffuseColor.z, f0.z, falloff.z)};
+        sum = {hn::IfThenElse(inFront, sum.x + term.x, sum.x),
+               hn::IfThenElse(inFront, sum.y + term.y, sum.y),
+               hn::IfThenElse(inFront, sum.z + term.z, sum.z)};
+        reached = hn::Or(reached, inFront);
+    }
+    hn::StoreU(sum.x, d, out.r);
+    hn::StoreU(sum.y, d, out.g);
+    hn::StoreU(sum.z, d, out.b);
+    HWY_ALIGN float reachedLanes[kMaxLanes];
+    hn::StoreU(hn::IfThenElseZero(reached, one), d, reachedLanes);
+    for (int i = 0; i < in.count; ++i)
+        out.reached[i] = reachedLanes[i] != 0.0f;
+}
+
+}  // namespace fp::deferred::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace fp::deferred {
+
+HWY_EXPORT(lanesHere);
+HWY_EXPORT(shadeRect);
+
+int lanes() {
+    return HWY_DYNAMIC_DISPATCH(lanesHere)();
+}
+
+void shadeRectDefaultLit(const RectGrid& grid, const PixelLanes& in, LaneSums& out) {
+    HWY_DYNAMIC_DISPATCH(shadeRect)(grid, in, out);
+}
+
+}  // namespace fp::deferred
+#endif

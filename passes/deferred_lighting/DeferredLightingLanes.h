@@ -1,0 +1,52 @@
+#pragma once
+// deferred_lighting's rect-light integral with pixels in SIMD lanes (Google Highway, the widest
+// instruction set the CPU has, chosen at run time). A rect light is an N×N grid of points and
+// every point needs the whole default-lit BxDF: sixteen of them a pixel at the default grid. Here
+// one vector holds neighbouring pixels and each grid point is one pass over the vector, with the
+// scalar code's IEEE operations in the same order (no fused multiply-add: the build sets
+// -ffp-contract=off), so the sums are the same bits (DeferredLightingTests checks it on every
+// instruction set the CPU runs).
+#include "passes/core/Math.h"
+
+#include <vector>
+
+namespace fp::deferred {
+
+constexpr int kMaxLanes = 16;  // AVX-512
+
+/// A rect light as the pass integrates it: the centres of an N×N grid of cells, camera-relative,
+/// in the scalar loop's order (row j outer, column i inner), the emitter's unit normal, a cell's
+/// area and the light's colour × intensity.
+struct RectGrid {
+    std::vector<Vec3f> points;
+    Vec3f normal;
+    float cellArea = 0;
+    Vec3f color;
+};
+
+/// Up to lanes() default-lit pixels, one a lane (structure of arrays). Lanes past `count` are
+/// ignored.
+struct PixelLanes {
+    int count = 0;
+    float px[kMaxLanes], py[kMaxLanes], pz[kMaxLanes];  // camera-relative position
+    float vx[kMaxLanes], vy[kMaxLanes], vz[kMaxLanes];  // normalize(−p): towards the eye
+    float nx[kMaxLanes], ny[kMaxLanes], nz[kMaxLanes];  // the unit normal
+    float diffuseR[kMaxLanes], diffuseG[kMaxLanes], diffuseB[kMaxLanes];
+    float specularR[kMaxLanes], specularG[kMaxLanes], specularB[kMaxLanes];  // F0
+    float roughness[kMaxLanes];
+    float surfaceShadow[kMaxLanes], transmissionShadow[kMaxLanes];
+};
+
+/// Each pixel's light from the grid points in front of the emitter (reflectedLight's sum), and
+/// whether any point was (none: the pixel is out of the light's reach).
+struct LaneSums {
+    float r[kMaxLanes], g[kMaxLanes], b[kMaxLanes];
+    bool reached[kMaxLanes];
+};
+
+/// Pixels one call takes on this CPU (8 with AVX2).
+int lanes();
+/// The default-lit BxDF of every pixel of `in` integrated over the grid.
+void shadeRectDefaultLit(const RectGrid& grid, const PixelLanes& in, LaneSums& out);
+
+}  // namespace fp::deferred
