@@ -2,9 +2,10 @@
 """make bench: the 1080p speed table the README quotes ("Speed at 1080p").
 
 Captures the Cornell and hard scenes at 1920x1080 once (out/bench/<scene>.exr, kept between
-runs), times the default lit chain on each with `framepass bench --json` (medians; SSGI's SIMD
-lanes and, in the same run, its scalar reference `ssgi.lanes=false`), and times the capture read: `framepass inspect` against `oiiotool -a --stats` on the same file. Prints one
-Markdown table; the bench JSON of each scene stays beside the captures.
+runs), times the default lit chain on each with `framepass bench --json` (medians; every pass that
+runs in SIMD lanes is also timed, in the same run, as its scalar reference `<pass>.lanes=false`),
+and times the capture read: `framepass inspect` against `oiiotool -a --stats` on the same file.
+Prints one Markdown table; the bench JSON of each scene stays beside the captures.
 """
 import argparse
 import json
@@ -14,7 +15,9 @@ import subprocess
 import sys
 import time
 
-SCENES = ["cornell", "hard"]
+# Each scene and its passes with SIMD lanes (a `lanes` parameter): deferred lighting has lanes for
+# rect lights only, so only the Cornell ceiling's step is swept.
+SCENES = {"cornell": ["ssgi", "deferred_lighting_ceiling"], "hard": ["ssgi"]}
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 
@@ -46,21 +49,28 @@ def main():
     os.makedirs(a.out, exist_ok=True)
 
     rows = []
-    for scene in SCENES:
+    for scene, laned in SCENES.items():
         exr = os.path.join(a.out, f"{scene}.exr")
         if not os.path.exists(exr):
             print(f"capturing {scene} at 1920x1080 (once) ...", file=sys.stderr)
             run([a.framepass, "capture", os.path.join(ROOT, "examples", scene, "scene.json"),
                  "-o", exr, "--width", "1920", "--height", "1080"])
         print(f"timing the lit chain on {scene} ({a.runs} runs) ...", file=sys.stderr)
+        sweeps = []
+        for name in laned:
+            sweeps += ["--sweep", f"{name}.lanes=true,false"]
         result = json.loads(run([a.framepass, "bench", os.path.join(HERE, f"{scene}.json"),
-                                 "--runs", str(a.runs), "--sweep", "ssgi.lanes=true,false",
-                                 "--json"]))
+                                 "--runs", str(a.runs), *sweeps, "--json"]))
         with open(os.path.join(a.out, f"{scene}.json"), "w") as f:
             json.dump(result, f, indent=2)
         settings = {s["label"]: s for s in result["settings"]}
-        setting = settings["ssgi.lanes=true"]
-        scalar = {p["name"]: p for p in settings["ssgi.lanes=false"]["passes"]}
+
+        def label(scalar_pass=None):
+            return " ".join(f"{n}.lanes={'false' if n == scalar_pass else 'true'}" for n in laned)
+
+        setting = settings[label()]
+        # Each laned pass's scalar reference: the setting where only its lanes are off.
+        scalar = {n: {p["name"]: p for p in settings[label(n)]["passes"]}[n] for n in laned}
         passes = {p["name"]: p for p in setting["passes"]}
         bare8 = passes.get("bare loop rtcOccluded8")
         shadowSteps = sum(p["type"] == "rt_shadows" for p in setting["passes"])
@@ -73,10 +83,10 @@ def main():
                         note = (f"{100 * p['throughput'] / bare8['throughput']:.0f} % of the bare "
                         f"rtcOccluded8 loop ({bare8['throughput'] / 1e6:.1f} M rays/s"
                         f"{', every light' if shadowSteps > 1 else ''})")
-            if p["type"] == "ssgi" and scalar[p["name"]]["throughput"] > 0:
+            if p["name"] in scalar and scalar[p["name"]]["throughput"] > 0:
                 reference = scalar[p["name"]]
                 note = (f"{p['throughput'] / reference['throughput']:.1f}× the scalar reference "
-                        f"(`ssgi.lanes=false`: {reference['median'] * 1e3:,.0f} ms, "
+                        f"(`{p['name']}.lanes=false`: {reference['median'] * 1e3:,.0f} ms, "
                         f"{reference['throughput'] / 1e6:.1f} M {p['unit']}/s; same bits)")
             rate = f"{p['throughput'] / 1e6:.1f} M {p['unit']}/s" if p["work"] else ""
             rows.append((scene, p["name"], f"{p['median'] * 1e3:,.1f}", rate, note))
