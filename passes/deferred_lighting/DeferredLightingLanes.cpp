@@ -53,51 +53,41 @@ int lanesHere() {
     return int(hn::Lanes(D()));
 }
 
-void shadeRect(const RectGrid& grid, const PixelLanes& in, LaneSums& out) {
-    const D d;
-    const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
-    const V3 p = load3(in.px, in.py, in.pz);
-    const V3 view = load3(in.vx, in.vy, in.vz);
-    const V3 n = load3(in.nx, in.ny, in.nz);
-    const V3 diffuseColor = load3(in.diffuseR, in.diffuseG, in.diffuseB);
-    const V3 f0 = load3(in.specularR, in.specularG, in.specularB);
-    const V surfaceShadow = hn::LoadU(d, in.surfaceShadow);
-    const V transmissionShadow = hn::LoadU(d, in.transmissionShadow);
+// A vector of pixels as the default-lit lobe sees them, with what the lobe computes the same way
+// for every direction: NoV, a2 = roughness⁴ (pow4 of the clamped roughness), √a2 and Schlick's 2%
+// cut-off.
+struct Surfaces {
+    V3 view, n, diffuseColor, f0;
+    V surfaceShadow, NoV, a2, a, cut;
+    V transmission;  // a default-lit pixel's transmission term: 0, scaled by its shadow all the same
 
-    // What the default-lit lobe computes the same way for every point: NoV, a2 = roughness⁴
-    // (pow4 of the clamped roughness), √a2 and Schlick's 2% cut-off.
-    const V NoV = maxLike(dot3(n, view), hn::Set(d, 1e-4f));
-    const V r = maxLike(hn::LoadU(d, in.roughness), hn::Set(d, kMinLightRoughness));
-    const V r2 = r * r;
-    const V a2 = r2 * r2;
-    const V a = hn::Sqrt(a2);
-    const V cut = clampLike(hn::Set(d, 50.0f) * f0.y, zero, one);
-    // The transmission term of a default-lit pixel is 0, scaled by its shadow all the same.
-    const V transmission = zero * transmissionShadow;
+    explicit Surfaces(const PixelLanes& in) {
+        const D d;
+        const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
+        view = load3(in.vx, in.vy, in.vz);
+        n = load3(in.nx, in.ny, in.nz);
+        diffuseColor = load3(in.diffuseR, in.diffuseG, in.diffuseB);
+        f0 = load3(in.specularR, in.specularG, in.specularB);
+        surfaceShadow = hn::LoadU(d, in.surfaceShadow);
+        NoV = maxLike(dot3(n, view), hn::Set(d, 1e-4f));
+        const V r = maxLike(hn::LoadU(d, in.roughness), hn::Set(d, kMinLightRoughness));
+        const V r2 = r * r;
+        a2 = r2 * r2;
+        a = hn::Sqrt(a2);
+        cut = clampLike(hn::Set(d, 50.0f) * f0.y, zero, one);
+        transmission = zero * hn::LoadU(d, in.transmissionShadow);
+    }
 
-    V3 sum{zero, zero, zero};
-    M reached = hn::FirstN(d, 0);
-    const V3 nl{hn::Set(d, grid.normal.x), hn::Set(d, grid.normal.y), hn::Set(d, grid.normal.z)};
-    const V cellArea = hn::Set(d, grid.cellArea);
-    for (const Vec3f& q : grid.points) {
-        // incomingLight: the direction to the point and its unshadowed irradiance.
-        const V3 toPoint{hn::Set(d, q.x) - p.x, hn::Set(d, q.y) - p.y, hn::Set(d, q.z) - p.z};
-        const V dist2 = dot3(toPoint, toPoint);
-        const V dist = hn::Sqrt(dist2);
-        const V3 L{toPoint.x / dist, toPoint.y / dist, toPoint.z / dist};
-        const V cosL = hn::Neg(dot3(L, nl));
-        const M inFront = hn::Not(cosL <= zero);
-        const V f = cosL * cellArea / dist2;
-        const V3 falloff{hn::Set(d, grid.color.x) * f, hn::Set(d, grid.color.y) * f,
-                         hn::Set(d, grid.color.z) * f};
-
-        // geometryOf.
+    // reflectedLight's term for unit direction L bringing `falloff`: geometryOf, defaultLit
+    // (Lambert and schlickF × ggxD × smithJointApproxVis × NoL), then
+    // ((diffuse + specular) · surface shadow + transmission · its shadow) · falloff.
+    HWY_INLINE V3 term(const V3& L, const V3& falloff) const {
+        const D d;
+        const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
         const V NoL = dot3(n, L);
         const V3 H = normalize3({view.x + L.x, view.y + L.y, view.z + L.z});
         const V NoH = clampLike(dot3(n, H), zero, one);
         const V VoH = clampLike(dot3(view, H), zero, one);
-
-        // defaultLit: Lambert and the GGX lobe (schlickF × ggxD × smithJointApproxVis × NoL).
         const M lit = hn::Not(NoL <= zero);
         const V diffuseScale = NoL / hn::Set(d, kPiF);
         const V x = one - clampLike(VoH, zero, one);
@@ -115,19 +105,48 @@ void shadeRect(const RectGrid& grid, const PixelLanes& in, LaneSums& out) {
             const V sTerm = hn::IfThenElseZero(lit, (cutFc + specular * oneMinusFc) * lobe);
             return ((dTerm + sTerm) * surfaceShadow + transmission) * light;
         };
-        const V3 term{channel(diffuseColor.x, f0.x, falloff.x),
-                      channel(diffuseColor.y, f0.y, falloff.y),
-                      channel(diffuseColor.z, f0.z, falloff.z)};
-        sum = {hn::IfThenElse(inFront, sum.x + term.x, sum.x),
-               hn::IfThenElse(inFront, sum.y + term.y, sum.y),
-               hn::IfThenElse(inFront, sum.z + term.z, sum.z)};
+        return {channel(diffuseColor.x, f0.x, falloff.x), channel(diffuseColor.y, f0.y, falloff.y),
+                channel(diffuseColor.z, f0.z, falloff.z)};
+    }
+};
+
+void store3(const V3& v, LaneSums& out) {
+    const D d;
+    hn::StoreU(v.x, d, out.r);
+    hn::StoreU(v.y, d, out.g);
+    hn::StoreU(v.z, d, out.b);
+}
+
+void shadeRect(const RectGrid& grid, const PixelLanes& in, LaneSums& out) {
+    const D d;
+    const V zero = hn::Zero(d);
+    const V3 p = load3(in.px, in.py, in.pz);
+    const Surfaces surfaces(in);
+    V3 sum{zero, zero, zero};
+    M reached = hn::FirstN(d, 0);
+    const V3 nl{hn::Set(d, grid.normal.x), hn::Set(d, grid.normal.y), hn::Set(d, grid.normal.z)};
+    const V cellArea = hn::Set(d, grid.cellArea);
+    for (const Vec3f& q : grid.points) {
+        // incomingLight: the direction to the point and its unshadowed irradiance; a point behind
+        // the emitter is left out.
+        const V3 toPoint{hn::Set(d, q.x) - p.x, hn::Set(d, q.y) - p.y, hn::Set(d, q.z) - p.z};
+        const V dist2 = dot3(toPoint, toPoint);
+        const V dist = hn::Sqrt(dist2);
+        const V3 L{toPoint.x / dist, toPoint.y / dist, toPoint.z / dist};
+        const V cosL = hn::Neg(dot3(L, nl));
+        const M inFront = hn::Not(cosL <= zero);
+        const V f = cosL * cellArea / dist2;
+        const V3 falloff{hn::Set(d, grid.color.x) * f, hn::Set(d, grid.color.y) * f,
+                         hn::Set(d, grid.color.z) * f};
+        const V3 t = surfaces.term(L, falloff);
+        sum = {hn::IfThenElse(inFront, sum.x + t.x, sum.x),
+               hn::IfThenElse(inFront, sum.y + t.y, sum.y),
+               hn::IfThenElse(inFront, sum.z + t.z, sum.z)};
         reached = hn::Or(reached, inFront);
     }
-    hn::StoreU(sum.x, d, out.r);
-    hn::StoreU(sum.y, d, out.g);
-    hn::StoreU(sum.z, d, out.b);
+    store3(sum, out);
     HWY_ALIGN float reachedLanes[kMaxLanes];
-    hn::StoreU(hn::IfThenElseZero(reached, one), d, reachedLanes);
+    hn::StoreU(hn::IfThenElseZero(reached, hn::Set(d, 1.0f)), d, reachedLanes);
     for (int i = 0; i < in.count; ++i)
         out.reached[i] = reachedLanes[i] != 0.0f;
 }

@@ -1,4 +1,4 @@
-// deferred_lighting's rect-light integral in SIMD lanes against its scalar reference.
+// deferred_lighting's default-lit pixels in SIMD lanes against its scalar reference.
 #include "passes/common/Lanes.h"
 #include "passes/core/ShadingModel.h"
 #include "passes/deferred_lighting/DeferredLightingLanes.h"
@@ -7,16 +7,18 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <map>
+#include <string>
+#include <vector>
 
 namespace fp {
 
 namespace {
 
 // A floor of four default-lit tiles (rough, glossy, metallic, mirror-like) with a clear-coat sphere and
-// a cloth sphere on it, under a vertical rect light standing on the floor: the floor behind the
-// emitter gets no light, the floor beside its plane gets part of the grid, the spheres go through
-// the scalar BxDFs. Seen from above at an angle, 61 × 47 pixels (no multiple of any vector).
-Scene mixedRoom() {
+// a cloth sphere on it (they go through the scalar BxDFs), lit by `light`. Seen from above at an
+// angle, 61 × 47 pixels (no multiple of any vector).
+Scene mixedRoom(const Light& light) {
     Scene s;
     s.sceneUnitsPerMeter = 100.0;
     const float roughness[] = {0.9f, 0.5f, 0.2f, 0.0f};
@@ -40,6 +42,13 @@ Scene mixedRoom() {
     cloth.opacity = 0.5f;
     s.materials.push_back(cloth);
     s.meshes.push_back(test::sphere({40, 12, 10}, 12.0, 48, 5, 3));
+    s.lights.push_back(light);
+    return s;
+}
+
+// A vertical rect light standing on the floor: the floor behind the emitter gets no light, the
+// floor beside its plane part of the grid.
+Light panel() {
     Light l;
     l.name = "panel";
     l.type = LightType::Rect;
@@ -48,8 +57,42 @@ Scene mixedRoom() {
     l.halfV = {0, 20, 0};
     l.intensity = 5.0f;
     l.color = {1.0f, 0.9f, 0.8f};
-    s.lights.push_back(l);
-    return s;
+    return l;
+}
+
+// The lit colour with the lanes on (on one instruction set) and off, and the pass's work.
+struct LanesAndScalar {
+    Image lanes, scalar;
+    std::map<std::string, uint64_t> lanesWork, scalarWork;
+};
+
+LanesAndScalar lanesAndScalar(test::MemorySource& src, int64_t target, int grid, bool shadowed) {
+    LanesAndScalar r;
+    for (bool inLanes : {true, false}) {
+        std::vector<NodeDesc> nodes;
+        std::map<std::string, std::string> inputs = {{"color", "capture:Emissive"}};
+        if (shadowed) {
+            nodes.push_back(test::node("rt_shadows"));
+            inputs["attenuation"] = "rt_shadows.lightAttenuation";
+        }
+        nodes.push_back(
+            test::node("deferred_lighting", {{"rectSamples", grid}, {"lanes", inLanes}}, inputs));
+        test::MemorySink sink;
+        useOnlyLaneTarget(inLanes ? target : 0);
+        const FrameReport report =
+            executePlan(test::planFor(nodes, {"deferred_lighting.color"}), src, sink);
+        (inLanes ? r.lanes : r.scalar) = sink.layers.at("deferred_lighting.color").image();
+        (inLanes ? r.lanesWork : r.scalarWork) = report.passes.back().work;
+    }
+    useOnlyLaneTarget(0);
+    return r;
+}
+
+bool sameBits(const Image& a, const Image& b) {
+    for (int c = 0; c < 3; ++c)
+        if (!test::sameBits(a.plane(c), b.plane(c)))
+            return false;
+    return true;
 }
 
 FrameCamera angledCamera() {
@@ -62,7 +105,7 @@ FrameCamera angledCamera() {
 }  // namespace
 
 TEST_CASE("rect light in SIMD lanes gives the scalar reference's bits") {
-    const Scene scene = mixedRoom();
+    const Scene scene = mixedRoom(panel());
     auto src = test::captureToMemory(scene, angledCamera());
     const std::vector<int64_t> targets = laneTargetsHere();
     REQUIRE(!targets.empty());
@@ -70,35 +113,14 @@ TEST_CASE("rect light in SIMD lanes gives the scalar reference's bits") {
     for (int64_t target : targets)
         for (int grid : {1, 3, 4, 5})
             for (bool shadowed : {false, true}) {
-                std::vector<NodeDesc> lanes, scalar;
-                for (bool inLanes : {true, false}) {
-                    auto& nodes = inLanes ? lanes : scalar;
-                    std::map<std::string, std::string> inputs = {{"color", "capture:Emissive"}};
-                    if (shadowed) {
-                        nodes.push_back(test::node("rt_shadows"));
-                        inputs["attenuation"] = "rt_shadows.lightAttenuation";
-                    }
-                    nodes.push_back(test::node("deferred_lighting",
-                                               {{"rectSamples", grid}, {"lanes", inLanes}}, inputs));
-                }
-                test::MemorySink a, b;
-                useOnlyLaneTarget(target);
-                INFO("lanes of ", deferred::lanes(), " floats, grid ", grid, ", shadowed ",
-                     shadowed);
-                const FrameReport ra =
-                    executePlan(test::planFor(lanes, {"deferred_lighting.color"}), src, a);
-                useOnlyLaneTarget(0);
-                const FrameReport rb =
-                    executePlan(test::planFor(scalar, {"deferred_lighting.color"}), src, b);
-                CHECK(ra.passes.back().work == rb.passes.back().work);
+                const LanesAndScalar r = lanesAndScalar(src, target, grid, shadowed);
+                INFO("target ", target, ", grid ", grid, ", shadowed ", shadowed);
+                CHECK(r.lanesWork == r.scalarWork);
                 // Some pixels are lit and some out of reach (behind the emitter), so both branches
                 // are compared.
-                CHECK(ra.passes.back().work.at("pixels") > 500);
-                CHECK(ra.passes.back().work.at("skippedPixels") > 200);
-                const Image& la = a.layers.at("deferred_lighting.color").image();
-                const Image& lb = b.layers.at("deferred_lighting.color").image();
-                for (int c = 0; c < 3; ++c)
-                    CHECK(test::sameBits(la.plane(c), lb.plane(c)));
+                CHECK(r.lanesWork.at("pixels") > 500);
+                CHECK(r.lanesWork.at("skippedPixels") > 200);
+                CHECK(sameBits(r.lanes, r.scalar));
                 ++compared;
             }
     CHECK(compared == 8 * int(targets.size()));
