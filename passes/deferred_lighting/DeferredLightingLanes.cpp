@@ -24,6 +24,7 @@ using fp::HWY_NAMESPACE::maxLike;
 using D = hn::ScalableTag<float>;
 using V = hn::Vec<D>;
 using M = hn::Mask<D>;
+static_assert(HWY_MAX_BYTES / sizeof(float) <= kMaxLanes, "PixelLanes holds a whole vector");
 
 // A vector of three components, as Vec3f's operators combine them.
 struct V3 {

@@ -187,13 +187,6 @@ PassIO DeferredLightingPass::describe() const {
 
 namespace {
 
-// The shading models whose BxDF is the default-lit lobe alone (evaluateBxDF's default branch):
-// the ones the lanes shade.
-bool isDefaultLitLobe(int model) {
-    return model != kUnlit && model != kSubsurface && model != kPreintegratedSkin &&
-           model != kClearCoat && model != kTwoSidedFoliage && model != kCloth;
-}
-
 // Lane k of three structure-of-arrays planes.
 void put(float* x, float* y, float* z, int k, const Vec3f& v) {
     x[k] = v.x;

@@ -131,10 +131,29 @@ BxDFTerms cloth(const BxDFSurface& s, const Geometry& g) {
 
 }  // namespace
 
+bool isDefaultLitLobe(int model) {
+    switch (model) {
+        case kUnlit:
+        case kSubsurface:
+        case kPreintegratedSkin:
+        case kClearCoat:
+        case kTwoSidedFoliage:
+        case kCloth:
+            return false;
+        default:
+            // Default lit, and the stand-in for subsurface profile (5), hair (7), eye (9) and
+            // later ids: Burley diffuse with the profile's dual specular, the hair BSDF and the
+            // eye's iris model are not transcribed (reference §13 gaps 3–4).
+            return true;
+    }
+}
+
 BxDFTerms evaluateBxDF(const BxDFSurface& s, const Vec3f& V, const Vec3f& L) {
     if (s.shadingModel == kUnlit)
         return {};
     const Geometry g = geometryOf(s.N, V, L);
+    if (isDefaultLitLobe(s.shadingModel))
+        return defaultLit(s, g);
     switch (s.shadingModel) {
         case kSubsurface: {
             BxDFTerms t = defaultLit(s, g);
@@ -155,10 +174,7 @@ BxDFTerms evaluateBxDF(const BxDFSurface& s, const Vec3f& V, const Vec3f& L) {
         }
         case kCloth:
             return cloth(s, g);
-        default:
-            // Default lit, and the stand-in for subsurface profile (5), hair (7), eye (9) and
-            // later ids: Burley diffuse with the profile's dual specular, the hair BSDF and the
-            // eye's iris model are not transcribed (reference §13 gaps 3–4).
+        default:  // not reached: isDefaultLitLobe took every other model
             return defaultLit(s, g);
     }
 }

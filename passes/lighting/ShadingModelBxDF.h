@@ -32,4 +32,8 @@ struct BxDFTerms {
 /// V at or below the horizon.
 BxDFTerms evaluateBxDF(const BxDFSurface& s, const Vec3f& V, const Vec3f& L);
 
+/// True for the shading models evaluateBxDF lights with the default-lit lobe alone (no
+/// transmission, no lobe of their own): what deferred_lighting's SIMD lanes may shade.
+bool isDefaultLitLobe(int model);
+
 }  // namespace fp

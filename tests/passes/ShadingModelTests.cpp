@@ -299,7 +299,14 @@ TEST_CASE("subsurface profile, hair, eye and later ids fall back to default lit"
         BxDFSurface s = d;
         s.shadingModel = model;
         checkSameTerms(evaluateBxDF(s, V, L), evaluateBxDF(d, V, L));
+        CHECK(isDefaultLitLobe(model));
     }
+    // The models with a lobe or transmission of their own (and unlit) are not, so the lanes of
+    // deferred_lighting leave them to evaluateBxDF.
+    CHECK(isDefaultLitLobe(kDefaultLit));
+    for (int model : {int(kUnlit), int(kSubsurface), int(kPreintegratedSkin), int(kClearCoat),
+                      int(kTwoSidedFoliage), int(kCloth)})
+        CHECK_FALSE(isDefaultLitLobe(model));
 }
 
 TEST_CASE("skin LUT: values in [0, 1], zero for a flat surface and on the fully lit side") {
