@@ -18,9 +18,12 @@ struct SurfacePoint {
     SurfaceBRDF brdf;
     Vec3f emission;
 
-    /// Where rays leave the surface: offset along the geometric normal by a fixed fraction of
-    /// float precision at this distance from the origin.
-    Vec3f rayOrigin() const { return position + geometricNormal * (1e-4f * (1.0f + length(position))); }
+    /// Where rays leave the surface. The step is along the geometric normal *and* back towards
+    /// the viewer: the normal alone keeps a point on a concave edge on the other surface's plane
+    /// (or behind it, after rounding), where half its rays meet that surface at t ≈ 0 or pass
+    /// through it; every surface the arriving ray could have hit faces the viewer, so the step
+    /// back puts the origin in front of both (TruthTests: AO at a concave edge).
+    Vec3f rayOrigin() const { return offsetRayOrigin(position, geometricNormal + toViewer); }
 };
 
 /// The shading point of a hit of the ray org + t·dir; both normals are turned to face the ray

@@ -123,6 +123,39 @@ TEST_CASE("AO is 1 everywhere on an open plane and 0 everywhere inside a closed 
     CHECK(plane > 100);
 }
 
+TEST_CASE("AO at a concave edge is one half, for pixel centres on the edge and at grazing incidence") {
+    // A floor (y = 0, x ≤ 0) meets a wall (x = 0, y ≥ 0) 2000 units across. Whichever of the two
+    // a point near the edge lies on, the other covers exactly the half of its cosine-weighted
+    // hemisphere that leans towards it, out to a height of 2000 units: a point within 10 units
+    // of the edge sees past the wall's top only in a cone of cos² < 10⁻⁴, so AO = 0.5 to 10⁻⁴.
+    // The camera lies in a plane through the edge, so the image's centre column looks at the
+    // edge itself: those pixel centres lie on both surfaces to within float rounding, the case
+    // that a fixed normal offset gets wrong (the ray starts on, or behind, the other surface).
+    Scene s;
+    s.materials.push_back(lambert(0.5f));
+    const Vec3d X{1, 0, 0}, Y{0, 1, 0}, Z{0, 0, 1};
+    s.meshes.push_back(test::quad({-1000, 0, 0}, Z, X, 1000));  // normal +y
+    s.meshes.push_back(test::quad({0, 1000, 0}, Z, Y, 1000));   // normal −x
+    for (const double height : {10.0, 0.5}) {  // 45° and about 3° above the floor
+        CAPTURE(height);
+        const auto cam = camera({-10, height, 0}, {0, 0, 0}, Z, 9, 33, 40.0);
+        const TruthResult r = renderTruth(s, cam, 256);
+        int onEdge = 0;
+        checkWithinNoise(r, "Truth.AO", 0, [&](int x, int, double& e) {
+            onEdge += x == 4 ? 1 : 0;
+            return e = 0.5, true;
+        }, 9 * 33);
+        CHECK(onEdge == 33);
+        // The edge column alone: its mean over 33 pixels × 256 rays lies within 4σ of one half.
+        double sum = 0, var = 0;
+        for (int y = 0; y < 33; ++y) {
+            sum += r.layers.at("Truth.AO").plane(0).at(4, y);
+            var += std::pow(r.layers.at("Truth.AO.StdErr").plane(0).at(4, y), 2.0f);
+        }
+        CHECK(std::abs(sum / 33 - 0.5) <= 4.0 * std::sqrt(var) / 33);
+    }
+}
+
 TEST_CASE("a point light's irradiance I·cosθ/r² on a Lambert wall, seen in a mirror floor") {
     // A perfect mirror floor (metal, base colour 1: Schlick F = 1) reflects the wall; the
     // specular truth at a floor pixel is the wall's radiance ρ/π · I·cosθ/r² at the mirrored
