@@ -36,7 +36,8 @@ const std::vector<std::string> kLightKeys = {"name",
                                              "halfU",
                                              "halfV",
                                              "attenuationRadius",
-                                             "samplesPerPixel"};
+                                             "samplesPerPixel",
+                                             "shape"};
 const std::vector<std::string> kMaterialKeys = {
     "baseColor",    "metallic",        "specular", "roughness", "emission",
     "shadingModel", "subsurfaceColor", "opacity",  "clearCoat", "clearCoatRoughness"};
@@ -131,10 +132,11 @@ Light parseLight(const nlohmann::json& j, const std::string& file, const std::st
         fail(file, where, "a light must be an object");
     checkKeys(j, kLightKeys, file, where);
     Light l;
-    for (const char* key : {"name", "type"})
+    for (const char* key : {"name", "type", "shape"})
         if (j.contains(key) && !j[key].is_string())
             fail(file, where + "/" + key, fmt::format("expected text, not {}", j[key].dump()));
     l.name = j.value("name", "");
+    l.shape = j.value("shape", "");
     const std::string type = j.value("type", "point");
     if (type == "point")
         l.type = LightType::Point;
@@ -761,6 +763,9 @@ SceneFile loadScene(const std::string& path, SceneParts parts) {
             l.position += sf.offset;  // the offset moves the whole scene in double precision
             sf.scene.lights.push_back(l);
         }
+        sf.mJsonLightCount = j["lights"].size();
+        if (sf.mGeometryLoaded)
+            sf.markLightShapes();
     }
     return sf;
 }
@@ -800,6 +805,36 @@ void SceneFile::loadGeometry() {
         l.position += offset;
     scene.lights.insert(scene.lights.end(), jsonLights.begin(), jsonLights.end());
     mGeometryLoaded = true;
+    markLightShapes();
+}
+
+void SceneFile::markLightShapes() {
+    std::vector<std::string> meshNames;
+    for (auto& m : scene.meshes) {
+        meshNames.push_back(m.name);
+        m.shapeOf = -1;
+    }
+    // The scene JSON's lights come last (the geometry's own first); only they can name a shape.
+    const std::size_t firstJsonLight = scene.lights.size() - mJsonLightCount;
+    for (std::size_t i = firstJsonLight; i < scene.lights.size(); ++i) {
+        const Light& l = scene.lights[i];
+        if (l.shape.empty())
+            continue;
+        const std::string where = fmt::format("/lights/{}/shape", i - firstJsonLight);
+        int found = 0;
+        for (auto& m : scene.meshes) {
+            if (m.name != l.shape)
+                continue;
+            if (m.shapeOf >= 0)
+                fail(path, where, fmt::format("mesh '{}' is already the shape of light '{}'", m.name,
+                                              scene.lights[std::size_t(m.shapeOf)].name));
+            m.shapeOf = int(i);
+            ++found;
+        }
+        if (found == 0)
+            fail(path, where, fmt::format("no mesh named '{}' in {}", l.shape, mGeometryFile) +
+                                  didYouMean(l.shape, meshNames));
+    }
 }
 
 }  // namespace fp::io

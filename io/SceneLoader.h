@@ -45,7 +45,10 @@ private:
     friend SceneFile loadScene(const std::string& path, SceneParts parts);
     std::string mGeometryFile;
     nlohmann::json mMaterialOverrides;  //!< "materials" of the scene JSON, applied to the geometry
+    std::size_t mJsonLightCount = 0;    //!< the last lights of scene.lights came from the JSON
     bool mGeometryLoaded = false;
+    /// Sets Mesh::shapeOf from each JSON light's "shape" once both are loaded.
+    void markLightShapes();
 };
 
 /// Throws fp::Error naming the file (and the JSON pointer, mesh or accessor) on bad input.

@@ -34,6 +34,10 @@ struct Mesh {
     std::vector<uint32_t> indices;  //!< three per triangle
     int material = 0;
     uint32_t instanceId = 1;        //!< written to the InstanceId buffer (0 = sky)
+    /// Index in Scene::lights of the light whose visible shape this mesh is (−1: none). The
+    /// camera sees its emission; the light it sends to other surfaces is that light's own,
+    /// which the light delivers, so the truths do not count it a second time as emission.
+    int shapeOf = -1;
 };
 
 enum class LightType { Directional, Point, Spot, Rect };
@@ -53,6 +57,7 @@ struct Light {
     Vec3d halfU{0.5, 0, 0}, halfV{0, 0, 0.5};  //!< rect: half-extent axes; emits along halfU × halfV
     double attenuationRadius = 0;  //!< local lights: no light beyond this distance (0 = unlimited)
     int samplesPerPixel = 1;       //!< shadow rays per pixel (Unreal's light SamplesPerPixel)
+    std::string shape;             //!< name of the mesh(es) that are the light's visible shape
 
     /// Unreal's spot mask for a point at angle acos(cosAngle) off the axis:
     /// saturate((cos − cosOuter)/(cosInner − cosOuter))²; 1 for every other light type.
@@ -97,6 +102,12 @@ struct Scene {
     std::vector<Light> lights;
     Vec3f skyColor{0, 0, 0};         //!< radiance of rays that leave the scene
     double sceneUnitsPerMeter = 100.0;
+
+    /// The radiance mesh `m` sends to other surfaces: its emission, unless it is a light's
+    /// visible shape (Mesh::shapeOf), whose light the light itself delivers.
+    Vec3f emissionTowardsSurfaces(unsigned m) const {
+        return meshes[m].shapeOf >= 0 ? Vec3f{} : materials[meshes[m].material].emission;
+    }
 
     /// Unreal's constants are in centimetres; this converts them to scene units.
     double centimetre() const { return sceneUnitsPerMeter / 100.0; }

@@ -11,7 +11,7 @@ EmitterSampler::EmitterSampler(const RayScene& scene) : mScene(scene) {
     const Scene& sc = scene.scene();
     for (unsigned m = 0; m < sc.meshes.size(); ++m) {
         const Mesh& mesh = sc.meshes[m];
-        const float lum = luminance(sc.materials[mesh.material].emission);
+        const float lum = luminance(sc.emissionTowardsSurfaces(m));
         if (!(lum > 0.0f)) continue;
         for (unsigned t = 0; t + 2 < mesh.indices.size(); t += 3) {
             // Corners relative to the origin, subtracted in double (translated world).
@@ -32,7 +32,7 @@ EmitterSampler::EmitterSampler(const RayScene& scene) : mScene(scene) {
 float EmitterSampler::pdfArea(unsigned mesh) const {
     const Scene& sc = mScene.scene();
     if (empty() || mesh >= sc.meshes.size()) return 0.0f;
-    return float(luminance(sc.materials[sc.meshes[mesh].material].emission) / mTotal);
+    return float(luminance(sc.emissionTowardsSurfaces(mesh)) / mTotal);
 }
 
 EmitterPoint EmitterSampler::sample(float choose, float u, float v) const {
@@ -48,7 +48,7 @@ EmitterPoint EmitterSampler::sample(float choose, float u, float v) const {
     p.normal = normalize(cross(t.b - t.a, t.c - t.a));
     p.mesh = t.mesh;
     p.triangle = t.index;
-    p.emission = mScene.scene().materials[mScene.scene().meshes[t.mesh].material].emission;
+    p.emission = mScene.scene().emissionTowardsSurfaces(t.mesh);
     p.pdfArea = pdfArea(t.mesh);
     return p;
 }

@@ -2,7 +2,8 @@
 // Next-event estimation for emissive geometry: picks a point on the scene's emissive triangles
 // with probability proportional to area × emitted luminance, so a small bright emitter (the
 // Cornell box's light quad) is found by a shadow ray instead of by luck. Emission is two-sided,
-// as the capture shades it.
+// as the capture shades it. A light's visible shape is not an emitter here (its light comes from
+// the light: Scene::emissionTowardsSurfaces).
 #include "passes/core/RayScene.h"
 
 #include <vector>

@@ -65,7 +65,7 @@ Vec3f PathTracer::reflectedIndirect(const SurfacePoint& start, Rng& rng, uint64_
         const RayHit hit = mScene.intersect(org, dir, 0.0f, kInf);
         if (!hit.hit) break;  // the sky lights nothing
         const SurfacePoint next = surfaceAt(mScene, hit, org, dir);
-        total += beta * (next.emission * lobeHitWeight(hit, dir, lv.pdf) +
+        total += beta * (mScene.scene().emissionTowardsSurfaces(hit.mesh) * lobeHitWeight(hit, dir, lv.pdf) +
                          mLighting.shade(next, rng, rays));
         s = next;
     }
@@ -96,7 +96,8 @@ Gathered PathTracer::gather(const SurfacePoint& s, ScatterLobe::Kind kind, Rng& 
     const Vec3f weight = lv.weight * (1.0f / lv.pdf);
     const SurfacePoint next = surfaceAt(mScene, hit, org, dir);
     const Vec3f atHit =
-        next.emission * lobeHitWeight(hit, dir, lv.pdf) + mLighting.shade(next, rng, rays);
+        mScene.scene().emissionTowardsSurfaces(hit.mesh) * lobeHitWeight(hit, dir, lv.pdf) +
+        mLighting.shade(next, rng, rays);
     out.oneBounce += weight * atHit;
     out.full += weight * (atHit + reflectedIndirect(next, rng, rays));
     return out;

@@ -3,9 +3,11 @@
 // captures: Lambert diffuse plus Unreal's GGX specular (metallic/specular/roughness) and emission.
 // Analytic lights are sampled by next-event estimation (DirectLighting, as the capture does);
 // emissive triangles by next-event estimation combined with lobe sampling through the balance
-// heuristic. Russian roulette divides by its survival probability, so it adds no bias. The sky
-// colour is a backdrop that lights nothing, exactly as in the capture's SceneColor, so rays that
-// leave the scene carry zero radiance.
+// heuristic. A light's visible shape (Mesh::shapeOf) emits towards the camera only: its light
+// reaches other surfaces through the light's own next-event estimate, so paths that meet it gather
+// nothing from it and every light is counted once. Russian roulette divides by its survival
+// probability, so it adds no bias. The sky colour is a backdrop that lights nothing, exactly as
+// in the capture's SceneColor, so rays that leave the scene carry zero radiance.
 #include "passes/core/RayScene.h"
 #include "passes/core/Random.h"
 #include "passes/lighting/DirectLighting.h"

@@ -67,6 +67,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
     addLayer("Truth.DiffuseIndirectFull", rgb);
     addLayer("Truth.AO", y);
     addLayer("Truth.Specular", rgb);
+    addLayer("Truth.Combined", rgb);
     const std::vector<std::string> shadowNames = shadowLayerNames(mScene);
     for (const auto& n : shadowNames) addLayer(n, y);
     // Plane lookups happen once, before the workers start (the map is not touched in parallel).
@@ -77,6 +78,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
     const Target oneT = target("Truth.DiffuseIndirectOneBounce");
     const Target fullT = target("Truth.DiffuseIndirectFull");
     const Target aoT = target("Truth.AO"), specT = target("Truth.Specular");
+    const Target combinedT = target("Truth.Combined");
     std::vector<Target> shadowT;
     for (const auto& n : shadowNames) shadowT.push_back(target(n));
 
@@ -97,7 +99,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                 if (!primary.hit) continue;  // sky: every layer stays 0
                 const SurfacePoint s = surfaceAt(rs, primary, Vec3f{}, dir0);
                 Rng rng(mSettings.frame, px, py, kSeedTruth);
-                PixelStats one, full, ao, spec;
+                PixelStats one, full, ao, spec, combined;
                 std::fill(shadow.begin(), shadow.end(), PixelStats{});
                 for (int i = 0; i < N; ++i) {
                     // Diffuse indirect and AO share one cosine-distributed ray.
@@ -106,7 +108,13 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                     full.add(d.full);
                     // A ray into the surface's own back counts as occluded.
                     ao.add(d.sampled && (!d.hit || d.distance > aoRadius) ? 1.0f : 0.0f);
-                    spec.add(tracer.gather(s, ScatterLobe::Kind::Specular, rng, tileRays).full);
+                    const Vec3f specular = tracer.gather(s, ScatterLobe::Kind::Specular, rng, tileRays).full;
+                    spec.add(specular);
+                    // The beauty: what the pixel emits, its direct light, and the two indirect
+                    // lobes above (BSDF = diffuse/π + F·D·Vis, so diffuse reflection is
+                    // DiffuseColor × the cosine-weighted mean).
+                    combined.add(s.emission + lighting.shade(s, rng, tileRays) +
+                                 s.brdf.diffuseColor * d.full + specular);
 
                     for (std::size_t l = 0; l < lights.size(); ++l) {
                         const float lu = rng.nextFloat(), lv = rng.nextFloat();
@@ -132,6 +140,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                 full.store(*fullT.mean, *fullT.stdErr, px, py, N);
                 ao.store(*aoT.mean, *aoT.stdErr, px, py, N);
                 spec.store(*specT.mean, *specT.stdErr, px, py, N);
+                combined.store(*combinedT.mean, *combinedT.stdErr, px, py, N);
                 for (std::size_t l = 0; l < lights.size(); ++l)
                     shadow[l].store(*shadowT[l].mean, *shadowT[l].stdErr, px, py, N);
             }

@@ -13,9 +13,16 @@
 //                                        than the AO radius (1 = open, 0 = enclosed)
 //   Truth.Specular                  RGB  indirect specular radiance reflected to the camera by
 //                                        the pixel's GGX lobe (Unreal's F·D·Vis), all bounces
+//   Truth.Combined                  RGB  the path-traced beauty: emission + direct light of every
+//                                        light (diffuse and specular) + DiffuseColor ×
+//                                        DiffuseIndirectFull + Specular; what a whole chain's
+//                                        final frame approximates
 //   Truth.Shadow.<light>            Y    visibility of each light, averaged over its extent
 //
-// Sky pixels hold 0 in every layer.
+// Every light is counted once: a mesh that is a light's visible shape (Mesh::shapeOf) shows its
+// emission to the camera (in SceneColor and Truth.Combined) but adds nothing to the indirect
+// layers, because the light it sends out is the light's own direct light. Sky pixels hold 0 in
+// every layer.
 #include "passes/core/Camera.h"
 #include "passes/core/Image.h"
 #include "passes/core/Scene.h"

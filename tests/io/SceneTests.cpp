@@ -90,6 +90,38 @@ TEST_CASE("an OBJ scene's lights are read without its meshes; the meshes when as
     REQUIRE(sf.scene.lights.size() == 1);
     const auto whole = io::loadScene(std::string(FP_SOURCE_DIR) + "/examples/cornell/scene.json");
     CHECK(whole.scene.lights[0].position.y == sf.scene.lights[0].position.y);
+    // The light's "shape" marks the light quad, whichever way the geometry was read.
+    for (const Scene* s : std::initializer_list<const Scene*>{&sf.scene, &whole.scene}) {
+        int shapes = 0;
+        for (const auto& m : s->meshes) {
+            CHECK(m.shapeOf == (m.name == "light" ? 0 : -1));
+            shapes += m.shapeOf == 0 ? 1 : 0;
+        }
+        CHECK(shapes == 1);
+    }
+}
+
+TEST_CASE("a light's shape must name a mesh, and a mesh can be the shape of one light only") {
+    const std::string dir = std::string(FP_TEST_SCRATCH) + "/scenes";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/two.obj") << "o lamp\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+                                       "o floor\nv 0 0 0\nv 0 0 1\nv 1 0 0\nf 4 5 6\n";
+    std::ofstream(dir + "/typo_shape.json")
+        << R"({"version": 1, "geometry": "two.obj", "lights": [{"type": "point", "shape": "lmap"}]})";
+    CHECK_THROWS_WITH_AS(io::loadScene(dir + "/typo_shape.json"),
+                         doctest::Contains("/lights/0/shape: no mesh named 'lmap'"), Error);
+    CHECK_THROWS_WITH_AS(io::loadScene(dir + "/typo_shape.json"), doctest::Contains("did you mean 'lamp'?"),
+                         Error);
+    std::ofstream(dir + "/twice.json") << R"({"version": 1, "geometry": "two.obj", "lights": [
+        {"name": "a", "shape": "lamp"}, {"name": "b", "shape": "lamp"}]})";
+    CHECK_THROWS_WITH_AS(io::loadScene(dir + "/twice.json"),
+                         doctest::Contains("/lights/1/shape: mesh 'lamp' is already the shape of light 'a'"),
+                         Error);
+    std::ofstream(dir + "/number.json")
+        << R"({"version": 1, "geometry": "two.obj", "lights": [{"shape": 3}]})";
+    CHECK_THROWS_WITH_AS(io::loadScene(dir + "/number.json"), doctest::Contains("/lights/0/shape"), Error);
+    const auto ok = io::loadScene(dir + "/twice.json", io::SceneParts::LightsAndCameras);
+    CHECK(ok.scene.meshes.empty());  // not checked until the meshes are read
 }
 
 TEST_CASE("a glTF scene keeps its own lights before the scene JSON's, offset with the scene") {

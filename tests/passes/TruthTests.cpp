@@ -95,6 +95,9 @@ TEST_CASE("white furnace: a closed box of albedo a glowing Le holds Le/(1−a) e
             // One bounce: the other walls hold only their emission (no lights in the scene).
             checkWithinNoise(r, "Truth.DiffuseIndirectOneBounce", c,
                              [&](int, int, double& e) { return e = 1.0, true; }, 24 * 16);
+            // The beauty: Le + a·full (no lights: no direct light, no specular lobe).
+            checkWithinNoise(r, "Truth.Combined", c,
+                             [&](int, int, double& e) { return e = full, true; }, 24 * 16);
         }
     }
 }
@@ -231,6 +234,61 @@ TEST_CASE("diffuse indirect under an emitting square equals Le × the point-to-r
     checkWithinNoise(r, "Truth.DiffuseIndirectOneBounce", 0, expected, 200);
     // Nothing reflects back into the floor's hemisphere except the black emitter: Full = OneBounce.
     checkWithinNoise(r, "Truth.DiffuseIndirectFull", 0, expected, 200);
+}
+
+TEST_CASE("a rect light with an emissive shape is counted once: direct in Combined, not indirect") {
+    // The scene of the form-factor test, lit by a rect light of radiance Le over the emitting
+    // square, which is the light's visible shape. The floor's direct light is ρ·Le·F (F the
+    // form factor above); its indirect light is 0: the square, black, reflects nothing and its
+    // emission is the light's. Unmarked, the square would also be an emitter: one-bounce Le·F
+    // and a beauty of 2·ρ·Le·F, the light counted twice.
+    const double c = 10.0, half = 6.0, Le = 2.0, rho = 0.5;
+    for (const bool marked : {true, false}) {
+        CAPTURE(marked);
+        Scene s;
+        s.materials.push_back(lambert(float(rho)));
+        s.materials.push_back(lambert(0.0f, float(Le)));
+        s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 100.0, 0));
+        s.meshes.push_back(test::quad({0, c, 0}, {1, 0, 0}, {0, 0, 1}, half, 1));
+        Light l;
+        l.type = LightType::Rect;
+        l.color = {float(Le), float(Le), float(Le)};
+        l.position = {0, c, 0};
+        l.halfU = {half, 0, 0};
+        l.halfV = {0, 0, half};  // emits along halfU × halfV = −y, onto the floor
+        s.lights.push_back(l);
+        if (marked) s.meshes[1].shapeOf = 0;
+        const auto down = camera({0, 4, 0}, {0, 0, 0}, {0, 0, 1}, 33, 33, 90.0);
+        const TruthResult r = renderTruth(s, down, 64);
+        const CameraView& cv = down.current;
+        auto formFactor = [&](int x, int y, double& f) {
+            const Vec3d d = cv.rayDirection(x, y);
+            const Vec3d p = cv.position + d * (-cv.position.y / d.y);
+            if (std::abs(p.x) > half - 0.5 || std::abs(p.z) > half - 0.5) return false;
+            f = cornerFormFactor(half - p.x, half - p.z, c) + cornerFormFactor(half + p.x, half - p.z, c) +
+                cornerFormFactor(half - p.x, half + p.z, c) + cornerFormFactor(half + p.x, half + p.z, c);
+            return true;
+        };
+        const double copies = marked ? 1.0 : 2.0;
+        checkWithinNoise(r, "Truth.Combined", 0, [&](int x, int y, double& e) {
+            return formFactor(x, y, e) ? (e *= copies * rho * Le, true) : false;
+        }, 200);
+        checkWithinNoise(r, "Truth.DiffuseIndirectOneBounce", 0, [&](int x, int y, double& e) {
+            return formFactor(x, y, e) ? (e *= (copies - 1.0) * Le, true) : false;
+        }, 200);
+        if (marked) {
+            // Exactly 0, not just within noise: nothing samples or gathers the shape.
+            const Plane& one = r.layers.at("Truth.DiffuseIndirectFull").plane(0);
+            for (int y = 0; y < 33; ++y)
+                for (int x = 0; x < 33; ++x) CHECK(one.at(x, y) == 0.0f);
+            // The camera still sees the light's shape: Combined is its emission there.
+            const auto up = camera({0, 4, 0}, {0, 10, 0}, {0, 0, 1}, 9, 9, 60.0);
+            const TruthResult u = renderTruth(s, up, 4);
+            for (int y = 0; y < 9; ++y)
+                for (int x = 0; x < 9; ++x)
+                    CHECK(u.layers.at("Truth.Combined").plane(0).at(x, y) == doctest::Approx(Le));
+        }
+    }
 }
 
 TEST_CASE("a point light's shadow truth is exactly 1 in light and 0 behind an occluder") {
