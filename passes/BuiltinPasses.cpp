@@ -8,6 +8,7 @@
 #include "passes/hzb/HZBPass.h"
 #include "passes/prev_color_reduction/PrevColorReductionPass.h"
 #include "passes/rt_shadows/RTShadowsPass.h"
+#include "passes/screen_space_oracle/ScreenSpaceOraclePass.h"
 #include "passes/shadow_denoise/ShadowDenoisePass.h"
 #include "passes/ssgi/SSGIPass.h"
 #include "passes/ssgi_denoise/SSGIDenoisePass.h"
@@ -46,6 +47,10 @@ const PassRegistry& builtinPasses() {
                                                      "surface was on last frame's screen");
         r.add<DisplayPass>("display",
                            "OpenColorIO display transform of a buffer for a PNG preview");
+        r.add<ScreenSpaceOraclePass>(
+            "screen_space_oracle",
+            "framepass's own reference, not Unreal's: the best any screen-space method can do "
+            "with this capture (many rays, half-pixel steps on full-resolution depth, no mips)");
         r.add<ErrorMeasurePass>("error_measure",
                                 "error of any output against a reference (a "
                                 "Truth.* layer): metrics in the report, heat map");

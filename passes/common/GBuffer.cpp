@@ -51,6 +51,16 @@ PortSpec metallicInput(std::string doc) {
         .name = kMetallic, .channels = {"Y"}, .captureDefault = "Metallic", .doc = std::move(doc)};
 }
 
+PortSpec specularInput(std::string doc) {
+    return {
+        .name = kSpecular, .channels = {"Y"}, .captureDefault = "Specular", .doc = std::move(doc)};
+}
+
+PortSpec roughnessInput(std::string doc) {
+    return {
+        .name = kRoughness, .channels = {"Y"}, .captureDefault = "Roughness", .doc = std::move(doc)};
+}
+
 PortSpec gbufferAOInput(bool optional) {
     return {.name = kGBufferAO,
             .channels = {"Y"},

@@ -18,6 +18,8 @@ inline constexpr const char* kVelocity = "velocity";
 inline constexpr const char* kCustomData = "customData";
 inline constexpr const char* kBaseColor = "baseColor";
 inline constexpr const char* kMetallic = "metallic";
+inline constexpr const char* kSpecular = "specular";
+inline constexpr const char* kRoughness = "roughness";
 inline constexpr const char* kGBufferAO = "gbufferAO";
 
 /// SceneDepth, Z: linear view depth.
@@ -35,6 +37,10 @@ PortSpec customDataInput(std::string doc, bool optional);
 PortSpec baseColorInput(std::string doc = "albedo");
 /// Metallic, Y.
 PortSpec metallicInput(std::string doc);
+/// Specular, Y (GBufferB.g).
+PortSpec specularInput(std::string doc);
+/// Roughness, Y (GBufferB.b).
+PortSpec roughnessInput(std::string doc);
 /// GBufferAO, Y: the material's AO.
 PortSpec gbufferAOInput(bool optional);
 

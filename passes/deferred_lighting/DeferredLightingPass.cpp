@@ -18,8 +18,6 @@ namespace {
 
 constexpr const char* kColor = "color";
 constexpr const char* kAttenuation = "attenuation";
-constexpr const char* kSpecular = "specular";
-constexpr const char* kRoughness = "roughness";
 
 // One direction towards the light with the unshadowed irradiance it brings at normal incidence.
 struct Incoming {
@@ -168,8 +166,8 @@ PassIO DeferredLightingPass::describe() const {
         gbuffer::normalInput(),
         gbuffer::baseColorInput(),
         gbuffer::metallicInput("GBufferB.r"),
-        {.name = kSpecular, .channels = {"Y"}, .captureDefault = "Specular", .doc = "GBufferB.g"},
-        {.name = kRoughness, .channels = {"Y"}, .captureDefault = "Roughness", .doc = "GBufferB.b"},
+        gbuffer::specularInput("GBufferB.g"),
+        gbuffer::roughnessInput("GBufferB.b"),
         gbuffer::shadingModelInput("picks the BxDF; unlit and sky pixels are skipped"),
         gbuffer::customDataInput("per shading model (reference §1.7)", true),
         gbuffer::gbufferAOInput(true),
@@ -217,8 +215,8 @@ void DeferredLightingPass::execute(PassContext& ctx) {
     const MaterialInputs material{ctx.input(gbuffer::kNormal)->image(),
                                   ctx.input(gbuffer::kBaseColor)->image(),
                                   ctx.input(gbuffer::kMetallic)->image().plane(0),
-                                  ctx.input(kSpecular)->image().plane(0),
-                                  ctx.input(kRoughness)->image().plane(0),
+                                  ctx.input(gbuffer::kSpecular)->image().plane(0),
+                                  ctx.input(gbuffer::kRoughness)->image().plane(0),
                                   ctx.input(gbuffer::kCustomData),
                                   ctx.input(gbuffer::kGBufferAO)};
     Image& out = ctx.output(kColor, {size}).image();

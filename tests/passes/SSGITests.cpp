@@ -21,48 +21,16 @@ using namespace fp;
 
 namespace {
 
-constexpr float kGlow = 0.1f;
+using test::floorAndWall;
+using test::kGlow;
+using test::wallCamera;
 
-// A glowing black floor (y = 0) and a glowing black wall behind it (z = 30, facing the camera),
-// both wider and taller than the view, so every pixel on screen has radiance exactly kGlow and no
-// sky is visible: whatever mip a ray reads, a hit gathers kGlow (up to the screen-edge vignette).
-Scene floorAndWall() {
-    Scene s;
-    s.materials.push_back(test::lambert(0.0f, kGlow));
-    s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 1000.0, 0, 1));
-    s.meshes.push_back(test::quad({0, 0, 30}, {-1, 0, 0}, {0, 1, 0}, 1000.0, 0, 2));
-    return s;
-}
-
-FrameCamera wallCamera(int size) {
-    FrameCamera cam;
-    cam.current = CameraView::lookAt({0, 12, -20}, {0, 4, 20}, {0, 1, 0}, 60.0, size, size, 1.0);
-    cam.previous = cam.current;
-    return cam;
-}
-
-// Form factor from floor point p (normal +y) to the part of the wall that is on screen (what a
-// screen-space tracer can hit), by midpoint quadrature over 0.25-unit cells; `vignetted` also
-// weighs each cell by the vignette at its screen position.
+// Form factor from floor point p to the on-screen wall; `vignetted` also weighs each cell by the
+// vignette at its screen position (what the reduced colour holds there).
 double onScreenWallFormFactor(const Vec3d& p, const CameraView& cam, bool vignetted) {
-    const double cell = 0.25;
-    double f = 0.0;
-    for (double y = 0.5 * cell; y < 60.0; y += cell)
-        for (double x = -60.0 + 0.5 * cell; x < 60.0; x += cell) {
-            const Vec3d q{x, y, 30.0};
-            const auto proj = cam.project(q);
-            if (proj.depth <= 0 || proj.px < 0 || proj.py < 0 || proj.px >= cam.width ||
-                proj.py >= cam.height)
-                continue;
-            const Vec3d d = q - p;
-            const double r2 = dot(d, d);
-            double w = d.y * d.z / (kPi * r2 * r2) * cell * cell;
-            if (vignetted)
-                w *= PrevColorReductionPass::vignette(float(proj.px / cam.width * 2 - 1),
-                                                      float(1 - proj.py / cam.height * 2));
-            f += w;
-        }
-    return f;
+    return test::onScreenWallFormFactor(p, cam, [&](double sx, double sy) {
+        return vignetted ? double(PrevColorReductionPass::vignette(float(sx), float(sy))) : 1.0;
+    });
 }
 
 std::map<std::string, Texture> runChain(test::MemorySource& src, const std::vector<NodeDesc>& nodes,

@@ -65,6 +65,50 @@ inline Scene floorScene(const Vec3d& offset = {}) {
     return s;
 }
 
+/// Radiance of every surface of floorAndWall().
+constexpr float kGlow = 0.1f;
+
+/// A glowing black floor (y = 0) and a glowing black wall behind it (z = 30, facing the camera),
+/// both wider and taller than wallCamera's view, so every pixel on screen has radiance exactly
+/// kGlow and no sky is visible: whatever a screen-space ray reads, a hit gathers kGlow.
+inline Scene floorAndWall() {
+    Scene s;
+    s.materials.push_back(lambert(0.0f, kGlow));
+    s.meshes.push_back(quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 1000.0, 0, 1));
+    s.meshes.push_back(quad({0, 0, 30}, {-1, 0, 0}, {0, 1, 0}, 1000.0, 0, 2));
+    return s;
+}
+
+/// A still camera over floorAndWall()'s floor, looking at the wall.
+inline FrameCamera wallCamera(int size) {
+    FrameCamera cam;
+    cam.current = CameraView::lookAt({0, 12, -20}, {0, 4, 20}, {0, 1, 0}, 60.0, size, size, 1.0);
+    cam.previous = cam.current;
+    return cam;
+}
+
+/// Form factor from floor point p (normal +y) to the part of floorAndWall()'s wall that is on
+/// screen (what a screen-space tracer can hit), by midpoint quadrature over 0.25-unit cells, each
+/// weighed by `weight(sx, sy)` of its screen position in [−1, 1]².
+template <class Weight>
+double onScreenWallFormFactor(const Vec3d& p, const CameraView& cam, Weight weight) {
+    const double cell = 0.25;
+    double f = 0.0;
+    for (double y = 0.5 * cell; y < 60.0; y += cell)
+        for (double x = -60.0 + 0.5 * cell; x < 60.0; x += cell) {
+            const Vec3d q{x, y, 30.0};
+            const auto proj = cam.project(q);
+            if (proj.depth <= 0 || proj.px < 0 || proj.py < 0 || proj.px >= cam.width ||
+                proj.py >= cam.height)
+                continue;
+            const Vec3d d = q - p;
+            const double r2 = dot(d, d);
+            f += d.y * d.z / (kPi * r2 * r2) * cell * cell *
+                 weight(proj.px / cam.width * 2 - 1, 1 - proj.py / cam.height * 2);
+        }
+    return f;
+}
+
 /// Everything a pass can ask for, held in memory.
 class MemorySource final : public FrameSource {
 public:
