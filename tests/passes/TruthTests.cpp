@@ -76,6 +76,18 @@ double cornerFormFactor(double a, double b, double c) {
     return (X / sx * std::atan(Y / sx) + Y / sy * std::atan(X / sy)) / (2.0 * kPi);
 }
 
+/// Form factor from the floor point under pixel (x, y) of a camera looking down at the floor
+/// (y = 0) to the square [−half, half]² at height c, as four corner rectangles around the point's
+/// projection; false for a point within 0.5 of the square's edge or outside it.
+bool squareFormFactor(const CameraView& cv, double half, double c, int x, int y, double& f) {
+    const Vec3d d = cv.rayDirection(x, y);
+    const Vec3d p = cv.position + d * (-cv.position.y / d.y);
+    if (std::abs(p.x) > half - 0.5 || std::abs(p.z) > half - 0.5) return false;
+    f = cornerFormFactor(half - p.x, half - p.z, c) + cornerFormFactor(half + p.x, half - p.z, c) +
+        cornerFormFactor(half - p.x, half + p.z, c) + cornerFormFactor(half + p.x, half + p.z, c);
+    return true;
+}
+
 }  // namespace
 
 TEST_SUITE("truth") {
@@ -220,13 +232,7 @@ TEST_CASE("diffuse indirect under an emitting square equals Le × the point-to-r
     const TruthResult r = renderTruth(s, cam, 64);
     const CameraView& cv = cam.current;
     auto expected = [&](int x, int y, double& e) {
-        const Vec3d d = cv.rayDirection(x, y);
-        const Vec3d p = cv.position + d * (-cv.position.y / d.y);
-        if (std::abs(p.x) > half - 0.5 || std::abs(p.z) > half - 0.5) return false;
-        // Four corner rectangles around the point's projection.
-        e = 2.0 * (cornerFormFactor(half - p.x, half - p.z, c) + cornerFormFactor(half + p.x, half - p.z, c) +
-                   cornerFormFactor(half - p.x, half + p.z, c) + cornerFormFactor(half + p.x, half + p.z, c));
-        return true;
+        return squareFormFactor(cv, half, c, x, y, e) ? (e *= 2.0, true) : false;
     };
     double centre;
     expected(16, 16, centre);
@@ -261,14 +267,7 @@ TEST_CASE("a rect light with an emissive shape is counted once: direct in Combin
         const auto down = camera({0, 4, 0}, {0, 0, 0}, {0, 0, 1}, 33, 33, 90.0);
         const TruthResult r = renderTruth(s, down, 64);
         const CameraView& cv = down.current;
-        auto formFactor = [&](int x, int y, double& f) {
-            const Vec3d d = cv.rayDirection(x, y);
-            const Vec3d p = cv.position + d * (-cv.position.y / d.y);
-            if (std::abs(p.x) > half - 0.5 || std::abs(p.z) > half - 0.5) return false;
-            f = cornerFormFactor(half - p.x, half - p.z, c) + cornerFormFactor(half + p.x, half - p.z, c) +
-                cornerFormFactor(half - p.x, half + p.z, c) + cornerFormFactor(half + p.x, half + p.z, c);
-            return true;
-        };
+        auto formFactor = [&](int x, int y, double& f) { return squareFormFactor(cv, half, c, x, y, f); };
         const double copies = marked ? 1.0 : 2.0;
         checkWithinNoise(r, "Truth.Combined", 0, [&](int x, int y, double& e) {
             return formFactor(x, y, e) ? (e *= copies * rho * Le, true) : false;
