@@ -3,6 +3,7 @@
 #include "passes/common/GBuffer.h"
 #include "passes/common/Reprojection.h"
 #include "passes/core/Error.h"
+#include "passes/core/PassPorts.h"
 #include "passes/core/Random.h"
 #include "passes/core/ShadingModel.h"
 #include "passes/core/Tiles.h"
@@ -245,17 +246,48 @@ void ScreenSpaceOraclePass::execute(PassContext& ctx) {
             }
     });
 
-    const bool wantDiffuse = ctx.isRequested(kDiffuse) || ctx.isRequested(kHitFraction) ||
-                             ctx.isRequested(kAo) || ctx.isRequested(kAoWithinRadius);
-    const bool wantSpecular = ctx.isRequested(kSpecularOut);
-    Image& diffuseOut = ctx.output(kDiffuse, {frame.extent}).image();
-    Image& specularOut = ctx.output(kSpecularOut, {frame.extent}).image();
-    Plane& hitOut = ctx.output(kHitFraction, {frame.extent}).image().plane(0);
-    Plane& aoOut = ctx.output(kAo, {frame.extent}).image().plane(0);
-    Plane& aoRadiusOut = ctx.output(kAoWithinRadius, {frame.extent}).image().plane(0);
+    // Only what is read is allocated and traced: the cosine rays feed diffuse, hitFraction and the
+    // two AOs; the GGX rays feed specular.
+    const HostPorts ports{ctx};
+    auto plane = [&](const char* port, int c = 0) -> Plane* {
+        Texture* t = ports.outputIfRequested(port, {frame.extent});
+        return t ? &t->image().plane(c) : nullptr;
+    };
+    Texture* diffuseOut = ports.outputIfRequested(kDiffuse, {frame.extent});
+    Texture* specularOut = ports.outputIfRequested(kSpecularOut, {frame.extent});
+    Plane* hitOut = plane(kHitFraction);
+    Plane* aoOut = plane(kAo);
+    Plane* aoRadiusOut = plane(kAoWithinRadius);
+    const bool wantDiffuse = diffuseOut || hitOut || aoOut || aoRadiusOut;
     const int rays = mParams.rays;
+    const float inverseRays = 1.0f / float(rays);
     const Vec3f right(cam.right), up(cam.up), forward(cam.forward);
     auto toView = [&](const Vec3f& L) { return Vec3f{dot(L, right), dot(L, up), dot(L, forward)}; };
+
+    // One lobe's rays from pixel (x, y): Σ weight/pdf × the colour at each hit (the cosine lobe's
+    // weight/pdf is exactly 1), the hits, and those closer than aoRadius.
+    struct LobeSum {
+        Vec3f radiance;
+        int hits = 0, near = 0;
+    };
+    auto gather = [&](const ScatterLobe& lobe, int x, int y, const Vec3f& p0, Rng& rng,
+                      uint64_t& rayCount, uint64_t& steps) {
+        LobeSum sum;
+        for (int r = 0; r < rays && lobe.active(); ++r) {
+            const float c = rng.nextFloat(), u = rng.nextFloat(), v = rng.nextFloat();
+            Vec3f L;
+            if (!lobe.sample(c, u, v, L)) continue;
+            const LobeValue lv = lobe.evaluate(L);
+            if (!(lv.pdf > 0.0f)) continue;
+            ++rayCount;
+            const March m = screen.march(x, y, p0, toView(L), steps);
+            if (m.pixel < 0) continue;
+            sum.radiance += lv.weight * (1.0f / lv.pdf) * hitColor[std::size_t(m.pixel)];
+            ++sum.hits;
+            sum.near += m.distance < aoRadius ? 1 : 0;
+        }
+        return sum;
+    };
 
     forEachTile(W, H, [&](const Tile& t) {
         uint64_t traced = 0, skipped = 0, rayCount = 0, steps = 0;
@@ -263,7 +295,8 @@ void ScreenSpaceOraclePass::execute(PassContext& ctx) {
             for (int x = t.x0; x < t.x1; ++x) {
                 const float d = depth.at(x, y);
                 if (!isLitSurface(d, model.at(x, y))) {
-                    aoOut.at(x, y) = aoRadiusOut.at(x, y) = 1.0f;
+                    if (aoOut) aoOut->at(x, y) = 1.0f;
+                    if (aoRadiusOut) aoRadiusOut->at(x, y) = 1.0f;
                     ++skipped;
                     continue;
                 }
@@ -279,40 +312,20 @@ void ScreenSpaceOraclePass::execute(PassContext& ctx) {
                     metallic.at(x, y), specular.at(x, y), roughness.at(x, y));
                 Rng rng(frame.number, x, y, kSeedOracle);
                 if (wantDiffuse) {
-                    const ScatterLobe lobe(ScatterLobe::Kind::Cosine, s);
-                    Vec3f sum;
-                    int hits = 0, near = 0;
-                    for (int r = 0; r < rays; ++r) {
-                        const float c = rng.nextFloat(), u = rng.nextFloat(), v = rng.nextFloat();
-                        Vec3f L;
-                        if (!lobe.sample(c, u, v, L)) continue;
-                        ++rayCount;
-                        const March m = screen.march(x, y, p0, toView(L), steps);
-                        if (m.pixel < 0) continue;
-                        sum += hitColor[std::size_t(m.pixel)];  // cosine pdf: weight/pdf = 1
-                        ++hits;
-                        near += m.distance < aoRadius ? 1 : 0;
-                    }
-                    const float inv = 1.0f / float(rays);
-                    for (int c = 0; c < 3; ++c) diffuseOut.plane(c).at(x, y) = sum[c] * inv;
-                    hitOut.at(x, y) = float(hits) * inv;
-                    aoOut.at(x, y) = 1.0f - float(hits) * inv;
-                    aoRadiusOut.at(x, y) = 1.0f - float(near) * inv;
+                    const LobeSum g = gather(ScatterLobe(ScatterLobe::Kind::Cosine, s), x, y, p0, rng,
+                                             rayCount, steps);
+                    if (diffuseOut)
+                        for (int c = 0; c < 3; ++c)
+                            diffuseOut->image().plane(c).at(x, y) = g.radiance[c] * inverseRays;
+                    if (hitOut) hitOut->at(x, y) = float(g.hits) * inverseRays;
+                    if (aoOut) aoOut->at(x, y) = 1.0f - float(g.hits) * inverseRays;
+                    if (aoRadiusOut) aoRadiusOut->at(x, y) = 1.0f - float(g.near) * inverseRays;
                 }
-                if (wantSpecular) {
-                    const ScatterLobe lobe(ScatterLobe::Kind::Specular, s);
-                    Vec3f sum;
-                    for (int r = 0; r < rays && lobe.active(); ++r) {
-                        const float c = rng.nextFloat(), u = rng.nextFloat(), v = rng.nextFloat();
-                        Vec3f L;
-                        if (!lobe.sample(c, u, v, L)) continue;
-                        const LobeValue lv = lobe.evaluate(L);
-                        if (!(lv.pdf > 0.0f)) continue;
-                        ++rayCount;
-                        const March m = screen.march(x, y, p0, toView(L), steps);
-                        if (m.pixel >= 0) sum += lv.weight * (1.0f / lv.pdf) * hitColor[std::size_t(m.pixel)];
-                    }
-                    for (int c = 0; c < 3; ++c) specularOut.plane(c).at(x, y) = sum[c] / float(rays);
+                if (specularOut) {
+                    const LobeSum g = gather(ScatterLobe(ScatterLobe::Kind::Specular, s), x, y, p0,
+                                             rng, rayCount, steps);
+                    for (int c = 0; c < 3; ++c)
+                        specularOut->image().plane(c).at(x, y) = g.radiance[c] / float(rays);
                 }
             }
         ctx.addWork("pixels", traced);
