@@ -141,6 +141,95 @@ std::string plot(const BenchResult& r) {
     return svg.str();
 }
 
+// One error_measure taken apart, setting by setting: a diverging stacked bar of the steps'
+// shares of the squared error (a negative share, a step that cancels others, left of 0), then
+// the table of step RMSE, bias and share and the sentence.
+std::string decompositionSection(const BenchResult& r, const std::string& errorName) {
+    static const char* kColors[] = {"#4a7fb0", "#d0702a", "#6aa84f", "#8e63b5"};
+    std::vector<std::pair<const BenchSetting*, const ErrorDecompositionResult*>> rows;
+    for (const auto& s : r.settings)
+        for (const auto& e : s.errors)
+            if (e.name == errorName && e.decomposition)
+                rows.push_back({&s, &*e.decomposition});
+    if (rows.empty())
+        return "";
+    double lo = 0, hi = 1;
+    for (const auto& [s, d] : rows) {
+        double neg = 0, pos = 0;
+        for (const auto& step : d->steps)
+            (step.share < 0 ? neg : pos) += step.share;
+        lo = std::min(lo, neg);
+        hi = std::max(hi, pos);
+    }
+    const double W = 760, L = 220, R = 20, T = 28, rowH = 28, B = 36;
+    const double H = T + rowH * double(rows.size()) + B;
+    auto X = [&](double v) { return L + (v - lo) / (hi - lo) * (W - L - R); };
+    std::ostringstream h;
+    h << "<h3>" << escape(errorName) << "</h3>\n";
+    h << fmt::format(R"(<svg class="decomposition" xmlns="http://www.w3.org/2000/svg" width="{}" )"
+                     R"(height="{}" viewBox="0 0 {} {}" role="img">)",
+                     W, H, W, H);
+    // Legend.
+    double lx = L;
+    for (std::size_t k = 0; k < rows.front().second->steps.size() && k < 4; ++k) {
+        const std::string& name = rows.front().second->steps[k].name;
+        h << fmt::format(R"(<rect x="{:.1f}" y="6" width="12" height="12" fill="{}"/>)"
+                         R"(<text x="{:.1f}" y="16" font-size="12">{}</text>)",
+                         lx, kColors[k], lx + 16, escape(name));
+        lx += 28 + 7.0 * double(name.size());
+    }
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const auto& [s, d] = rows[i];
+        const double y = T + rowH * double(i);
+        h << fmt::format(R"(<text x="{}" y="{:.1f}" font-size="12" text-anchor="end">{}</text>)",
+                         L - 8, y + rowH / 2 + 4, escape(s->label));
+        double pos = 0, neg = 0;
+        for (std::size_t k = 0; k < d->steps.size() && k < 4; ++k) {
+            const auto& step = d->steps[k];
+            double& at = step.share < 0 ? neg : pos;
+            const double a = X(at), b = X(at + step.share);
+            at += step.share;
+            h << fmt::format(R"(<rect x="{:.1f}" y="{:.1f}" width="{:.1f}" height="{:.1f}" )"
+                             R"(fill="{}"><title>{}: {:.1f} % of the squared error, RMSE {:.4g}, )"
+                             R"(bias {:+.4g}</title></rect>)",
+                             std::min(a, b), y + 4, std::abs(b - a), rowH - 8, kColors[k],
+                             escape(step.name), 100.0 * step.share, step.rmse, step.bias);
+        }
+    }
+    const double axisY = T + rowH * double(rows.size());
+    h << fmt::format(R"(<line x1="{:.1f}" x2="{:.1f}" y1="{}" y2="{}" stroke="#333"/>)", X(0),
+                     X(0), T, axisY);
+    const double step = tickStep(lo, hi);
+    for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9; t += step)
+        h << fmt::format(R"(<text x="{:.1f}" y="{:.1f}" font-size="11" text-anchor="middle">)"
+                         R"({:.0f} %</text>)",
+                         X(t), axisY + 16, std::abs(t) < 1e-9 ? 0.0 : 100.0 * t);
+    h << fmt::format(R"(<text x="{:.1f}" y="{:.1f}" font-size="12" text-anchor="middle">share )"
+                     R"(of the squared error against {}</text>)",
+                     (L + W - R) / 2, H - 4, escape(rows.front().second->steps.back().to));
+    h << "</svg>\n";
+    h << "<table><tr><th class=\"l\">setting</th><th class=\"l\">step</th><th>RMSE</th>"
+         "<th>bias</th><th>share</th><th class=\"l\">from → to</th></tr>\n";
+    for (const auto& [s, d] : rows) {
+        double biases = 0;
+        for (const auto& step : d->steps) {
+            h << "<tr><td class=\"l\">" << escape(s->label) << "</td><td class=\"l\">"
+              << escape(step.name) << "</td>"
+              << fmt::format("<td>{:.4g}</td><td>{:+.4g}</td><td>{:.1f} %</td>", step.rmse,
+                             step.bias, 100.0 * step.share)
+              << "<td class=\"l\">" << escape(step.from) << " → " << escape(step.to)
+              << "</td></tr>\n";
+            biases += step.bias;
+        }
+        h << "<tr><td class=\"l\">" << escape(s->label) << "</td><td class=\"l\"><b>total</b></td>"
+          << fmt::format("<td>{:.4g}</td><td>{:+.4g} (steps: {:+.4g})</td><td>100 %</td>", d->rmse,
+                         d->bias, biases)
+          << "<td class=\"l\">" << escape(d->sentence) << "</td></tr>\n";
+    }
+    h << "</table>\n";
+    return h.str();
+}
+
 }  // namespace
 
 std::string benchHtml(const BenchResult& r) {
@@ -208,6 +297,25 @@ img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
           << escape(r.settings.front().errors.empty() ? "" : r.settings.front().errors.front().name)
           << "). Pareto: no other setting is both faster and more accurate.</p>\n";
     h << plot(r) << "\n";
+
+    // Why the error is what it is, per error_measure that was taken apart.
+    std::vector<std::string> decomposed;
+    for (const auto& s : r.settings)
+        for (const auto& e : s.errors)
+            if (e.decomposition &&
+                std::find(decomposed.begin(), decomposed.end(), e.name) == decomposed.end())
+                decomposed.push_back(e.name);
+    if (!decomposed.empty()) {
+        h << "<h2>Why the error is what it is</h2>\n<p class=\"meta\">Each error taken apart "
+             "along a ladder of images from the result to its reference: the same chain "
+             "converged (noise), framepass's screen-space oracle (Unreal's approximation), the "
+             "one-bounce truth (the screen-space limit), the full truth (multi-bounce). A step's "
+             "share is Σ d·e / Σ e² (d: the step's difference, e: the total's), so the shares "
+             "add up to 100 % and the biases to the total bias; a negative share is a step that "
+             "cancels part of the others.</p>\n";
+        for (const auto& name : decomposed)
+            h << decompositionSection(r, name);
+    }
 
     h << "<h2>Passes</h2>\n";
     for (const auto& s : r.settings) {

@@ -28,6 +28,15 @@ void BenchResult::markPareto() {
     }
 }
 
+nlohmann::json ErrorDecompositionResult::toJson() const {
+    nlohmann::json j = {{"rmse", rmse}, {"bias", bias}, {"sentence", sentence}};
+    j["steps"] = nlohmann::json::array();
+    for (const auto& s : steps)
+        j["steps"].push_back({{"name", s.name}, {"from", s.from}, {"to", s.to}, {"rmse", s.rmse},
+                              {"bias", s.bias}, {"share", s.share}});
+    return j;
+}
+
 nlohmann::json BenchResult::toJson() const {
     nlohmann::json j = {{"config", config}, {"capture", capture}, {"frame", frame},
                         {"width", extent.width}, {"height", extent.height}, {"runs", runs},
@@ -55,9 +64,12 @@ nlohmann::json BenchResult::toJson() const {
                                                      {"max", p.gpuSeconds->max}};
         }
         sj["errors"] = nlohmann::json::array();
-        for (const auto& e : s.errors)
+        for (const auto& e : s.errors) {
             sj["errors"].push_back({{"name", e.name}, {"source", e.source},
                                     {"reference", e.reference}, {"metrics", e.metrics}});
+            if (e.decomposition)
+                sj["errors"].back()["decomposition"] = e.decomposition->toJson();
+        }
         if (s.hasError()) sj["pareto"] = s.pareto;
         j["settings"].push_back(sj);
     }

@@ -30,10 +30,26 @@ struct ErrorImages {
     std::string result, truth, heat;  //!< PNG files as base64 (empty when not available)
 };
 
+/// One step of an error decomposition: rung `from` against rung `to` (ErrorDecomposition.h).
+struct DecompositionStepResult {
+    std::string name;      //!< "noise", "approximation", "screen-space limit", "multi-bounce"
+    std::string from, to;  //!< what the two rungs are (a key, or how it was made)
+    double rmse = 0, bias = 0, share = 0;
+};
+
+/// Why the error is what it is: the error of an error_measure taken apart (cli/ErrorDecomposition).
+struct ErrorDecompositionResult {
+    double rmse = 0, bias = 0;  //!< of the source against the reference
+    std::vector<DecompositionStepResult> steps;
+    std::string sentence;  //!< which step dominates and what would reduce it
+    nlohmann::json toJson() const;
+};
+
 struct ErrorNodeResult {
     std::string name, source, reference;
     std::map<std::string, double> metrics;  //!< rmse, relMse, ... (ErrorMetrics.h)
     ErrorImages images;
+    std::optional<ErrorDecompositionResult> decomposition;
 };
 
 struct BenchSetting {

@@ -49,6 +49,11 @@ RunSession::RunSession(const RunSession& base, const SessionOptions& o)
     plan(o);
 }
 
+RunSession::RunSession(const RunSession& base, io::RunConfig config, const SessionOptions& o)
+    : mConfig(std::move(config)), mInputs(base.mInputs), mProfile(base.mProfile) {
+    plan(o);
+}
+
 void RunSession::plan(const SessionOptions& o) {
     PlanInputs inputs;
     inputs.priorErrors = mConfig.errors;

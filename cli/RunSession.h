@@ -38,6 +38,9 @@ public:
     /// The same config planned again with other command-line values (bench's sweep points): the
     /// config is not read again and the scene and OCIO config are shared with `base`.
     RunSession(const RunSession& base, const SessionOptions& options);
+    /// Another chain on the same capture, scene and OCIO config as `base` (bench plans the
+    /// passes of an error decomposition this way).
+    RunSession(const RunSession& base, io::RunConfig config, const SessionOptions& options);
 
     const io::RunConfig& config() const { return mConfig; }
     /// The scene and OCIO config, read once on first use and shared by every frame.

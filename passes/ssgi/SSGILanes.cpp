@@ -15,6 +15,7 @@
 #include "passes/common/LaneMath.h"
 #include "passes/core/PerPixel.h"
 #include "passes/ssgi/SSGILanes.h"
+#include "passes/ssgi/SSGIPass.h"
 
 #include <cmath>
 #include <limits>
@@ -30,7 +31,7 @@ using VI = hn::Vec<DI>;
 using M = hn::Mask<D>;
 
 constexpr int kMaxLanes = HWY_MAX_BYTES / sizeof(float);  // 16 with AVX-512
-constexpr int kMaxRays = 32;                               // r.SSGI.Quality 4 (reference §4.2)
+constexpr int kMaxRays = SSGIPass::kMaxRays;
 
 using fp::HWY_NAMESPACE::maxLike;
 using fp::HWY_NAMESPACE::minLike;

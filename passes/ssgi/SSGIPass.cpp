@@ -16,6 +16,11 @@ ParamSpec<SSGIParams> SSGIPass::paramSpec() {
           "1..4 → 4/8/16/32 rays per pixel and 8/8/8/12 steps per ray (reference §4.2)")
         .range(1, 4)
         .cvar("r.SSGI.Quality");
+    s.add("rays", &Params::rays,
+          "rays per pixel in place of the quality's count, with the quality's steps (0: the "
+          "quality's 4/8/16/32). Not an Unreal setting: many rays converge the pass to what its "
+          "algorithm gives without noise (bench's error decomposition uses it)")
+        .range(0, kMaxRays);
     s.add("halfRes", &Params::halfRes,
           "trace at half resolution (the top-left pixel of every 2×2 block); UE5 names the cvar "
           "r.DiffuseIndirect.HalfRes (default 1)")
@@ -33,6 +38,13 @@ ParamSpec<SSGIParams> SSGIPass::paramSpec() {
 SSGIQuality SSGIPass::qualityTable(int quality) {
     static constexpr SSGIQuality kTable[] = {{4, 8}, {8, 8}, {16, 8}, {32, 12}};
     return kTable[std::clamp(quality, 1, 4) - 1];
+}
+
+SSGIQuality SSGIPass::traced(int quality, int rays) {
+    SSGIQuality q = qualityTable(quality);
+    if (rays > 0)
+        q.rays = rays;
+    return q;
 }
 
 Extent SSGIPass::traceExtent(Extent frame, bool halfRes) {
@@ -85,7 +97,7 @@ Vec3f SSGIPass::rayDirection(const Vec3f& n,
 }
 
 void SSGIPass::execute(PassContext& ctx) {
-    const SSGIQuality q = qualityTable(mParams.quality);
+    const SSGIQuality q = traced(mParams.quality, mParams.rays);
     if (!mParams.lanes) {
         ssgi::run(ctx, HostPorts{ctx}, CpuPixels{}, q.rays, q.steps, mParams.halfRes,
                   mParams.indirectLightingColorScale);

@@ -7,7 +7,7 @@
 namespace fp {
 
 void SSGIPass::executeCuda(PassContext& ctx) {
-    const SSGIQuality q = qualityTable(mParams.quality);
+    const SSGIQuality q = traced(mParams.quality, mParams.rays);
     ssgi::run(ctx, DevicePorts{ctx}, CudaPixels{}, q.rays, q.steps, mParams.halfRes,
               mParams.indirectLightingColorScale);
 }

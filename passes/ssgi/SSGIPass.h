@@ -12,6 +12,7 @@ namespace fp {
 
 struct SSGIParams {
     int quality = 4;       //!< 1..4 → 4/8/16/32 rays, 8/8/8/12 steps
+    int rays = 0;          //!< rays per pixel in place of the quality's count (0: the quality's)
     bool halfRes = false;  //!< trace at half resolution
     float indirectLightingColorScale = 1.0f;  //!< 4.27's PP IndirectLightingIntensity × colour
     bool lanes = true;  //!< CPU: a pixel's rays in SIMD lanes (false: the scalar reference)
@@ -34,6 +35,9 @@ public:
     std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
 
     static SSGIQuality qualityTable(int quality);
+    /// The quality's steps with `rays` rays per pixel, or its own count when `rays` is 0.
+    static SSGIQuality traced(int quality, int rays);
+    static constexpr int kMaxRays = 1024;
     /// Trace resolution: the frame, or half of it rounded up (reference §4.3).
     static Extent traceExtent(Extent frame, bool halfRes);
     /// Ray `index` of `count` of trace pixel (x, y) on frame index `frameMod8`, in view space around

@@ -113,6 +113,42 @@ check "bench reports the most image memory a frame held, per pixel too" bash -c 
 check "bench rejects a malformed sweep" expect_exit 2 "--sweep hzb.halfPrecision: expected NAME=V1,V2" "$FP" bench "$DIR/bench.json" --sweep hzb.halfPrecision
 check "bench --html writes a report that renders in headless Chromium" bash -c "'$FP' bench '$DIR/bench.json' --runs 2 --sweep hzb.halfPrecision=false,true --html '$DIR/bench.html' >/dev/null && timeout 120 chromium --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --dump-dom 'file://$DIR/bench.html' 2>/dev/null > '$DIR/dom.html' && grep -q 'data-rendered=\"ok\"' '$DIR/dom.html' && grep -q 'data-images=\"[3-9]' '$DIR/dom.html' && grep -q '<circle' '$DIR/dom.html'"
 
+cat > "$DIR/ssgi_bench.json" <<JSON
+{ "version": 1, "capture": "truth.exr",
+  "passes": [ { "name": "hzb", "type": "hzb" },
+              { "name": "prev_color_reduction", "type": "prev_color_reduction", "inputs": { "furthestHzb": "hzb.furthest" } },
+              { "name": "ssgi", "type": "ssgi", "params": { "quality": 1 },
+                "inputs": { "furthestHzb": "hzb.furthest", "reducedColor": "prev_color_reduction.color" } },
+              { "name": "ssgi_denoise", "type": "ssgi_denoise", "inputs": { "diffuse": "ssgi.diffuse", "ao": "ssgi.ao" } },
+              { "name": "vs_full", "type": "error_measure",
+                "inputs": { "source": "ssgi_denoise.diffuse", "reference": "capture:Truth.DiffuseIndirectFull" } },
+              { "name": "ao", "type": "error_measure", "inputs": { "source": "ssgi.ao", "reference": "capture:Truth.AO" } },
+              { "name": "limit", "type": "error_measure",
+                "inputs": { "source": "capture:Truth.DiffuseIndirectOneBounce", "reference": "capture:Truth.DiffuseIndirectFull" } } ],
+  "outputs": {} }
+JSON
+# The decomposition's arithmetic holds on the printed figures: the steps' biases add up to the
+# total bias and their shares to one (to double rounding, 1e-9), and its total is error_measure's
+# own RMSE and bias (summed in another order: 1e-9 relative).
+check "bench takes a screen-space error apart: steps, telescoping biases, shares" bash -c "set -o pipefail; '$FP' bench '$DIR/ssgi_bench.json' --runs 1 --warmup 0 --decompose-rays 16 --json 2>/dev/null | python3 -c '
+import json, sys
+d = json.load(sys.stdin)
+errs = {e[\"name\"]: e for e in d[\"settings\"][0][\"errors\"]}
+assert \"decomposition\" not in errs[\"limit\"]  # no screen-space pass behind it
+for name, steps in ((\"vs_full\", [\"noise\", \"approximation\", \"screen-space limit\", \"multi-bounce\"]),
+                    (\"ao\", [\"noise\", \"approximation\", \"screen-space limit\"])):
+    e = errs[name]; t = e[\"decomposition\"]
+    assert [s[\"name\"] for s in t[\"steps\"]] == steps, t
+    assert abs(sum(s[\"bias\"] for s in t[\"steps\"]) - t[\"bias\"]) < 1e-9, t
+    assert abs(sum(s[\"share\"] for s in t[\"steps\"]) - 1) < 1e-9, t
+    assert abs(t[\"rmse\"] - e[\"metrics\"][\"rmse\"]) <= 1e-9 * e[\"metrics\"][\"rmse\"], (t, e)
+    assert abs(t[\"bias\"] - e[\"metrics\"][\"bias\"]) <= 1e-9 * abs(e[\"metrics\"][\"bias\"]), (t, e)
+    assert t[\"steps\"][0][\"rmse\"] > 0 and t[\"steps\"][-1][\"to\"] == e[\"reference\"], t
+    assert t[\"sentence\"].startswith(\"Most of the error is \"), t
+'"
+check "bench --decompose-rays 0 leaves the decomposition out" bash -c "'$FP' bench '$DIR/ssgi_bench.json' --runs 1 --warmup 0 --decompose-rays 0 --json 2>/dev/null > '$DIR/nodec.json' && grep -q '\"rmse\"' '$DIR/nodec.json' && ! grep -q decomposition '$DIR/nodec.json'"
+check "the bench report draws the decomposition" bash -c "'$FP' bench '$DIR/ssgi_bench.json' --runs 1 --warmup 0 --decompose-rays 8 --html '$DIR/dec.html' >/dev/null 2>&1 && grep -q 'Why the error is what it is' '$DIR/dec.html' && grep -q 'class=\"decomposition\"' '$DIR/dec.html'"
+
 # --- contact sheet -------------------------------------------------------------------------------
 # The 64×64 capture has one tile per buffer; --columns 4 --tile 64 gives 4 columns × ⌈n/4⌉ rows of
 # 64 × (30-px label + 64) pixels.

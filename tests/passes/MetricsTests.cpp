@@ -1,5 +1,6 @@
 // compare's metrics on hand-made images whose answers are worked out by hand.
 #include "passes/core/Error.h"
+#include "passes/metrics/ErrorDecomposition.h"
 #include "passes/metrics/ErrorMetrics.h"
 #include "passes/metrics/Heatmap.h"
 
@@ -7,6 +8,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 using namespace fp;
 
@@ -118,6 +120,79 @@ TEST_CASE("sky mask, relative noise and heat map scale") {
     // Saturated values take the top colour of the map, the smallest the bottom one.
     CHECK(heat.plane(1).at(99, 0) == heat.plane(1).at(60, 0));
     CHECK(heat.plane(1).at(0, 0) < heat.plane(1).at(99, 0));
+}
+
+
+TEST_CASE("the error taken apart along a ladder: steps, telescoping biases, shares") {
+    // Worked by hand. Result 3, middle rung 1, reference 0 on the masked-in pixels: d = (2, 1),
+    // e = 3, so the shares are 2·3/9 and 1·3/9 and the biases 2 and 1 add up to 3. The masked-out
+    // pixel holds values that would change every figure.
+    const Image result = fromValues({3, 3, 3, 100}, 2, 2), middle = fromValues({1, 1, 1, -50}, 2, 2),
+                reference = fromValues({0, 0, 0, 7}, 2, 2), mask = fromValues({1, 1, 1, 0}, 2, 2);
+    const auto s = decomposeError({{&result}, {&middle}, {&reference}}, &mask);
+    CHECK(s.values == 3);
+    CHECK(s.rmse == doctest::Approx(3.0));
+    CHECK(s.bias == doctest::Approx(3.0));
+    REQUIRE(s.steps.size() == 2);
+    CHECK(s.steps[0].rmse == doctest::Approx(2.0));
+    CHECK(s.steps[1].rmse == doctest::Approx(1.0));
+    CHECK(s.steps[0].bias == doctest::Approx(2.0));
+    CHECK(s.steps[0].share == doctest::Approx(2.0 / 3.0));
+    CHECK(s.steps[1].share == doctest::Approx(1.0 / 3.0));
+
+    // A step that overshoots: result 1, middle 3, reference 0. d = (−2, 3), e = 1: the first step
+    // cancels two of the second's three parts, shares −2 and 3.
+    const Image one = fromValues({1, 1, 1, 1}, 2, 2), three = fromValues({3, 3, 3, 3}, 2, 2),
+                zero = fromValues({0, 0, 0, 0}, 2, 2);
+    const auto o = decomposeError({{&one}, {&three}, {&zero}}, nullptr);
+    CHECK(o.steps[0].share == doctest::Approx(-2.0));
+    CHECK(o.steps[1].share == doctest::Approx(3.0));
+    CHECK(o.steps[0].rmse == doctest::Approx(2.0));
+
+    // A half-resolution rung is read point-upsampled: the 1×1 rung 5 stands for all four pixels.
+    const Image half = fromValues({5}, 1, 1);
+    const auto h = decomposeError({{&half, true}, {&zero}}, nullptr);
+    CHECK(h.values == 4);
+    CHECK(h.bias == doctest::Approx(5.0));
+    CHECK(h.steps[0].share == doctest::Approx(1.0));
+
+    // Rungs that do not fit together are an error, not a guess.
+    Image rgb(2, 2, {"R", "G", "B"});
+    CHECK_THROWS_AS(decomposeError({{&rgb}, {&zero}}, nullptr), Error);
+    CHECK_THROWS_AS(decomposeError({{&zero}}, nullptr), Error);
+    CHECK_THROWS_AS(decomposeError({{&half}, {&zero}}, nullptr), Error);
+}
+
+TEST_CASE("on random images the biases telescope and the shares add up to one") {
+    // Exactly so in real arithmetic; the bound is double rounding over 3·4096 values of order 1
+    // (a relative 1e-16 per addition, far below 1e-12).
+    std::mt19937 rng(7);
+    std::normal_distribution<float> n(0.0f, 1.0f);
+    std::vector<Image> rungs;
+    for (int k = 0; k < 5; ++k) {
+        Image img(64, 64, {"R", "G", "B"});
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < 64; ++y)
+                for (int x = 0; x < 64; ++x)
+                    img.plane(c).at(x, y) = n(rng) * float(k + 1) + 0.3f * float(k);
+        rungs.push_back(std::move(img));
+    }
+    std::vector<LadderRung> ladder;
+    for (const Image& r : rungs)
+        ladder.push_back({&r});
+    const auto s = decomposeError(ladder, nullptr);
+    double biases = 0, shares = 0;
+    for (const auto& step : s.steps) {
+        biases += step.bias;
+        shares += step.share;
+    }
+    CHECK(std::abs(biases - s.bias) < 1e-12);
+    CHECK(std::abs(shares - 1.0) < 1e-12);
+    // The total is what error_measure reports for the first rung against the last.
+    ErrorInputs in{&rungs.front(), &rungs.back(), nullptr, nullptr, 0.1};
+    const ErrorStats direct = measureError(in);
+    CHECK(s.rmse == doctest::Approx(direct.rmse).epsilon(1e-12));
+    CHECK(s.bias == doctest::Approx(direct.bias).epsilon(1e-12));
 }
 
 }  // TEST_SUITE

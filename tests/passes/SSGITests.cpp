@@ -77,6 +77,29 @@ TEST_CASE("quality levels trace 4/8/16/32 rays of 8/8/8/12 steps") {
     }
 }
 
+TEST_CASE("rays replaces the quality's ray count and keeps its steps") {
+    // Quality 1 and 3 differ only in their ray count (4 and 16, both 8 steps), so quality 1 with
+    // rays = 16 is quality 3 bit for bit; beyond 32 rays (quality 4's) the lanes still give the
+    // scalar reference's bits, with a count no vector width divides.
+    Scene room = floorAndWall();
+    room.meshes.push_back(test::sphere({2, 3, 10}, 3.0, 16));
+    auto src = test::captureToMemory(room, wallCamera(21), 3);
+    auto trace = [&](nlohmann::json params) {
+        return runChain(src, ssgiChain(params), {"ssgi.diffuse", "ssgi.hitMask"});
+    };
+    const auto q3 = trace({{"quality", 3}});
+    const auto q1With16 = trace({{"quality", 1}, {"rays", 16}});
+    for (const char* o : {"ssgi.diffuse", "ssgi.hitMask"})
+        for (int c = 0; c < q3.at(o).image().channelCount(); ++c)
+            CHECK(test::sameBits(q3.at(o).image().plane(c), q1With16.at(o).image().plane(c)));
+    const auto lanes = trace({{"quality", 4}, {"rays", 203}});
+    const auto scalar = trace({{"quality", 4}, {"rays", 203}, {"lanes", false}});
+    for (const char* o : {"ssgi.diffuse", "ssgi.hitMask"})
+        for (int c = 0; c < lanes.at(o).image().channelCount(); ++c)
+            CHECK(test::sameBits(lanes.at(o).image().plane(c), scalar.at(o).image().plane(c)));
+    CHECK_THROWS(trace({{"quality", 4}, {"rays", SSGIPass::kMaxRays + 1}}));
+}
+
 TEST_CASE("SIMD lanes give the scalar reference's bits") {
     // The CPU traces a pixel's rays a vector at a time (SSGILanes.cpp) doing the scalar
     // ssgiPixel's IEEE operations lane by lane, so every output must match it bit for bit: on a

@@ -1,0 +1,66 @@
+#pragma once
+// What `bench` and `tune` share: the sweep grid, and timing one setting of it (median of the
+// runs, throughput per pass, each error_measure's figures and, where a screen-space error can be
+// taken apart, its decomposition).
+#include "cli/BenchResult.h"
+#include "cli/ErrorDecomposition.h"
+#include "cli/RunSession.h"
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fp::cli {
+
+struct BenchOptions {
+    SessionOptions session;
+    int runs = 5, warmup = 1;
+    std::vector<std::string> sweeps;
+    bool json = false;
+    std::string html;
+    int decomposeRays = 256;  //!< 0: no error decomposition
+};
+
+/// One point of the grid: (cvar or PASS.PARAM, value) per axis.
+using SweepPoint = std::vector<std::pair<std::string, std::string>>;
+
+struct SweepAxis {
+    std::string name;
+    std::vector<std::string> values;
+};
+
+/// "NAME=V1,V2,..." or "NAME=A..B" (integers); fp::UsageError says what is wrong.
+SweepAxis parseSweep(const std::string& text);
+/// Every combination of the sweep values, first axis slowest.
+std::vector<SweepPoint> sweepGrid(const std::vector<std::string>& sweeps);
+/// "r.SSGI.Quality=2 ssgi.halfRes=true", or "default" for the empty point.
+std::string sweepLabel(const SweepPoint& point);
+
+/// Times settings of one config on its capture, one after another.
+class Bencher {
+public:
+    /// Reads the config and the capture's header once; every setting is a new plan of the chain.
+    explicit Bencher(const BenchOptions& options);
+
+    /// Times one setting (options.warmup + options.runs runs). `decompose`: also take its
+    /// screen-space errors apart (options.decomposeRays > 0).
+    BenchSetting measure(const SweepPoint& point, bool decompose);
+    /// Runs done and to do, for the progress line (set the total before measuring).
+    void expectRuns(int total) { mTotalRuns = total; }
+
+    const RunSession& probe() const { return mProbe; }
+    const BenchOptions& options() const { return mOptions; }
+    /// The header of a result: config, capture, frame, size, runs, threads.
+    BenchResult emptyResult() const;
+
+private:
+    BenchOptions mOptions;
+    RunSession mProbe;
+    SessionOptions mBase;  //!< the command line, plus the error_measure ports as dumps
+    std::optional<ErrorDecomposer> mDecomposer;
+    bool mDecomposerChecked = false;
+    int mRunsDone = 0, mTotalRuns = 1;
+};
+
+}  // namespace fp::cli

@@ -1,0 +1,262 @@
+#include "cli/ErrorDecomposition.h"
+
+#include "cli/Invocation.h"
+#include "passes/common/GBuffer.h"
+#include "passes/core/Error.h"
+#include "passes/error_measure/ErrorMeasurePass.h"
+#include "passes/metrics/ErrorDecomposition.h"
+#include "passes/metrics/ErrorMetrics.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <limits>
+
+namespace fp::cli {
+
+namespace {
+
+constexpr const char* kTracerType = "ssgi";
+constexpr const char* kOracleType = "screen_space_oracle";
+// The oracle runs in a chain of its own, so its name cannot clash with the config's passes.
+constexpr const char* kOracleNode = "decomposition_oracle";
+
+constexpr const char* kOneBounce = "capture:Truth.DiffuseIndirectOneBounce";
+constexpr const char* kFull = "capture:Truth.DiffuseIndirectFull";
+constexpr const char* kAo = "capture:Truth.AO";
+
+/// What one step of the ladder is, and what would reduce it.
+struct StepKind {
+    const char* name;    //!< in tables and JSON
+    const char* phrase;  //!< in the sentence: "Most of the error is <phrase>"
+    const char* remedy;
+};
+
+// The steps in ladder order: result → converged → oracle → one-bounce truth → full truth.
+constexpr StepKind kSteps[] = {
+    {"noise", "noise",
+     "more rays (r.SSGI.Quality) or more frames of the denoiser's temporal accumulation reduce "
+     "it"},
+    {"approximation", "Unreal's approximation",
+     "it is the algorithm itself (the HZB mip schedule, the Karis weighting of bright hits, the "
+     "reduced colour's coarse mips); r.SSGI.Quality changes the schedule, but no setting reaches "
+     "the exact screen-space march"},
+    {"screen-space limit", "the screen-space limit",
+     "it is what the screen does not show (surfaces off screen or hidden, and light shapes seen "
+     "on screen that the truth counts as lights); no screen-space setting reduces it, a method "
+     "that sees the whole scene (ray-traced GI) would"},
+    {"multi-bounce", "multi-bounce light",
+     "a one-bounce gather misses light that bounced more than once; measure against "
+     "Truth.DiffuseIndirectOneBounce to judge the pass on what it can see"},
+};
+
+// The nearest pass of type kTracerType upstream of step `from` (itself included), or "".
+std::string upstreamTracer(const Plan& plan, int from) {
+    std::vector<int> queue = {from};
+    std::set<int> seen;
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+        const int i = queue[q];
+        if (i < 0 || !seen.insert(i).second)
+            continue;
+        const PlanStep& step = plan.steps[std::size_t(i)];
+        if (step.type == kTracerType)
+            return step.name;
+        for (const auto& [port, ref] : step.inputs)
+            if (!ref.fromCapture)
+                queue.push_back(ref.step);
+    }
+    return "";
+}
+
+// A point-upsampled image is read at half resolution by decomposeError instead.
+bool isHalf(const Image& image, const Image& reference) {
+    return ErrorMeasurePass::isHalfResolution({image.width(), image.height()},
+                                              {reference.width(), reference.height()});
+}
+
+}  // namespace
+
+std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
+                                                      const std::set<std::string>& available) {
+    std::vector<DecompositionTarget> targets;
+    for (const PlanStep& step : plan.steps) {
+        if (step.type != "error_measure")
+            continue;
+        const SourceRef& source = step.inputs.at(ErrorMeasurePass::kSource);
+        const SourceRef& reference = step.inputs.at(ErrorMeasurePass::kReference);
+        if (source.fromCapture)
+            continue;
+        DecompositionTarget t;
+        t.errorNode = step.name;
+        t.source = source.key;
+        t.reference = reference.key;
+        t.tracer = upstreamTracer(plan, source.step);
+        if (t.tracer.empty())
+            continue;
+        if (reference.key == kOneBounce || reference.key == kFull) {
+            t.oraclePort = "diffuse";
+            t.truths = {kOneBounce};
+            if (reference.key == kFull)
+                t.truths.push_back(kFull);
+        } else if (reference.key == kAo) {
+            t.oraclePort = "aoWithinRadius";
+            t.truths = {kAo};
+        } else {
+            continue;
+        }
+        if (!std::all_of(t.truths.begin(), t.truths.end(), [&](const std::string& k) {
+                return available.count(k.substr(8)) > 0;
+            }))
+            continue;
+        if (auto it = step.inputs.find(gbuffer::kDepth); it != step.inputs.end())
+            t.depth = it->second.key;
+        t.skyDistance = step.params.value("skyDistance", 0.0f);
+        targets.push_back(std::move(t));
+    }
+    return targets;
+}
+
+ErrorDecomposer::ErrorDecomposer(const RunSession& probe,
+                                 std::vector<DecompositionTarget> targets,
+                                 int rays)
+    : mProbe(probe),
+      mTargets(std::move(targets)),
+      mRays(rays),
+      mCapture(probe.captureOptions(probe.frames().front()), probe.profile()),
+      mSource(mCapture) {}
+
+io::RunConfig ErrorDecomposer::chainWithoutOutputs(const io::RunConfig& config) const {
+    io::RunConfig c = config;
+    c.graph.outputs.clear();
+    for (auto& t : c.graph.lightTemplates)
+        t.outputs.clear();
+    return c;
+}
+
+const Image& ErrorDecomposer::oracle(const std::string& port) {
+    if (auto it = mOracle.find(port); it != mOracle.end())
+        return it->second;
+    // Every port the targets read, traced together once.
+    io::RunConfig config = chainWithoutOutputs(mProbe.config());
+    config.graph.nodes = {{kOracleNode, kOracleType, {{"rays", mRays}}, {}, "/decomposition"}};
+    config.graph.lightTemplates.clear();
+    SessionOptions options;
+    options.config = mProbe.config().path;
+    for (const auto& t : mTargets) {
+        const std::string key = std::string(kOracleNode) + "." + t.oraclePort;
+        if (std::find(options.dumps.begin(), options.dumps.end(), key) == options.dumps.end())
+            options.dumps.push_back(key);
+    }
+    logInfo(fmt::format("error decomposition: screen_space_oracle at {} rays per pixel", mRays));
+    const RunSession session(mProbe, config, options);
+    KeepingSink sink;
+    sink.keep = true;
+    executePlan(session.plan(), mSource, sink);
+    for (const auto& t : mTargets)
+        mOracle[t.oraclePort] = sink.images.at(std::string(kOracleNode) + "." + t.oraclePort);
+    return mOracle.at(port);
+}
+
+Image ErrorDecomposer::converged(const SessionOptions& setting,
+                                 const std::string& tracer,
+                                 const std::string& source) {
+    SessionOptions options = setting;
+    options.dumps = {source};
+    options.sets.push_back(fmt::format("{}.rays={}", tracer, mRays));
+    const RunSession session(mProbe, chainWithoutOutputs(mProbe.config()), options);
+    Image sum;
+    const int64_t first = mSource.frameInfo().number;
+    for (int k = 0; k < kFrameSeeds; ++k) {
+        ReseededSource seeded(mSource, first + k);
+        KeepingSink sink;
+        sink.keep = true;
+        executePlan(session.plan(), seeded, sink);
+        const Image& img = sink.images.at(source);
+        if (k == 0) {
+            sum = img;
+            continue;
+        }
+        for (int c = 0; c < sum.channelCount(); ++c)
+            for (int y = 0; y < sum.height(); ++y)
+                for (int x = 0; x < sum.width(); ++x)
+                    sum.plane(c).at(x, y) += img.plane(c).at(x, y);
+    }
+    for (int c = 0; c < sum.channelCount(); ++c)
+        for (int y = 0; y < sum.height(); ++y)
+            for (int x = 0; x < sum.width(); ++x)
+                sum.plane(c).at(x, y) /= float(kFrameSeeds);
+    return sum;
+}
+
+void ErrorDecomposer::decompose(const SessionOptions& options,
+                                const std::map<std::string, Image>& kept,
+                                BenchSetting& setting) {
+    // The converged chain is shared by every error on the same source.
+    std::map<std::string, Image> convergedBySource;
+    for (ErrorNodeResult& e : setting.errors) {
+        const auto t = std::find_if(mTargets.begin(), mTargets.end(), [&](const auto& t) {
+            return t.errorNode == e.name;
+        });
+        if (t == mTargets.end())
+            continue;
+        auto conv = convergedBySource.find(t->source);
+        if (conv == convergedBySource.end()) {
+            logInfo(fmt::format("error decomposition, {}: {} converged ({} at {} rays, {} frame "
+                                "seeds)",
+                                setting.label, t->source, t->tracer, mRays, kFrameSeeds));
+            conv = convergedBySource.emplace(t->source, converged(options, t->tracer, t->source))
+                       .first;
+        }
+        // The rungs: this setting's result (its last timed run), converged, oracle, truths.
+        const Image& result = kept.at(t->source);
+        const int channels = result.channelCount();
+        std::vector<Texture> truths;
+        for (const auto& key : t->truths)
+            truths.push_back(mSource.loadBuffer(key.substr(8), channels));
+        const Image& reference = truths.back().image();
+        std::vector<LadderRung> ladder = {{&result, isHalf(result, reference)},
+                                          {&conv->second, isHalf(conv->second, reference)},
+                                          {&oracle(t->oraclePort), false}};
+        for (const Texture& truth : truths)
+            ladder.push_back({&truth.image(), false});
+        std::optional<Image> mask;
+        if (!t->depth.empty())
+            mask = notSkyMask(mSource.loadBuffer(t->depth.substr(8), 1).image(),
+                              t->skyDistance > 0.0f ? t->skyDistance
+                                                    : std::numeric_limits<float>::infinity());
+        const ErrorDecompositionStats stats = decomposeError(ladder, mask ? &*mask : nullptr);
+
+        ErrorDecompositionResult d;
+        d.rmse = stats.rmse;
+        d.bias = stats.bias;
+        const std::vector<std::string> rungNames = [&] {
+            std::vector<std::string> n = {
+                t->source,
+                fmt::format("{} converged ({}.rays={}, {} frame seeds)", t->source, t->tracer,
+                            mRays, kFrameSeeds),
+                fmt::format("screen_space_oracle.{} ({} rays)", t->oraclePort, mRays)};
+            n.insert(n.end(), t->truths.begin(), t->truths.end());
+            return n;
+        }();
+        std::size_t dominant = 0;
+        for (std::size_t k = 0; k < stats.steps.size(); ++k) {
+            d.steps.push_back({kSteps[k].name, rungNames[k], rungNames[k + 1],
+                               stats.steps[k].rmse, stats.steps[k].bias, stats.steps[k].share});
+            if (stats.steps[k].share > stats.steps[dominant].share)
+                dominant = k;
+        }
+        // A step with a negative share pulls the result towards the truth, against the others:
+        // say so, or a share over 100 % reads like an error in the arithmetic.
+        std::string cancels;
+        for (std::size_t k = 0; k < stats.steps.size(); ++k)
+            if (stats.steps[k].share < 0)
+                cancels += fmt::format("{}{} cancels {:.0f} %", cancels.empty() ? "; " : ", ",
+                                       kSteps[k].name, -100.0 * stats.steps[k].share);
+        d.sentence = fmt::format("Most of the error is {} ({:.0f} % of the squared error{}): {}.",
+                                 kSteps[dominant].phrase, 100.0 * stats.steps[dominant].share,
+                                 cancels, kSteps[dominant].remedy);
+        e.decomposition = std::move(d);
+    }
+}
+
+}  // namespace fp::cli

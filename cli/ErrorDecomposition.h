@@ -1,0 +1,68 @@
+#pragma once
+// Why the error is what it is (README "The error taken apart"). For an error_measure whose source
+// comes from a screen-space pass (ssgi) and whose reference is a truth layer of the capture, bench
+// measures a ladder of images between the two, each closer to the truth than the one before:
+//   result → the same chain converged (the tracer at many rays, averaged over Unreal's 8 frame
+//   seeds: what is left is the algorithm, not its noise) → framepass's screen_space_oracle (the
+//   best any screen-space method does with this depth and colour) → the one-bounce truth (what the
+//   screen cannot see) → the full truth (what bounced more than once).
+// The ladder stops at the error_measure's reference; the maths is decomposeError's.
+#include "cli/BenchResult.h"
+#include "cli/BenchSources.h"
+#include "cli/RunSession.h"
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace fp::cli {
+
+/// An error_measure that can be taken apart, and the rungs between its source and reference.
+struct DecompositionTarget {
+    std::string errorNode, source, reference;  //!< the error_measure and its two inputs' keys
+    std::string tracer;      //!< the screen-space pass upstream of the source
+    std::string oraclePort;  //!< screen_space_oracle's output for the same quantity
+    std::vector<std::string> truths;  //!< capture:Truth.* rungs after the oracle, ending at reference
+    std::string depth;       //!< the error_measure's depth input ("" = none): sky is left out
+    float skyDistance = 0;   //!< its skyDistance parameter
+};
+
+/// The error_measure steps of `plan` that can be taken apart (source downstream of an ssgi pass,
+/// reference a diffuse-indirect or AO truth of the capture). `available`: the capture's buffers.
+std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
+                                                      const std::set<std::string>& available);
+
+/// Runs the extra chains a decomposition needs on bench's capture: the oracle once, the converged
+/// chain once per setting and source.
+class ErrorDecomposer {
+public:
+    /// `rays`: the oracle's rays and the converged tracer's rays per frame seed.
+    ErrorDecomposer(const RunSession& probe, std::vector<DecompositionTarget> targets, int rays);
+
+    const std::vector<DecompositionTarget>& targets() const { return mTargets; }
+    /// Adds the decomposition to every error of `setting` that has a target. `options`: the
+    /// setting's --cvar and --set (its dumps are not used); `kept`: the images its last timed
+    /// run kept (the error sources among them).
+    void decompose(const SessionOptions& options, const std::map<std::string, Image>& kept,
+                   BenchSetting& setting);
+
+    /// Frame seeds the converged chain is averaged over: every value of Unreal's frame index mod 8.
+    static constexpr int kFrameSeeds = 8;
+
+private:
+    const Image& oracle(const std::string& port);
+    Image converged(const SessionOptions& options, const std::string& tracer,
+                    const std::string& source);
+    /// A copy of the probe's config whose chain writes no files: only what is dumped is run.
+    io::RunConfig chainWithoutOutputs(const io::RunConfig& config) const;
+
+    const RunSession& mProbe;
+    std::vector<DecompositionTarget> mTargets;
+    int mRays;
+    io::CaptureSource mCapture;
+    CachedSource mSource;
+    std::map<std::string, Image> mOracle;  //!< oracle port → image, made on first use
+};
+
+}  // namespace fp::cli
