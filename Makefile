@@ -40,6 +40,8 @@ demo: build
 	    --ref-layer Truth.DiffuseIndirectFull --heatmap out/demo/one_bounce_error.exr
 	$(FRAMEPASS) bench examples/cornell/bench.json --runs 3 --sweep r.SSGI.Quality=1..4 \
 	    --html out/demo/bench.html | grep -v '^Progress'
+	$(FRAMEPASS) tune examples/cornell/bench.json --target 'ssgi_vs_one_bounce<=0.035' \
+	    --sweep r.SSGI.Quality=1..4 --sweep r.SSGI.HalfRes=0,1 --runs 1 | grep -v '^Progress'
 	$(FRAMEPASS) bench examples/cornell/oracle.json --runs 1 --sweep screen_space_oracle.rays=4,16,64 \
 	    | grep -v '^Progress'
 	$(FRAMEPASS) bench examples/cornell/shadows.json --runs 3 --sweep r.RayTracing.Shadow.SamplesPerPixel=1,4 \

@@ -16,20 +16,6 @@ namespace fp::cli {
 
 namespace {
 
-// The error taken apart: each step's RMSE, bias and share, the biases added up, the sentence.
-void printDecomposition(const ErrorDecompositionResult& d) {
-    std::cout << fmt::format("    taken apart (RMSE {:.5g}, bias {:+.5g}):\n", d.rmse, d.bias);
-    double biases = 0;
-    for (const auto& s : d.steps) {
-        std::cout << fmt::format("      {:<19} RMSE {:.5g}  bias {:+.5g}  share {:5.1f} %   {} → {}\n",
-                                 s.name, s.rmse, s.bias, 100.0 * s.share, s.from, s.to);
-        biases += s.bias;
-    }
-    std::cout << fmt::format("      the step biases add up to {:+.5g} (the total bias {:+.5g})\n",
-                             biases, d.bias);
-    std::cout << "    " << d.sentence << "\n";
-}
-
 void printBench(const BenchResult& result) {
     std::cout << fmt::format(
         "{} on {} (frame {}, {}×{}): median of {} runs after {} warm-up, "
@@ -62,7 +48,7 @@ void printBench(const BenchResult& result) {
                 m += fmt::format(" {}={:.5g}", k, v);
             std::cout << fmt::format("  {} ({} against {}):{}\n", e.name, e.source, e.reference, m);
             if (e.decomposition)
-                printDecomposition(*e.decomposition);
+                std::cout << decompositionText(*e.decomposition);
         }
     }
 }

@@ -1,5 +1,7 @@
 #include "cli/BenchResult.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 
 namespace fp::cli {
@@ -35,6 +37,21 @@ nlohmann::json ErrorDecompositionResult::toJson() const {
         j["steps"].push_back({{"name", s.name}, {"from", s.from}, {"to", s.to}, {"rmse", s.rmse},
                               {"bias", s.bias}, {"share", s.share}});
     return j;
+}
+
+std::string decompositionText(const ErrorDecompositionResult& d) {
+    std::string out;
+    out += fmt::format("    taken apart (RMSE {:.5g}, bias {:+.5g}):\n", d.rmse, d.bias);
+    double biases = 0;
+    for (const auto& s : d.steps) {
+        out += fmt::format("      {:<19} RMSE {:.5g}  bias {:+.5g}  share {:5.1f} %   {} → {}\n",
+                                 s.name, s.rmse, s.bias, 100.0 * s.share, s.from, s.to);
+        biases += s.bias;
+    }
+    out += fmt::format("      the step biases add up to {:+.5g} (the total bias {:+.5g})\n",
+                             biases, d.bias);
+    out += "    " + d.sentence + "\n";
+    return out;
 }
 
 nlohmann::json BenchResult::toJson() const {

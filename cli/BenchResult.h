@@ -77,6 +77,10 @@ struct BenchResult {
     nlohmann::json toJson() const;
 };
 
+/// The decomposition as bench prints it: each step's RMSE, bias and share, the step biases added
+/// up beside the total bias, then the sentence; indented under its error line.
+std::string decompositionText(const ErrorDecompositionResult& d);
+
 /// A self-contained HTML page: the table, an SVG plot of time against error, the images.
 std::string benchHtml(const BenchResult& result);
 

@@ -18,5 +18,6 @@ Command addPassesCommand(CLI::App& app);
 Command addPlanCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
 Command addSheetCommand(CLI::App& app);
+Command addTuneCommand(CLI::App& app);
 
 }  // namespace fp::cli

@@ -8,6 +8,7 @@
 #include "passes/metrics/ErrorMetrics.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <limits>
@@ -157,56 +158,68 @@ const Image& ErrorDecomposer::oracle(const std::string& port) {
     return mOracle.at(port);
 }
 
-Image ErrorDecomposer::converged(const SessionOptions& setting,
-                                 const std::string& tracer,
-                                 const std::string& source) {
+std::map<std::string, Image> ErrorDecomposer::converged(const SessionOptions& setting,
+                                                        const std::string& tracer,
+                                                        const std::vector<std::string>& sources) {
     SessionOptions options = setting;
-    options.dumps = {source};
+    options.dumps = sources;
     options.sets.push_back(fmt::format("{}.rays={}", tracer, mRays));
     const RunSession session(mProbe, chainWithoutOutputs(mProbe.config()), options);
-    Image sum;
+    std::map<std::string, Image> sum;
     const int64_t first = mSource.frameInfo().number;
     for (int k = 0; k < kFrameSeeds; ++k) {
         ReseededSource seeded(mSource, first + k);
         KeepingSink sink;
         sink.keep = true;
         executePlan(session.plan(), seeded, sink);
-        const Image& img = sink.images.at(source);
-        if (k == 0) {
-            sum = img;
-            continue;
+        for (const auto& source : sources) {
+            const Image& img = sink.images.at(source);
+            if (k == 0) {
+                sum[source] = img;
+                continue;
+            }
+            Image& s = sum.at(source);
+            for (int c = 0; c < s.channelCount(); ++c)
+                for (int y = 0; y < s.height(); ++y)
+                    for (int x = 0; x < s.width(); ++x)
+                        s.plane(c).at(x, y) += img.plane(c).at(x, y);
         }
-        for (int c = 0; c < sum.channelCount(); ++c)
-            for (int y = 0; y < sum.height(); ++y)
-                for (int x = 0; x < sum.width(); ++x)
-                    sum.plane(c).at(x, y) += img.plane(c).at(x, y);
     }
-    for (int c = 0; c < sum.channelCount(); ++c)
-        for (int y = 0; y < sum.height(); ++y)
-            for (int x = 0; x < sum.width(); ++x)
-                sum.plane(c).at(x, y) /= float(kFrameSeeds);
+    for (auto& [source, s] : sum)
+        for (int c = 0; c < s.channelCount(); ++c)
+            for (int y = 0; y < s.height(); ++y)
+                for (int x = 0; x < s.width(); ++x)
+                    s.plane(c).at(x, y) /= float(kFrameSeeds);
     return sum;
 }
 
 void ErrorDecomposer::decompose(const SessionOptions& options,
                                 const std::map<std::string, Image>& kept,
                                 BenchSetting& setting) {
-    // The converged chain is shared by every error on the same source.
+    // One converged chain per tracer serves every error whose source it feeds.
+    std::map<std::string, std::vector<std::string>> sourcesByTracer;
+    for (const ErrorNodeResult& e : setting.errors)
+        for (const auto& t : mTargets)
+            if (t.errorNode == e.name) {
+                auto& list = sourcesByTracer[t.tracer];
+                if (std::find(list.begin(), list.end(), t.source) == list.end())
+                    list.push_back(t.source);
+            }
     std::map<std::string, Image> convergedBySource;
+    for (const auto& [tracer, sources] : sourcesByTracer) {
+        logInfo(fmt::format("error decomposition, {}: {} converged ({} at {} rays, {} frame "
+                            "seeds)",
+                            setting.label, fmt::join(sources, " and "), tracer, mRays,
+                            kFrameSeeds));
+        convergedBySource.merge(converged(options, tracer, sources));
+    }
     for (ErrorNodeResult& e : setting.errors) {
         const auto t = std::find_if(mTargets.begin(), mTargets.end(), [&](const auto& t) {
             return t.errorNode == e.name;
         });
         if (t == mTargets.end())
             continue;
-        auto conv = convergedBySource.find(t->source);
-        if (conv == convergedBySource.end()) {
-            logInfo(fmt::format("error decomposition, {}: {} converged ({} at {} rays, {} frame "
-                                "seeds)",
-                                setting.label, t->source, t->tracer, mRays, kFrameSeeds));
-            conv = convergedBySource.emplace(t->source, converged(options, t->tracer, t->source))
-                       .first;
-        }
+        const auto conv = convergedBySource.find(t->source);
         // The rungs: this setting's result (its last timed run), converged, oracle, truths.
         const Image& result = kept.at(t->source);
         const int channels = result.channelCount();

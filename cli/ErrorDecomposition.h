@@ -34,7 +34,7 @@ std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
                                                       const std::set<std::string>& available);
 
 /// Runs the extra chains a decomposition needs on bench's capture: the oracle once, the converged
-/// chain once per setting and source.
+/// chain once per setting (every source it feeds at once).
 class ErrorDecomposer {
 public:
     /// `rays`: the oracle's rays and the converged tracer's rays per frame seed.
@@ -52,8 +52,10 @@ public:
 
 private:
     const Image& oracle(const std::string& port);
-    Image converged(const SessionOptions& options, const std::string& tracer,
-                    const std::string& source);
+    /// The chain with `tracer` at mRays rays, each of `sources` averaged over the frame seeds.
+    std::map<std::string, Image> converged(const SessionOptions& options,
+                                           const std::string& tracer,
+                                           const std::vector<std::string>& sources);
     /// A copy of the probe's config whose chain writes no files: only what is dumped is run.
     io::RunConfig chainWithoutOutputs(const io::RunConfig& config) const;
 

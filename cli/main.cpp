@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
     add(fp::cli::addPassesCommand);
     add(fp::cli::addBenchCommand);
     add(fp::cli::addSheetCommand);
+    add(fp::cli::addTuneCommand);
 
     try {
         app.parse(argc, argv);

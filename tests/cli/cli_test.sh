@@ -117,7 +117,7 @@ cat > "$DIR/ssgi_bench.json" <<JSON
 { "version": 1, "capture": "truth.exr",
   "passes": [ { "name": "hzb", "type": "hzb" },
               { "name": "prev_color_reduction", "type": "prev_color_reduction", "inputs": { "furthestHzb": "hzb.furthest" } },
-              { "name": "ssgi", "type": "ssgi", "params": { "quality": 1 },
+              { "name": "ssgi", "type": "ssgi",
                 "inputs": { "furthestHzb": "hzb.furthest", "reducedColor": "prev_color_reduction.color" } },
               { "name": "ssgi_denoise", "type": "ssgi_denoise", "inputs": { "diffuse": "ssgi.diffuse", "ao": "ssgi.ao" } },
               { "name": "vs_full", "type": "error_measure",
@@ -148,6 +148,15 @@ for name, steps in ((\"vs_full\", [\"noise\", \"approximation\", \"screen-space 
 '"
 check "bench --decompose-rays 0 leaves the decomposition out" bash -c "'$FP' bench '$DIR/ssgi_bench.json' --runs 1 --warmup 0 --decompose-rays 0 --json 2>/dev/null > '$DIR/nodec.json' && grep -q '\"rmse\"' '$DIR/nodec.json' && ! grep -q decomposition '$DIR/nodec.json'"
 check "the bench report draws the decomposition" bash -c "'$FP' bench '$DIR/ssgi_bench.json' --runs 1 --warmup 0 --decompose-rays 8 --html '$DIR/dec.html' >/dev/null 2>&1 && grep -q 'Why the error is what it is' '$DIR/dec.html' && grep -q 'class=\"decomposition\"' '$DIR/dec.html'"
+
+# tune: a target between the errors of quality 1 and 4 is met by exactly one of them; tune must
+# pick it, and a separate bench of its cvars must measure the same error (the chain is
+# deterministic), at or under the target.
+check "tune picks the setting that meets the target, and bench confirms it" bash -c "set -o pipefail; '$FP' bench '$DIR/ssgi_bench.json' --runs 1 --warmup 0 --decompose-rays 0 --sweep r.SSGI.Quality=1,4 --json 2>/dev/null > '$DIR/tq.json' && target=\$(python3 -c 'import json; d=json.load(open(\"$DIR/tq.json\")); v=[[e[\"metrics\"][\"rmse\"] for e in s[\"errors\"] if e[\"name\"]==\"vs_full\"][0] for s in d[\"settings\"]]; assert v[0] != v[1], v; print((v[0]+v[1])/2)') && '$FP' tune '$DIR/ssgi_bench.json' --target \"vs_full<=\$target\" --sweep r.SSGI.Quality=1,4 --runs 1 --json 2>/dev/null > '$DIR/tune.json' && quality=\$(python3 -c 'import json; d=json.load(open(\"$DIR/tune.json\")); assert d[\"met\"]; print(d[\"choice\"][\"setting\"][\"cvars\"][\"r.SSGI.Quality\"])') && grep -q 'r.SSGI.Quality=' '$DIR/tune.json' && '$FP' bench '$DIR/ssgi_bench.json' --cvar r.SSGI.Quality=\$quality --runs 1 --warmup 0 --decompose-rays 0 --json 2>/dev/null | python3 -c 'import json,sys; d=json.load(sys.stdin); v=[e[\"metrics\"][\"rmse\"] for e in d[\"settings\"][0][\"errors\"] if e[\"name\"]==\"vs_full\"][0]; assert v <= float(sys.argv[1]), (v, sys.argv[1])' \$target"
+check "tune refines between grid values along the Pareto front" bash -c "set -o pipefail; '$FP' bench '$DIR/ssgi_bench.json' --runs 1 --warmup 0 --decompose-rays 0 --sweep ssgi.rays=4,64 --json 2>/dev/null > '$DIR/tr.json' && target=\$(python3 -c 'import json; d=json.load(open(\"$DIR/tr.json\")); v=[[e[\"metrics\"][\"rmse\"] for e in s[\"errors\"] if e[\"name\"]==\"ao\"][0] for s in d[\"settings\"]]; assert v[1] < v[0], v; print((v[0]+v[1])/2)') && '$FP' tune '$DIR/ssgi_bench.json' --target \"ao<=\$target\" --sweep ssgi.rays=4,64 --runs 1 --json 2>/dev/null | python3 -c 'import json,sys; d=json.load(sys.stdin); r=[s for s in d[\"settings\"] if s[\"refined\"]]; assert r and all(4 < s[\"setting\"][\"params\"][\"ssgi.rays\"] < 64 for s in r), d; assert d[\"met\"]'"
+check "tune says when no setting meets the target, and what stands in the way" expect_exit 1 "what stands in the way:" "$FP" tune "$DIR/ssgi_bench.json" --target "vs_full<=0.00001" --sweep r.SSGI.Quality=1,4 --runs 1 --warmup 0 --decompose-rays 8
+check "tune names the error_measure passes when the target names none" expect_exit 2 "has no error_measure pass 'vs_ful' (did you mean 'vs_full'?)" "$FP" tune "$DIR/ssgi_bench.json" --target "vs_ful<=0.1"
+check "tune rejects a malformed target" expect_exit 2 "expected ERROR_PASS<=VALUE" "$FP" tune "$DIR/ssgi_bench.json" --target "vs_full=0.1"
 
 # --- contact sheet -------------------------------------------------------------------------------
 # The 64×64 capture has one tile per buffer; --columns 4 --tile 64 gives 4 columns × ⌈n/4⌉ rows of
@@ -187,7 +196,8 @@ check "-q and -v together are a usage error" expect_exit 2 "excludes" "$FP" -q -
 for cmd in "bench '$DIR/bench.json' --runs 1 --warmup 0 --sweep hzb.halfPrecision=false,true" \
            "inspect '$DIR/cornell.exr'" "plan '$DIR/config.json'" "passes" "passes hzb" \
            "compare '$DIR/truth.exr' '$DIR/truth.exr' --layer Truth.AO --heatmap '$DIR/heat2.exr'" \
-           "sheet '$DIR/cornell.exr' -o '$DIR/sheet2.png'"; do
+           "sheet '$DIR/cornell.exr' -o '$DIR/sheet2.png'" \
+           "tune '$DIR/ssgi_bench.json' --target 'vs_full<=1' --sweep r.SSGI.Quality=1,2 --runs 1"; do
     check "${cmd%% *} --json prints only JSON on stdout" bash -c "set -o pipefail; '$FP' $cmd --json 2>/dev/null | python3 -m json.tool >/dev/null"
 done
 check "an unknown --cvar is an error with a did-you-mean" expect_exit 2 "--cvar r.SSGI.Qualty: unknown cvar 'r.SSGI.Qualty' (did you mean 'r.SSGI.Quality'?)" "$FP" plan "$DIR/config.json" --cvar r.SSGI.Qualty=2
