@@ -30,6 +30,14 @@ void BenchResult::markPareto() {
     }
 }
 
+double BenchSetting::chainSeconds() const {
+    double seconds = 0;
+    for (const auto& p : passes)
+        if (p.type != kErrorPassType && p.type != kBareLoopType)
+            seconds += p.seconds.median;
+    return seconds;
+}
+
 nlohmann::json ErrorDecompositionResult::toJson() const {
     nlohmann::json j = {{"rmse", rmse}, {"bias", bias}, {"sentence", sentence}};
     j["steps"] = nlohmann::json::array();
@@ -45,11 +53,11 @@ std::string decompositionText(const ErrorDecompositionResult& d) {
     double biases = 0;
     for (const auto& s : d.steps) {
         out += fmt::format("      {:<19} RMSE {:.5g}  bias {:+.5g}  share {:5.1f} %   {} → {}\n",
-                                 s.name, s.rmse, s.bias, 100.0 * s.share, s.from, s.to);
+                           s.name, s.rmse, s.bias, 100.0 * s.share, s.from, s.to);
         biases += s.bias;
     }
     out += fmt::format("      the step biases add up to {:+.5g} (the total bias {:+.5g})\n",
-                             biases, d.bias);
+                       biases, d.bias);
     out += "    " + d.sentence + "\n";
     return out;
 }

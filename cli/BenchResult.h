@@ -13,6 +13,11 @@
 
 namespace fp::cli {
 
+/// The pass type whose figures are a setting's error (error_measure).
+inline constexpr const char* kErrorPassType = "error_measure";
+/// Not a pass: the Embree yardstick bench lists with the passes (BareRayLoop.h).
+inline constexpr const char* kBareLoopType = "embree";
+
 struct TimingStats {
     double median = 0, min = 0, max = 0;
     static TimingStats of(std::vector<double> seconds);
@@ -60,6 +65,9 @@ struct BenchSetting {
     std::vector<ErrorNodeResult> errors;
     bool pareto = false;  //!< no other setting is both faster and more accurate
     /// The error the speed-against-error table sorts by: the first error node's RMSE.
+    /// The chain's own time: the median of every pass but the error_measure passes (they measure
+    /// the frame; Unreal runs none) and the bare Embree loops.
+    double chainSeconds() const;
     bool hasError() const { return !errors.empty() && errors.front().metrics.count("rmse"); }
     double error() const { return errors.front().metrics.at("rmse"); }
 };

@@ -17,10 +17,7 @@ namespace fp::cli {
 
 namespace {
 
-constexpr const char* kErrorPassType = "error_measure";
 constexpr const char* kShadowPassType = "rt_shadows";
-// Not a pass: the Embree yardstick listed with the passes (BareRayLoop.h).
-constexpr const char* kBareLoopType = "embree";
 
 std::string base64(const std::string& bytes) {
     static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -41,6 +38,8 @@ std::string base64(const std::string& bytes) {
     return out;
 }
 
+// error_measure passes are roots here even when the config writes none of their outputs; the
+// ports they compare are kept for the report's images and the error decomposition.
 std::vector<std::string> errorDumps(const GraphDesc& graph) {
     std::vector<std::string> dumps;
     for (const auto& n : graph.nodes) {
@@ -114,8 +113,9 @@ void addBareRayLoops(const Plan& plan,
     }
 }
 
-// Times one setting of the grid: warm-up runs, timed runs, then the per-pass table.
 }  // namespace
+
+// Warm-up runs, timed runs, then the per-pass table and the errors (taken apart if asked).
 
 BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     SessionOptions sessionOptions = mBase;
@@ -190,7 +190,6 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
 }
 
 SweepAxis parseSweep(const std::string& text) {
-
     const auto eq = text.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
         throw UsageError(fmt::format("--sweep {}: expected NAME=V1,V2,... or NAME=A..B", text));
@@ -242,8 +241,6 @@ std::vector<SweepPoint> sweepGrid(const std::vector<std::string>& sweeps) {
     return grid;
 }
 
-// error_measure passes are roots here even when the config writes none of their outputs; the
-// ports they compare are kept for the report's images.
 std::string sweepLabel(const SweepPoint& point) {
     std::string label;
     for (const auto& [name, value] : point)

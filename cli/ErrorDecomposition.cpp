@@ -11,7 +11,6 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <limits>
 
 namespace fp::cli {
 
@@ -69,6 +68,15 @@ std::string upstreamTracer(const Plan& plan, int from) {
     return "";
 }
 
+// A copy of a config whose chain writes no files: only what is dumped is run.
+io::RunConfig chainWithoutOutputs(const io::RunConfig& config) {
+    io::RunConfig c = config;
+    c.graph.outputs.clear();
+    for (auto& t : c.graph.lightTemplates)
+        t.outputs.clear();
+    return c;
+}
+
 // A point-upsampled image is read at half resolution by decomposeError instead.
 bool isHalf(const Image& image, const Image& reference) {
     return ErrorMeasurePass::isHalfResolution({image.width(), image.height()},
@@ -81,7 +89,7 @@ std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
                                                       const std::set<std::string>& available) {
     std::vector<DecompositionTarget> targets;
     for (const PlanStep& step : plan.steps) {
-        if (step.type != "error_measure")
+        if (step.type != kErrorPassType)
             continue;
         const SourceRef& source = step.inputs.at(ErrorMeasurePass::kSource);
         const SourceRef& reference = step.inputs.at(ErrorMeasurePass::kReference);
@@ -125,14 +133,6 @@ ErrorDecomposer::ErrorDecomposer(const RunSession& probe,
       mRays(rays),
       mCapture(probe.captureOptions(probe.frames().front()), probe.profile()),
       mSource(mCapture) {}
-
-io::RunConfig ErrorDecomposer::chainWithoutOutputs(const io::RunConfig& config) const {
-    io::RunConfig c = config;
-    c.graph.outputs.clear();
-    for (auto& t : c.graph.lightTemplates)
-        t.outputs.clear();
-    return c;
-}
 
 const Image& ErrorDecomposer::oracle(const std::string& port) {
     if (auto it = mOracle.find(port); it != mOracle.end())
@@ -235,8 +235,7 @@ void ErrorDecomposer::decompose(const SessionOptions& options,
         std::optional<Image> mask;
         if (!t->depth.empty())
             mask = notSkyMask(mSource.loadBuffer(t->depth.substr(8), 1).image(),
-                              t->skyDistance > 0.0f ? t->skyDistance
-                                                    : std::numeric_limits<float>::infinity());
+                              ErrorMeasurePass::skyDepthFor(t->skyDistance));
         const ErrorDecompositionStats stats = decomposeError(ladder, mask ? &*mask : nullptr);
 
         ErrorDecompositionResult d;

@@ -56,8 +56,6 @@ private:
     std::map<std::string, Image> converged(const SessionOptions& options,
                                            const std::string& tracer,
                                            const std::vector<std::string>& sources);
-    /// A copy of the probe's config whose chain writes no files: only what is dumped is run.
-    io::RunConfig chainWithoutOutputs(const io::RunConfig& config) const;
 
     const RunSession& mProbe;
     std::vector<DecompositionTarget> mTargets;

@@ -8,6 +8,7 @@
 #include "cli/BenchSweep.h"
 #include "cli/Commands.h"
 #include "cli/Invocation.h"
+#include "io/ConfigLoader.h"
 #include "passes/core/Error.h"
 #include "passes/core/PassRegistry.h"
 #include "passes/core/Suggest.h"
@@ -17,6 +18,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <set>
 
 namespace fp::cli {
@@ -72,7 +74,7 @@ Target parseTarget(const std::string& text) {
 const NodeDesc& targetNode(const io::RunConfig& config, const Target& t) {
     std::vector<std::string> names;
     for (const auto& n : config.graph.nodes) {
-        if (n.type != "error_measure")
+        if (n.type != kErrorPassType)
             continue;
         if (n.name == t.error)
             return n;
@@ -95,7 +97,7 @@ std::vector<std::string> defaultSweeps(const Bencher& bencher, const Target& t) 
     std::set<std::string> seenCvars;
     for (const PlanStep& step : plan.steps) {
         const PassType* type = builtinPasses().find(step.type);
-        if (!type || step.type == "error_measure")
+        if (!type || step.type == kErrorPassType)
             continue;
         for (const ParamInfo& p : type->params) {
             if (p.cvars.empty() || seenCvars.count(p.cvars.front()))
@@ -122,15 +124,8 @@ struct Tried {
     bool refined = false;
 };
 
-// A setting's cost: the median times of the chain's passes, without the error_measure passes
-// (they measure the frame; Unreal does not run them) and bench's bare Embree loops.
-double frameMs(const Tried& t) {
-    double ms = 0;
-    for (const auto& p : t.setting.passes)
-        if (p.type != "error_measure" && p.type != "embree")
-            ms += p.seconds.median * 1e3;
-    return ms;
-}
+// A setting's cost.
+double frameMs(const Tried& t) { return t.setting.chainSeconds() * 1e3; }
 
 double metricOf(const BenchSetting& s, const Target& t) {
     for (const auto& e : s.errors)
@@ -141,16 +136,10 @@ double metricOf(const BenchSetting& s, const Target& t) {
     throw Error(fmt::format("{} did not report {}", t.error, t.metric));
 }
 
-bool isInteger(const std::string& v) {
-    if (v.empty())
-        return false;
-    std::size_t end = 0;
-    try {
-        (void)std::stoi(v, &end);
-    } catch (const std::exception&) {
-        return false;
-    }
-    return end == v.size();
+// A sweep value as --set and --cvar read it, when that is an integer.
+std::optional<int> integerValue(const std::string& v) {
+    const nlohmann::json j = io::parseCliValue(v);
+    return j.is_number_integer() ? std::optional<int>(j.get<int>()) : std::nullopt;
 }
 
 // The one axis where `a` and `b` differ, when it is the only one and both values are integers.
@@ -159,7 +148,7 @@ std::optional<std::size_t> singleIntegerAxis(const SweepPoint& a, const SweepPoi
     for (std::size_t i = 0; i < a.size(); ++i) {
         if (a[i].second == b[i].second)
             continue;
-        if (axis || !isInteger(a[i].second) || !isInteger(b[i].second))
+        if (axis || !integerValue(a[i].second) || !integerValue(b[i].second))
             return std::nullopt;
         axis = i;
     }
@@ -270,8 +259,8 @@ Command addTuneCommand(CLI::App& app) {
             const auto axis = singleIntegerAxis(meets->point, below->point);
             if (!axis)
                 break;
-            const int a = std::stoi(below->point[*axis].second);
-            const int b = std::stoi(meets->point[*axis].second);
+            const int a = *integerValue(below->point[*axis].second);
+            const int b = *integerValue(meets->point[*axis].second);
             if (std::abs(a - b) < 2)
                 break;
             // Midpoint; geometric where the values span a factor of 4 or more (ray counts).

@@ -44,11 +44,6 @@ PassIO ErrorMeasurePass::describe() const {
     return io;
 }
 
-float ErrorMeasurePass::skyDepth() const {
-    return mParams.skyDistance > 0.0f ? mParams.skyDistance
-                                      : std::numeric_limits<float>::infinity();
-}
-
 void ErrorMeasurePass::reportStats(PassContext& ctx, const ErrorStats& s) const {
     for (const auto& [name, value] : s.figures())
         ctx.addMetric(name, value);

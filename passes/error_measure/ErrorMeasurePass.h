@@ -6,6 +6,8 @@
 #include "passes/core/Params.h"
 #include "passes/core/Pass.h"
 
+#include <limits>
+
 namespace fp {
 
 struct ErrorMeasureParams {
@@ -43,9 +45,14 @@ public:
                source.height == (reference.height + 1) / 2 && source.width < reference.width;
     }
 
+    /// The depth at and beyond which a pixel is sky for a `skyDistance` parameter (0: +inf only).
+    static float skyDepthFor(float skyDistance) {
+        return skyDistance > 0.0f ? skyDistance : std::numeric_limits<float>::infinity();
+    }
+
 private:
     /// Depths at or beyond this are sky.
-    float skyDepth() const;
+    float skyDepth() const { return skyDepthFor(mParams.skyDistance); }
     /// The figures and work counts into the run report.
     void reportStats(PassContext& ctx, const ErrorStats& s) const;
 
