@@ -17,11 +17,17 @@ namespace fp::cli {
 namespace {
 
 void printBench(const BenchResult& result) {
-    std::cout << fmt::format(
-        "{} on {} (frame {}, {}×{}): median of {} runs after {} warm-up, "
-        "{} threads\n",
-        result.config, result.capture, result.frame, result.extent.width, result.extent.height,
-        result.runs, result.warmup, result.threads);
+    // A sequence: every run goes through its frames with history; times are per frame.
+    const std::string frames =
+        result.frames.size() > 1
+            ? fmt::format("frames {}, each run in order with history; times per frame, errors "
+                          "on frame {}",
+                          fmt::join(result.frames, ","), result.frame)
+            : fmt::format("frame {}", result.frame);
+    std::cout << fmt::format("{} on {} ({}, {}×{}): median of {} runs after {} warm-up, "
+                             "{} threads\n",
+                             result.config, result.capture, frames, result.extent.width,
+                             result.extent.height, result.runs, result.warmup, result.threads);
     for (const auto& s : result.settings) {
         std::cout << fmt::format("{}: frame {:.2f} ms (min {:.2f}, max {:.2f}), peak {:.1f} MiB "
                                  "({:.0f} B/pixel)",
@@ -47,6 +53,8 @@ void printBench(const BenchResult& result) {
             for (const auto& [k, v] : e.metrics)
                 m += fmt::format(" {}={:.5g}", k, v);
             std::cout << fmt::format("  {} ({} against {}):{}\n", e.name, e.source, e.reference, m);
+            if (!e.rmseByFrame.empty())
+                std::cout << fmt::format("    RMSE by frame: {:.5g}\n", fmt::join(e.rmseByFrame, " → "));
             if (e.decomposition)
                 std::cout << decompositionText(*e.decomposition);
         }

@@ -60,6 +60,62 @@ double tickStep(double lo, double hi) {
     return 10.0 * mag;
 }
 
+// A sequence: the first error's RMSE on each frame (x: frame, y: RMSE), a line per setting, so
+// the denoiser's temporal accumulation shows as a falling line.
+std::string sequencePlot(const BenchResult& r) {
+    const double W = 640, H = 300, L = 70, R = 230, T = 20, B = 45;
+    double lo = 1e300, hi = -1e300;
+    std::size_t n = 0;
+    for (const auto& s : r.settings)
+        if (!s.errors.empty())
+            for (double v : s.errors.front().rmseByFrame)
+                lo = std::min(lo, v), hi = std::max(hi, v), n = std::max(n, s.errors.front().rmseByFrame.size());
+    if (n < 2)
+        return {};
+    const double step = tickStep(lo, hi);
+    lo = std::floor(lo / step) * step;
+    hi = std::max(std::ceil(hi / step) * step, lo + step);
+    auto X = [&](std::size_t i) { return L + (W - L - R) * double(i) / double(n - 1); };
+    auto Y = [&](double v) { return H - B - (H - T - B) * (v - lo) / (hi - lo); };
+    std::ostringstream svg;
+    svg << fmt::format(R"(<svg id="sequence" width="{}" height="{}" viewBox="0 0 {} {}" )"
+                       R"(xmlns="http://www.w3.org/2000/svg" font-family="sans-serif">)",
+                       W, H, W, H);
+    const int ticks = int(std::lround((hi - lo) / step));
+    for (int k = 0; k <= ticks; ++k) {
+        const double v = lo + k * step;
+        svg << fmt::format(R"(<line x1="{}" x2="{}" y1="{:.1f}" y2="{:.1f}" stroke="#ddd"/>)"
+                           R"(<text x="{}" y="{:.1f}" font-size="11" text-anchor="end">{:.4g}</text>)",
+                           L, W - R, Y(v), Y(v), L - 6, Y(v) + 4, v);
+    }
+    for (std::size_t i = 0; i < n; ++i)
+        svg << fmt::format(R"(<text x="{:.1f}" y="{}" font-size="11" text-anchor="middle">{}</text>)",
+                           X(i), H - B + 16, i < r.frames.size() ? r.frames[i] : int(i));
+    svg << fmt::format(R"(<text x="{}" y="{}" font-size="12" text-anchor="middle">frame</text>)"
+                       R"~(<text x="14" y="{}" font-size="12" transform="rotate(-90 14 {})" )~"
+                       R"~(text-anchor="middle">RMSE</text>)~",
+                       (L + W - R) / 2, H - 8, (T + H - B) / 2, (T + H - B) / 2);
+    static const char* kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728",
+                                     "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"};
+    int line = 0;
+    for (const auto& s : r.settings) {
+        if (s.errors.empty() || s.errors.front().rmseByFrame.size() < 2)
+            continue;
+        const char* colour = kColours[line % 8];
+        std::string points;
+        const auto& v = s.errors.front().rmseByFrame;
+        for (std::size_t i = 0; i < v.size(); ++i)
+            points += fmt::format("{:.1f},{:.1f} ", X(i), Y(v[i]));
+        svg << fmt::format(R"(<polyline fill="none" stroke="{}" stroke-width="2" points="{}"/>)"
+                           R"(<text x="{}" y="{}" font-size="11" fill="{}">{} ({:.4g} → {:.4g})</text>)",
+                           colour, points, W - R + 8, T + 14 * line + 10, colour,
+                           escape(s.label), v.front(), v.back());
+        ++line;
+    }
+    svg << "</svg>";
+    return svg.str();
+}
+
 // Time (x) against error (y), Pareto front joined; or frame time bars when nothing has an error.
 std::string plot(const BenchResult& r) {
     const double W = 640, H = 360, L = 70, R = 20, T = 20, B = 50;
@@ -247,9 +303,14 @@ img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
 </style></head><body>
 )";
     h << "<h1>framepass bench</h1>\n";
-    h << fmt::format("<p class=\"meta\">config <code>{}</code> · capture <code>{}</code> · frame {} "
+    const std::string frames =
+        r.frames.size() > 1
+            ? fmt::format("frames {} in order with history (times per frame, errors on frame {})",
+                          fmt::join(r.frames, ","), r.frame)
+            : fmt::format("frame {}", r.frame);
+    h << fmt::format("<p class=\"meta\">config <code>{}</code> · capture <code>{}</code> · {} "
                      "· {}×{} · median of {} runs after {} warm-up · {} threads</p>\n",
-                     escape(r.config), escape(r.capture), r.frame, r.extent.width, r.extent.height,
+                     escape(r.config), escape(r.capture), frames, r.extent.width, r.extent.height,
                      r.runs, r.warmup, r.threads);
 
     // The table: one row per setting.
@@ -297,6 +358,10 @@ img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
           << escape(r.settings.front().errors.empty() ? "" : r.settings.front().errors.front().name)
           << "). Pareto: no other setting is both faster and more accurate.</p>\n";
     h << plot(r) << "\n";
+    if (const std::string seq = sequencePlot(r); !seq.empty())
+        h << "<h2>Error over the sequence</h2>\n<p class=\"meta\">The first error_measure's RMSE "
+             "on each frame of the last run, each frame with the history of those before it.</p>\n"
+          << seq << "\n";
 
     // Why the error is what it is, per error_measure that was taken apart.
     std::vector<std::string> decomposed;

@@ -64,6 +64,7 @@ std::string decompositionText(const ErrorDecompositionResult& d) {
 
 nlohmann::json BenchResult::toJson() const {
     nlohmann::json j = {{"config", config}, {"capture", capture}, {"frame", frame},
+                        {"frames", frames},
                         {"width", extent.width}, {"height", extent.height}, {"runs", runs},
                         {"warmup", warmup}, {"threads", threads}, {"sweeps", sweeps}};
     j["settings"] = nlohmann::json::array();
@@ -92,6 +93,8 @@ nlohmann::json BenchResult::toJson() const {
         for (const auto& e : s.errors) {
             sj["errors"].push_back({{"name", e.name}, {"source", e.source},
                                     {"reference", e.reference}, {"metrics", e.metrics}});
+            if (!e.rmseByFrame.empty())
+                sj["errors"].back()["rmseByFrame"] = e.rmseByFrame;
             if (e.decomposition)
                 sj["errors"].back()["decomposition"] = e.decomposition->toJson();
         }

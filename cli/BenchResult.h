@@ -53,6 +53,9 @@ struct ErrorDecompositionResult {
 struct ErrorNodeResult {
     std::string name, source, reference;
     std::map<std::string, double> metrics;  //!< rmse, relMse, ... (ErrorMetrics.h)
+    /// A sequence (bench --frames): the RMSE on each frame, with the history of those before
+    /// (metrics are the last frame's). Empty for one frame.
+    std::vector<double> rmseByFrame;
     ErrorImages images;
     std::optional<ErrorDecompositionResult> decomposition;
 };
@@ -74,7 +77,8 @@ struct BenchSetting {
 
 struct BenchResult {
     std::string config, capture;
-    int64_t frame = 0;
+    int64_t frame = 0;        //!< the frame whose errors are reported (a sequence's last)
+    std::vector<int> frames;  //!< the frames each run goes through, in order
     Extent extent;
     int runs = 0, warmup = 0, threads = 0;
     std::vector<std::string> sweeps;  //!< as given: NAME=V1,V2

@@ -13,6 +13,9 @@
 
 #include <tbb/global_control.h>
 
+#include <map>
+#include <memory>
+
 namespace fp::cli {
 
 namespace {
@@ -126,34 +129,55 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     // The error_measure passes live in the settings' plans (the probe's writes nothing).
     if (!mDecomposerChecked && mOptions.decomposeRays > 0) {
         mDecomposerChecked = true;
-        const auto capture = mProbe.openCapture(mProbe.capturePath(mProbe.frames().front()));
+        // The error is the last frame's: its capture holds the rungs' truths.
+        const int measured = mProbe.frames().back();
+        const auto capture = mProbe.openCapture(mProbe.capturePath(measured));
         auto targets = decompositionTargets(
             session.plan(), capture ? capture->availableBuffers() : std::set<std::string>{});
         if (!targets.empty())
-            mDecomposer.emplace(mProbe, std::move(targets), mOptions.decomposeRays);
+            mDecomposer.emplace(mProbe, std::move(targets), mOptions.decomposeRays, measured);
     }
     const BenchOptions& opt = mOptions;
     ErrorDecomposer* decomposer = decompose && mDecomposer ? &*mDecomposer : nullptr;
     const Plan& plan = session.plan();
-    const int frame = session.frames().front();
-    const io::CaptureSource::Options co = session.captureOptions(frame);
-    io::CaptureSource capture(co, session.profile());
-    CachedSource source(capture);
+    // A sequence (--frames) runs frame after frame with the temporal passes' history, as `run`
+    // does; each frame's buffers are read once. Times are per frame; errors are the last frame's.
+    const std::vector<int>& frames = session.frames();
+    std::vector<std::unique_ptr<io::CaptureSource>> captures;
+    std::vector<std::unique_ptr<CachedSource>> sources;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        io::CaptureSource::Options co = session.captureOptions(frames[i]);
+        co.firstInSequence = i == 0;
+        captures.push_back(std::make_unique<io::CaptureSource>(co, session.profile()));
+        sources.push_back(std::make_unique<CachedSource>(*captures.back()));
+    }
+    CachedSource& source = *sources.back();
     KeepingSink sink;
 
     std::vector<std::vector<double>> stepSeconds(plan.steps.size()), stepGpuSeconds(plan.steps.size());
     std::vector<double> frameSeconds;
+    // error_measure step → its RMSE on each frame of the last run
+    std::map<std::size_t, std::vector<double>> rmseByFrame;
     FrameReport last;
     for (int r = 0; r < opt.warmup + opt.runs; ++r) {
-        sink.keep = r + 1 == opt.warmup + opt.runs;
-        last = executePlan(plan, source, sink);
-        if (r >= opt.warmup) {
-            frameSeconds.push_back(last.seconds);
-            for (std::size_t s = 0; s < last.passes.size(); ++s) {
-                stepSeconds[s].push_back(last.passes[s].seconds);
-                if (last.passes[s].gpuSeconds)
-                    stepGpuSeconds[s].push_back(*last.passes[s].gpuSeconds);
+        const bool lastRun = r + 1 == opt.warmup + opt.runs;
+        HistoryStore history;
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            sink.keep = lastRun && i + 1 == frames.size();
+            last = executePlan(plan, *sources[i], sink, {}, frames.size() > 1 ? &history : nullptr);
+            if (r >= opt.warmup) {
+                frameSeconds.push_back(last.seconds);
+                for (std::size_t s = 0; s < last.passes.size(); ++s) {
+                    stepSeconds[s].push_back(last.passes[s].seconds);
+                    if (last.passes[s].gpuSeconds)
+                        stepGpuSeconds[s].push_back(*last.passes[s].gpuSeconds);
+                }
             }
+            if (lastRun && frames.size() > 1)
+                for (std::size_t s = 0; s < last.passes.size(); ++s)
+                    if (auto it = last.passes[s].metrics.find("rmse");
+                        plan.steps[s].type == kErrorPassType && it != last.passes[s].metrics.end())
+                        rmseByFrame[s].push_back(it->second);
         }
         logProgress(100 * ++mRunsDone / std::max(1, mTotalRuns));
     }
@@ -177,6 +201,8 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
         e.metrics = last.passes[s].metrics;
         e.source = step.inputs.at("source").key;
         e.reference = step.inputs.at("reference").key;
+        if (auto it = rmseByFrame.find(s); it != rmseByFrame.end())
+            e.rmseByFrame = it->second;
         if (!opt.html.empty())
             e.images = errorImages(step.name + ".heat", e, source, sink, session.inputs());
         setting.errors.push_back(e);
@@ -259,8 +285,9 @@ Bencher::Bencher(const BenchOptions& options) : mOptions(options), mProbe(option
 BenchResult Bencher::emptyResult() const {
     BenchResult result;
     result.config = mOptions.session.config;
-    result.capture = mProbe.capturePath(mProbe.frames().front());
-    result.frame = mProbe.frames().front();
+    result.capture = mProbe.capturePath(mProbe.frames().back());
+    result.frame = mProbe.frames().back();
+    result.frames = mProbe.frames();
     result.extent = mProbe.extent();
     result.runs = mOptions.runs;
     result.warmup = mOptions.warmup;

@@ -127,11 +127,13 @@ std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
 
 ErrorDecomposer::ErrorDecomposer(const RunSession& probe,
                                  std::vector<DecompositionTarget> targets,
-                                 int rays)
+                                 int rays,
+                                 int frame)
     : mProbe(probe),
       mTargets(std::move(targets)),
       mRays(rays),
-      mCapture(probe.captureOptions(probe.frames().front()), probe.profile()),
+      mFrame(frame),
+      mCapture(probe.captureOptions(frame), probe.profile()),
       mSource(mCapture) {}
 
 const Image& ErrorDecomposer::oracle(const std::string& port) {
@@ -143,6 +145,7 @@ const Image& ErrorDecomposer::oracle(const std::string& port) {
     config.graph.lightTemplates.clear();
     SessionOptions options;
     options.config = mProbe.config().path;
+    options.frames = std::to_string(mFrame);
     for (const auto& t : mTargets) {
         const std::string key = std::string(kOracleNode) + "." + t.oraclePort;
         if (std::find(options.dumps.begin(), options.dumps.end(), key) == options.dumps.end())
@@ -261,7 +264,7 @@ void ErrorDecomposer::decompose(const SessionOptions& options,
         // say so, or a share over 100 % reads like an error in the arithmetic.
         std::string cancels;
         for (std::size_t k = 0; k < stats.steps.size(); ++k)
-            if (stats.steps[k].share < 0)
+            if (stats.steps[k].share <= -0.005)  // what prints as 0 % cancels nothing
                 cancels += fmt::format("{}{} cancels {:.0f} %", cancels.empty() ? "; " : ", ",
                                        kSteps[k].name, -100.0 * stats.steps[k].share);
         d.sentence = fmt::format("Most of the error is {} ({:.0f} % of the squared error{}): {}.",

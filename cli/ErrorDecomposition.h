@@ -37,13 +37,15 @@ std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
 /// chain once per setting (every source it feeds at once).
 class ErrorDecomposer {
 public:
-    /// `rays`: the oracle's rays and the converged tracer's rays per frame seed.
-    ErrorDecomposer(const RunSession& probe, std::vector<DecompositionTarget> targets, int rays);
+    /// `rays`: the oracle's rays and the converged tracer's rays per frame seed; `frame`: the
+    /// frame whose error is taken apart (its capture).
+    ErrorDecomposer(const RunSession& probe, std::vector<DecompositionTarget> targets, int rays,
+                    int frame);
 
     const std::vector<DecompositionTarget>& targets() const { return mTargets; }
     /// Adds the decomposition to every error of `setting` that has a target. `options`: the
     /// setting's --cvar and --set (its dumps are not used); `kept`: the images its last timed
-    /// run kept (the error sources among them).
+    /// run kept of the frame (the error sources among them; in a sequence, made with history).
     void decompose(const SessionOptions& options, const std::map<std::string, Image>& kept,
                    BenchSetting& setting);
 
@@ -60,6 +62,7 @@ private:
     const RunSession& mProbe;
     std::vector<DecompositionTarget> mTargets;
     int mRays;
+    int mFrame;
     io::CaptureSource mCapture;
     CachedSource mSource;
     std::map<std::string, Image> mOracle;  //!< oracle port → image, made on first use

@@ -26,6 +26,11 @@ void SessionOptions::addTo(CLI::App& sub) {
     sub.add_option("--set", sets, "set a pass parameter, e.g. --set hzb.halfPrecision=false");
     sub.add_option("--dump", dumps, "also write PASS.PORT (or 'all') to <out>/dump/");
     sub.add_option("--frames", frames, "frame spec (overrides the config), e.g. 1001-1010");
+    sub.add_option("--capture", capture,
+                   "capture file or frame pattern (overrides the config's \"capture\"; relative "
+                   "to the working directory)");
+    sub.add_option("--profile", profile,
+                   "capture profile, a name or FILE.json (overrides the config's \"profile\")");
     sub.add_option("--device", device,
                    "cpu, or cuda: the passes with a CUDA kernel run on the GPU, images stay "
                    "there between them (overrides the config's \"device\")")
@@ -41,6 +46,8 @@ RunSession::RunSession(const SessionOptions& o)
       mProfile(o.profile.empty()
                    ? io::CaptureProfile::fromJson(mConfig.profile, o.config + ": /profile")
                    : io::CaptureProfile::load(o.profile)) {
+    if (!o.capture.empty())
+        mConfig.capture = o.capture;
     plan(o);
 }
 

@@ -22,12 +22,13 @@ struct SessionOptions {
     std::vector<std::string> sets;   //!< PASS.PARAM=VALUE
     std::vector<std::string> dumps;  //!< PASS.PORT or all
     std::string frames;
+    std::string capture;  //!< file or frame pattern; overrides the config's "capture"
     std::string profile;  //!< NAME or FILE.json; overrides the config's "profile"
     bool allowUnknownCvars = false;  //!< an unknown cvar is a warning, not an error
     std::string device;              //!< cpu or cuda; "" = the config's "device"
 
-    /// Registers --cvar, --set, --dump, --frames, --profile, --device and --allow-unknown-cvars
-    /// on a subcommand.
+    /// Registers --cvar, --set, --dump, --frames, --capture, --profile, --device and
+    /// --allow-unknown-cvars on a subcommand.
     void addTo(CLI::App& sub);
 };
 

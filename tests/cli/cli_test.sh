@@ -155,6 +155,21 @@ check "the bench report draws the decomposition" bash -c "'$FP' bench '$DIR/ssgi
 check "tune picks the setting that meets the target, and bench confirms it" bash -c "set -o pipefail; '$FP' bench '$DIR/ssgi_bench.json' --runs 1 --warmup 0 --decompose-rays 0 --sweep r.SSGI.Quality=1,4 --json 2>/dev/null > '$DIR/tq.json' && target=\$(python3 -c 'import json; d=json.load(open(\"$DIR/tq.json\")); v=[[e[\"metrics\"][\"rmse\"] for e in s[\"errors\"] if e[\"name\"]==\"vs_full\"][0] for s in d[\"settings\"]]; assert v[0] != v[1], v; print((v[0]+v[1])/2)') && '$FP' tune '$DIR/ssgi_bench.json' --target \"vs_full<=\$target\" --sweep r.SSGI.Quality=1,4 --runs 1 --json 2>/dev/null > '$DIR/tune.json' && quality=\$(python3 -c 'import json; d=json.load(open(\"$DIR/tune.json\")); assert d[\"met\"]; print(d[\"choice\"][\"setting\"][\"cvars\"][\"r.SSGI.Quality\"])') && grep -q 'r.SSGI.Quality=' '$DIR/tune.json' && '$FP' bench '$DIR/ssgi_bench.json' --cvar r.SSGI.Quality=\$quality --runs 1 --warmup 0 --decompose-rays 0 --json 2>/dev/null | python3 -c 'import json,sys; d=json.load(sys.stdin); v=[e[\"metrics\"][\"rmse\"] for e in d[\"settings\"][0][\"errors\"] if e[\"name\"]==\"vs_full\"][0]; assert v <= float(sys.argv[1]), (v, sys.argv[1])' \$target"
 check "tune refines between grid values along the Pareto front" bash -c "set -o pipefail; '$FP' bench '$DIR/ssgi_bench.json' --runs 1 --warmup 0 --decompose-rays 0 --sweep ssgi.rays=4,64 --json 2>/dev/null > '$DIR/tr.json' && target=\$(python3 -c 'import json; d=json.load(open(\"$DIR/tr.json\")); v=[[e[\"metrics\"][\"rmse\"] for e in s[\"errors\"] if e[\"name\"]==\"ao\"][0] for s in d[\"settings\"]]; assert v[1] < v[0], v; print((v[0]+v[1])/2)') && '$FP' tune '$DIR/ssgi_bench.json' --target \"ao<=\$target\" --sweep ssgi.rays=4,64 --runs 1 --json 2>/dev/null | python3 -c 'import json,sys; d=json.load(sys.stdin); r=[s for s in d[\"settings\"] if s[\"refined\"]]; assert r and all(4 < s[\"setting\"][\"params\"][\"ssgi.rays\"] < 64 for s in r), d; assert d[\"met\"]'"
 check "tune says when no setting meets the target, and what stands in the way" expect_exit 1 "what stands in the way:" "$FP" tune "$DIR/ssgi_bench.json" --target "vs_full<=0.00001" --sweep r.SSGI.Quality=1,4 --runs 1 --warmup 0 --decompose-rays 8
+# bench over a sequence runs its frames in order with the temporal history, as run does: the
+# error of the last frame is run's error on that frame (the chain is deterministic: the same
+# bits), and the first frame's is a one-frame bench's.
+check "capture a 3-frame truth sequence" "$FP" capture "$SRC/examples/cornell/scene.json" -o "$DIR/tseq.####.exr" --frames 1-3 --width 48 --height 48 --truth --truth-spp 8
+check "bench --frames measures the last frame with history, as run does" bash -c "set -o pipefail; '$FP' bench '$DIR/ssgi_bench.json' --capture '$DIR/tseq.####.exr' --frames 1-3 --runs 2 --warmup 1 --decompose-rays 0 --json 2>/dev/null > '$DIR/seqb.json' && '$FP' bench '$DIR/ssgi_bench.json' --capture '$DIR/tseq.####.exr' --frames 1 --runs 1 --warmup 0 --decompose-rays 0 --json 2>/dev/null > '$DIR/seq1.json' && '$FP' run '$DIR/ssgi_bench.json' --capture '$DIR/tseq.####.exr' --frames 1-3 --dump vs_full.heat -o '$DIR/seqrun' --report '$DIR/seqrun.json' >/dev/null 2>&1 && python3 -c '
+import json
+b = json.load(open(\"$DIR/seqb.json\")); one = json.load(open(\"$DIR/seq1.json\")); run = json.load(open(\"$DIR/seqrun.json\"))
+assert b[\"frames\"] == [1, 2, 3] and b[\"frame\"] == 3, b[\"frames\"]
+e = {x[\"name\"]: x for x in b[\"settings\"][0][\"errors\"]}[\"vs_full\"]
+byFrame = e[\"rmseByFrame\"]
+assert len(byFrame) == 3 and byFrame[-1] == e[\"metrics\"][\"rmse\"], e
+assert byFrame[0] == {x[\"name\"]: x for x in one[\"settings\"][0][\"errors\"]}[\"vs_full\"][\"metrics\"][\"rmse\"]
+ran = [p[\"metrics\"][\"rmse\"] for f in run[\"frames\"] for p in f[\"passes\"] if p[\"name\"] == \"vs_full\"]
+assert ran == byFrame, (ran, byFrame)
+'"
 check "tune names the error_measure passes when the target names none" expect_exit 2 "has no error_measure pass 'vs_ful' (did you mean 'vs_full'?)" "$FP" tune "$DIR/ssgi_bench.json" --target "vs_ful<=0.1"
 check "tune rejects a malformed target" expect_exit 2 "expected ERROR_PASS<=VALUE" "$FP" tune "$DIR/ssgi_bench.json" --target "vs_full=0.1"
 
