@@ -24,7 +24,7 @@ Command addCaptureCommand(CLI::App& app) {
         std::string scene, output, frames;
         int width = 0, height = 0, lightSamples = 16;
         int64_t frame = 1;
-        bool truth = false;
+        bool truth = false, half = false, floatDepth = false;
         int truthSpp = 256;
         double aoRadiusMeters = 1.0;
     };
@@ -44,6 +44,12 @@ Command addCaptureCommand(CLI::App& app) {
     sub->add_option("--light-samples", opt->lightSamples,
                     "shadow samples per pixel for lights with size")
         ->check(CLI::Range(1, 4096));
+    auto* halfOpt = sub->add_flag("--half", opt->half,
+                                  "store every GBuffer buffer as half float, as Movie Render "
+                                  "Queue's 16-bit EXR does (truth layers stay float32)");
+    sub->add_flag("--float-depth", opt->floatDepth,
+                  "with --half: SceneDepth and PrevSceneDepth stay float32")
+        ->needs(halfOpt);
     sub->add_flag("--truth", opt->truth, "add Truth.* layers (and their .StdErr) from the "
                                           "reference path tracer");
     sub->add_option("--truth-spp", opt->truthSpp, "reference samples per pixel (default 256)")
@@ -85,13 +91,19 @@ Command addCaptureCommand(CLI::App& app) {
             // One EXR part per buffer: a reader decodes only the parts of the buffers it needs
             // (in a single-part file every read would decompress every channel).
             std::vector<io::ExrPart> parts;
-            for (const auto& b : semanticBuffers())
-                parts.push_back({b.name, {{b.name, &result.buffers.at(b.name), false}}});
+            for (const auto& b : semanticBuffers()) {
+                const bool depth =
+                    std::string(b.name) == "SceneDepth" || std::string(b.name) == "PrevSceneDepth";
+                const bool half = opt->half && !(depth && opt->floatDepth);
+                parts.push_back({b.name, {{b.name, &result.buffers.at(b.name), half}}});
+            }
             io::ExrMetadata meta;
             meta.camera = camera;
             meta.frame = frame;
             meta.strings["framepass:scene"] = opt->scene;
             meta.strings["framepass:software"] = "framepass capture";
+            if (opt->half)
+                meta.strings["framepass:storage"] = opt->floatDepth ? "half, depth float32" : "half";
 
             auto progress = [&](double within) {
                 const int pct = int(100.0 * (double(i) + within) / double(frames.size()));

@@ -139,6 +139,7 @@ Command addRunCommand(CLI::App& app) {
         io::OutputWriter::Options wo;
         wo.outputDir = opt->outputDir;
         wo.compression = io::parseCompression(session.config().compression);
+        wo.halfColor = session.config().colorPrecision == "half";
         wo.protectedPaths.insert(inputs.begin(), inputs.end());
         wo.protectedPaths.erase("");
         io::OutputWriter writer(wo);

@@ -256,9 +256,16 @@ RunConfig parseRunConfig(const nlohmann::json& j,
         if (!j["exr"].is_object())
             diag.error("/exr", "'exr' must be an object");
         else {
-            checkKeys(j["exr"], {"compression"}, "/exr", "exr", diag);
+            checkKeys(j["exr"], {"compression", "colorPrecision"}, "/exr", "exr", diag);
             if (j["exr"].contains("compression"))
                 rc.compression = stringAt(j["exr"], "compression", "/exr", diag);
+            if (j["exr"].contains("colorPrecision")) {
+                rc.colorPrecision = stringAt(j["exr"], "colorPrecision", "/exr", diag);
+                if (rc.colorPrecision != "half" && rc.colorPrecision != "float")
+                    diag.error("/exr/colorPrecision",
+                               fmt::format("'{}': expected \"half\" or \"float\"",
+                                           rc.colorPrecision));
+            }
         }
     }
     if (j.contains("cvars")) {

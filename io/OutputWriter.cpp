@@ -65,19 +65,20 @@ void OutputWriter::write(const OutputDesc& output, const std::vector<OutputLayer
     meta.frame = frame.number;
     meta.strings["framepass:software"] = "framepass";
     std::vector<ExrPart> parts;
+    auto half = [&](const OutputLayer& l) { return l.kind == PortKind::Color && mOptions.halfColor; };
     bool anyMips = false;
     for (const auto& l : layers) anyMips |= l.texture->mipCount() > 1;
     if (!anyMips) {
         ExrPart part{"rgba", {}};
         for (const auto& l : layers)
-            part.layers.push_back({l.name, &l.texture->image(), l.kind == PortKind::Color});
+            part.layers.push_back({l.name, &l.texture->image(), half(l)});
         parts.push_back(std::move(part));
     } else {
         // Mip levels differ in size, so each gets a part of its own: "<layer>.mip<k>".
         for (const auto& l : layers)
             for (int m = 0; m < l.texture->mipCount(); ++m)
                 parts.push_back({fmt::format("{}.mip{}", l.name, m),
-                                 {{l.name, &l.texture->mip(m), l.kind == PortKind::Color}}});
+                                 {{l.name, &l.texture->mip(m), half(l)}}});
     }
     writeExr(path, parts, meta, mOptions.compression);
     mWritten.push_back(path);

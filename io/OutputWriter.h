@@ -16,6 +16,7 @@ public:
         std::string outputDir = ".";
         std::string dumpDir;               //!< "" = <outputDir>/dump
         ExrCompression compression = ExrCompression::Zip;
+        bool halfColor = true;  //!< colour layers as half (float32 when false); data is float32
         std::set<std::string> protectedPaths;  //!< inputs: never overwritten
     };
     explicit OutputWriter(Options options) : mOptions(std::move(options)) {}
