@@ -12,7 +12,7 @@ FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS = ConfigFuzz CaptureFuzz SidecarFuzz ObjFuzz GltfFuzz
 
-.PHONY: demo test deps build fuzz bench
+.PHONY: demo test deps build fuzz bench stability
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
@@ -42,6 +42,11 @@ demo: build
 	    --html out/demo/bench.html | grep -v '^Progress'
 	$(FRAMEPASS) tune examples/cornell/bench.json --target 'ssgi_vs_one_bounce<=0.035' \
 	    --sweep r.SSGI.Quality=1..4 --sweep r.SSGI.HalfRes=0,1 --runs 1 | grep -v '^Progress'
+	$(FRAMEPASS) capture examples/cornell/scene.json -o 'out/demo/seq/cornell.####.exr' --frames 1-4 \
+	    --truth --truth-spp 64 | grep -v '^ '
+	$(FRAMEPASS) bench examples/cornell/bench.json --capture 'out/demo/seq/cornell.####.exr' --frames 1-4 \
+	    --runs 1 --decompose-rays 0 --sweep r.DiffuseIndirect.Denoiser=0,1 --html out/demo/sequence.html \
+	    | grep -v '^Progress'
 	$(FRAMEPASS) bench examples/cornell/oracle.json --runs 1 --sweep screen_space_oracle.rays=4,16,64 \
 	    | grep -v '^Progress'
 	$(FRAMEPASS) bench examples/cornell/shadows.json --runs 3 --sweep r.RayTracing.Shadow.SamplesPerPixel=1,4 \
@@ -55,6 +60,11 @@ test: build
 BENCH_RUNS ?= 3
 bench: build
 	python3 examples/bench/bench_1080p.py --framepass $(FRAMEPASS) --runs $(BENCH_RUNS)
+
+# make stability: the README's half-float table (captures into out/stability/ and compares every
+# pass output of half captures with the float32 capture's).
+stability: build
+	python3 examples/stability/half_float.py --framepass $(FRAMEPASS)
 
 fuzz: deps
 	@missing=$$(for p in $(FUZZ_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \

@@ -63,20 +63,26 @@ double tickStep(double lo, double hi) {
 // A sequence: the first error's RMSE on each frame (x: frame, y: RMSE), a line per setting, so
 // the denoiser's temporal accumulation shows as a falling line.
 std::string sequencePlot(const BenchResult& r) {
-    const double W = 640, H = 300, L = 70, R = 230, T = 20, B = 45;
     double lo = 1e300, hi = -1e300;
     std::size_t n = 0;
+    int lines = 0;
     for (const auto& s : r.settings)
-        if (!s.errors.empty())
+        if (!s.errors.empty() && s.errors.front().rmseByFrame.size() >= 2) {
+            ++lines;
             for (double v : s.errors.front().rmseByFrame)
-                lo = std::min(lo, v), hi = std::max(hi, v), n = std::max(n, s.errors.front().rmseByFrame.size());
+                lo = std::min(lo, v), hi = std::max(hi, v);
+            n = std::max(n, s.errors.front().rmseByFrame.size());
+        }
     if (n < 2)
         return {};
+    // The legend goes under the axes, a line per setting (labels are long).
+    const double W = 640, L = 70, R = 20, T = 20, B = 45, plotH = 240;
+    const double H = T + plotH + B + 16.0 * lines;
     const double step = tickStep(lo, hi);
     lo = std::floor(lo / step) * step;
     hi = std::max(std::ceil(hi / step) * step, lo + step);
     auto X = [&](std::size_t i) { return L + (W - L - R) * double(i) / double(n - 1); };
-    auto Y = [&](double v) { return H - B - (H - T - B) * (v - lo) / (hi - lo); };
+    auto Y = [&](double v) { return T + plotH - plotH * (v - lo) / (hi - lo); };
     std::ostringstream svg;
     svg << fmt::format(R"(<svg id="sequence" width="{}" height="{}" viewBox="0 0 {} {}" )"
                        R"(xmlns="http://www.w3.org/2000/svg" font-family="sans-serif">)",
@@ -90,11 +96,11 @@ std::string sequencePlot(const BenchResult& r) {
     }
     for (std::size_t i = 0; i < n; ++i)
         svg << fmt::format(R"(<text x="{:.1f}" y="{}" font-size="11" text-anchor="middle">{}</text>)",
-                           X(i), H - B + 16, i < r.frames.size() ? r.frames[i] : int(i));
+                           X(i), T + plotH + 16, i < r.frames.size() ? r.frames[i] : int(i));
     svg << fmt::format(R"(<text x="{}" y="{}" font-size="12" text-anchor="middle">frame</text>)"
                        R"~(<text x="14" y="{}" font-size="12" transform="rotate(-90 14 {})" )~"
                        R"~(text-anchor="middle">RMSE</text>)~",
-                       (L + W - R) / 2, H - 8, (T + H - B) / 2, (T + H - B) / 2);
+                       (L + W - R) / 2, T + plotH + 34, T + plotH / 2, T + plotH / 2);
     static const char* kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728",
                                      "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"};
     int line = 0;
@@ -108,7 +114,7 @@ std::string sequencePlot(const BenchResult& r) {
             points += fmt::format("{:.1f},{:.1f} ", X(i), Y(v[i]));
         svg << fmt::format(R"(<polyline fill="none" stroke="{}" stroke-width="2" points="{}"/>)"
                            R"(<text x="{}" y="{}" font-size="11" fill="{}">{} ({:.4g} → {:.4g})</text>)",
-                           colour, points, W - R + 8, T + 14 * line + 10, colour,
+                           colour, points, L, T + plotH + B + 16 * line + 10, colour,
                            escape(s.label), v.front(), v.back());
         ++line;
     }

@@ -208,7 +208,7 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
         setting.errors.push_back(e);
     }
     if (decomposer)
-        decomposer->decompose(sessionOptions, sink.images, setting);
+        decomposer->decompose(sessionOptions, sink.images, setting.label, setting.errors);
     if (std::any_of(plan.steps.begin(), plan.steps.end(),
                     [](const PlanStep& s) { return s.type == kShadowPassType; }))
         addBareRayLoops(plan, source, sink, opt, setting);

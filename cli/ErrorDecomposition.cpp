@@ -198,10 +198,11 @@ std::map<std::string, Image> ErrorDecomposer::converged(const SessionOptions& se
 
 void ErrorDecomposer::decompose(const SessionOptions& options,
                                 const std::map<std::string, Image>& kept,
-                                BenchSetting& setting) {
+                                const std::string& label,
+                                std::vector<ErrorNodeResult>& errors) {
     // One converged chain per tracer serves every error whose source it feeds.
     std::map<std::string, std::vector<std::string>> sourcesByTracer;
-    for (const ErrorNodeResult& e : setting.errors)
+    for (const ErrorNodeResult& e : errors)
         for (const auto& t : mTargets)
             if (t.errorNode == e.name) {
                 auto& list = sourcesByTracer[t.tracer];
@@ -212,11 +213,11 @@ void ErrorDecomposer::decompose(const SessionOptions& options,
     for (const auto& [tracer, sources] : sourcesByTracer) {
         logInfo(fmt::format("error decomposition, {}: {} converged ({} at {} rays, {} frame "
                             "seeds)",
-                            setting.label, fmt::join(sources, " and "), tracer, mRays,
+                            label, fmt::join(sources, " and "), tracer, mRays,
                             kFrameSeeds));
         convergedBySource.merge(converged(options, tracer, sources));
     }
-    for (ErrorNodeResult& e : setting.errors) {
+    for (ErrorNodeResult& e : errors) {
         const auto t = std::find_if(mTargets.begin(), mTargets.end(), [&](const auto& t) {
             return t.errorNode == e.name;
         });

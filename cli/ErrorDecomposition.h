@@ -43,11 +43,12 @@ public:
                     int frame);
 
     const std::vector<DecompositionTarget>& targets() const { return mTargets; }
-    /// Adds the decomposition to every error of `setting` that has a target. `options`: the
-    /// setting's --cvar and --set (its dumps are not used); `kept`: the images its last timed
-    /// run kept of the frame (the error sources among them; in a sequence, made with history).
+    /// Adds the decomposition to every error of `errors` that has a target. `options`: the
+    /// setting's --cvar and --set (its dumps are not used); `kept`: the images the run kept of
+    /// the frame (the error sources among them; in a sequence, made with history); `label`: the
+    /// setting, for the log.
     void decompose(const SessionOptions& options, const std::map<std::string, Image>& kept,
-                   BenchSetting& setting);
+                   const std::string& label, std::vector<ErrorNodeResult>& errors);
 
     /// Frame seeds the converged chain is averaged over: every value of Unreal's frame index mod 8.
     static constexpr int kFrameSeeds = 8;

@@ -1,5 +1,7 @@
 // framepass run: execute the chain over the frames and write outputs, dumps and a report.
+#include "cli/BenchResult.h"
 #include "cli/Commands.h"
+#include "cli/ErrorDecomposition.h"
 #include "cli/Invocation.h"
 #include "cli/RunSession.h"
 #include "io/CaptureSource.h"
@@ -24,6 +26,47 @@ class DiscardSink final : public FrameSink {
 public:
     void write(const OutputDesc&, const std::vector<OutputLayer>&, const FrameInfo&) override {}
 };
+
+// --decompose-rays: keeps the images of the error sources a decomposition reads, and hands
+// every output on to `inner` except the dumps planned only to reach those sources.
+class DecompositionSink final : public FrameSink {
+public:
+    DecompositionSink(FrameSink& inner, const std::set<std::string>& sources,
+                      const std::set<std::string>& extraDumps)
+        : mInner(inner), mSources(sources), mExtraDumps(extraDumps) {}
+    void write(const OutputDesc& output, const std::vector<OutputLayer>& layers,
+               const FrameInfo& frame) override {
+        for (const auto& l : layers)
+            if (mSources.count(l.name))
+                images[l.name] = l.texture->image();
+        if (!(output.isDump && output.sources.size() == 1 &&
+              mExtraDumps.count(output.sources.front())))
+            mInner.write(output, layers, frame);
+    }
+    std::map<std::string, Image> images;
+
+private:
+    FrameSink& mInner;
+    const std::set<std::string>& mSources;
+    const std::set<std::string>& mExtraDumps;
+};
+
+// The frame's error_measure results, as bench has them, for the decomposition.
+std::vector<ErrorNodeResult> frameErrors(const Plan& plan, const FrameReport& fr) {
+    std::vector<ErrorNodeResult> errors;
+    for (std::size_t s = 0; s < plan.steps.size() && s < fr.passes.size(); ++s) {
+        const PlanStep& step = plan.steps[s];
+        if (step.type != kErrorPassType)
+            continue;
+        ErrorNodeResult e;
+        e.name = step.name;
+        e.metrics = fr.passes[s].metrics;
+        e.source = step.inputs.at("source").key;
+        e.reference = step.inputs.at("reference").key;
+        errors.push_back(std::move(e));
+    }
+    return errors;
+}
 
 // The `count` frames before the first, spaced like the sequence (its first step, else 1), that
 // have a capture on disk (a sequence's start cuts the warm-up short).
@@ -98,6 +141,7 @@ Command addRunCommand(CLI::App& app) {
         std::string outputDir = "out", report;
         bool strict = false, continueOnError = false, skipExisting = false;
         int warmupFrames = 0;
+        int decomposeRays = 0;
     };
     auto opt = std::make_shared<Options>();
     CLI::App* sub = app.add_subcommand("run", "run the chain and write the requested outputs");
@@ -113,6 +157,10 @@ Command addRunCommand(CLI::App& app) {
                     "run N frames before the first one (writing nothing) so temporal passes "
                     "start with history: a chunked farm run then equals a sequential one")
         ->check(CLI::Range(0, 100000));
+    sub->add_option("--decompose-rays", opt->decomposeRays,
+                    "take each screen-space error apart (as bench does) with N rays per pixel, "
+                    "every frame, into the output and the report (default 0: off)")
+        ->check(CLI::Range(0, 1024));
     sub->add_flag("--continue-on-error", opt->continueOnError,
                   "attempt every frame; exit 1 at the end listing the frames that failed");
     sub->add_flag("--skip-existing", opt->skipExisting,
@@ -120,7 +168,30 @@ Command addRunCommand(CLI::App& app) {
                   "passes the skipped frames before a computed one still run, writing nothing");
 
     return [opt]() {
-        const RunSession session(opt->session);
+        // With --decompose-rays the chain is planned again with the error sources as dumps
+        // that DecompositionSink keeps in memory instead of writing.
+        const RunSession planned(opt->session);
+        std::vector<DecompositionTarget> targets;
+        std::set<std::string> sources, extraDumps;
+        SessionOptions sessionOptions = opt->session;
+        if (opt->decomposeRays > 0) {
+            const auto capture = planned.openCapture(planned.capturePath(planned.frames().front()));
+            targets = decompositionTargets(
+                planned.plan(), capture ? capture->availableBuffers() : std::set<std::string>{});
+            if (targets.empty())
+                logWarning("--decompose-rays: no error_measure of this chain measures a "
+                           "screen-space pass against a diffuse-indirect or AO truth of the "
+                           "capture: nothing to take apart");
+            for (const auto& t : targets) {
+                sources.insert(t.source);
+                if (std::find(sessionOptions.dumps.begin(), sessionOptions.dumps.end(),
+                              t.source) == sessionOptions.dumps.end() &&
+                    extraDumps.insert(t.source).second)
+                    sessionOptions.dumps.push_back(t.source);
+            }
+        }
+        const RunSession session =
+            extraDumps.empty() ? planned : RunSession(planned, sessionOptions);
         const Plan& plan = session.plan();
         for (const auto& w : plan.warnings)
             logWarning(fmt::format("{}: {}", w.pointer, w.message));
@@ -258,8 +329,10 @@ Command addRunCommand(CLI::App& app) {
                 const std::size_t before = writer.written().size();
                 logVerbose(fmt::format("frame {}:", frames[i]));
                 DiscardSink discard;
+                DecompositionSink kept(skip[i] ? static_cast<FrameSink&>(discard) : writer,
+                                       sources, extraDumps);
                 auto [fr, fj] = runFrame(
-                    frames[i], cut, skip[i] ? static_cast<FrameSink&>(discard) : writer,
+                    frames[i], cut, kept,
                     [&](int done, int total, const PassReport& pass) {
                         verbosePass(done, total, pass);
                         const double progress =
@@ -271,12 +344,30 @@ Command addRunCommand(CLI::App& app) {
                                                        writer.written().end());
                 fj["status"] = skip[i] ? "skipped (run for the history of later frames)" : "ok";
                 fj["written"] = written;
+                // The frame's screen-space errors taken apart: the oracle and the converged
+                // chain on this frame's capture, the result as this run made it (with history).
+                std::vector<ErrorNodeResult> errors;
+                if (!targets.empty() && !skip[i]) {
+                    ErrorDecomposer decomposer(session, targets, opt->decomposeRays, frames[i]);
+                    errors = frameErrors(plan, fr);
+                    decomposer.decompose(opt->session, kept.images,
+                                         fmt::format("frame {}", frames[i]), errors);
+                    for (const auto& e : errors)
+                        if (e.decomposition)
+                            fj["errorDecomposition"][e.name] = e.decomposition->toJson();
+                }
                 report["frames"].push_back(fj);
-                if (skip[i])
+                if (skip[i]) {
                     logInfo(fmt::format("frame {}: every output exists, run for history only",
                                         frames[i]));
-                else
+                } else {
                     printFrame(fr, written);
+                    for (const auto& e : errors)
+                        if (e.decomposition)
+                            std::cout << fmt::format("  {} ({} against {}):\n", e.name, e.source,
+                                                     e.reference)
+                                      << decompositionText(*e.decomposition);
+                }
             } catch (const Error& e) {
                 status["status"] = "failed";
                 status["error"] = e.what();
