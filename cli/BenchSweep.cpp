@@ -196,11 +196,7 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
         setting.passes.push_back(t);
         if (step.type != kErrorPassType)
             continue;
-        ErrorNodeResult e;
-        e.name = step.name;
-        e.metrics = last.passes[s].metrics;
-        e.source = step.inputs.at("source").key;
-        e.reference = step.inputs.at("reference").key;
+        ErrorNodeResult e = errorNodeResult(step, last.passes[s]);
         if (auto it = rmseByFrame.find(s); it != rmseByFrame.end())
             e.rmseByFrame = it->second;
         if (!opt.html.empty())

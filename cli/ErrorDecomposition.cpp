@@ -125,6 +125,15 @@ std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
     return targets;
 }
 
+ErrorNodeResult errorNodeResult(const PlanStep& step, const PassReport& report) {
+    ErrorNodeResult e;
+    e.name = step.name;
+    e.metrics = report.metrics;
+    e.source = step.inputs.at("source").key;
+    e.reference = step.inputs.at("reference").key;
+    return e;
+}
+
 ErrorDecomposer::ErrorDecomposer(const RunSession& probe,
                                  std::vector<DecompositionTarget> targets,
                                  int rays,

@@ -28,6 +28,10 @@ struct DecompositionTarget {
     float skyDistance = 0;   //!< its skyDistance parameter
 };
 
+/// What an error_measure step measured on a frame (its figures, source and reference keys), as
+/// bench and run hand it to the decomposition.
+ErrorNodeResult errorNodeResult(const PlanStep& step, const PassReport& report);
+
 /// The error_measure steps of `plan` that can be taken apart (source downstream of an ssgi pass,
 /// reference a diffuse-indirect or AO truth of the capture). `available`: the capture's buffers.
 std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,

@@ -54,17 +54,9 @@ private:
 // The frame's error_measure results, as bench has them, for the decomposition.
 std::vector<ErrorNodeResult> frameErrors(const Plan& plan, const FrameReport& fr) {
     std::vector<ErrorNodeResult> errors;
-    for (std::size_t s = 0; s < plan.steps.size() && s < fr.passes.size(); ++s) {
-        const PlanStep& step = plan.steps[s];
-        if (step.type != kErrorPassType)
-            continue;
-        ErrorNodeResult e;
-        e.name = step.name;
-        e.metrics = fr.passes[s].metrics;
-        e.source = step.inputs.at("source").key;
-        e.reference = step.inputs.at("reference").key;
-        errors.push_back(std::move(e));
-    }
+    for (std::size_t s = 0; s < plan.steps.size() && s < fr.passes.size(); ++s)
+        if (plan.steps[s].type == kErrorPassType)
+            errors.push_back(errorNodeResult(plan.steps[s], fr.passes[s]));
     return errors;
 }
 
