@@ -126,6 +126,10 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
         (name.rfind("r.", 0) == 0 ? sessionOptions.cvars : sessionOptions.sets)
             .push_back(name + "=" + value);
     const RunSession session(mProbe, sessionOptions);
+    // A setting's own warnings (a swept cvar that the config's params shadow), each said once.
+    for (const auto& w : session.plan().warnings)
+        if (mWarned.insert(w.pointer + ": " + w.message).second)
+            logWarning(w.pointer + ": " + w.message);
     // The error_measure passes live in the settings' plans (the probe's writes nothing).
     if (!mDecomposerChecked && mOptions.decomposeRays > 0) {
         mDecomposerChecked = true;
@@ -272,7 +276,8 @@ std::string sweepLabel(const SweepPoint& point) {
 
 Bencher::Bencher(const BenchOptions& options) : mOptions(options), mProbe(options.session) {
     for (const auto& w : mProbe.plan().warnings)
-        logWarning(fmt::format("{}: {}", w.pointer, w.message));
+        if (mWarned.insert(w.pointer + ": " + w.message).second)
+            logWarning(w.pointer + ": " + w.message);
     mBase = options.session;
     for (const auto& d : errorDumps(mProbe.config().graph))
         mBase.dumps.push_back(d);

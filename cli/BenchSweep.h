@@ -7,6 +7,7 @@
 #include "cli/RunSession.h"
 
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -61,6 +62,7 @@ private:
     std::optional<ErrorDecomposer> mDecomposer;
     bool mDecomposerChecked = false;
     int mRunsDone = 0, mTotalRuns = 1;
+    std::set<std::string> mWarned;  //!< plan warnings already said
 };
 
 }  // namespace fp::cli

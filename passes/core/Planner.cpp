@@ -152,6 +152,18 @@ public:
                               fmt::format("cvar {} sets {}.{}", name, n.desc->name, m->param),
                               mDiag);
                 merged[m->param] = cv.value;
+                // The config's params and --set come later and win: a cvar they shadow does
+                // nothing, which a user sweeping it (bench, tune) must hear.
+                const auto set = sets.find(int(i));
+                const bool byParams = n.desc->params.is_object() && n.desc->params.contains(m->param);
+                if (byParams || (set != sets.end() && set->second.values.contains(m->param)))
+                    mDiag.warning(cv.where,
+                                  fmt::format("cvar {} sets {}.{}, but {} sets it too and wins: "
+                                              "the cvar has no effect on '{}'",
+                                              name, n.desc->name, m->param,
+                                              byParams ? paramsPtr + "/" + m->param
+                                                       : set->second.where,
+                                              n.desc->name));
             }
             validateLayer(*n.type, n.desc->params, paramsPtr, "", "", mDiag);
             if (n.desc->params.is_object())

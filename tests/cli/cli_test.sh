@@ -174,6 +174,9 @@ bd = [e for e in b[\"settings\"][0][\"errors\"] if e[\"name\"] == \"vs_full\"][0
 assert rd == bd, (rd, bd)
 assert [s[\"name\"] for s in rd[\"steps\"]] == [\"noise\", \"approximation\", \"screen-space limit\", \"multi-bounce\"], rd
 '"
+# A config's explicit params beat cvars: sweeping a cvar they shadow measures one setting several
+# times, so bench says so (once) instead of printing a table of identical rows.
+check "bench warns when the config's params shadow a swept cvar" bash -c "sed 's/\"type\": \"ssgi\",/\"type\": \"ssgi\", \"params\": { \"quality\": 2 },/' '$DIR/ssgi_bench.json' > '$DIR/shadowed.json' && grep -q '\"quality\": 2' '$DIR/shadowed.json' && '$FP' bench '$DIR/shadowed.json' --runs 1 --warmup 0 --decompose-rays 0 --sweep r.SSGI.Quality=1,3 2>&1 >/dev/null | grep -c 'sets it too and wins' | grep -qx 1"
 # bench over a sequence runs its frames in order with the temporal history, as run does: the
 # error of the last frame is run's error on that frame (the chain is deterministic: the same
 # bits), and the first frame's is a one-frame bench's.
