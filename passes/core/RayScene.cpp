@@ -150,18 +150,26 @@ void RayScene::occluded8(const Ray* rays, const bool* active, bool* occluded) co
 
 void RayScene::occludedWithDistance8(const Ray* rays, const bool* active, bool* occluded,
                                      float* t) const {
-    if (mLog) log(rays, active, kPacketSize);
+    // Any-hit first: most shadow rays of a lit frame are unblocked, and rtcOccluded8 stops at
+    // the first occluder. Only the blocked lanes then look for their nearest one.
+    occluded8(rays, active, occluded);
+    bool anyBlocked = false;
+    for (int i = 0; i < kPacketSize; ++i) {
+        t[i] = -1.0f;
+        anyBlocked |= occluded[i];
+    }
+    if (!anyBlocked)
+        return;
     alignas(32) int valid[kPacketSize];
     alignas(32) RTCRayHit8 rh;
-    fillRay8(rh.ray, valid, rays, active);
+    fillRay8(rh.ray, valid, rays, occluded);
     for (int i = 0; i < kPacketSize; ++i) rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     rtcIntersect8(valid, static_cast<RTCScene>(mRtcScene), &context, &rh);
-    for (int i = 0; i < kPacketSize; ++i) {
-        t[i] = active[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar[i] : -1.0f;
-        occluded[i] = t[i] >= 0.0f;
-    }
+    for (int i = 0; i < kPacketSize; ++i)
+        if (occluded[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID)
+            t[i] = rh.ray.tfar[i];
 }
 
 RayHit RayScene::intersectInstance(const Vec3f& org, const Vec3f& dir, float tnear, float tfar,

@@ -67,10 +67,10 @@ public:
 
     /// rtcOccluded8: occluded[i] for each active[i] ray of the packet (inactive lanes: false).
     void occluded8(const Ray* rays, const bool* active, bool* occluded) const;
-    /// occluded8 and each blocked ray's closest hit in one traversal (rtcIntersect8): t[i] is the
-    /// closest-hit distance of active ray i, −1 for a miss or an inactive lane, and occluded[i]
-    /// is t[i] ≥ 0 — what occluded8 answers, for the price of finding the nearest occluder
-    /// instead of any.
+    /// occluded8, then each blocked ray's closest hit (rtcIntersect8 on the blocked lanes only,
+    /// as occluded() then intersect() do one ray at a time): t[i] is the closest-hit distance of
+    /// blocked ray i, −1 for an unblocked ray or an inactive lane. Unblocked rays, most of a lit
+    /// frame's, cost an any-hit traversal only.
     void occludedWithDistance8(const Ray* rays, const bool* active, bool* occluded,
                                float* t) const;
     /// Closest hit of the ray on the meshes with this InstanceId only (other geometry is passed
