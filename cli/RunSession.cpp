@@ -1,5 +1,6 @@
 #include "cli/RunSession.h"
 
+#include "cli/Invocation.h"
 #include "io/ExrReader.h"
 #include "io/FramePattern.h"
 #include "passes/core/Error.h"
@@ -49,6 +50,13 @@ RunSession::RunSession(const SessionOptions& o)
     if (!o.capture.empty())
         mConfig.capture = o.capture;
     plan(o);
+    // Several frames of one file: each frame reads the same pixels (and temporal passes
+    // accumulate one image), which is rarely what a frame list means.
+    if (mFrames.size() > 1 && !io::FramePattern(mConfig.capture).hasFrameToken() &&
+        mProfile.filePattern().empty())
+        logWarning(fmt::format("capture '{}' is one file without a frame token: each of the {} "
+                               "frames reads it (a sequence is a pattern, e.g. shot.####.exr)",
+                               mConfig.capture, mFrames.size()));
 }
 
 RunSession::RunSession(const RunSession& base, const SessionOptions& o)

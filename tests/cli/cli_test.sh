@@ -177,6 +177,7 @@ assert [s[\"name\"] for s in rd[\"steps\"]] == [\"noise\", \"approximation\", \"
 # A config's explicit params beat cvars: sweeping a cvar they shadow measures one setting several
 # times, so bench says so (once) instead of printing a table of identical rows.
 check "bench warns when the config's params shadow a swept cvar" bash -c "sed 's/\"type\": \"ssgi\",/\"type\": \"ssgi\", \"params\": { \"quality\": 2 },/' '$DIR/ssgi_bench.json' > '$DIR/shadowed.json' && grep -q '\"quality\": 2' '$DIR/shadowed.json' && '$FP' bench '$DIR/shadowed.json' --runs 1 --warmup 0 --decompose-rays 0 --sweep r.SSGI.Quality=1,3 2>&1 >/dev/null | grep -c 'sets it too and wins' | grep -qx 1"
+check "several frames of one capture file are a warning" bash -c "'$FP' bench '$DIR/ssgi_bench.json' --frames 1-2 --runs 1 --warmup 0 --decompose-rays 0 2>&1 >/dev/null | grep -q 'one file without a frame token: each of the 2 frames reads it'"
 # bench over a sequence runs its frames in order with the temporal history, as run does: the
 # error of the last frame is run's error on that frame (the chain is deterministic: the same
 # bits), and the first frame's is a one-frame bench's.
