@@ -92,9 +92,7 @@ Command addCaptureCommand(CLI::App& app) {
             // (in a single-part file every read would decompress every channel).
             std::vector<io::ExrPart> parts;
             for (const auto& b : semanticBuffers()) {
-                const bool depth =
-                    std::string(b.name) == "SceneDepth" || std::string(b.name) == "PrevSceneDepth";
-                const bool half = opt->half && !(depth && opt->floatDepth);
+                const bool half = opt->half && !(isDepthBuffer(b.name) && opt->floatDepth);
                 parts.push_back({b.name, {{b.name, &result.buffers.at(b.name), half}}});
             }
             io::ExrMetadata meta;

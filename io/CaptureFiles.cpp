@@ -268,7 +268,7 @@ Image CaptureFiles::read(const std::string& buffer, int channels, std::vector<st
                 throw UsageError(fmt::format("{}: channel '{}' is uint, but {} is not an id "
                                              "buffer ({})",
                                              file.path(), ch->name, buffer, m->pointer));
-            if (ch->type == Imf::HALF && (buffer == "SceneDepth" || buffer == "PrevSceneDepth"))
+            if (ch->type == Imf::HALF && isDepthBuffer(buffer))
                 notes.push_back(fmt::format(
                     "{} (depth) is half float: 11-bit steps (8 cm at 100 m) and sky at 65504; "
                     "prefer float depth", ch->name));

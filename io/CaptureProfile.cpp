@@ -118,7 +118,7 @@ BufferMapping parseMapping(const nlohmann::json& j, const std::string& buffer, b
         } else if (key == "offset") {
             m.offset = numbers(v, width, at);
         } else if (key == "skyAbove") {
-            if (buffer != "SceneDepth" && buffer != "PrevSceneDepth")
+            if (!isDepthBuffer(buffer))
                 fail(at, "only depth buffers have a sky threshold");
             if (!v.is_number() || !(v.get<double>() > 0)) fail(at, "expected a positive number");
             m.skyAbove = v.get<float>();

@@ -103,7 +103,7 @@ Image CaptureSource::readPreviousFrame(const std::string& buffer, const BufferMa
         // camera cut — black colour, sky depth.
         note(fmt::format("frame {}: no previous frame{} for {}: no history, as after a camera "
                          "cut", mOptions.frame, prev.empty() ? "" : " (" + prev + ")", buffer));
-        const bool isDepth = buffer == "PrevSceneDepth" || buffer == "SceneDepth";
+        const bool isDepth = isDepthBuffer(buffer);
         const SemanticBuffer* sem = findSemanticBuffer(buffer);
         return Image(mFiles.extent().width, mFiles.extent().height, sem->channels,
                      isDepth ? std::numeric_limits<float>::infinity() : 0.0f);
@@ -141,7 +141,7 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
     // what sky pixels hold (the passes' normalize keeps it 0, never NaN), so a zero normal is bad
     // only on a surface — checked against the depth under --strict.
     const bool isColor = sem ? sem->kind == PortKind::Color : true;
-    const bool isDepth = buffer == "SceneDepth" || buffer == "PrevSceneDepth";
+    const bool isDepth = isDepthBuffer(buffer);
     SanitizeCounts counts;
     for (int c = 0; c < img.channelCount(); ++c)
         for (int y = 0; y < img.height(); ++y) {

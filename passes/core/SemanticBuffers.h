@@ -47,4 +47,9 @@ inline const SemanticBuffer* findSemanticBuffer(const std::string& name) {
 
 inline bool isTruthBuffer(const std::string& name) { return name.rfind("Truth.", 0) == 0; }
 
+/// This frame's or last frame's linear depth (sky = +inf; reconstruction reads it).
+inline bool isDepthBuffer(const std::string& name) {
+    return name == "SceneDepth" || name == "PrevSceneDepth";
+}
+
 }  // namespace fp

@@ -63,7 +63,7 @@ PreviewKind classifyLayer(const LayerDescription& layer, const Image* pixels) {
     if (const SemanticBuffer* sem = findSemanticBuffer(key)) {
         if (sem->kind == PortKind::Color)
             return PreviewKind::Color;
-        if (key == "SceneDepth" || key == "PrevSceneDepth")
+        if (isDepthBuffer(key))
             return PreviewKind::Depth;
         if (key == "WorldNormal")
             return PreviewKind::Normal;
