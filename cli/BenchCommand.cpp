@@ -6,7 +6,6 @@
 #include "cli/BenchSweep.h"
 #include "cli/Commands.h"
 #include "cli/Invocation.h"
-#include "passes/ssgi/SSGIPass.h"
 
 #include <filesystem>
 #include <fstream>
@@ -79,18 +78,14 @@ Command addBenchCommand(CLI::App& app) {
         "time the chain over several runs (median, min, max, throughput per pass); "
         "--sweep gives the speed-against-error table");
     opt->session.addTo(*sub);
-    sub->add_option("--runs", opt->runs, "timed runs per setting (default 5)")
-        ->check(CLI::Range(1, 1000));
-    sub->add_option("--warmup", opt->warmup, "untimed runs first (default 1)")
-        ->check(CLI::Range(0, 100));
+    opt->addTimingOptions(*sub);
     sub->add_option("--sweep", opt->sweeps,
                     "vary a cvar or PASS.PARAM: NAME=V1,V2,... or NAME=A..B; several make a grid");
     sub->add_flag("--json", opt->json, "print the results as JSON");
     sub->add_option("--html", opt->html, "write a self-contained HTML report here");
-    sub->add_option("--decompose-rays", opt->decomposeRays,
-                    "rays per pixel of the error decomposition's oracle and converged tracer "
-                    "(default 256); 0 leaves the decomposition out")
-        ->check(CLI::Range(0, SSGIPass::kMaxRays));
+    addDecomposeRaysOption(*sub, opt->decomposeRays,
+                           "rays per pixel of the error decomposition's oracle and converged "
+                           "tracer (default 256); 0 leaves the decomposition out");
 
     return [opt]() {
         const std::vector<SweepPoint> grid = sweepGrid(opt->sweeps);

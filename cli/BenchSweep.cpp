@@ -10,6 +10,7 @@
 #include "passes/core/Executor.h"
 #include "passes/display/DisplayTransform.h"
 #include "passes/metrics/Heatmap.h"
+#include "passes/ssgi/SSGIPass.h"
 
 #include <tbb/global_control.h>
 
@@ -213,6 +214,17 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
                     [](const PlanStep& s) { return s.type == kShadowPassType; }))
         addBareRayLoops(plan, source, sink, opt, setting);
     return setting;
+}
+
+void BenchOptions::addTimingOptions(CLI::App& sub) {
+    sub.add_option("--runs", runs, fmt::format("timed runs per setting (default {})", runs))
+        ->check(CLI::Range(1, 1000));
+    sub.add_option("--warmup", warmup, fmt::format("untimed runs first (default {})", warmup))
+        ->check(CLI::Range(0, 100));
+}
+
+void addDecomposeRaysOption(CLI::App& sub, int& rays, const std::string& help) {
+    sub.add_option("--decompose-rays", rays, help)->check(CLI::Range(0, SSGIPass::kMaxRays));
 }
 
 SweepAxis parseSweep(const std::string& text) {

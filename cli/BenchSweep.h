@@ -21,7 +21,13 @@ struct BenchOptions {
     bool json = false;
     std::string html;
     int decomposeRays = 256;  //!< 0: no error decomposition
+
+    /// Registers --runs and --warmup (their help names the current defaults) on bench or tune.
+    void addTimingOptions(CLI::App& sub);
 };
+
+/// Registers --decompose-rays, bounded by what the converged tracer can trace (bench, tune, run).
+void addDecomposeRaysOption(CLI::App& sub, int& rays, const std::string& help);
 
 /// One point of the grid: (cvar or PASS.PARAM, value) per axis.
 using SweepPoint = std::vector<std::pair<std::string, std::string>>;

@@ -1,5 +1,6 @@
 // framepass run: execute the chain over the frames and write outputs, dumps and a report.
 #include "cli/BenchResult.h"
+#include "cli/BenchSweep.h"
 #include "cli/Commands.h"
 #include "cli/ErrorDecomposition.h"
 #include "cli/Invocation.h"
@@ -16,6 +17,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <set>
 
 namespace fp::cli {
@@ -149,10 +151,9 @@ Command addRunCommand(CLI::App& app) {
                     "run N frames before the first one (writing nothing) so temporal passes "
                     "start with history: a chunked farm run then equals a sequential one")
         ->check(CLI::Range(0, 100000));
-    sub->add_option("--decompose-rays", opt->decomposeRays,
-                    "take each screen-space error apart (as bench does) with N rays per pixel, "
-                    "every frame, into the output and the report (default 0: off)")
-        ->check(CLI::Range(0, 1024));
+    addDecomposeRaysOption(*sub, opt->decomposeRays,
+                           "take each screen-space error apart (as bench does) with N rays per "
+                           "pixel, every frame, into the output and the report (default 0: off)");
     sub->add_flag("--continue-on-error", opt->continueOnError,
                   "attempt every frame; exit 1 at the end listing the frames that failed");
     sub->add_flag("--skip-existing", opt->skipExisting,
@@ -182,8 +183,10 @@ Command addRunCommand(CLI::App& app) {
                     sessionOptions.dumps.push_back(t.source);
             }
         }
-        const RunSession session =
-            extraDumps.empty() ? planned : RunSession(planned, sessionOptions);
+        std::optional<RunSession> replanned;
+        if (!extraDumps.empty())
+            replanned.emplace(planned, sessionOptions);
+        const RunSession& session = replanned ? *replanned : planned;
         const Plan& plan = session.plan();
         for (const auto& w : plan.warnings)
             logWarning(fmt::format("{}: {}", w.pointer, w.message));

@@ -12,7 +12,6 @@
 #include "passes/core/Error.h"
 #include "passes/core/PassRegistry.h"
 #include "passes/core/Suggest.h"
-#include "passes/ssgi/SSGIPass.h"
 
 #include <fmt/ranges.h>
 
@@ -190,16 +189,12 @@ Command addTuneCommand(CLI::App& app) {
                     "settings at most to try between grid values along the Pareto front "
                     "(default 4)")
         ->check(CLI::Range(0, 100));
-    sub->add_option("--runs", opt->bench.runs, "timed runs per setting (default 3)")
-        ->check(CLI::Range(1, 1000));
-    sub->add_option("--warmup", opt->bench.warmup, "untimed runs first (default 1)")
-        ->check(CLI::Range(0, 100));
-    sub->add_option("--decompose-rays", opt->bench.decomposeRays,
-                    "rays of the error decomposition shown when nothing meets the target "
-                    "(default 256; 0: none)")
-        ->check(CLI::Range(0, SSGIPass::kMaxRays));
+    opt->bench.runs = 3;  // tune's default: a grid of settings, each timed
+    opt->bench.addTimingOptions(*sub);
+    addDecomposeRaysOption(*sub, opt->bench.decomposeRays,
+                           "rays of the error decomposition shown when nothing meets the target "
+                           "(default 256; 0: none)");
     sub->add_flag("--json", opt->bench.json, "print the result as JSON");
-    opt->bench.runs = 3;
 
     return [opt]() {
         const Target target = parseTarget(opt->target);
