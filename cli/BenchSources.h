@@ -22,6 +22,7 @@ public:
     }
     const RayScene& scene() override { return mInner.scene(); }
     const std::vector<Light>& lights() override { return mInner.lights(); }
+    const Environment& environment() override { return mInner.environment(); }
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mInner.colorConfig(); }
     const Texture* cached(const std::string& buffer) const {
         auto it = mCache.find(buffer);
@@ -63,6 +64,7 @@ public:
     }
     const RayScene& scene() override { return mInner.scene(); }
     const std::vector<Light>& lights() override { return mInner.lights(); }
+    const Environment& environment() override { return mInner.environment(); }
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mInner.colorConfig(); }
 
 private:

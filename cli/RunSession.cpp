@@ -155,6 +155,8 @@ io::CaptureSource::Options RunSession::captureOptions(int frame) const {
     SessionInputs* inputs = mInputs.get();
     o.scene = [inputs]() -> const io::SceneFile& { return inputs->scene(); };
     o.lights = [inputs]() -> const std::vector<Light>& { return inputs->lights(); };
+    if (inputs->hasScene())  // without a scene there is no sky light (and it is no error)
+        o.environment = [inputs]() -> const Environment& { return inputs->environment(); };
     o.colorConfig = [inputs]() { return inputs->colorConfig(); };
     return o;
 }

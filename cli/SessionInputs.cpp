@@ -25,6 +25,10 @@ const std::vector<Light>& SessionInputs::lights() {
     return description().scene.lights;
 }
 
+const Environment& SessionInputs::environment() {
+    return description().scene.environment;
+}
+
 std::vector<std::pair<std::string, std::string>> SessionInputs::filesRead() const {
     std::vector<std::pair<std::string, std::string>> files;
     if (mScene) {

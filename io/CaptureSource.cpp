@@ -212,6 +212,11 @@ const std::vector<Light>& CaptureSource::lights() {
     return mOptions.lights();
 }
 
+const Environment& CaptureSource::environment() {
+    static const Environment none;  // no scene: no sky light, nothing to reflect but SSR
+    return mOptions.environment ? mOptions.environment() : none;
+}
+
 OCIO::ConstConfigRcPtr CaptureSource::colorConfig() {
     FP_CHECK(mOptions.colorConfig, "a pass needs an OCIO config but none was provided");
     return mOptions.colorConfig();

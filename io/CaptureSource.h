@@ -30,6 +30,7 @@ public:
         std::string cameraSidecar;                //!< "" = header, then <path>.camera.json
         std::function<const SceneFile&()> scene;  //!< loads the scene, geometry too, on first call
         std::function<const std::vector<Light>&()> lights;  //!< reads the scene's lights only
+        std::function<const Environment&()> environment;    //!< the scene's sky light (no geometry)
         std::function<OCIO_NAMESPACE::ConstConfigRcPtr()> colorConfig;  //!< loads on first call
         bool strict = false;  //!< bad input pixels and assumed values are errors
         bool firstInSequence = true;
@@ -40,6 +41,7 @@ public:
     Texture loadBuffer(const std::string& buffer, int channels) override;
     const RayScene& scene() override;
     const std::vector<Light>& lights() override;
+    const Environment& environment() override;
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override;
 
     CaptureFiles& files() { return mFiles; }

@@ -1,6 +1,7 @@
 #include "io/SceneLoader.h"
 
 #include "io/CameraIO.h"
+#include "io/ExrReader.h"
 #include "io/JsonFile.h"
 #include "passes/core/Error.h"
 #include "passes/core/Limits.h"
@@ -22,7 +23,9 @@ namespace {
 
 const std::vector<std::string> kSceneKeys = {
     "version",      "geometry", "sceneUnitsPerMeter", "offset", "camera",     "previousCamera",
-    "cameraMotion", "lights",   "materials",          "sky",    "resolution", "description"};
+    "cameraMotion", "lights",   "materials",          "sky",    "resolution", "description",
+    "skyLight"};
+const std::vector<std::string> kSkyLightKeys = {"color", "intensity", "latLong", "up", "occlusionTint"};
 const std::vector<std::string> kLightKeys = {"name",
                                              "type",
                                              "color",
@@ -125,6 +128,70 @@ void applyMaterialOverride(Material& m,
             fail(file, where + "/shadingModel", "expected a name or an id 0–11");
         }
     }
+}
+
+// The scene's sky light (Environment.h): a constant colour, or a lat-long EXR (RGB, or Y) tinted by
+// the colour, × intensity. The map is read now, so a bad file fails before any pixel is read.
+SkyLight parseSkyLight(const nlohmann::json& j, const std::string& file) {
+    const std::string where = "/skyLight";
+    if (!j.is_object())
+        fail(file, where, "expected {\"color\": [r, g, b], \"intensity\": …, \"latLong\": \"sky.exr\"}");
+    checkKeys(j, kSkyLightKeys, file, where);
+    SkyLight sky;
+    sky.enabled = true;
+    if (j.contains("color"))
+        sky.color = Vec3f(vec3(j["color"], file, where + "/color"));
+    if (j.contains("occlusionTint"))
+        sky.occlusionTint = Vec3f(vec3(j["occlusionTint"], file, where + "/occlusionTint"));
+    if (j.contains("intensity"))
+        sky.intensity = num(j["intensity"], file, where + "/intensity");
+    for (const auto& [key, v] : {std::pair{"/color", sky.color}, std::pair{"/occlusionTint", sky.occlusionTint}})
+        if (v.x < 0 || v.y < 0 || v.z < 0)
+            fail(file, where + key, "a radiance cannot be negative");
+    if (sky.intensity < 0)
+        fail(file, where + "/intensity", "expected a number ≥ 0");
+    if (j.contains("up")) {
+        const nlohmann::json& up = j["up"];
+        if (!up.is_string() || (up != "y" && up != "z"))
+            fail(file, where + "/up", "expected \"y\" (glTF's axes) or \"z\" (Blender's and Unreal's)");
+        sky.up = up == "y" ? LatLongUp::Y : LatLongUp::Z;
+    }
+    if (j.contains("latLong")) {
+        if (!j["latLong"].is_string())
+            fail(file, where + "/latLong", "expected the path of a lat-long (equirectangular) EXR");
+        const fs::path map = fs::path(file).parent_path() / j["latLong"].get<std::string>();
+        sky.source = map.string();
+        std::optional<ExrReader> opened;
+        try {
+            opened.emplace(sky.source);
+        } catch (const Error& e) {  // missing, a folder, not an EXR: a bad scene, exit 2
+            fail(file, where + "/latLong", e.what());
+        }
+        ExrReader& exr = *opened;
+        std::vector<std::string> channels;
+        for (const char* c : {"R", "G", "B"})
+            if (exr.findChannel(c)) channels.push_back(c);
+        if (channels.size() != 3) {
+            if (!exr.findChannel("Y"))
+                fail(file, where + "/latLong", sky.source + " has neither R, G, B nor Y channels");
+            channels = {"Y", "Y", "Y"};
+        }
+        const Extent e = exr.extent();
+        if (e.width < 2 || e.height < 1)
+            fail(file, where + "/latLong", fmt::format("{} is {}×{}: a lat-long map needs at least 2×1 pixels",
+                                                        sky.source, e.width, e.height));
+        sky.latLong = exr.read(channels, {"R", "G", "B"});
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < e.height; ++y)
+                for (int x = 0; x < e.width; ++x) {
+                    const float v = sky.latLong.plane(c).at(x, y);
+                    if (!std::isfinite(v) || v < 0)
+                        fail(file, where + "/latLong",
+                             fmt::format("{} has {} at pixel ({}, {}): the sky must be finite and ≥ 0",
+                                         sky.source, v, x, y));
+                }
+    }
+    return sky;
 }
 
 Light parseLight(const nlohmann::json& j, const std::string& file, const std::string& where) {
@@ -733,6 +800,8 @@ SceneFile loadScene(const std::string& path, SceneParts parts) {
         sf.previousCameraJson = j["previousCamera"];
     if (j.contains("sky"))
         sf.scene.skyColor = Vec3f(vec3(j["sky"], path, "/sky"));
+    if (j.contains("skyLight"))
+        sf.scene.environment.sky = parseSkyLight(j["skyLight"], path);
     if (j.contains("resolution")) {
         const auto& r = j["resolution"];
         if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() ||

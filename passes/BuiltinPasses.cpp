@@ -7,6 +7,7 @@
 #include "passes/error_measure/ErrorMeasurePass.h"
 #include "passes/hzb/HZBPass.h"
 #include "passes/prev_color_reduction/PrevColorReductionPass.h"
+#include "passes/reflection_environment/ReflectionEnvironmentPass.h"
 #include "passes/rt_shadows/RTShadowsPass.h"
 #include "passes/screen_space_oracle/ScreenSpaceOraclePass.h"
 #include "passes/shadow_denoise/ShadowDenoisePass.h"
@@ -43,6 +44,10 @@ const PassRegistry& builtinPasses() {
             "deferred_lighting",
             "direct lighting of one light per shading model, shadowed by "
             "its light attenuation, added to scene colour (reference §9.6)");
+        r.add<ReflectionEnvironmentPass>(
+            "reflection_environment",
+            "ReflectionEnvironment + SkyLighting: the sky light's SH diffuse, screen-space "
+            "reflections then the prefiltered sky under specular occlusion, × EnvBRDF (reference §8)");
         r.add<CameraVelocityPass>("camera_velocity", "camera motion vectors: where each pixel's "
                                                      "surface was on last frame's screen");
         r.add<DisplayPass>("display",

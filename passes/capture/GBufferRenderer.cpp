@@ -36,7 +36,9 @@ ShadedHit tracePixel(const RayScene& rs, const CameraView& cam, const Vec3f& eye
     const Vec3f dir(dirD);
     out.ray = rs.intersect(eyeOffset, dir, 0.0f, kInf);
     if (!out.ray.hit) {
-        out.color = rs.scene().skyColor;
+        // The backdrop plus the sky light, as a sky sphere shows it in Unreal: emissive, so a lit
+        // chain that starts from Emissive shows it too.
+        out.color = out.emission = rs.scene().skyColor + rs.scene().environment.sky.radiance(dir);
         return out;
     }
     out.hit = true;

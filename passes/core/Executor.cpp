@@ -165,6 +165,11 @@ public:
                  "pass '{}' reads the lights without declaring needsLights", mStep.name);
         return mSource.lights();
     }
+    const Environment& environment() override {
+        FP_CHECK(mStep.io.needsEnvironment,
+                 "pass '{}' reads the environment without declaring needsEnvironment", mStep.name);
+        return mSource.environment();
+    }
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mSource.colorConfig(); }
     void addWork(std::string_view counter, uint64_t amount) override {
         std::lock_guard<std::mutex> lock(mMutex);

@@ -26,6 +26,8 @@ public:
     virtual const RayScene& scene() = 0;
     /// The scene's lights; unlike scene(), this reads no geometry.
     virtual const std::vector<Light>& lights() = 0;
+    /// The scene's sky light; empty (not an error) when there is no scene.
+    virtual const Environment& environment() = 0;
     virtual OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() = 0;
 };
 

@@ -37,6 +37,7 @@ namespace fp {
 
 class RayScene;
 struct Light;
+struct Environment;
 
 /// Where a step of the plan runs.
 enum class Device { Cpu, Cuda };
@@ -60,6 +61,7 @@ struct PassIO {
     bool needsCamera = false;  //!< frame().camera must be known
     bool needsScene = false;   //!< geometry is loaded and a BVH built only if a live pass says so
     bool needsLights = false;  //!< the scene's lights are read (not its geometry)
+    bool needsEnvironment = false;  //!< the scene's sky light (none when the config names no scene)
     bool needsColorConfig = false;    //!< an OCIO config must be loaded
     std::string workUnit = "pixels";  //!< the counter that measures throughput
     bool temporal = false;            //!< keeps state from frame to frame (PassContext::history)
@@ -99,6 +101,9 @@ public:
     virtual const RayScene& scene() = 0;
     /// The scene's lights, read without its geometry (passes with needsLights or needsScene).
     virtual const std::vector<Light>& lights() = 0;
+    /// The scene's sky light; an empty one when the config names no scene (only passes with
+    /// needsEnvironment may call it).
+    virtual const Environment& environment() = 0;
     /// The OCIO config (only passes with needsColorConfig may call it).
     virtual OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() = 0;
     /// Adds to a named work counter; thread-safe, call once per tile rather than per pixel.

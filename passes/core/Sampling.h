@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace fp {
 
@@ -17,6 +18,17 @@ FP_HD inline void orthonormalBasis(const Vec3f& n, Vec3f& t, Vec3f& b) {
     const float c = n.x * n.y * a;
     t = {1.0f + s * a * n.x * n.x, s * c, -s * n.x};
     b = {c, s + a * n.y * n.y, -n.y};
+}
+
+/// Van der Corput radical inverse of i in base 2 (the bits of i mirrored behind the binary point):
+/// the second coordinate of the Hammersley set that Unreal's preintegration loops use.
+inline double radicalInverse2(uint32_t i) {
+    i = (i << 16) | (i >> 16);
+    i = ((i & 0x55555555u) << 1) | ((i & 0xAAAAAAAAu) >> 1);
+    i = ((i & 0x33333333u) << 2) | ((i & 0xCCCCCCCCu) >> 2);
+    i = ((i & 0x0F0F0F0Fu) << 4) | ((i & 0xF0F0F0F0u) >> 4);
+    i = ((i & 0x00FF00FFu) << 8) | ((i & 0xFF00FF00u) >> 8);
+    return double(i) / 4294967296.0;
 }
 
 /// Shirley–Chiu concentric map of the unit square onto the unit disk (area-preserving).

@@ -2,6 +2,7 @@
 // The scene as passes see it: triangle meshes in double-precision world space, materials in
 // Unreal's GBuffer terms, and lights. io/SceneLoader fills it from glTF or OBJ plus a scene JSON.
 #include "passes/core/Camera.h"
+#include "passes/core/Environment.h"
 #include "passes/core/Math.h"
 
 #include <algorithm>
@@ -100,7 +101,8 @@ struct Scene {
     std::vector<Mesh> meshes;
     std::vector<Material> materials;
     std::vector<Light> lights;
-    Vec3f skyColor{0, 0, 0};         //!< radiance of rays that leave the scene
+    Vec3f skyColor{0, 0, 0};         //!< the backdrop the camera sees where there is no surface
+    Environment environment;         //!< the sky light: what rays that leave the scene receive
     double sceneUnitsPerMeter = 100.0;
 
     /// The radiance mesh `m` sends to other surfaces: its emission, unless it is a light's

@@ -63,7 +63,10 @@ Vec3f PathTracer::reflectedIndirect(const SurfacePoint& start, Rng& rng, uint64_
         const Vec3f org = s.rayOrigin();
         ++rays;
         const RayHit hit = mScene.intersect(org, dir, 0.0f, kInf);
-        if (!hit.hit) break;  // the sky lights nothing
+        if (!hit.hit) {  // the sky light's radiance, found by the lobe alone (no MIS partner)
+            total += beta * mSky.radiance(dir);
+            break;
+        }
         const SurfacePoint next = surfaceAt(mScene, hit, org, dir);
         total += beta * (mScene.scene().emissionTowardsSurfaces(hit.mesh) * lobeHitWeight(hit, dir, lv.pdf) +
                          mLighting.shade(next, rng, rays));
@@ -90,10 +93,16 @@ Gathered PathTracer::gather(const SurfacePoint& s, ScatterLobe::Kind kind, Rng& 
     const Vec3f org = s.rayOrigin();
     ++rays;
     const RayHit hit = mScene.intersect(org, dir, 0.0f, kInf);
-    if (!hit.hit) return out;
+    const Vec3f weight = lv.weight * (1.0f / lv.pdf);
+    if (!hit.hit) {
+        // The sky is direct light: it belongs to the one-bounce layer as well as the full one.
+        const Vec3f sky = weight * mSky.radiance(dir);
+        out.oneBounce += sky;
+        out.full += sky;
+        return out;
+    }
     out.hit = true;
     out.distance = hit.t;
-    const Vec3f weight = lv.weight * (1.0f / lv.pdf);
     const SurfacePoint next = surfaceAt(mScene, hit, org, dir);
     const Vec3f atHit =
         mScene.scene().emissionTowardsSurfaces(hit.mesh) * lobeHitWeight(hit, dir, lv.pdf) +

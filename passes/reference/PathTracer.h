@@ -6,8 +6,9 @@
 // heuristic. A light's visible shape (Mesh::shapeOf) emits towards the camera only: its light
 // reaches other surfaces through the light's own next-event estimate, so paths that meet it gather
 // nothing from it and every light is counted once. Russian roulette divides by its survival
-// probability, so it adds no bias. The sky colour is a backdrop that lights nothing, exactly as
-// in the capture's SceneColor, so rays that leave the scene carry zero radiance.
+// probability, so it adds no bias. Rays that leave the scene receive the sky light's radiance
+// (Scene::environment; zero without one), found by lobe sampling alone. The backdrop colour the
+// camera sees (Scene::skyColor) lights nothing.
 #include "passes/core/RayScene.h"
 #include "passes/core/Random.h"
 #include "passes/lighting/DirectLighting.h"
@@ -32,7 +33,11 @@ public:
     /// `maxBounces` only guards against albedo-1 scenes that would never end; with Russian
     /// roulette a path of albedo a reaches it with probability a^maxBounces.
     explicit PathTracer(const RayScene& scene, int maxBounces = 256)
-        : mScene(scene), mLighting(scene, 1), mEmitters(scene), mMaxBounces(maxBounces) {}
+        : mScene(scene),
+          mLighting(scene, 1),
+          mEmitters(scene),
+          mSky(scene.scene().environment.sky),
+          mMaxBounces(maxBounces) {}
 
     const DirectLighting& lighting() const { return mLighting; }
 
@@ -50,6 +55,7 @@ private:
     const RayScene& mScene;
     DirectLighting mLighting;
     EmitterSampler mEmitters;
+    const SkyLight& mSky;
     int mMaxBounces;
 };
 

@@ -19,6 +19,10 @@
 //                                        final frame approximates
 //   Truth.Shadow.<light>            Y    visibility of each light, averaged over its extent
 //
+// A scene's sky light (Scene::environment) lights every truth: a ray that leaves the scene
+// receives its radiance, as direct light (so it is in the one-bounce layer too) and after any
+// number of bounces. The backdrop the camera sees (Scene::skyColor) lights nothing.
+//
 // Every light is counted once: a mesh that is a light's visible shape (Mesh::shapeOf) shows its
 // emission to the camera (in SceneColor and Truth.Combined) but adds nothing to the indirect
 // layers, because the light it sends out is the light's own direct light. Sky pixels hold 0 in

@@ -128,6 +128,11 @@ def main(out):
     # A header without its end (a name that never terminates).
     with open(f"{out}/header_cut.exr", "wb") as f:
         f.write(struct.pack("<ii", 20000630, 2) + b"channels\0chl")
+    # A valid lat-long sky, and one with a NaN pixel (a scene's skyLight.latLong).
+    exr(f"{out}/good_sky.exr", 4, 2, {"R": lambda x, y: 1.0 - y, "G": lambda x, y: 0.5,
+                                      "B": lambda x, y: float(y)})
+    exr(f"{out}/sky_nan.exr", 4, 2, {"R": lambda x, y: nan if (x, y) == (2, 1) else 1.0,
+                                     "G": lambda x, y: 1.0, "B": lambda x, y: 1.0})
     # Not an EXR at all.
     with open(f"{out}/text.exr", "w") as f:
         f.write("this is not an OpenEXR file\n")

@@ -123,6 +123,7 @@ public:
         return Texture(buffers.at(buffer));
     }
     const std::vector<Light>& lights() override { return sceneData->lights; }
+    const Environment& environment() override { return sceneData->environment; }
     const RayScene& scene() override {
         if (!mRayScene) mRayScene = std::make_unique<RayScene>(*sceneData, info.camera.current.position);
         return *mRayScene;

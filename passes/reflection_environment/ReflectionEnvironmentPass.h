@@ -1,0 +1,53 @@
+#pragma once
+// ReflectionEnvironment + SkyLighting (reference §8): after the lights, adds the sky light's
+// diffuse (order-3 SH of the sky, dimmed by the screen-space and material AO) and the specular
+// reflections: the screen-space reflections first, then, in the weight they leave and under
+// Lagarde's specular occlusion, the sky's prefiltered radiance at the roughness's mip, all × the
+// preintegrated EnvBRDF; clear coat as two layers. Unlit pixels and the sky are untouched; hair
+// gets no reflections.
+#include "passes/core/Params.h"
+#include "passes/core/Pass.h"
+#include "passes/lighting/Cubemap.h"
+
+#include <memory>
+
+namespace fp {
+
+struct SkyLight;
+
+struct ReflectionEnvironmentParams {
+    bool reflections = true;      //!< r.ReflectionEnvironment: the specular half
+    bool skyDiffuse = true;       //!< the sky light's diffuse
+    bool specularOcclusion = true;  //!< Lagarde's AO on the reflection weight (§8.2 step 5)
+};
+
+class ReflectionEnvironmentPass final : public Pass {
+public:
+    using Params = ReflectionEnvironmentParams;
+    static ParamSpec<Params> paramSpec();
+    explicit ReflectionEnvironmentPass(const Params& params) : mParams(params) {}
+
+    PassIO describe() const override;
+    void execute(PassContext& ctx) override;
+
+    /// Unreal's sky light cubemap size (r.SkyLight… default 128): the sky is resampled to it.
+    static constexpr int kSkyCubeSize = 128;
+
+    /// Lagarde's specular occlusion, saturate((NoV + AO)^(roughness²) − 1 + AO) (§8.2 step 5).
+    static float specularOcclusion(float NoV, float ao, float roughness);
+
+private:
+    /// The sky resampled to a prefiltered cube and its SH, made on first use and kept while the
+    /// sky light is the same one (it does not change from frame to frame).
+    struct SkyLighting {
+        const SkyLight* source = nullptr;
+        Cubemap cube;
+        SH3 sh;
+    };
+    const SkyLighting& skyLighting(const SkyLight& sky);
+
+    Params mParams;
+    std::shared_ptr<SkyLighting> mSky;
+};
+
+}  // namespace fp
