@@ -51,6 +51,9 @@ demo: build
 	    | grep -v '^Progress'
 	$(FRAMEPASS) bench examples/cornell/shadows.json --runs 3 --sweep r.RayTracing.Shadow.SamplesPerPixel=1,4 \
 	    --sweep r.Shadow.Denoiser=0,2 --html out/demo/shadows.html | grep -v '^Progress'
+	$(FRAMEPASS) capture examples/glossy/scene.json -o out/demo/glossy/glossy.exr --truth | grep -v '^ '
+	$(FRAMEPASS) bench examples/glossy/bench.json --capture out/demo/glossy/glossy.exr --runs 3 \
+	    --sweep reflection_environment.reflections=false,true --html out/demo/glossy.html | grep -v '^Progress'
 	@echo "framepass wrote:"; find out/demo -type f | sort | sed 's/^/  /'
 
 test: build

@@ -41,6 +41,15 @@ cat > "$DIR/lights_only.json" <<JSON
 JSON
 check "a chain that only shades reads the scene's lights, not its meshes" bash -c "'$FP' plan '$DIR/lights_only.json' | grep -q 'geometry: not needed (lights only)' && '$FP' run '$DIR/lights_only.json' -o '$DIR/lo' >/dev/null && test -f '$DIR/lo/lit.0001.exr'"
 
+# The glossy room: a lat-long sky light lights the truth and, after the lights, reflection_environment.
+check "capture the glossy room with its lat-long sky light" "$FP" capture "$SRC/examples/glossy/scene.json" -o "$DIR/glossy.exr" --width 48 --height 48 --truth --truth-spp 4
+cat > "$DIR/glossy.json" <<JSON
+{ "version": 1, "capture": "glossy.exr", "scene": "$SRC/examples/glossy/scene.json",
+  "outputs": { "r.####.exr": ["reflection_environment.color", "reflection_environment.specular"] } }
+JSON
+check "reflection_environment adds to the last light's colour under SSGI's AO" bash -c "'$FP' plan '$DIR/glossy.json' > '$DIR/glossy_plan.txt' && grep -q 'reflection_environment (reflection_environment)  in: ao←ssgi_denoise.ao.*color←deferred_lighting_ceiling.color' '$DIR/glossy_plan.txt'"
+check "glossy room: 1 and 2 threads write the same bytes" bash -c "'$FP' --threads 1 run '$DIR/glossy.json' -o '$DIR/g1' >/dev/null && '$FP' --threads 2 run '$DIR/glossy.json' -o '$DIR/g2' > '$DIR/g2.txt' && diff -r '$DIR/g1' '$DIR/g2' && grep -Eq 'reflection_environment +[0-9.]+ ms pixels=[1-9]' '$DIR/g2.txt'"
+
 # Sequences: the denoiser's history goes from frame to frame; a chunk that warms up on the
 # frames before it writes the same bytes as a sequential run.
 check "capture a 6-frame sequence" "$FP" capture "$SRC/examples/cornell/scene.json" -o "$DIR/seq.####.exr" --frames 1-6 --width 48 --height 48
