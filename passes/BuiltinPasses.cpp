@@ -12,6 +12,7 @@
 #include "passes/screen_space_oracle/ScreenSpaceOraclePass.h"
 #include "passes/shadow_denoise/ShadowDenoisePass.h"
 #include "passes/ssgi/SSGIPass.h"
+#include "passes/ssr/SSRPass.h"
 #include "passes/ssgi_denoise/SSGIDenoisePass.h"
 
 namespace fp {
@@ -44,6 +45,9 @@ const PassRegistry& builtinPasses() {
             "deferred_lighting",
             "direct lighting of one light per shading model, shadowed by "
             "its light attenuation, added to scene colour (reference §9.6)");
+        r.add<SSRPass>("ssr",
+                       "screen-space reflections: mirror or GGX rays marched through the HZB as "
+                       "SSGI's, last frame's colour at the reprojected hits (reference §5)");
         r.add<ReflectionEnvironmentPass>(
             "reflection_environment",
             "ReflectionEnvironment + SkyLighting: the sky light's SH diffuse, screen-space "

@@ -12,6 +12,14 @@
 
 namespace fp {
 
+/// Screen-edge fade at screen position (sx, sy) ∈ [−1, 1]² (reference §3.2 step 7; SSR's hits too,
+/// §5.4): 1 inside 80 % of the screen, 0 beyond it.
+FP_HD inline float vignette(float sx, float sy) {
+    const float cx = saturate(std::fabs(sx) * 5.0f - 4.0f);
+    const float cy = saturate(std::fabs(sy) * 5.0f - 4.0f);
+    return saturate(1.0f - (cx * cx + cy * cy));
+}
+
 struct PreviousPixel {
     double u = -1.0, v = -1.0;  //!< continuous pixels of last frame (centres at +0.5)
 

@@ -25,13 +25,6 @@ inline constexpr const char* kFurthestHzb = "furthestHzb";
 inline constexpr const char* kColor = "color";
 inline constexpr const char* kAlpha = "alpha";
 
-/// Screen-edge fade at screen position (sx, sy) ∈ [−1, 1]² (reference §3.2 step 7).
-FP_HD inline float vignette(float sx, float sy) {
-    const float cx = saturate(std::fabs(sx) * 5.0f - 4.0f);
-    const float cy = saturate(std::fabs(sy) * 5.0f - 4.0f);
-    return saturate(1.0f - (cx * cx + cy * cy));
-}
-
 // reference §3.2 step 8: saturate(1 − (d_ref − d)²/R²). Sky against sky keeps its weight (the two
 // are the same "surface" at infinity); sky against geometry is a leak and gets none [inferred].
 FP_HD inline float depthWeight(double dRef, double d, double radius) {

@@ -7,10 +7,6 @@
 
 namespace fp {
 
-float PrevColorReductionPass::vignette(float sx, float sy) {
-    return prev_color::vignette(sx, sy);
-}
-
 ParamSpec<PrevColorReductionParams> PrevColorReductionPass::paramSpec() {
     ParamSpec<PrevColorReductionParams> s;
     s.add("leakFree", &Params::leakFree,

@@ -27,10 +27,6 @@ public:
 
     /// Mip 0 is half resolution rounded up to a multiple of 16; five mips (reference §3.1).
     static std::vector<Extent> mipExtents(Extent frame);
-    /// Screen-edge fade at screen position (sx, sy) ∈ [−1, 1]² (reference §3.2 step 7):
-    /// saturate(1 − |c|²) with c = saturate(|s|·5 − 4) per axis, i.e. the outer 20 % fade out.
-    static float vignette(float sx, float sy);
-
 #if FP_HAVE_CUDA
     bool hasCudaKernel() const override { return true; }
     void executeCuda(PassContext& ctx) override;  // PrevColorReductionPass.cu

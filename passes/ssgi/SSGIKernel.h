@@ -36,16 +36,12 @@ constexpr float kStepOffsetBias = -0.9f;  // reference §4.6: IGN − 0.9 for SS
 constexpr float kToleranceScale = 2.0f;   // reference §4.5: k = 2 for SSGI (4 for SSR)
 constexpr int kReducedMips = 5;           // prev_color_reduction's chain (reference §3.1)
 
-/// What every ray of the frame shares.
-struct TraceSetup {
-    CameraView cam;
-    HzbView hzb;
+/// What every ray of the frame shares: the screen-space march's frame, and SSGI's own.
+struct TraceSetup : ScreenRayFrame {
     PlaneView reduced[kReducedMips][3];  //!< last frame's colour, R G B per mip
-    int rays, steps;
+    int rays;
     uint32_t frameMod8;
-    float invSteps, levelStep;
-    float halfW, halfH;
-    float fx, fy, cx, cy;
+    float levelStep;
     // Largest valid reduced-colour texel per mip (reference §3.4 ReducedColorUVMax).
     int reducedMaxX[kReducedMips], reducedMaxY[kReducedMips];
 };
@@ -84,12 +80,10 @@ FP_HD inline Vec3f rayDirection(const Vec3f& n, int x, int y, uint32_t frameMod8
     return t * dx + b * dy + n * dz;
 }
 
-// The per-pixel start of every ray (reference §4.3–4.5).
-struct PixelStart {
-    double depth;
-    Vec3f nView;  // quantised view-space normal
-    float sx, sy, z0, zTwice, stepOffset;
-    RayPoint start;
+// The per-pixel start of every ray (reference §4.3–4.5): the shared origin and the quantised
+// view-space normal the rays are drawn around.
+struct PixelStart : ScreenRayOrigin {
+    Vec3f nView;
 };
 
 FP_HD inline PixelStart
@@ -98,49 +92,17 @@ pixelStart(const Frame& f, int x, int y, int px, int py, double d) {
     const CameraView& cam = s.cam;
     const Vec3d nw(Vec3f{f.normal[0].at(px, py), f.normal[1].at(px, py), f.normal[2].at(px, py)});
     PixelStart p;
-    p.depth = d;
+    static_cast<ScreenRayOrigin&>(p) = screenRayOrigin(
+        s, px, py, d,
+        ue::interleavedGradientNoise(float(x) + 0.5f, float(y) + 0.5f, s.frameMod8) + kStepOffsetBias);
     p.nView = quantiseNormal(
         Vec3f{float(dot(nw, cam.right)), float(dot(nw, cam.up)), float(dot(nw, cam.forward))});
-    p.sx = float(cam.screenX(px));
-    p.sy = float(cam.screenY(py));
-    p.z0 = float(cam.deviceZFromDepth(d));
-    // reference §4.5: tolerance T = max(|ΔZ|, (Z − Z(2·depth))·k) for the whole ray.
-    p.zTwice = float(cam.deviceZFromDepth(2.0 * d));
-    p.stepOffset = ue::interleavedGradientNoise(float(x) + 0.5f, float(y) + 0.5f, s.frameMod8) +
-                   kStepOffsetBias;
-    p.start = {(p.sx * 0.5f + 0.5f) * s.halfW, (0.5f - p.sy * 0.5f) * s.halfH, p.z0};
     return p;
 }
 
-// Reference §4.5: the end point of a ray as long as the pixel is deep, projected, then rescaled
-// so the end lies exactly on the screen border (extends short rays). False for a ray straight
-// along the view axis: a miss.
+// Reference §4.5 with SSGI's tolerance.
 FP_HD inline bool raySteps(const TraceSetup& s, const PixelStart& p, const Vec3f& L, RaySteps& r) {
-    const float w = std::max(1.0f + L.z, 1e-6f);
-    const float ex = (p.sx + s.fx * L.x + s.cx * L.z) / w;
-    const float ey = (p.sy + s.fy * L.y + s.cy * L.z) / w;
-    const float ez = float(s.cam.deviceZFromDepth(p.depth * double(w)));
-    float stepX = ex - p.sx, stepY = ey - p.sy, stepZ = ez - p.z0;
-    float fit = std::numeric_limits<float>::infinity();
-    if (stepX > 0.0f)
-        fit = std::min(fit, (1.0f - p.sx) / stepX);
-    if (stepX < 0.0f)
-        fit = std::min(fit, (-1.0f - p.sx) / stepX);
-    if (stepY > 0.0f)
-        fit = std::min(fit, (1.0f - p.sy) / stepY);
-    if (stepY < 0.0f)
-        fit = std::min(fit, (-1.0f - p.sy) / stepY);
-    if (!std::isfinite(fit))
-        return false;
-    stepX *= fit;
-    stepY *= fit;
-    stepZ *= fit;
-    r.tolerance = std::max(std::fabs(stepZ), (p.z0 - p.zTwice) * kToleranceScale) * s.invSteps;
-    r.step = {stepX * 0.5f * s.halfW * s.invSteps, -stepY * 0.5f * s.halfH * s.invSteps,
-              stepZ * s.invSteps};
-    r.origin = {p.start.hx + r.step.hx * p.stepOffset, p.start.hy + r.step.hy * p.stepOffset,
-                p.start.z + r.step.z * p.stepOffset};
-    return true;
+    return screenRaySteps(s, p, L, kToleranceScale, r);
 }
 
 // Last frame's colour where a ray hit, at the level it reached (point, nearest mip; §4.7).
@@ -188,9 +150,7 @@ FP_HD inline RayTrace shadeHit(const TraceSetup& s,
                                float level,
                                bool wantDistance) {
     RayTrace t;
-    const RayPoint hit{steps.origin.hx + steps.step.hx * float(hitSample),
-                       steps.origin.hy + steps.step.hy * float(hitSample),
-                       steps.origin.z + steps.step.z * float(hitSample)};
+    const RayPoint hit = rayPointAt(steps, float(hitSample));
     float c[3];
     hitColor(s, hit, level, c);
     const float karis = 1.0f / (1.0f + ue::luma(c[0], c[1], c[2]));
@@ -318,19 +278,13 @@ Frame bindFrame(const Ports& ports,
     const std::vector<Extent> trace = {traceExtent({f.width, f.height}, halfRes)};
 
     TraceSetup& s = f.setup;
-    s.cam = frame.camera.current;
+    bindScreenRayCamera(s, frame.camera.current, f.width, f.height);
     s.hzb = hzbViewOf(hzb);
     s.rays = rays;
     s.steps = steps;
     s.frameMod8 = ue::frameIndexMod8(frame.number);
     s.invSteps = 1.0f / float(steps);
     s.levelStep = 8.0f * s.invSteps;  // reference §4.6: (8/N)·Roughness, Roughness = 1
-    s.halfW = 0.5f * float(f.width);
-    s.halfH = 0.5f * float(f.height);
-    s.fx = float(s.cam.fx);
-    s.fy = float(s.cam.fy);
-    s.cx = float(s.cam.cx);
-    s.cy = float(s.cam.cy);
     for (int m = 0; m < kReducedMips; ++m) {
         for (int c = 0; c < 3; ++c)
             s.reduced[m][c] = viewOf(reduced.mip(m).plane(c));

@@ -12,9 +12,9 @@ TEST_SUITE("io") {
         REQUIRE(rc.graph.lightTemplates.size() == 1);
         const LightTemplate& t = rc.graph.lightTemplates[0];
         CHECK(t.pointer == "(preset ue4.27)/passes/5/forEachLight");
-        CHECK(t.position == 5);  // before the reflections and the display, the sixth pass
-        CHECK(rc.graph.nodes[t.position].name == "reflection_environment");
-        CHECK(rc.graph.nodes[t.position + 1].name == "display");
+        CHECK(t.position == 5);  // before SSR, the reflections and the display: the sixth pass
+        CHECK(rc.graph.nodes[t.position].name == "ssr");
+        CHECK(rc.graph.nodes[t.position + 2].name == "display");
         CHECK(t.passes.size() == 3);
         CHECK(t.outputs.size() == 2);
 

@@ -1,5 +1,6 @@
 // SSGI, its denoiser and the composite, run through the real planner and executor on in-memory
 // captures of small analytic scenes.
+#include "passes/common/Reprojection.h"
 #include "passes/core/Executor.h"
 #include "passes/core/Sampling.h"
 #include "passes/core/UnrealRandom.h"
@@ -29,7 +30,7 @@ using test::wallCamera;
 // vignette at its screen position (what the reduced colour holds there).
 double onScreenWallFormFactor(const Vec3d& p, const CameraView& cam, bool vignetted) {
     return test::onScreenWallFormFactor(p, cam, [&](double sx, double sy) {
-        return vignetted ? double(PrevColorReductionPass::vignette(float(sx), float(sy))) : 1.0;
+        return vignetted ? double(vignette(float(sx), float(sy))) : 1.0;
     });
 }
 

@@ -1,0 +1,50 @@
+#pragma once
+// Screen-space reflections (Unreal's SSRTReflections, reference §5): per pixel a mirror ray or
+// several GGX (visible-normal) rays, set up and marched through the furthest HZB by the same code
+// as SSGI (common/HzbMarch.h) with SSR's tolerance, jitter, roughness-scaled level schedule and
+// interpolated hit; each hit reprojected into last frame and read from its colour (TAA history),
+// vignetted at both screens' edges, Karis-averaged. Pixels rougher than the fade's cutoff are
+// skipped (Unreal's stencil pre-pass) and counted. The output is premultiplied radiance with
+// coverage in alpha; the EnvBRDF is applied later, in reflection_environment.
+#include "passes/core/Params.h"
+#include "passes/core/Pass.h"
+
+namespace fp {
+
+struct SSRParams {
+    int quality = 3;             //!< r.SSR.Quality 0–4
+    int postProcessQuality = 50;  //!< PP ScreenSpaceReflectionQuality 0–100 (Unreal's default 50)
+    float maxRoughness = 0.6f;   //!< PP ScreenSpaceReflectionMaxRoughness
+    float intensity = 100.0f;    //!< PP ScreenSpaceReflectionIntensity 0–100
+};
+
+/// One row of the quality table (reference §5.1).
+struct SSRQuality {
+    int level;    //!< 0 off, 1 Low … 4 Epic
+    int steps, rays;
+    bool glossy;  //!< VNDF-sampled rays (High, Epic) rather than a mirror ray
+};
+
+class SSRPass final : public Pass {
+public:
+    using Params = SSRParams;
+    static ParamSpec<Params> paramSpec();
+    explicit SSRPass(const Params& params) : mParams(params) {}
+
+    PassIO describe() const override;
+    void execute(PassContext& ctx) override;
+
+    /// Unreal's GetSSRQualityForView: the cvar capped by the post-process quality's bucket
+    /// (≥ 80 Epic, ≥ 60 High, ≥ 40 Medium, else Low); off when the cvar is ≤ 0 or the intensity
+    /// below 1.
+    static SSRQuality effectiveQuality(int cvar, int postProcessQuality, float intensity);
+
+    /// The roughness fade (§5.2): min(roughness · scale + 2, 1), scale = −2/maxRoughness, doubled
+    /// below High. A pixel whose fade is ≤ 0 is skipped.
+    static float roughnessFade(float roughness, float maxRoughness, int qualityLevel);
+
+private:
+    Params mParams;
+};
+
+}  // namespace fp
