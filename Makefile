@@ -53,7 +53,7 @@ demo: build
 	    --sweep r.Shadow.Denoiser=0,2 --html out/demo/shadows.html | grep -v '^Progress'
 	$(FRAMEPASS) capture examples/glossy/scene.json -o out/demo/glossy/glossy.exr --truth | grep -v '^ '
 	$(FRAMEPASS) bench examples/glossy/bench.json --capture out/demo/glossy/glossy.exr --runs 3 \
-	    --sweep reflection_environment.reflections=false,true --html out/demo/glossy.html | grep -v '^Progress'
+	    --sweep r.SSR.Quality=0..4 --set ssr.postProcessQuality=100 --html out/demo/glossy.html | grep -v '^Progress'
 	@echo "framepass wrote:"; find out/demo -type f | sort | sed 's/^/  /'
 
 test: build

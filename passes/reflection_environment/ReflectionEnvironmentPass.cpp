@@ -171,14 +171,23 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
     };
 
     forEachTile(W, H, [&](const Tile& t) {
-        uint64_t lit = 0, skipped = 0;
+        uint64_t lit = 0, skipped = 0, empty = 0;
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
                 const Vec3f before = rgbAt(in, x, y);
                 const double d = depth.at(x, y);
                 const int model = truncToInt(shadingModel.at(x, y), 0, 255);
                 Vec3f diffuse, spec;
-                if (isLitSurface(d, shadingModel.at(x, y))) {
+                // Without a sky, a pixel the SSR left empty (rough, missed, faded) gets nothing.
+                const bool ssrEmpty = !ssrImage || (ssrImage->plane(3).at(x, y) == 0.0f &&
+                                                    ssrImage->plane(0).at(x, y) == 0.0f &&
+                                                    ssrImage->plane(1).at(x, y) == 0.0f &&
+                                                    ssrImage->plane(2).at(x, y) == 0.0f);
+                if (!isLitSurface(d, shadingModel.at(x, y))) {
+                    ++skipped;
+                } else if (!sky && ssrEmpty) {
+                    ++empty;
+                } else {
                     ++lit;
                     const Vec3f N = normalize(gbuffer::worldNormalAt(normal, x, y));
                     const Vec3d p = cam.translatedFromPixel(x, y, d);
@@ -235,8 +244,6 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
                                    applyEnvBRDF(brdf.specularColor, terms);
                         }
                     }
-                } else {
-                    ++skipped;
                 }
                 diffuse = finiteNonNegative(diffuse);
                 spec = finiteNonNegative(spec);
@@ -251,6 +258,7 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
             }
         ctx.addWork("pixels", lit);
         ctx.addWork("skippedPixels", skipped);
+        ctx.addWork("emptyPixels", empty);
     });
 }
 

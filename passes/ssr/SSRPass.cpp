@@ -134,8 +134,9 @@ PassIO SSRPass::describe() const {
         {.name = kColor,
          .channels = {"R", "G", "B"},
          .kind = PortKind::Color,
-         .captureDefault = "TAAHistory",
-         .doc = "last frame's colour the hits read (Unreal: the TAA history)"},
+         .captureDefault = "PrevSceneColor",
+         .doc = "last frame's colour the hits read (Unreal reads its TAA history: bind "
+                "capture:TAAHistory where the capture has one)"},
         gbuffer::velocityInput("the hit texel's motion to last frame (none: the cameras)"),
     };
     io.outputs = {
