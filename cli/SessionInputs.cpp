@@ -1,6 +1,10 @@
 #include "cli/SessionInputs.h"
 
 #include "io/CaptureSource.h"
+#include "passes/capture/ReflectionCaptureRenderer.h"
+#include "passes/core/RayScene.h"
+
+#include <algorithm>
 #include "passes/core/Error.h"
 
 namespace fp::cli {
@@ -26,7 +30,18 @@ const std::vector<Light>& SessionInputs::lights() {
 }
 
 const Environment& SessionInputs::environment() {
-    return description().scene.environment;
+    io::SceneFile& sf = description();
+    Environment& env = sf.scene.environment;
+    // Captures the scene JSON gives no cubemap for are rendered from the scene, once.
+    const bool toRender = std::any_of(env.captures.begin(), env.captures.end(),
+                                      [](const ReflectionCapture& c) { return c.faces.width() == 0; });
+    if (toRender) {
+        sf.loadGeometry();
+        const RayScene rays(sf.scene, env.captures.front().position);
+        for (ReflectionCapture& c : env.captures)
+            if (c.faces.width() == 0) c.faces = renderReflectionCapture(rays, c.position);
+    }
+    return env;
 }
 
 std::vector<std::pair<std::string, std::string>> SessionInputs::filesRead() const {

@@ -26,7 +26,8 @@ public:
     const io::SceneFile& scene();
     /// The scene's lights, in order; the geometry is not read for them unless it holds them.
     const std::vector<Light>& lights();
-    /// The scene's sky light, read with its lights.
+    /// The scene's sky light and reflection captures, read with its lights; captures without a
+    /// cubemap file are rendered from the scene's geometry on the first call.
     const Environment& environment();
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig();
     /// The files read so far, as (role, path): "scene", "geometry", "ocioConfig".

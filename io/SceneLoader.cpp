@@ -24,7 +24,9 @@ namespace {
 const std::vector<std::string> kSceneKeys = {
     "version",      "geometry", "sceneUnitsPerMeter", "offset", "camera",     "previousCamera",
     "cameraMotion", "lights",   "materials",          "sky",    "resolution", "description",
-    "skyLight"};
+    "skyLight", "reflectionCaptures"};
+const std::vector<std::string> kCaptureKeys = {"name",   "shape",              "position",   "radius", "extent",
+                                               "offset", "transitionDistance", "brightness", "cubemap"};
 const std::vector<std::string> kSkyLightKeys = {"color", "intensity", "latLong", "up", "occlusionTint"};
 const std::vector<std::string> kLightKeys = {"name",
                                              "type",
@@ -130,6 +132,102 @@ void applyMaterialOverride(Material& m,
     }
 }
 
+// Reads an RGB EXR (or Y) whole and checks every pixel is finite and ≥ 0; `what` names the key
+// in errors. Missing, unreadable or non-EXR files fail with the file's name.
+Image readRadianceExr(const std::string& path, const std::string& file, const std::string& where) {
+    std::optional<ExrReader> opened;
+    try {
+        opened.emplace(path);
+    } catch (const Error& e) {  // missing, a folder, not an EXR: a bad scene, exit 2
+        fail(file, where, e.what());
+    }
+    ExrReader& exr = *opened;
+    std::vector<std::string> channels;
+    for (const char* c : {"R", "G", "B"})
+        if (exr.findChannel(c)) channels.push_back(c);
+    if (channels.size() != 3) {
+        if (!exr.findChannel("Y"))
+            fail(file, where, path + " has neither R, G, B nor Y channels");
+        channels = {"Y", "Y", "Y"};
+    }
+    Image image = exr.read(channels, {"R", "G", "B"});
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < image.height(); ++y)
+            for (int x = 0; x < image.width(); ++x) {
+                const float v = image.plane(c).at(x, y);
+                if (!std::isfinite(v) || v < 0)
+                    fail(file, where, fmt::format("{} has {} at pixel ({}, {}): radiance must be finite and ≥ 0",
+                                                  path, v, x, y));
+            }
+    return image;
+}
+
+// The scene's reflection captures (Environment.h), sorted by radius as Unreal composites them.
+std::vector<ReflectionCapture> parseReflectionCaptures(const nlohmann::json& j, const std::string& file,
+                                                       const Vec3d& offset, double centimetre) {
+    if (!j.is_array())
+        fail(file, "/reflectionCaptures", "expected an array of {\"shape\": \"sphere\"|\"box\", \"position\", …}");
+    std::vector<ReflectionCapture> captures;
+    for (std::size_t i = 0; i < j.size(); ++i) {
+        const std::string where = "/reflectionCaptures/" + std::to_string(i);
+        const nlohmann::json& c = j[i];
+        if (!c.is_object())
+            fail(file, where, "a reflection capture must be an object");
+        checkKeys(c, kCaptureKeys, file, where);
+        ReflectionCapture rc;
+        rc.name = c.contains("name") && c["name"].is_string() ? c["name"].get<std::string>() : "capture" + std::to_string(i);
+        if (c.contains("shape")) {
+            if (!c["shape"].is_string() || (c["shape"] != "sphere" && c["shape"] != "box"))
+                fail(file, where + "/shape", "expected \"sphere\" or \"box\"");
+            rc.shape = c["shape"] == "box" ? ReflectionCapture::Shape::Box : ReflectionCapture::Shape::Sphere;
+        }
+        if (!c.contains("position"))
+            fail(file, where + "/position", "missing the capture's position [x, y, z]");
+        rc.position = vec3(c["position"], file, where + "/position") + offset;
+        if (c.contains("offset"))
+            rc.offset = vec3(c["offset"], file, where + "/offset");
+        if (c.contains("brightness"))
+            rc.brightness = num(c["brightness"], file, where + "/brightness");
+        if (rc.brightness < 0)
+            fail(file, where + "/brightness", "expected a number ≥ 0");
+        if (rc.shape == ReflectionCapture::Shape::Sphere) {
+            if (!c.contains("radius"))
+                fail(file, where + "/radius", "a sphere capture needs its influence radius");
+            rc.radius = num(c["radius"], file, where + "/radius");
+            if (!(rc.radius > 0))
+                fail(file, where + "/radius", "expected a radius > 0");
+        } else {
+            if (!c.contains("extent"))
+                fail(file, where + "/extent", "a box capture needs its half size [x, y, z]");
+            rc.extent = vec3(c["extent"], file, where + "/extent");
+            if (!(rc.extent.x > 0 && rc.extent.y > 0 && rc.extent.z > 0))
+                fail(file, where + "/extent", "expected a half size > 0 on every axis");
+            rc.radius = length(rc.extent);
+            rc.transitionDistance = 100.0 * centimetre;  // Unreal's BoxTransitionDistance default
+            if (c.contains("transitionDistance"))
+                rc.transitionDistance = num(c["transitionDistance"], file, where + "/transitionDistance");
+            if (rc.transitionDistance < 0)
+                fail(file, where + "/transitionDistance", "expected a distance ≥ 0");
+        }
+        if (c.contains("cubemap")) {
+            if (!c["cubemap"].is_string())
+                fail(file, where + "/cubemap", "expected the path of a cubemap EXR (six faces stacked)");
+            rc.source = (fs::path(file).parent_path() / c["cubemap"].get<std::string>()).string();
+            rc.faces = readRadianceExr(rc.source, file, where + "/cubemap");
+            const int w = rc.faces.width(), h = rc.faces.height();
+            if (h != 6 * w || (w & (w - 1)) != 0)
+                fail(file, where + "/cubemap",
+                     fmt::format("{} is {}×{}: a cubemap is six square faces of a power-of-two size "
+                                 "stacked top to bottom (+X, −X, +Y, −Y, +Z, −Z), {}×{} for instance",
+                                 rc.source, w, h, 128, 768));
+        }
+        captures.push_back(std::move(rc));
+    }
+    std::stable_sort(captures.begin(), captures.end(),
+                     [](const ReflectionCapture& a, const ReflectionCapture& b) { return a.radius < b.radius; });
+    return captures;
+}
+
 // The scene's sky light (Environment.h): a constant colour, or a lat-long EXR (RGB, or Y) tinted by
 // the colour, × intensity. The map is read now, so a bad file fails before any pixel is read.
 SkyLight parseSkyLight(const nlohmann::json& j, const std::string& file) {
@@ -161,35 +259,10 @@ SkyLight parseSkyLight(const nlohmann::json& j, const std::string& file) {
             fail(file, where + "/latLong", "expected the path of a lat-long (equirectangular) EXR");
         const fs::path map = fs::path(file).parent_path() / j["latLong"].get<std::string>();
         sky.source = map.string();
-        std::optional<ExrReader> opened;
-        try {
-            opened.emplace(sky.source);
-        } catch (const Error& e) {  // missing, a folder, not an EXR: a bad scene, exit 2
-            fail(file, where + "/latLong", e.what());
-        }
-        ExrReader& exr = *opened;
-        std::vector<std::string> channels;
-        for (const char* c : {"R", "G", "B"})
-            if (exr.findChannel(c)) channels.push_back(c);
-        if (channels.size() != 3) {
-            if (!exr.findChannel("Y"))
-                fail(file, where + "/latLong", sky.source + " has neither R, G, B nor Y channels");
-            channels = {"Y", "Y", "Y"};
-        }
-        const Extent e = exr.extent();
-        if (e.width < 2 || e.height < 1)
+        sky.latLong = readRadianceExr(sky.source, file, where + "/latLong");
+        if (sky.latLong.width() < 2)
             fail(file, where + "/latLong", fmt::format("{} is {}×{}: a lat-long map needs at least 2×1 pixels",
-                                                        sky.source, e.width, e.height));
-        sky.latLong = exr.read(channels, {"R", "G", "B"});
-        for (int c = 0; c < 3; ++c)
-            for (int y = 0; y < e.height; ++y)
-                for (int x = 0; x < e.width; ++x) {
-                    const float v = sky.latLong.plane(c).at(x, y);
-                    if (!std::isfinite(v) || v < 0)
-                        fail(file, where + "/latLong",
-                             fmt::format("{} has {} at pixel ({}, {}): the sky must be finite and ≥ 0",
-                                         sky.source, v, x, y));
-                }
+                                                        sky.source, sky.latLong.width(), sky.latLong.height()));
     }
     return sky;
 }
@@ -802,6 +875,9 @@ SceneFile loadScene(const std::string& path, SceneParts parts) {
         sf.scene.skyColor = Vec3f(vec3(j["sky"], path, "/sky"));
     if (j.contains("skyLight"))
         sf.scene.environment.sky = parseSkyLight(j["skyLight"], path);
+    if (j.contains("reflectionCaptures"))
+        sf.scene.environment.captures =
+            parseReflectionCaptures(j["reflectionCaptures"], path, sf.offset, sf.scene.centimetre());
     if (j.contains("resolution")) {
         const auto& r = j["resolution"];
         if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() ||

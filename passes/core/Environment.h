@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace fp {
 
@@ -59,10 +60,31 @@ struct SkyLight {
     }
 };
 
+/// Unreal's reflection capture actor (reference §8.3): a cubemap of the scene seen from
+/// `position`, used for the reflections of points inside its influence, with parallax against
+/// its sphere or box. The faces are the radiance itself (io/ reads them from an EXR, or the
+/// session renders them from the scene); reflection_environment prefilters them.
+struct ReflectionCapture {
+    enum class Shape { Sphere, Box };
+    std::string name;
+    Shape shape = Shape::Sphere;
+    Vec3d position;          //!< world, scene units
+    double radius = 0;       //!< sphere: influence radius (box: |extent|, its sort key)
+    Vec3d extent;            //!< box: half size along world x, y, z (axis-aligned)
+    double transitionDistance = 0;  //!< box: the fade band at its faces, scene units
+    float brightness = 1.0f;
+    Vec3d offset;            //!< Unreal's CaptureOffset: subtracted from the lookup vector
+    /// Six square faces stacked top to bottom in the order +X, −X, +Y, −Y, +Z, −Z (OpenGL's
+    /// axes), RGB; empty until read or rendered.
+    Image faces;
+    std::string source;      //!< the faces' EXR ("" when rendered from the scene)
+};
+
 /// Everything far-field that lights the scene besides its analytic lights.
 struct Environment {
     SkyLight sky;
-    bool empty() const { return !sky.enabled; }
+    std::vector<ReflectionCapture> captures;  //!< in ascending radius: Unreal's composite order
+    bool empty() const { return !sky.enabled && captures.empty(); }
 };
 
 }  // namespace fp

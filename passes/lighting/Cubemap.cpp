@@ -1,5 +1,6 @@
 #include "passes/lighting/Cubemap.h"
 
+#include "passes/core/Error.h"
 #include "passes/core/Sampling.h"
 
 #include <tbb/parallel_for.h>
@@ -91,12 +92,9 @@ std::vector<Cubemap::Mip> Cubemap::boxChain(Mip base) {
     return chain;
 }
 
-Cubemap Cubemap::render(int size, const std::function<Vec3f(const Vec3f&)>& radiance) {
-    Cubemap cube;
-    cube.mSize = size;
-    Mip base;
-    base.size = size;
-    base.texels.resize(size_t(6) * size * size);
+Image Cubemap::renderFaces(int size, const std::function<Vec3f(const Vec3f&)>& radiance) {
+    FP_CHECK(size >= 1 && (size & (size - 1)) == 0, "a cubemap face of {} texels: not a power of two", size);
+    Image strip(size, 6 * size, {"R", "G", "B"});
     tbb::parallel_for(0, 6 * size, [&](int row) {
         const int f = row / size, y = row % size;
         for (int x = 0; x < size; ++x) {
@@ -105,9 +103,30 @@ Cubemap Cubemap::render(int size, const std::function<Vec3f(const Vec3f&)>& radi
                 for (int i = 0; i < 2; ++i)
                     sum += radiance(direction(f, (2.0f * (x + 0.25f + 0.5f * i)) / size - 1.0f,
                                               (2.0f * (y + 0.25f + 0.5f * j)) / size - 1.0f));
-            base.texels[(size_t(f) * size + size_t(y)) * size + size_t(x)] = sum * 0.25f;
+            for (int c = 0; c < 3; ++c) strip.plane(c).at(x, row) = sum[c] * 0.25f;
         }
     });
+    return strip;
+}
+
+Cubemap Cubemap::render(int size, const std::function<Vec3f(const Vec3f&)>& radiance) {
+    return fromFaces(renderFaces(size, radiance));
+}
+
+Cubemap Cubemap::fromFaces(const Image& strip) {
+    const int size = strip.width();
+    FP_CHECK(size >= 1 && (size & (size - 1)) == 0 && strip.height() == 6 * size && strip.channelCount() >= 3,
+             "a cubemap strip of {}×{}: expected 6 square power-of-two faces stacked", strip.width(),
+             strip.height());
+    Cubemap cube;
+    cube.mSize = size;
+    Mip base;
+    base.size = size;
+    base.texels.resize(size_t(6) * size * size);
+    for (int row = 0; row < 6 * size; ++row)
+        for (int x = 0; x < size; ++x)
+            base.texels[size_t(row) * size + size_t(x)] = {strip.plane(0).at(x, row), strip.plane(1).at(x, row),
+                                                           strip.plane(2).at(x, row)};
     // Each prefiltered mip integrates the GGX lobe over the box-filtered source chain, reading
     // each sample at the mip whose texel covers the sample's share of the lobe (filtered
     // importance sampling, Křivánek & Colbert 2008), so 64 samples leave no visible noise.

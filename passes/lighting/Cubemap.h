@@ -7,6 +7,7 @@
 //
 // Faces in OpenGL order (+X, −X, +Y, −Y, +Z, −Z) with OpenGL's face axes; texel centres at
 // (i + 0.5)/size.
+#include "passes/core/Image.h"
 #include "passes/core/Math.h"
 #include "passes/lighting/SphericalHarmonics.h"
 
@@ -20,6 +21,11 @@ public:
     /// Renders `size`² texels a face from `radiance(direction)`, 2×2 samples a texel (so a finer
     /// source, a lat-long map, is averaged rather than point-sampled), then prefilters the mips.
     static Cubemap render(int size, const std::function<Vec3f(const Vec3f&)>& radiance);
+    /// The same from faces already made: a strip of six `size`² faces stacked top to bottom
+    /// (+X, −X, +Y, −Y, +Z, −Z), RGB, size a power of two.
+    static Cubemap fromFaces(const Image& strip);
+    /// The faces render() starts from, as such a strip.
+    static Image renderFaces(int size, const std::function<Vec3f(const Vec3f&)>& radiance);
 
     int size() const { return mSize; }
     int mipCount() const { return int(mMips.size()); }

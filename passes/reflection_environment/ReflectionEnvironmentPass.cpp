@@ -113,6 +113,15 @@ const ReflectionEnvironmentPass::SkyLighting& ReflectionEnvironmentPass::skyLigh
     return *mSky;
 }
 
+const std::vector<Cubemap>& ReflectionEnvironmentPass::captureCubes(const Environment& env) {
+    if (mCubesOf != &env || mCaptureCubes.size() != env.captures.size()) {
+        mCaptureCubes.clear();
+        for (const ReflectionCapture& c : env.captures) mCaptureCubes.push_back(Cubemap::fromFaces(c.faces));
+        mCubesOf = &env;
+    }
+    return mCaptureCubes;
+}
+
 void ReflectionEnvironmentPass::execute(PassContext& ctx) {
     const Image& in = ctx.input(kColor)->image();
     const int W = in.width(), H = in.height();
@@ -123,7 +132,7 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
     const Environment& env = ctx.environment();
     const Texture* ssr = ctx.input(kReflection);
     const bool sky = env.sky.enabled;
-    const bool doSpecular = mParams.reflections && (sky || ssr);
+    const bool doSpecular = mParams.reflections && (sky || ssr || !env.captures.empty());
     const bool doDiffuse = mParams.skyDiffuse && sky;
     if (!doSpecular && !doDiffuse) {
         // Nothing lights the reflections: the colour passes through and no GBuffer is read.
@@ -134,6 +143,24 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
     }
     const SkyLighting* skyLight = sky ? &skyLighting(env.sky) : nullptr;
     const CameraView& cam = ctx.frame().camera.current;
+    // The captures relative to this frame's eye, in the environment's (ascending radius) order.
+    std::vector<PreparedCapture> captures;
+    if (mParams.reflections && !env.captures.empty()) {
+        const std::vector<Cubemap>& cubes = captureCubes(env);
+        for (std::size_t i = 0; i < env.captures.size(); ++i) {
+            const ReflectionCapture& c = env.captures[i];
+            PreparedCapture p;
+            p.box = c.shape == ReflectionCapture::Shape::Box;
+            p.centre = Vec3f(c.position - cam.position);
+            p.radius = float(c.radius);
+            p.extent = Vec3f(c.extent);
+            p.transition = float(c.transitionDistance);
+            p.brightness = c.brightness;
+            p.offset = Vec3f(c.offset);
+            p.cube = &cubes[i];
+            captures.push_back(p);
+        }
+    }
     const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
     const Image& normal = ctx.input(gbuffer::kNormal)->image();
     const Image& baseColor = ctx.input(gbuffer::kBaseColor)->image();
@@ -158,15 +185,16 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
 
     // The specular of one layer (§8.2 steps 2–6): SSR, then the sky in what it leaves, under
     // specular occlusion. EnvBRDF is the caller's, since clear coat weighs its two layers apart.
-    auto layer = [&](const Vec3f& N, const Vec3f& V, float NoV, float roughness, const Vec3f& ssrColor,
-                     float ssrAlpha, float occlusionAO) {
+    auto layer = [&](const Vec3f& P, const Vec3f& N, const Vec3f& V, float NoV, float roughness,
+                     const Vec3f& ssrColor, float ssrAlpha, float occlusionAO) {
         Vec3f color = ssrColor;
         float alpha = 1.0f - ssrAlpha;
         if (mParams.specularOcclusion) alpha *= specularOcclusion(NoV, occlusionAO, roughness);
-        if (skyLight && alpha > 0.0f) {
-            const Vec3f R = dominantDirection(N, reflect(V, N), roughness);
+        if (alpha <= 0.0f || (!skyLight && captures.empty())) return color;
+        const Vec3f R = dominantDirection(N, reflect(V, N), roughness);
+        color += compositeCaptures(captures, P, R, roughness, alpha);
+        if (skyLight && alpha > 0.0f)
             color += skyLight->cube.sample(R, skyLight->cube.mipForRoughness(roughness)) * alpha;
-        }
         return color;
     };
 
@@ -185,13 +213,14 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
                                                     ssrImage->plane(2).at(x, y) == 0.0f);
                 if (!isLitSurface(d, shadingModel.at(x, y))) {
                     ++skipped;
-                } else if (!sky && ssrEmpty) {
+                } else if (!sky && ssrEmpty && captures.empty()) {
                     ++empty;
                 } else {
                     ++lit;
                     const Vec3f N = normalize(gbuffer::worldNormalAt(normal, x, y));
                     const Vec3d p = cam.translatedFromPixel(x, y, d);
-                    const Vec3f V = normalize(-Vec3f{float(p.x), float(p.y), float(p.z)});
+                    const Vec3f P{float(p.x), float(p.y), float(p.z)};
+                    const Vec3f V = normalize(-P);
                     const Vec3f base = rgbAt(baseColor, x, y);
                     const SurfaceBRDF brdf = SurfaceBRDF::fromMaterial(
                         base, metallic.at(x, y), specular.at(x, y), roughnessPlane.at(x, y));
@@ -231,16 +260,16 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
                             // grazing term, and sees what the coat's Fresnel lets through.
                             const float coat = saturate(cd.x), coatRoughness = saturate(cd.y);
                             const Vec3f baseColorLayer =
-                                layer(N, V, NoV, roughness, ssrColor * (1.0f - coat),
+                                layer(P, N, V, NoV, roughness, ssrColor * (1.0f - coat),
                                       ssrAlpha * (1.0f - coat), occlusionAO);
                             const float cut = saturate(50.0f * brdf.specularColor.y) * terms.b * (1.0f - coat);
                             const Vec3f baseBrdf = brdf.specularColor * terms.a + Vec3f{cut, cut, cut};
                             const EnvBRDFTerms coatTerms = lut.lookup(NoV, coatRoughness);
                             const float coatF = (kCoatF0 * coatTerms.a + coatTerms.b) * coat;
                             spec = baseColorLayer * baseBrdf * (1.0f - coatF) +
-                                   layer(N, V, NoV, coatRoughness, ssrColor, ssrAlpha, occlusionAO) * coatF;
+                                   layer(P, N, V, NoV, coatRoughness, ssrColor, ssrAlpha, occlusionAO) * coatF;
                         } else {
-                            spec = layer(N, V, NoV, roughness, ssrColor, ssrAlpha, occlusionAO) *
+                            spec = layer(P, N, V, NoV, roughness, ssrColor, ssrAlpha, occlusionAO) *
                                    applyEnvBRDF(brdf.specularColor, terms);
                         }
                     }

@@ -2,17 +2,20 @@
 // ReflectionEnvironment + SkyLighting (reference §8): after the lights, adds the sky light's
 // diffuse (order-3 SH of the sky, dimmed by the screen-space and material AO) and the specular
 // reflections: the screen-space reflections first, then, in the weight they leave and under
-// Lagarde's specular occlusion, the sky's prefiltered radiance at the roughness's mip, all × the
-// preintegrated EnvBRDF; clear coat as two layers. Unlit pixels and the sky are untouched; hair
-// gets no reflections.
+// Lagarde's specular occlusion, the reflection captures around the pixel (parallax-corrected,
+// composited under each other in ascending radius) and the sky, each prefiltered at the
+// roughness's mip, all × the preintegrated EnvBRDF; clear coat as two layers. Unlit pixels and
+// the sky are untouched; hair gets no reflections.
 #include "passes/core/Params.h"
 #include "passes/core/Pass.h"
 #include "passes/lighting/Cubemap.h"
+#include "passes/lighting/ReflectionCaptures.h"
 
 #include <memory>
 
 namespace fp {
 
+struct Environment;
 struct SkyLight;
 
 struct ReflectionEnvironmentParams {
@@ -45,9 +48,14 @@ private:
         SH3 sh;
     };
     const SkyLighting& skyLighting(const SkyLight& sky);
+    /// The captures' prefiltered cubemaps, made on first use and kept while the environment is
+    /// the same one.
+    const std::vector<Cubemap>& captureCubes(const Environment& env);
 
     Params mParams;
     std::shared_ptr<SkyLighting> mSky;
+    const Environment* mCubesOf = nullptr;
+    std::vector<Cubemap> mCaptureCubes;
 };
 
 }  // namespace fp

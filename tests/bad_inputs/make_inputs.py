@@ -131,6 +131,9 @@ def main(out):
     # A valid lat-long sky, and one with a NaN pixel (a scene's skyLight.latLong).
     exr(f"{out}/good_sky.exr", 4, 2, {"R": lambda x, y: 1.0 - y, "G": lambda x, y: 0.5,
                                       "B": lambda x, y: float(y)})
+    # A valid 4² cubemap strip (six faces stacked) for a reflection capture.
+    exr(f"{out}/good_cube.exr", 4, 24, {"R": lambda x, y: 0.1 * (y // 4), "G": lambda x, y: 0.5,
+                                        "B": lambda x, y: 0.25})
     exr(f"{out}/sky_nan.exr", 4, 2, {"R": lambda x, y: nan if (x, y) == (2, 1) else 1.0,
                                      "G": lambda x, y: 1.0, "B": lambda x, y: 1.0})
     # Not an EXR at all.

@@ -1,5 +1,7 @@
 // reflection_environment (reference §8) against hand-worked values and the path-traced truth: a
 // floor under a constant sky, specular occlusion, clear coat's energy, threads, pass-through.
+#include "passes/capture/ReflectionCaptureRenderer.h"
+#include "passes/core/RayScene.h"
 #include "passes/core/ShadingModel.h"
 #include "passes/lighting/BRDF.h"
 #include "passes/lighting/EnvBRDF.h"
@@ -11,6 +13,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <tuple>
 
 namespace fp {
 
@@ -190,6 +193,31 @@ TEST_CASE("reflection_environment: with no sky and no reflections the colour pas
     }
     CHECK(out.work.at("skippedPixels") == 64u);
     CHECK(out.work.count("pixels") == 0);
+}
+
+TEST_CASE("a reflection capture rendered inside a glowing box sees the glow everywhere") {
+    // Six black faces glowing kGlow around the capture, no lights: every texel of every face is
+    // the emission (float rounding of the 2×2 average).
+    Scene s;
+    s.materials.push_back(test::lambert(0.0f, test::kGlow));
+    const Vec3d X{1, 0, 0}, Y{0, 1, 0}, Z{0, 0, 1};
+    const double h = 50.0;
+    for (const auto& [centre, u, v] : {std::tuple{X * h, Y, Z}, std::tuple{X * -h, Z, Y}, std::tuple{Y * h, Z, X},
+                                       std::tuple{Y * -h, X, Z}, std::tuple{Z * h, X, Y}, std::tuple{Z * -h, Y, X}})
+        s.meshes.push_back(test::quad(centre, u, v, h));
+    const RayScene rays(s, {0, 0, 0});
+    const Image faces = renderReflectionCapture(rays, {5, -3, 10}, 16);
+    CHECK(faces.width() == 16);
+    CHECK(faces.height() == 96);
+    float least = 1.0f, most = 0.0f;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < 96; ++y)
+            for (int x = 0; x < 16; ++x) {
+                least = std::min(least, faces.plane(c).at(x, y));
+                most = std::max(most, faces.plane(c).at(x, y));
+            }
+    CHECK(least == doctest::Approx(test::kGlow).epsilon(1e-6));
+    CHECK(most == doctest::Approx(test::kGlow).epsilon(1e-6));
 }
 
 }  // namespace fp

@@ -1,9 +1,11 @@
 // The reflection environment's building blocks: the EnvBRDF table and its analytic fit, order-3
-// spherical harmonics, the prefiltered cubemap and the sky light's lat-long lookup.
+// spherical harmonics, the prefiltered cubemap, the sky light's lat-long lookup and the
+// reflection captures' parallax, fade and compositing.
 #include "passes/core/Environment.h"
 #include "passes/core/Sampling.h"
 #include "passes/lighting/Cubemap.h"
 #include "passes/lighting/EnvBRDF.h"
+#include "passes/lighting/ReflectionCaptures.h"
 #include "passes/lighting/SphericalHarmonics.h"
 
 #include <doctest/doctest.h>
@@ -215,6 +217,76 @@ TEST_CASE("Sky light: lat-long coordinates follow Blender's equirectangular map"
     CHECK(sky.radiance({1, 0, 0}).x == doctest::Approx(1.0f));  // the horizon: halfway
     sky.enabled = false;
     CHECK(sky.radiance({0, 1, 0}).x == 0.0f);
+}
+
+}  // namespace fp
+
+namespace fp {
+
+TEST_CASE("Reflection captures: sphere parallax and its fade, by hand") {
+    // p = (3, 0, 0) in a sphere of radius 10, reflecting up: b = 0, c = 9 − 100, t = √91.
+    const CaptureLookup a = sphereParallax({3, 0, 0}, {0, 1, 0}, 10.0f, {});
+    REQUIRE(a.inside);
+    CHECK(a.direction.x == doctest::Approx(3.0f));
+    CHECK(a.direction.y == doctest::Approx(std::sqrt(91.0f)));
+    CHECK(length(a.direction) == doctest::Approx(10.0f));
+    CHECK(a.distanceAlpha == 1.0f);  // within 60 % of the radius
+    // The capture offset is taken off the lookup vector.
+    CHECK(sphereParallax({3, 0, 0}, {0, 1, 0}, 10.0f, {1, 2, 3}).direction.z == doctest::Approx(-3.0f));
+    // At 0.8 of the radius x = saturate(2.5·0.8 − 1.5) = 0.5, smoothstep 0.5: alpha 0.5.
+    CHECK(sphereParallax({0, 8, 0}, {1, 0, 0}, 10.0f, {}).distanceAlpha == doctest::Approx(0.5f));
+    CHECK_FALSE(sphereParallax({0, 10.5f, 0}, {1, 0, 0}, 10.0f, {}).inside);
+}
+
+TEST_CASE("Reflection captures: box parallax and its fade, by hand") {
+    const Vec3f extent{10, 5, 20};
+    // Along +x from x = 2 the far slab is x = 10: t = 8.
+    const CaptureLookup a = boxParallax({2, 1, 0}, {1, 0, 0}, extent, 2.0f, {});
+    REQUIRE(a.inside);
+    CHECK(a.direction.x == doctest::Approx(10.0f));
+    CHECK(a.direction.y == doctest::Approx(1.0f));
+    CHECK(a.distanceAlpha == 1.0f);
+    // Diagonally: x reaches 10 after 8/√½ = 11.3, y reaches 5 after 4/√½ = 5.66: the y face wins.
+    const float s = std::sqrt(0.5f);
+    const CaptureLookup b = boxParallax({2, 1, 0}, {s, s, 0}, extent, 2.0f, {});
+    CHECK(b.direction.x == doctest::Approx(6.0f));
+    CHECK(b.direction.y == doctest::Approx(5.0f));
+    // 0.5 beyond the box shrunk by T/2 = 1: alpha = 1 − smoothstep(0, 1.4, 0.5) = 0.7085.
+    CHECK(boxParallax({9.5f, 0, 0}, {0, 1, 0}, extent, 2.0f, {}).distanceAlpha ==
+          doctest::Approx(0.708455f).epsilon(1e-4));
+}
+
+TEST_CASE("Reflection captures: two nested captures composite smallest first, under each other") {
+    const Cubemap red = Cubemap::render(8, [](const Vec3f&) { return Vec3f{1, 0, 0}; });
+    const Cubemap green = Cubemap::render(8, [](const Vec3f&) { return Vec3f{0, 1, 0}; });
+    PreparedCapture small, large;
+    small.radius = 5.0f;
+    small.cube = &red;
+    large.radius = 50.0f;
+    large.cube = &green;
+    large.brightness = 2.0f;
+    const std::vector<PreparedCapture> captures{small, large};  // ascending radius
+    const Vec3f R{0, 0, 1};
+    float alpha = 1.0f;
+    // Deep inside the small one: it takes everything.
+    Vec3f c = compositeCaptures(captures, {1, 0, 0}, R, 0.3f, alpha);
+    CHECK(c.x == doctest::Approx(1.0f));
+    CHECK(c.y == 0.0f);
+    CHECK(alpha == 0.0f);
+    // At 0.8 of its radius it fades to 0.5 and the large one (brightness 2) fills the rest.
+    alpha = 1.0f;
+    c = compositeCaptures(captures, {4, 0, 0}, R, 0.3f, alpha);
+    CHECK(c.x == doctest::Approx(0.5f));
+    CHECK(c.y == doctest::Approx(1.0f));
+    CHECK(alpha == doctest::Approx(0.0f));
+    // Outside the small one: the large one alone; beyond both, the sky gets the weight.
+    alpha = 0.6f;  // what SSR and specular occlusion left
+    c = compositeCaptures(captures, {20, 0, 0}, R, 0.3f, alpha);
+    CHECK(c.y == doctest::Approx(1.2f));
+    alpha = 1.0f;
+    c = compositeCaptures(captures, {60, 0, 0}, R, 0.3f, alpha);
+    CHECK(alpha == 1.0f);
+    CHECK(c.x + c.y + c.z == 0.0f);
 }
 
 }  // namespace fp
