@@ -53,6 +53,50 @@ struct RaySample {
     Vec3d offset;              // the hit's position relative to the eye
 };
 
+// A copy with its own pixels (an Image copy shares its planes).
+Image copyPixels(const Image& im) {
+    Image copy(im.width(), im.height(), im.channels());
+    for (int c = 0; c < im.channelCount(); ++c)
+        for (int y = 0; y < im.height(); ++y)
+            std::copy_n(im.plane(c).row(y), im.width(), copy.plane(c).row(y));
+    return copy;
+}
+
+// r.SSR.Temporal: `out` (this frame's reflection) moved from last frame's, reprojected through
+// each pixel's surface and clamped to the 3×3 neighbourhood of this frame's, by kTemporalWeight.
+// Pixels with no history (off screen, sky) keep this frame's. Returns the pixels that had one.
+uint64_t smoothTemporally(Image& out, const Image& history, const CameraView& historyCamera,
+                          const CameraView& cam, const Plane& depth, const VelocityView& velocity) {
+    const int W = out.width(), H = out.height();
+    const Image current = copyPixels(out);  // the neighbourhood is this frame's, unsmoothed
+    std::atomic<uint64_t> kept{0};
+    forEachTile(W, H, [&](const Tile& t) {
+        uint64_t n = 0;
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                const double d = depth.at(x, y);
+                if (std::isinf(d) || !(d > 0.0)) continue;
+                const PreviousPixel prev = reprojectPixelAtDepth(cam, x, y, d, velocity, historyCamera);
+                if (!prev.onScreen({W, H})) continue;
+                const int hx = std::clamp(int(prev.u), 0, W - 1), hy = std::clamp(int(prev.v), 0, H - 1);
+                ++n;
+                for (int c = 0; c < 4; ++c) {
+                    float lo = current.plane(c).at(x, y), hi = lo;
+                    for (int dy = -1; dy <= 1; ++dy)
+                        for (int dx = -1; dx <= 1; ++dx) {
+                            const float v = current.plane(c).clampedAt(x + dx, y + dy);
+                            lo = std::min(lo, v);
+                            hi = std::max(hi, v);
+                        }
+                    const float h = std::clamp(history.plane(c).at(hx, hy), lo, hi);
+                    out.plane(c).at(x, y) = h + (current.plane(c).at(x, y) - h) * SSRPass::kTemporalWeight;
+                }
+            }
+        kept += n;
+    });
+    return kept;
+}
+
 RaySample shadeHit(const Frame& f, const RaySteps& steps, float time) {
     RaySample s;
     const ScreenRayFrame& g = f.march;
@@ -105,6 +149,10 @@ ParamSpec<SSRParams> SSRPass::paramSpec() {
     s.add("intensity", &Params::intensity,
           "post-process ScreenSpaceReflectionIntensity (percent); below 1 SSR is off")
         .range(0.0, 100.0);
+    s.add("temporal", &Params::temporal,
+          "smooth the reflection across frames: last frame's, reprojected and clamped to this "
+          "frame's 3×3 neighbourhood, moves 1/8 of the way to this frame's")
+        .cvar("r.SSR.Temporal");
     return s;
 }
 
@@ -147,6 +195,7 @@ PassIO SSRPass::describe() const {
     };
     io.needsCamera = true;
     io.workUnit = "hzbSamples";
+    io.temporal = mParams.temporal;
     return io;
 }
 
@@ -270,6 +319,13 @@ void SSRPass::execute(PassContext& ctx) {
             }
         for (int i = 0; i < kCounterCount; ++i) totals[size_t(i)] += counts[size_t(i)];
     });
+    if (mParams.temporal) {
+        const PassHistory* history = ctx.history();
+        if (history && history->state.image().width() == W && history->state.image().height() == H)
+            ctx.addWork("historyPixels", smoothTemporally(out, history->state.image(), history->camera, cam,
+                                                          *f.depth, f.velocity));
+        ctx.keepHistory(Texture(copyPixels(out)));
+    }
     ctx.addWork("pixels", totals[kTraced]);
     ctx.addWork("skippedPixels", totals[kSkipped]);
     ctx.addWork("roughPixels", totals[kRough]);

@@ -5,7 +5,9 @@
 // interpolated hit; each hit reprojected into last frame and read from its colour (TAA history),
 // vignetted at both screens' edges, Karis-averaged. Pixels rougher than the fade's cutoff are
 // skipped (Unreal's stencil pre-pass) and counted. The output is premultiplied radiance with
-// coverage in alpha; the EnvBRDF is applied later, in reflection_environment.
+// coverage in alpha; the EnvBRDF is applied later, in reflection_environment. With r.SSR.Temporal
+// the reflection is smoothed across frames: last frame's result, reprojected through the pixel's
+// surface and clamped to the 3×3 neighbourhood of this frame's, moves 1/8 of the way to it.
 #include "passes/core/Params.h"
 #include "passes/core/Pass.h"
 
@@ -16,6 +18,7 @@ struct SSRParams {
     int postProcessQuality = 50;  //!< PP ScreenSpaceReflectionQuality 0–100 (Unreal's default 50)
     float maxRoughness = 0.6f;   //!< PP ScreenSpaceReflectionMaxRoughness
     float intensity = 100.0f;    //!< PP ScreenSpaceReflectionIntensity 0–100
+    bool temporal = false;       //!< r.SSR.Temporal: smooth across frames with its own history
 };
 
 /// One row of the quality table (reference §5.1).
@@ -42,6 +45,11 @@ public:
     /// The roughness fade (§5.2): min(roughness · scale + 2, 1), scale = −2/maxRoughness, doubled
     /// below High. A pixel whose fade is ≤ 0 is skipped.
     static float roughnessFade(float roughness, float maxRoughness, int qualityLevel);
+
+    /// The share of this frame in the temporal smoothing (r.SSR.Temporal): each frame moves the
+    /// history 1/8 of the way to the new reflection [inferred: the reference names a TAA-style
+    /// pass with its own history, not its weights].
+    static constexpr float kTemporalWeight = 0.125f;
 
 private:
     Params mParams;

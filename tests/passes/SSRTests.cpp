@@ -177,3 +177,58 @@ TEST_CASE("ssr: 1 and 2 threads give the same bits") {
 }
 
 }  // namespace fp
+
+namespace fp {
+
+TEST_CASE("ssr: r.SSR.Temporal smooths across frames within this frame's neighbourhood") {
+    // A still camera on the glossy glowing room, Epic's 12 GGX rays jittered by the frame index:
+    // frame 1 has no history (the raw reflection), later frames move 1/8 of the way from the
+    // clamped history, so each pixel stays within its 3×3 neighbourhood of the raw frame and the
+    // frame-to-frame change shrinks.
+    const Scene scene = glowingRoom(0.25f);
+    const FrameCamera cam = test::wallCamera(32);
+    const nlohmann::json epic = {{"quality", 4}, {"postProcessQuality", 100}};
+    nlohmann::json smoothed = epic;
+    smoothed["temporal"] = true;
+    const Plan raw = test::planFor({test::node("hzb"), test::node("ssr", epic, {{"furthestHzb", "hzb.furthest"}})},
+                                   {"ssr.reflection"});
+    const Plan temporal = test::planFor(
+        {test::node("hzb"), test::node("ssr", smoothed, {{"furthestHzb", "hzb.furthest"}})}, {"ssr.reflection"});
+    HistoryStore history;
+    std::vector<Image> raws, outs;
+    for (int64_t frame = 1; frame <= 4; ++frame) {
+        test::MemorySource src = test::captureToMemory(scene, cam, frame);
+        src.info.firstInSequence = frame == 1;
+        test::MemorySink a, b;
+        executePlan(raw, src, a);
+        const FrameReport report = executePlan(temporal, src, b, {}, &history);
+        raws.push_back(a.layers.at("ssr.reflection").image());
+        outs.push_back(b.layers.at("ssr.reflection").image());
+        // No sky on screen and a still camera: from frame 2 every pixel has a history.
+        std::map<std::string, uint64_t> work = report.passes.back().work;
+        CHECK(work["historyPixels"] == (frame == 1 ? 0u : 32u * 32u));
+    }
+    for (int c = 0; c < 4; ++c) CHECK(test::sameBits(outs[0].plane(c), raws[0].plane(c)));
+    double rawChange = 0, smoothChange = 0;
+    int changed = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            float lo = 1e9f, hi = -1e9f;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const float v = raws[3].plane(0).clampedAt(x + dx, y + dy);
+                    lo = std::min(lo, v);
+                    hi = std::max(hi, v);
+                }
+            const float v = outs[3].plane(0).at(x, y);
+            CHECK(v >= lo - 1e-6f);
+            CHECK(v <= hi + 1e-6f);
+            changed += v != raws[3].plane(0).at(x, y);
+            rawChange += std::abs(raws[3].plane(0).at(x, y) - raws[2].plane(0).at(x, y));
+            smoothChange += std::abs(outs[3].plane(0).at(x, y) - outs[2].plane(0).at(x, y));
+        }
+    CHECK(changed > 0);
+    CHECK(smoothChange < 0.5 * rawChange);
+}
+
+}  // namespace fp
