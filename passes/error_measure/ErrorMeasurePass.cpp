@@ -19,6 +19,10 @@ ParamSpec<ErrorMeasureParams> ErrorMeasurePass::paramSpec() {
     s.add("heatScale", &Params::heatScale,
           "|error| at the top of the heat map; 0 = 99th percentile")
         .range(0, 1e30);
+    s.add("maxRoughness", &Params::maxRoughness,
+          "> 0: measure only pixels whose roughness (input `roughness`) is at most this, e.g. "
+          "SSR's cutoff; 0 = every pixel")
+        .range(0, 1);
     return s;
 }
 
@@ -34,6 +38,8 @@ PassIO ErrorMeasurePass::describe() const {
                 "floor"},
         gbuffer::depthInput("sky pixels are left out", true),
     };
+    if (mParams.maxRoughness > 0.0f)
+        io.inputs.push_back(gbuffer::roughnessInput("pixels rougher than maxRoughness are left out"));
     io.outputs = {
         {.name = kHeat,
          .channels = {"R", "G", "B"},
@@ -56,9 +62,19 @@ void ErrorMeasurePass::execute(PassContext& ctx) {
     const Image& a = ctx.input(kSource)->image();
     const Texture* sigma = ctx.input(kReferenceStdErr);
     const Texture* depth = ctx.input(gbuffer::kDepth);
+    const Texture* roughness = mParams.maxRoughness > 0.0f ? ctx.input(kRoughness) : nullptr;
     std::optional<Image> mask;
     if (depth)
         mask = notSkyMask(depth->image(), skyDepth());
+    if (roughness) {
+        const Plane& r = roughness->image().plane(0);
+        FP_CHECK(r.width() == b.width() && r.height() == b.height(),
+                 "the roughness is {}×{}, the reference {}×{}", r.width(), r.height(), b.width(), b.height());
+        if (!mask) mask = Image(b.width(), b.height(), {"Y"}, 1.0f);
+        for (int y = 0; y < b.height(); ++y)
+            for (int x = 0; x < b.width(); ++x)
+                if (!(r.at(x, y) <= mParams.maxRoughness)) mask->plane(0).at(x, y) = 0.0f;
+    }
     Image absError(b.width(), b.height(), {"Y"});
     ErrorInputs in;
     in.result = &a;

@@ -104,14 +104,22 @@ void ErrorMeasurePass::executeCuda(PassContext& ctx) {
     ErrorPixelInputs in =
         errorPixelInputs(a, b, sigma ? &sigma->image() : nullptr, mParams.tolerance,
                          isHalfResolution({a.width(), a.height()}, {W, H}));
+    const DeviceTexture* roughness = mParams.maxRoughness > 0.0f ? ctx.deviceInput(kRoughness) : nullptr;
     DeviceTexture mask;
-    if (depth) {
+    if (depth || roughness) {
+        FP_CHECK(!roughness || (roughness->image().width() == W && roughness->image().height() == H),
+                 "the roughness is not the reference's size, {}×{}", W, H);
         mask = cuda::allocate({{W, H}}, {"Y"});
-        const PlaneView d = depth->image().plane(0);
+        const PlaneView d = depth ? depth->image().plane(0) : PlaneView{};
+        const PlaneView r = roughness ? roughness->image().plane(0) : PlaneView{};
         const PlaneSpan m = mask.image().plane(0);
-        const float sky = skyDepth();
+        const float sky = skyDepth(), maxRoughness = mParams.maxRoughness;
         CudaPixels{}.forEach<0>(
-            W, H, [=] FP_HD(int x, int y, WorkCounts<0>&) { m.at(x, y) = isNotSky(d.at(x, y), sky); },
+            W, H,
+            [=] FP_HD(int x, int y, WorkCounts<0>&) {
+                const float notSky = d.data ? isNotSky(d.at(x, y), sky) : 1.0f;
+                m.at(x, y) = r.data && !(r.at(x, y) <= maxRoughness) ? 0.0f : notSky;
+            },
             "error_measure mask");
         in.mask = viewOf(m);
     }

@@ -14,6 +14,7 @@ struct ErrorMeasureParams {
     float tolerance = 0.1f;    //!< over tolerance when |a−b| > tolerance·(|b| + 0.01), [0, 1e6]
     float skyDistance = 0.0f;  //!< depths ≥ this are sky and left out; 0 = only +inf depths
     float heatScale = 0.0f;    //!< |error| at the top of the heat map; 0 = 99th percentile
+    float maxRoughness = 0.0f;  //!< > 0: only pixels at most this rough are measured
 };
 
 struct ErrorStats;
@@ -36,6 +37,7 @@ public:
     static constexpr const char* kReference = "reference";
     static constexpr const char* kReferenceStdErr = "referenceStdErr";
     static constexpr const char* kHeat = "heat";
+    static constexpr const char* kRoughness = "roughness";
     static constexpr const char* kAbsError = "absError";
 
     /// A half-resolution source (a half-res SSGI trace) is measured as the 4.27 composite reads

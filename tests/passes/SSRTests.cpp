@@ -232,3 +232,31 @@ TEST_CASE("ssr: r.SSR.Temporal smooths across frames within this frame's neighbo
 }
 
 }  // namespace fp
+
+namespace fp {
+
+TEST_CASE("error_measure: maxRoughness measures only the pixels under SSR's cutoff") {
+    // The glowing room: a floor of roughness 0.2, a wall of 1. Measured against black, every
+    // pixel is off by kGlow; with maxRoughness 0.6 only the floor's pixels count.
+    const Scene scene = glowingRoom(0.2f);
+    const FrameCamera cam = test::wallCamera(24);
+    test::MemorySource src = test::captureToMemory(scene, cam);
+    uint64_t floorPixels = 0;
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 24; ++x) floorPixels += isFloor(src, x, y);
+    REQUIRE(floorPixels > 0);
+    REQUIRE(floorPixels < 24u * 24u);
+    for (float maxRoughness : {0.0f, 0.6f}) {
+        test::MemorySink sink;
+        const Plan plan = test::planFor(
+            {test::node("error_measure", {{"maxRoughness", maxRoughness}},
+                        {{"source", "capture:SceneColor"}, {"reference", "capture:BaseColor"}})},
+            {"error_measure.absError"});
+        const FrameReport report = executePlan(plan, src, sink);
+        CAPTURE(maxRoughness);
+        CHECK(report.passes.back().work.at("pixels") == (maxRoughness > 0 ? floorPixels : 24u * 24u));
+        CHECK(report.passes.back().metrics.at("mae") == doctest::Approx(test::kGlow).epsilon(1e-5));
+    }
+}
+
+}  // namespace fp
