@@ -40,6 +40,12 @@ Image::Image(int width, int height, std::vector<std::string> channels, float fil
     for (std::size_t i = 0; i < mChannels.size(); ++i) mPlanes.emplace_back(width, height, fill);
 }
 
+void copyPixels(const Image& from, Image& to) {
+    for (int c = 0; c < from.channelCount(); ++c)
+        for (int y = 0; y < from.height(); ++y)
+            std::copy_n(from.plane(c).row(y), from.width(), to.plane(c).row(y));
+}
+
 std::size_t Image::bytes() const {
     std::size_t b = 0;
     for (const auto& p : mPlanes) b += p.bytes();

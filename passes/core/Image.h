@@ -55,6 +55,10 @@ private:
     std::vector<Plane> mPlanes;
 };
 
+/// Copies the pixels of `from` into `to`, which has its size and at least its channels. (Copying
+/// an Image itself shares its planes; this is the copy with pixels of its own.)
+void copyPixels(const Image& from, Image& to);
+
 /// What flows along a graph edge: one image, or a mip chain (HZB, reduced colour) whose level 0
 /// may be smaller than the frame.
 class Texture {

@@ -48,8 +48,8 @@ Vec3f dominantDirection(const Vec3f& N, const Vec3f& R, float roughness) {
 ParamSpec<ReflectionEnvironmentParams> ReflectionEnvironmentPass::paramSpec() {
     ParamSpec<ReflectionEnvironmentParams> s;
     s.add("reflections", &Params::reflections,
-          "the specular half: screen-space reflections, then the sky's prefiltered radiance, × "
-          "EnvBRDF")
+          "the specular half: screen-space reflections, then the reflection captures and the "
+          "sky's prefiltered radiance, × EnvBRDF")
         .cvar("r.ReflectionEnvironment");
     s.add("skyDiffuse", &Params::skyDiffuse, "the sky light's diffuse (SH3 irradiance × DiffuseColor)");
     s.add("specularOcclusion", &Params::specularOcclusion,
@@ -136,8 +136,7 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
     const bool doDiffuse = mParams.skyDiffuse && sky;
     if (!doSpecular && !doDiffuse) {
         // Nothing lights the reflections: the colour passes through and no GBuffer is read.
-        for (int c = 0; c < 3; ++c)
-            for (int y = 0; y < H; ++y) std::copy_n(in.plane(c).row(y), W, out.plane(c).row(y));
+        copyPixels(in, out);
         ctx.addWork("skippedPixels", uint64_t(W) * H);
         return;
     }
@@ -182,9 +181,14 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
         FP_CHECK(ssrImage->width() == W && ssrImage->height() == H,
                  "the reflection input is {}×{}, the frame {}×{}", ssrImage->width(), ssrImage->height(), W, H);
     const EnvBRDFLut& lut = EnvBRDFLut::instance();
+    // Without a sky or captures, a pixel the SSR left empty (rough, missed, faded) gets nothing.
+    auto ssrEmptyAt = [&](int x, int y) {
+        return !ssrImage || (ssrImage->plane(3).at(x, y) == 0.0f && ssrImage->plane(0).at(x, y) == 0.0f &&
+                             ssrImage->plane(1).at(x, y) == 0.0f && ssrImage->plane(2).at(x, y) == 0.0f);
+    };
 
-    // The specular of one layer (§8.2 steps 2–6): SSR, then the sky in what it leaves, under
-    // specular occlusion. EnvBRDF is the caller's, since clear coat weighs its two layers apart.
+    // The specular of one layer (§8.2 steps 2–6): SSR, then the captures and the sky in what it
+    // leaves, under specular occlusion. EnvBRDF is the caller's, since clear coat weighs its two layers apart.
     auto layer = [&](const Vec3f& P, const Vec3f& N, const Vec3f& V, float NoV, float roughness,
                      const Vec3f& ssrColor, float ssrAlpha, float occlusionAO) {
         Vec3f color = ssrColor;
@@ -206,14 +210,9 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
                 const double d = depth.at(x, y);
                 const int model = truncToInt(shadingModel.at(x, y), 0, 255);
                 Vec3f diffuse, spec;
-                // Without a sky, a pixel the SSR left empty (rough, missed, faded) gets nothing.
-                const bool ssrEmpty = !ssrImage || (ssrImage->plane(3).at(x, y) == 0.0f &&
-                                                    ssrImage->plane(0).at(x, y) == 0.0f &&
-                                                    ssrImage->plane(1).at(x, y) == 0.0f &&
-                                                    ssrImage->plane(2).at(x, y) == 0.0f);
                 if (!isLitSurface(d, shadingModel.at(x, y))) {
                     ++skipped;
-                } else if (!sky && ssrEmpty && captures.empty()) {
+                } else if (!sky && captures.empty() && ssrEmptyAt(x, y)) {
                     ++empty;
                 } else {
                     ++lit;
@@ -262,8 +261,8 @@ void ReflectionEnvironmentPass::execute(PassContext& ctx) {
                             const Vec3f baseColorLayer =
                                 layer(P, N, V, NoV, roughness, ssrColor * (1.0f - coat),
                                       ssrAlpha * (1.0f - coat), occlusionAO);
-                            const float cut = saturate(50.0f * brdf.specularColor.y) * terms.b * (1.0f - coat);
-                            const Vec3f baseBrdf = brdf.specularColor * terms.a + Vec3f{cut, cut, cut};
+                            const Vec3f baseBrdf =
+                                applyEnvBRDF(brdf.specularColor, {terms.a, terms.b * (1.0f - coat)});
                             const EnvBRDFTerms coatTerms = lut.lookup(NoV, coatRoughness);
                             const float coatF = (kCoatF0 * coatTerms.a + coatTerms.b) * coat;
                             spec = baseColorLayer * baseBrdf * (1.0f - coatF) +

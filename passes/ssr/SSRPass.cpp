@@ -35,7 +35,8 @@ enum Counter { kTraced, kSkipped, kRough, kRays, kHzbSamples, kCounterCount };
 
 // Everything one frame's pixels read.
 struct Frame {
-    ScreenRayFrame march;
+    ScreenRayFrame march;       // the quality's steps
+    ScreenRayFrame singleRay;   // §5.3's one mirror ray of a smooth pixel: min(steps·rays, 24) steps
     CameraView previous;
     uint32_t frameMod8;
     SSRQuality quality;
@@ -53,12 +54,10 @@ struct RaySample {
     Vec3d offset;              // the hit's position relative to the eye
 };
 
-// A copy with its own pixels (an Image copy shares its planes).
-Image copyPixels(const Image& im) {
+// A copy with pixels of its own.
+Image copyOf(const Image& im) {
     Image copy(im.width(), im.height(), im.channels());
-    for (int c = 0; c < im.channelCount(); ++c)
-        for (int y = 0; y < im.height(); ++y)
-            std::copy_n(im.plane(c).row(y), im.width(), copy.plane(c).row(y));
+    copyPixels(im, copy);
     return copy;
 }
 
@@ -68,7 +67,7 @@ Image copyPixels(const Image& im) {
 uint64_t smoothTemporally(Image& out, const Image& history, const CameraView& historyCamera,
                           const CameraView& cam, const Plane& depth, const VelocityView& velocity) {
     const int W = out.width(), H = out.height();
-    const Image current = copyPixels(out);  // the neighbourhood is this frame's, unsmoothed
+    const Image current = copyOf(out);  // the neighbourhood is this frame's, unsmoothed
     std::atomic<uint64_t> kept{0};
     forEachTile(W, H, [&](const Tile& t) {
         uint64_t n = 0;
@@ -113,8 +112,8 @@ RaySample shadeHit(const Frame& f, const RaySteps& steps, float time) {
     // ReprojectHit: the hit texel's velocity when bound, else last frame's camera.
     const PreviousPixel prev = reprojectPixel(hx, hy, offset, g.cam.position, f.velocity, f.previous);
     const float thisVignette = vignette(float(u / W * 2.0 - 1.0), float(1.0 - v / H * 2.0));
-    const float prevVignette =
-        prev.u < 0 && prev.v < 0 ? 0.0f : vignette(float(prev.u / W * 2.0 - 1.0), float(1.0 - prev.v / H * 2.0));
+    // A hit behind last frame's camera comes back at (−1, −1), where the vignette is 0.
+    const float prevVignette = vignette(float(prev.u / W * 2.0 - 1.0), float(1.0 - prev.v / H * 2.0));
     s.alpha = std::min(thisVignette, prevVignette);
     s.hit = true;
     if (s.alpha > 0.0f) {
@@ -218,6 +217,11 @@ void SSRPass::execute(PassContext& ctx) {
              "furthestHzb has {} mips; SSR reads 1 to {}", hzb.mipCount(), kMaxHzbMips);
     bindScreenRayCamera(f.march, info.camera.current, W, H);
     f.march.hzb = hzbViewOf(hzb);
+    f.march.steps = f.quality.steps;
+    f.march.invSteps = 1.0f / float(f.march.steps);
+    f.singleRay = f.march;
+    f.singleRay.steps = std::min(f.quality.steps * f.quality.rays, kSingleRayMaxSteps);
+    f.singleRay.invSteps = 1.0f / float(f.singleRay.steps);
     f.previous = info.camera.previous.value_or(info.camera.current);
     f.frameMod8 = ue::frameIndexMod8(info.number);
     f.maxRoughness = mParams.maxRoughness;
@@ -256,16 +260,11 @@ void SSRPass::execute(PassContext& ctx) {
                     continue;
                 }
                 ++counts[kTraced];
-                int rays = f.quality.rays, steps = f.quality.steps;
-                bool glossy = f.quality.glossy;
-                if (glossy && roughness < kSingleRayRoughness) {
-                    steps = std::min(steps * rays, kSingleRayMaxSteps);
-                    rays = 1;
-                    glossy = false;
-                }
-                ScreenRayFrame g = f.march;
-                g.steps = steps;
-                g.invSteps = 1.0f / float(steps);
+                // §5.3: below roughness 0.1 the glossy qualities trace one longer mirror ray.
+                const bool singleRay = f.quality.glossy && roughness < kSingleRayRoughness;
+                const ScreenRayFrame& g = singleRay ? f.singleRay : f.march;
+                const int rays = singleRay ? 1 : f.quality.rays, steps = g.steps;
+                const bool glossy = f.quality.glossy && !singleRay;
                 const float levelStep = 8.0f * g.invSteps * roughness;  // §4.6: (8/N)·Roughness
                 const ScreenRayOrigin o = screenRayOrigin(
                     g, x, y, d,
@@ -324,7 +323,7 @@ void SSRPass::execute(PassContext& ctx) {
         if (history && history->state.image().width() == W && history->state.image().height() == H)
             ctx.addWork("historyPixels", smoothTemporally(out, history->state.image(), history->camera, cam,
                                                           *f.depth, f.velocity));
-        ctx.keepHistory(Texture(copyPixels(out)));
+        ctx.keepHistory(Texture(copyOf(out)));
     }
     ctx.addWork("pixels", totals[kTraced]);
     ctx.addWork("skippedPixels", totals[kSkipped]);
