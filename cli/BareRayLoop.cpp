@@ -10,26 +10,33 @@ namespace fp::cli {
 
 double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, bool packets,
                          uint64_t& blocked) {
+    // The rays as the pass hands them to Embree, a structure of arrays, laid out before the clock
+    // starts.
+    std::vector<float> soa[7];
+    for (auto& a : soa) a.resize(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Ray& q = rays[i];
+        const float v[7] = {q.org.x, q.org.y, q.org.z, q.dir.x, q.dir.y, q.dir.z, q.tfar};
+        for (int k = 0; k < 7; ++k) soa[k][i] = v[k];
+    }
+    const RayArrays all{soa[0].data(), soa[1].data(), soa[2].data(), soa[3].data(),
+                        soa[4].data(), soa[5].data(), soa[6].data()};
     const std::size_t packetCount = (rays.size() + kPacketSize - 1) / kPacketSize;
     const auto start = std::chrono::steady_clock::now();
     blocked = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, packetCount, 64), uint64_t(0),
         [&](const tbb::blocked_range<std::size_t>& r, uint64_t sum) {
-            Ray packet[kPacketSize];
-            bool active[kPacketSize], hit[kPacketSize];
+            bool hit[kPacketSize];
             for (std::size_t p = r.begin(); p != r.end(); ++p) {
                 const std::size_t first = p * kPacketSize;
                 const int n = int(std::min<std::size_t>(kPacketSize, rays.size() - first));
+                const RayArrays packet = all.from(first);
                 if (packets) {
-                    for (int i = 0; i < kPacketSize; ++i) {
-                        active[i] = i < n;
-                        packet[i] = rays[first + std::min(i, n - 1)];
-                    }
-                    scene.occluded8(packet, active, hit);
+                    scene.occluded8(packet, n, hit);
                     for (int i = 0; i < n; ++i) sum += hit[i];
                 } else {
                     for (int i = 0; i < n; ++i) {
-                        const Ray& q = rays[first + i];
+                        const Ray q = packet.at(i);
                         sum += scene.occluded(q.org, q.dir, q.tnear, q.tfar);
                     }
                 }

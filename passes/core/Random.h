@@ -18,8 +18,23 @@ public:
     Rng() = default;
     /// `frame` is the absolute frame number so a chunked farm run equals a sequential one.
     constexpr Rng(int64_t frame, int x, int y, uint32_t seed)
-        : mState(pcgHash(uint32_t(x) ^ pcgHash(uint32_t(y) ^
-                         pcgHash(uint32_t(frame) ^ pcgHash(seed ^ uint32_t(uint64_t(frame) >> 32)))))) {}
+        : Rng(fromKey(frameKey(frame, seed), x, y)) {}
+
+    /// The part of a pixel's seed that all pixels of a frame share (for code that seeds many).
+    static constexpr uint32_t frameKey(int64_t frame, uint32_t seed) {
+        return pcgHash(uint32_t(frame) ^ pcgHash(seed ^ uint32_t(uint64_t(frame) >> 32)));
+    }
+    /// Rng(frame, x, y, seed) from its frame key.
+    static constexpr Rng fromKey(uint32_t key, int x, int y) {
+        return resume(pcgHash(uint32_t(x) ^ pcgHash(uint32_t(y) ^ key)));
+    }
+    /// A stream continued from a state() saved earlier.
+    static constexpr Rng resume(uint32_t state) {
+        Rng r;
+        r.mState = state;
+        return r;
+    }
+    constexpr uint32_t state() const { return mState; }
 
     constexpr uint32_t nextUint() {
         mState = mState * 747796405u + 2891336453u;

@@ -93,9 +93,9 @@ RayHit RayScene::intersect(const Vec3f& org, const Vec3f& dir, float tnear, floa
 
 bool RayScene::occluded(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const {
     if (mLog) {
-        const Ray r{org, dir, tnear, tfar};
-        const bool on = true;
-        log(&r, &on, 1);
+        FP_ASSERT(tnear == 0.0f);  // the log's rays start at their origin, as RayArrays' do
+        const RayArrays r{&org.x, &org.y, &org.z, &dir.x, &dir.y, &dir.z, &tfar};
+        log(r, 1);
     }
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -115,19 +115,21 @@ bool RayScene::occluded(const Vec3f& org, const Vec3f& dir, float tnear, float t
 }
 
 namespace {
-// Embree's 8-wide packets need 32-byte alignment; a lane is valid when its mask is −1.
-void fillRay8(RTCRay8& r, int* valid, const Ray* rays, const bool* active) {
+// Embree's 8-wide packets need 32-byte alignment; a lane is valid when its mask is −1. Lanes past
+// `count` repeat ray 0, so every lane Embree might look at holds a finite ray.
+void fillRay8(RTCRay8& r, int* valid, const RayArrays& rays, int count, const bool* use) {
     for (int i = 0; i < kPacketSize; ++i) {
-        valid[i] = active[i] ? -1 : 0;
-        const Ray& q = active[i] ? rays[i] : rays[0];
-        r.org_x[i] = q.org.x;
-        r.org_y[i] = q.org.y;
-        r.org_z[i] = q.org.z;
-        r.dir_x[i] = q.dir.x;
-        r.dir_y[i] = q.dir.y;
-        r.dir_z[i] = q.dir.z;
-        r.tnear[i] = q.tnear;
-        r.tfar[i] = q.tfar;
+        const bool on = i < count && (!use || use[i]);
+        valid[i] = on ? -1 : 0;
+        const int k = i < count ? i : 0;
+        r.org_x[i] = rays.orgX[k];
+        r.org_y[i] = rays.orgY[k];
+        r.org_z[i] = rays.orgZ[k];
+        r.dir_x[i] = rays.dirX[k];
+        r.dir_y[i] = rays.dirY[k];
+        r.dir_z[i] = rays.dirZ[k];
+        r.tnear[i] = 0.0f;
+        r.tfar[i] = rays.tfar[k];
         r.mask[i] = 0xFFFFFFFFu;
         r.time[i] = 0.0f;
         r.flags[i] = 0;
@@ -136,25 +138,26 @@ void fillRay8(RTCRay8& r, int* valid, const Ray* rays, const bool* active) {
 }
 }  // namespace
 
-void RayScene::occluded8(const Ray* rays, const bool* active, bool* occluded) const {
-    if (mLog) log(rays, active, kPacketSize);
+void RayScene::occluded8(const RayArrays& rays, int count, bool* occluded) const {
+    FP_ASSERT(count >= 1 && count <= kPacketSize);
+    if (mLog) log(rays, count);
     alignas(32) int valid[kPacketSize];
     alignas(32) RTCRay8 r;
-    fillRay8(r, valid, rays, active);
+    fillRay8(r, valid, rays, count, nullptr);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     rtcOccluded8(valid, static_cast<RTCScene>(mRtcScene), &context, &r);
-    for (int i = 0; i < kPacketSize; ++i)
-        occluded[i] = active[i] && r.tfar[i] == -std::numeric_limits<float>::infinity();
+    for (int i = 0; i < count; ++i)
+        occluded[i] = r.tfar[i] == -std::numeric_limits<float>::infinity();
 }
 
-void RayScene::occludedWithDistance8(const Ray* rays, const bool* active, bool* occluded,
+void RayScene::occludedWithDistance8(const RayArrays& rays, int count, bool* occluded,
                                      float* t) const {
     // Any-hit first: most shadow rays of a lit frame are unblocked, and rtcOccluded8 stops at
     // the first occluder. Only the blocked lanes then look for their nearest one.
-    occluded8(rays, active, occluded);
+    occluded8(rays, count, occluded);
     bool anyBlocked = false;
-    for (int i = 0; i < kPacketSize; ++i) {
+    for (int i = 0; i < count; ++i) {
         t[i] = -1.0f;
         anyBlocked |= occluded[i];
     }
@@ -162,12 +165,12 @@ void RayScene::occludedWithDistance8(const Ray* rays, const bool* active, bool* 
         return;
     alignas(32) int valid[kPacketSize];
     alignas(32) RTCRayHit8 rh;
-    fillRay8(rh.ray, valid, rays, occluded);
+    fillRay8(rh.ray, valid, rays, count, occluded);
     for (int i = 0; i < kPacketSize; ++i) rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     rtcIntersect8(valid, static_cast<RTCScene>(mRtcScene), &context, &rh);
-    for (int i = 0; i < kPacketSize; ++i)
+    for (int i = 0; i < count; ++i)
         if (occluded[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID)
             t[i] = rh.ray.tfar[i];
 }
@@ -196,11 +199,10 @@ void RayScene::setOcclusionLog(std::vector<Ray>* log) const {
     mLog = log;
 }
 
-void RayScene::log(const Ray* rays, const bool* active, int count) const {
+void RayScene::log(const RayArrays& rays, int count) const {
     std::lock_guard<std::mutex> lock(mLogMutex);
     if (!mLog) return;
-    for (int i = 0; i < count; ++i)
-        if (active[i]) mLog->push_back(rays[i]);
+    for (int i = 0; i < count; ++i) mLog->push_back(rays.at(i));
 }
 
 Vec3f RayScene::shadingNormal(const RayHit& hit) const {

@@ -49,6 +49,20 @@ inline Vec3f offsetRayOrigin(const Vec3f& p, const Vec3f& away) {
 /// Embree's packet width for shadow rays (rtcOccluded8): eight neighbouring pixels.
 constexpr int kPacketSize = 8;
 
+/// Rays as a structure of arrays, as shadow passes build them and Embree's packets take them:
+/// ray i runs from (orgX[i], orgY[i], orgZ[i]) along the unit (dirX[i], …) for t in [0, tfar[i]].
+struct RayArrays {
+    const float *orgX, *orgY, *orgZ, *dirX, *dirY, *dirZ, *tfar;
+    /// The arrays from ray `first` on.
+    RayArrays from(std::size_t first) const {
+        return {orgX + first, orgY + first, orgZ + first, dirX + first,
+                dirY + first, dirZ + first, tfar + first};
+    }
+    Ray at(int i) const {
+        return {{orgX[i], orgY[i], orgZ[i]}, {dirX[i], dirY[i], dirZ[i]}, 0.0f, tfar[i]};
+    }
+};
+
 class RayScene {
 public:
     /// Builds the BVH (Embree's high build quality: offline, static geometry).
@@ -65,14 +79,13 @@ public:
     /// True when anything blocks org + t·dir for t in [tnear, tfar].
     bool occluded(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const;
 
-    /// rtcOccluded8: occluded[i] for each active[i] ray of the packet (inactive lanes: false).
-    void occluded8(const Ray* rays, const bool* active, bool* occluded) const;
+    /// rtcOccluded8 on rays [0, count) of `rays` (count 1 to kPacketSize): occluded[i] for each.
+    void occluded8(const RayArrays& rays, int count, bool* occluded) const;
     /// occluded8, then each blocked ray's closest hit (rtcIntersect8 on the blocked lanes only,
     /// as occluded() then intersect() do one ray at a time): t[i] is the closest-hit distance of
-    /// blocked ray i, −1 for an unblocked ray or an inactive lane. Unblocked rays, most of a lit
-    /// frame's, cost an any-hit traversal only.
-    void occludedWithDistance8(const Ray* rays, const bool* active, bool* occluded,
-                               float* t) const;
+    /// blocked ray i, −1 for an unblocked ray. Unblocked rays, most of a lit frame's, cost an
+    /// any-hit traversal only.
+    void occludedWithDistance8(const RayArrays& rays, int count, bool* occluded, float* t) const;
     /// Closest hit of the ray on the meshes with this InstanceId only (other geometry is passed
     /// through): the thickness of a pixel's own object along a ray.
     RayHit intersectInstance(const Vec3f& org, const Vec3f& dir, float tnear, float tfar,
@@ -80,8 +93,8 @@ public:
     /// The farthest distance from `p` (relative to origin()) to any point of the scene's bounds.
     float farthestDistance(const Vec3f& p) const;
 
-    /// While a log is set, every active ray of occluded(), occluded8() and
-    /// occludedWithDistance8() is appended to it, so
+    /// While a log is set, every ray of occluded(), occluded8() and occludedWithDistance8() is
+    /// appended to it, so
     /// `bench` can time a bare Embree loop over exactly the rays a pass traced. nullptr stops.
     void setOcclusionLog(std::vector<Ray>* log) const;
 
@@ -98,7 +111,7 @@ private:
     Vec3f mBoundsLo, mBoundsHi;  // relative to mOrigin
     mutable std::mutex mLogMutex;
     mutable std::vector<Ray>* mLog = nullptr;
-    void log(const Ray* rays, const bool* active, int count) const;
+    void log(const RayArrays& rays, int count) const;
 };
 
 }  // namespace fp

@@ -7,6 +7,7 @@
 #include "passes/core/Tiles.h"
 #include "passes/lighting/LightAttenuation.h"
 #include "passes/lighting/NamedLight.h"
+#include "passes/rt_shadows/ShadowLanes.h"
 #include "passes/rt_shadows/ShadowRayGenerator.h"
 
 #include <algorithm>
@@ -47,18 +48,6 @@ bool hasThicknessTransmission(int model) {
     return model == kSubsurface || model == kHair;
 }
 
-// One pixel of a packet row: what stays the same for all its samples.
-struct PixelSetup {
-    bool active = false;
-    Vec3f p;      // reconstructed position, relative to the RayScene origin
-    Vec3f n;      // normal used for biasing (the light direction for hair)
-    Vec3f toEye;  // unit, from the pixel to the eye
-    float eyeDistance = 0;
-    int model = 0;
-    float opacity = 1;
-    uint32_t instance = 0;
-};
-
 struct PixelResult {
     float visibility = 0, transmission = 0, closestHit = -1;
 };
@@ -68,17 +57,18 @@ struct TileWork {
     uint64_t rays = 0, transmissionRays = 0, distanceRays = 0, pixels = 0, skipped = 0;
 };
 
-// The output planes of the pass.
+// The output planes of the pass; attenuation is null when nothing reads it.
 struct ShadowOutputs {
     Plane& shadow;
     Plane& transmission;
     Plane& hitDistance;
-    Image& attenuation;
+    Image* attenuation;
 };
 
-// One light's shadow rays over the frame: the per-pixel setup, the rays of one sample, what a
-// blocked ray adds (transmission through the pixel's own object) and the per-pixel resolve,
-// driven one packet of kPacketSize neighbouring pixels at a time.
+// One light's shadow rays over the frame, a tile row at a time: each pixel's set-up, each
+// sample's rays (in SIMD lanes, ShadowLanes.h, or one pixel at a time as the scalar reference),
+// their occlusion in Embree packets, what a blocked ray adds (transmission through the pixel's
+// own object) and the per-pixel resolve.
 class ShadowTracer {
 public:
     ShadowTracer(const RTShadowsParams& params,
@@ -88,21 +78,26 @@ public:
         : mParams(params),
           mRs(rs),
           mLight(light),
-          mCam(ctx.frame().camera.current),
-          mGenerator(light, mRs.origin()),
-          mCm(float(mRs.scene().centimetre())),
-          mMaxBias(std::max(params.normalBias, kMinNormalBiasCm) * mCm),
-          mMinBias(kMinNormalBiasCm * mCm),
+          mGenerator(light, rs.origin()),
+          mCm(float(rs.scene().centimetre())),
           mSpp(params.samplesPerPixel > 0 ? params.samplesPerPixel : light.samplesPerPixel),
-          mSeed(lightSeed(light.name)),
-          mEyeOffset(mCam.position - mRs.origin()),
-          mFrame(ctx.frame().number),
           mDepth(ctx.input(gbuffer::kDepth)->image().plane(0)),
           mNormal(ctx.input(gbuffer::kNormal)->image()),
           mModels(ctx.input(gbuffer::kShadingModel)->image().plane(0)),
-          mCustomData(ctx.input(gbuffer::kCustomData)),
-          mInstances(ctx.input(kInstanceId)),
-          mWantDistance(ctx.isRequested(kHitDistance)) {}
+          mOpacity(ctx.input(gbuffer::kCustomData)
+                       ? &ctx.input(gbuffer::kCustomData)->image().plane(3)
+                       : nullptr),
+          mInstances(ctx.input(kInstanceId) ? &ctx.input(kInstanceId)->image().plane(0) : nullptr),
+          mWantDistance(ctx.isRequested(kHitDistance)) {
+        const CameraView& cam = ctx.frame().camera.current;
+        mRow.camera = &cam;
+        mRow.eyeOffset = cam.position - rs.origin();
+        mRow.light = mGenerator.shape();
+        mRow.maxBias = std::max(params.normalBias, kMinNormalBiasCm) * mCm;
+        mRow.minBias = kMinNormalBiasCm * mCm;
+        mRow.transmission = params.transmission;
+        mRow.rngKey = Rng::frameKey(ctx.frame().number, lightSeed(light.name));
+    }
 
     /// Pixels [x0, x1) of row py (x1 − x0 ≤ kTileSize). Each sample's rays are gathered from the
     /// pixels that trace one (unlit, sky, unreachable and back-facing pixels trace none) and
@@ -111,117 +106,150 @@ public:
     /// full packet's traversal. Every pixel still draws its own random stream in sample order, so
     /// the result is that of one ray at a time.
     void traceRow(int x0, int x1, int py, const ShadowOutputs& out, TileWork& work) const {
-        const int n = x1 - x0;
-        std::array<PixelSetup, kTileSize> px;
+        const shadow::RowInputs in{.x0 = x0,
+                                   .y = py,
+                                   .count = x1 - x0,
+                                   .depth = mDepth.row(py) + x0,
+                                   .normalX = mNormal.plane(0).row(py) + x0,
+                                   .normalY = mNormal.plane(1).row(py) + x0,
+                                   .normalZ = mNormal.plane(2).row(py) + x0,
+                                   .model = mModels.row(py) + x0,
+                                   .opacity = mOpacity ? mOpacity->row(py) + x0 : nullptr,
+                                   .instance = mInstances ? mInstances->row(py) + x0 : nullptr};
+        shadow::RowPixels px;
+        if (mParams.lanes)
+            shadow::setupRow(mRow, in, px);
+        else
+            setupRow(in, px);
         std::array<PixelResult, kTileSize> res;
-        std::array<Rng, kTileSize> rng;
-        int active[kTileSize], activeCount = 0;
-        for (int i = 0; i < n; ++i) {
-            px[i] = setupPixel(x0 + i, py);
+        int activeCount = 0;
+        for (int i = 0; i < in.count; ++i) {
             res[i] = {};
-            if (!px[i].active) {
-                ++work.skipped;
-                continue;
-            }
-            ++work.pixels;
-            rng[i] = Rng(mFrame, x0 + i, py, mSeed);  // per-pixel streams
-            active[activeCount++] = i;
+            activeCount += px.active[i] != 0;
         }
-        // One sample's rays, gathered, and the pixel each belongs to; padded to whole packets.
-        std::array<Ray, kTileSize + kPacketSize> ray;
-        int owner[kTileSize];
-        bool blocked[kTileSize + kPacketSize];
-        float hitT[kTileSize + kPacketSize];
+        work.pixels += uint64_t(activeCount);
+        work.skipped += uint64_t(in.count - activeCount);
+
+        shadow::RowRays rays;
+        bool blocked[shadow::kRowCapacity];
+        float hitT[shadow::kRowCapacity];
+        const RayArrays arrays{rays.ox, rays.oy, rays.oz, rays.dx, rays.dy, rays.dz, rays.tfar};
         for (int sample = 0; sample < mSpp && activeCount > 0; ++sample) {
-            int rays = 0;
-            for (int k = 0; k < activeCount; ++k) {
-                const int i = active[k];
-                if (shadowRay(px[i], rng[i], ray[rays]))
-                    owner[rays++] = i;
-            }
-            work.rays += uint64_t(rays);
-            for (int first = 0; first < rays; first += kPacketSize)
-                trace(&ray[first], std::min(kPacketSize, rays - first), &blocked[first],
-                      &hitT[first], work);
-            for (int k = 0; k < rays; ++k)
-                addSample(px[owner[k]], ray[k], blocked[k], hitT[k], res[owner[k]], work);
+            if (mParams.lanes)
+                shadow::sampleRow(mRow, px, rays);
+            else
+                sampleRow(px, rays);
+            work.rays += uint64_t(rays.count);
+            for (int first = 0; first < rays.count; first += kPacketSize)
+                trace(arrays.from(first), std::min(kPacketSize, rays.count - first),
+                      &blocked[first], &hitT[first], work);
+            for (int k = 0; k < rays.count; ++k)
+                addSample(px, rays.owner[k], arrays.at(k), blocked[k], hitT[k],
+                          res[rays.owner[k]], work);
         }
-        for (int i = 0; i < n; ++i)
-            resolvePixel(px[i], res[i], x0 + i, py, out);
+        for (int i = 0; i < in.count; ++i)
+            resolvePixel(px, i, res[i], x0 + i, py, out);
     }
 
 private:
-    // What stays the same for all samples of pixel (x, py); inactive for unlit and sky pixels and
-    // those the light cannot reach.
-    PixelSetup setupPixel(int x, int py) const {
-        PixelSetup s;
-        const double d = mDepth.at(x, py);
-        const float model = mModels.at(x, py);
-        if (!isLitSurface(d, model))
-            return s;  // sky and unlit pixels: nothing to rebuild
-        const Vec3d offset = mCam.translatedFromPixel(x, py, d);
-        const Vec3f p(mEyeOffset + offset);
-        if (!mGenerator.reaches(p))
-            return s;
-        s.active = true;
-        s.p = p;
-        const double eyeDistance = length(offset);
-        s.eyeDistance = float(eyeDistance);
-        s.toEye = Vec3f(-offset / eyeDistance);
-        s.n = gbuffer::worldNormalAt(mNormal, x, py);
-        s.model = int(model);
-        // Hair's GBuffer normal is its tangent: Unreal biases along the light instead.
-        if (s.model == kHair)
-            s.n = mGenerator.centreDirection(s.p);
-        s.opacity = mCustomData ? mCustomData->image().plane(3).at(x, py) : 1.0f;
-        s.instance =
-            mInstances ? uint32_t(truncToInt(mInstances->image().plane(0).at(x, py), 0, 1 << 30))
-                       : 0u;
-        return s;
+    // The scalar reference of shadow::setupRow: what stays the same for all samples of each
+    // pixel; inactive for unlit and sky pixels and those the light cannot reach.
+    void setupRow(const shadow::RowInputs& in, shadow::RowPixels& px) const {
+        px.count = in.count;
+        const CameraView& cam = *mRow.camera;
+        for (int i = 0; i < in.count; ++i) {
+            px.active[i] = 0;
+            const double d = in.depth[i];
+            const float model = in.model[i];
+            if (!isLitSurface(d, model))
+                continue;  // sky and unlit pixels: nothing to rebuild
+            const int x = in.x0 + i;
+            const Vec3d offset = cam.translatedFromPixel(x, in.y, d);
+            const Vec3f p(mRow.eyeOffset + offset);
+            if (!mGenerator.reaches(p))
+                continue;
+            px.active[i] = 1;
+            px.px[i] = p.x;
+            px.py[i] = p.y;
+            px.pz[i] = p.z;
+            const double eyeDistance = length(offset);
+            px.eyeDistance[i] = float(eyeDistance);
+            const Vec3f toEye(-offset / eyeDistance);
+            px.ex[i] = toEye.x;
+            px.ey[i] = toEye.y;
+            px.ez[i] = toEye.z;
+            px.model[i] = truncToInt(model, 0, 255);
+            // Hair's GBuffer normal is its tangent: Unreal biases along the light instead.
+            const Vec3f n = px.model[i] == kHair
+                                ? mGenerator.centreDirection(p)
+                                : Vec3f{in.normalX[i], in.normalY[i], in.normalZ[i]};
+            px.nx[i] = n.x;
+            px.ny[i] = n.y;
+            px.nz[i] = n.z;
+            px.opacity[i] = in.opacity ? in.opacity[i] : 1.0f;
+            px.instance[i] = in.instance ? uint32_t(truncToInt(in.instance[i], 0, 1 << 30)) : 0u;
+            px.rng[i] = Rng::fromKey(mRow.rngKey, x, in.y).state();  // per-pixel streams
+        }
     }
 
-    // One sample's ray; false when a back-facing pixel is occluded without a ray. The two
-    // random numbers are drawn either way, so every sample of a pixel reads the same stream.
-    bool shadowRay(const PixelSetup& s, Rng& rng, Ray& ray) const {
-        const float u = rng.nextFloat(), v = rng.nextFloat();
-        const Vec3f Lc = mGenerator.centreDirection(s.p);
-        const float NoL = dot(s.n, Lc);
-        if (NoL <= 0.0f && cullsBackFacing(s.model, mLight.type))
-            return false;
-        // Reference §9.2: towards the camera by max(1e-4·distance, bias), then along the normal
-        // by lerp(bias, 0.01 cm, N·L); a transmissive pixel facing away starts on its back side
-        // instead.
-        Vec3f o = s.p + s.toEye * std::max(1e-4f * s.eyeDistance, mMaxBias);
-        const float nb = mMaxBias + (mMinBias - mMaxBias) * std::clamp(NoL, 0.0f, 1.0f);
-        const bool backSide = mParams.transmission && NoL <= 0.0f &&
-                              (hasThicknessTransmission(s.model) || s.model == kSubsurfaceProfile);
-        o += s.n * (backSide ? -nb : nb);
-        const ShadowDirection sd = mGenerator.sample(o, u, v);
-        ray = Ray{o, sd.dir, 0.0f, sd.tfar};
-        return true;
+    // The scalar reference of shadow::sampleRow: one sample's rays of the active pixels. A
+    // back-facing pixel's ray is culled (occluded without a ray), but its two random numbers are
+    // drawn either way, so every sample of a pixel reads the same stream.
+    void sampleRow(shadow::RowPixels& px, shadow::RowRays& rays) const {
+        rays.count = 0;
+        for (int i = 0; i < px.count; ++i) {
+            if (!px.active[i])
+                continue;
+            Rng rng = Rng::resume(px.rng[i]);
+            const float u = rng.nextFloat(), v = rng.nextFloat();
+            px.rng[i] = rng.state();
+            const Vec3f p{px.px[i], px.py[i], px.pz[i]}, n{px.nx[i], px.ny[i], px.nz[i]};
+            const int model = px.model[i];
+            const float NoL = dot(n, mGenerator.centreDirection(p));
+            if (NoL <= 0.0f && cullsBackFacing(model, mLight.type))
+                continue;
+            // Reference §9.2: towards the camera by max(1e-4·distance, bias), then along the
+            // normal by lerp(bias, 0.01 cm, N·L); a transmissive pixel facing away starts on its
+            // back side instead.
+            const Vec3f toEye{px.ex[i], px.ey[i], px.ez[i]};
+            Vec3f o = p + toEye * std::max(1e-4f * px.eyeDistance[i], mRow.maxBias);
+            const float nb =
+                mRow.maxBias + (mRow.minBias - mRow.maxBias) * std::clamp(NoL, 0.0f, 1.0f);
+            const bool backSide = mParams.transmission && NoL <= 0.0f &&
+                                  (hasThicknessTransmission(model) || model == kSubsurfaceProfile);
+            o += n * (backSide ? -nb : nb);
+            const ShadowDirection sd = mGenerator.sample(o, u, v);
+            const int k = rays.count++;
+            rays.ox[k] = o.x;
+            rays.oy[k] = o.y;
+            rays.oz[k] = o.z;
+            rays.dx[k] = sd.dir.x;
+            rays.dy[k] = sd.dir.y;
+            rays.dz[k] = sd.dir.z;
+            rays.tfar[k] = sd.tfar;
+            rays.owner[k] = i;
+        }
     }
 
     // Occlusion of the first `count` (1 to kPacketSize) of the rays, and where a blocked ray's
     // distance is wanted (the denoiser's input) its closest hit (−1: none), found in the same
     // traversal; as a packet or one ray at a time, with the same result.
-    void trace(const Ray* ray, int count, bool blocked[], float hitT[], TileWork& work) const {
+    void trace(const RayArrays& rays, int count, bool blocked[], float hitT[],
+               TileWork& work) const {
         if (mParams.rayPackets) {
-            bool inPacket[kPacketSize];
-            for (int i = 0; i < kPacketSize; ++i)
-                inPacket[i] = i < count;
             if (mWantDistance) {
-                mRs.occludedWithDistance8(ray, inPacket, blocked, hitT);
+                mRs.occludedWithDistance8(rays, count, blocked, hitT);
             } else {
-                mRs.occluded8(ray, inPacket, blocked);
+                mRs.occluded8(rays, count, blocked);
                 std::fill(hitT, hitT + count, -1.0f);
             }
         } else {
             for (int i = 0; i < count; ++i) {
-                blocked[i] = mRs.occluded(ray[i].org, ray[i].dir, ray[i].tnear, ray[i].tfar);
+                const Ray r = rays.at(i);
+                blocked[i] = mRs.occluded(r.org, r.dir, 0.0f, r.tfar);
                 hitT[i] = -1.0f;
                 if (mWantDistance && blocked[i]) {
-                    const RayHit h =
-                        mRs.intersect(ray[i].org, ray[i].dir, ray[i].tnear, ray[i].tfar);
+                    const RayHit h = mRs.intersect(r.org, r.dir, 0.0f, r.tfar);
                     hitT[i] = h.hit ? h.t : -1.0f;
                 }
             }
@@ -231,15 +259,17 @@ private:
                 work.distanceRays += blocked[i];
     }
 
-    // What one traced sample adds to its pixel.
-    void addSample(const PixelSetup& s,
+    // What one traced sample of pixel i adds to it.
+    void addSample(const shadow::RowPixels& px,
+                   int i,
                    const Ray& ray,
                    bool blocked,
                    float hitT,
                    PixelResult& r,
                    TileWork& work) const {
+        const int model = px.model[i];
         // A subsurface-profile pixel's transmission channel is its encoded thickness instead.
-        const bool profile = mParams.transmission && s.model == kSubsurfaceProfile;
+        const bool profile = mParams.transmission && model == kSubsurfaceProfile;
         if (!blocked) {
             r.visibility += 1.0f;
             if (!profile)
@@ -247,29 +277,31 @@ private:
         } else {
             if (hitT >= 0.0f && (r.closestHit < 0.0f || hitT < r.closestHit))
                 r.closestHit = hitT;
-            if (mParams.transmission && hasThicknessTransmission(s.model))
-                addThicknessTransmission(s, ray, r, work);
+            if (mParams.transmission && hasThicknessTransmission(model))
+                addThicknessTransmission(px, i, ray, r, work);
         }
         if (profile)
-            r.transmission += profileThickness(s, ray, work);
+            r.transmission += profileThickness(px, i, ray, work);
     }
 
     // Reference §9.3: the inverted ray from the far end finds where the light enters the pixel's
     // own object; the thickness gives the transmittance (hair: density 1 per cm), and a fully
     // transmitted sample counts as unoccluded.
-    void addThicknessTransmission(const PixelSetup& s,
+    void addThicknessTransmission(const shadow::RowPixels& px,
+                                  int i,
                                   const Ray& ray,
                                   PixelResult& r,
                                   TileWork& work) const {
         const float far = std::min(ray.tfar, mRs.farthestDistance(ray.org));
         const Vec3f start = ray.org + ray.dir * far;
-        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, far, s.instance);
+        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, far, px.instance[i]);
         ++work.transmissionRays;
         if (!h.hit)
             return;
         const float thicknessCm = (far - h.t) / mCm;
-        const float T = s.model == kHair ? std::clamp(std::exp(-thicknessCm), 0.0f, 1.0f)
-                                         : RTShadowsPass::transmittance(s.opacity, thicknessCm);
+        const float T = px.model[i] == kHair
+                            ? std::clamp(std::exp(-thicknessCm), 0.0f, 1.0f)
+                            : RTShadowsPass::transmittance(px.opacity[i], thicknessCm);
         r.transmission += T;
         if (T == 1.0f)
             r.visibility += 1.0f;  // promoted to unoccluded
@@ -277,60 +309,63 @@ private:
 
     // Subsurface profile: the encoded thickness of its own object towards the light, up to 5 cm
     // (inferred simplification of Unreal's constant-tracking estimate, reference §9.3).
-    float profileThickness(const PixelSetup& s, const Ray& ray, TileWork& work) const {
+    float profileThickness(const shadow::RowPixels& px,
+                           int i,
+                           const Ray& ray,
+                           TileWork& work) const {
         const float reach = RTShadowsPass::kMaxProfileDistanceCm * mCm;
         const Vec3f start = ray.org + ray.dir * reach;
-        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, reach, s.instance);
+        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, reach, px.instance[i]);
         ++work.transmissionRays;
+        const Vec3f n{px.nx[i], px.ny[i], px.nz[i]};
         const float thicknessCm =
             h.hit ? (reach - h.t) / mCm
-                  : (dot(s.n, ray.dir) > 0.0f ? 0.0f : RTShadowsPass::kMaxProfileDistanceCm);
+                  : (dot(n, ray.dir) > 0.0f ? 0.0f : RTShadowsPass::kMaxProfileDistanceCm);
         return RTShadowsPass::encodeThickness(thicknessCm);
     }
 
-    // The pixel's means over its samples, with far subsurface pixels blended towards
-    // transmission (reference §9.3), written with their light-attenuation encoding.
-    void resolvePixel(const PixelSetup& s,
+    // Pixel i's means over its samples, with far subsurface pixels blended towards transmission
+    // (reference §9.3), written with their light-attenuation encoding where it is read.
+    void resolvePixel(const shadow::RowPixels& px,
+                      int i,
                       const PixelResult& r,
                       int x,
                       int py,
                       const ShadowOutputs& out) const {
-        if (!s.active) {
+        if (!px.active[i]) {
             out.hitDistance.at(x, py) = -1.0f;
             return;  // shadow, transmission and attenuation stay 0: no light
         }
         float visibility = r.visibility / float(mSpp);
         const float transmission = r.transmission / float(mSpp);
-        if (hasThicknessTransmission(s.model) && mParams.lodTransitionEnd > 0.0f) {
+        if (hasThicknessTransmission(px.model[i]) && mParams.lodTransitionEnd > 0.0f) {
             const float span =
                 std::max(mParams.lodTransitionEnd - mParams.lodTransitionStart, 1e-6f);
-            const float f =
-                std::clamp((s.eyeDistance / mCm - mParams.lodTransitionStart) / span, 0.0f, 1.0f);
+            const float f = std::clamp(
+                (px.eyeDistance[i] / mCm - mParams.lodTransitionStart) / span, 0.0f, 1.0f);
             visibility += (transmission - visibility) * f;
         }
         out.shadow.at(x, py) = visibility;
         out.transmission.at(x, py) = transmission;
         out.hitDistance.at(x, py) = r.closestHit;
-        LightAttenuation::fromShadow(mLight.type, visibility, transmission)
-            .store(out.attenuation, x, py);
+        if (out.attenuation)
+            LightAttenuation::fromShadow(mLight.type, visibility, transmission)
+                .store(*out.attenuation, x, py);
     }
 
     const RTShadowsParams& mParams;
     const RayScene& mRs;
     const Light& mLight;
-    const CameraView& mCam;
     const ShadowRayGenerator mGenerator;
-    const float mCm, mMaxBias, mMinBias;
+    const float mCm;
     const int mSpp;
-    const uint32_t mSeed;
-    const Vec3d mEyeOffset;  // the eye relative to the RayScene origin (usually zero)
-    const int64_t mFrame;
     const Plane& mDepth;
     const Image& mNormal;
     const Plane& mModels;
-    const Texture* mCustomData;
-    const Texture* mInstances;
+    const Plane* mOpacity;    // CustomData.A: subsurface opacity, the transmission density
+    const Plane* mInstances;  // the pixel's own object for transmission rays
     const bool mWantDistance;  // closest-hit rays only where a blocked ray's distance is read
+    shadow::RowContext mRow;   // the camera, light and biases both set-ups and samplers read
 };
 
 }  // namespace
@@ -357,6 +392,9 @@ ParamSpec<RTShadowsParams> RTShadowsPass::paramSpec() {
     s.add("rayPackets", &Params::rayPackets,
           "trace rtcOccluded8 packets of 8 neighbouring pixels (false: one ray at a time; same "
           "result bit for bit)");
+    s.add("lanes", &Params::lanes,
+          "set up pixels and draw their rays in SIMD lanes (false: the scalar reference, one pixel "
+          "at a time; same result bit for bit)");
     return s;
 }
 
@@ -410,10 +448,14 @@ void RTShadowsPass::execute(PassContext& ctx) {
     const Light& light = namedLight(rs.scene().lights, mParams.light);
     const ShadowTracer tracer(mParams, ctx, rs, light);
     const Extent size = frame.extent;
-    const ShadowOutputs out{ctx.output(kShadow, {size}).image().plane(0),
-                            ctx.output(kTransmission, {size}).image().plane(0),
-                            ctx.output(kHitDistance, {size}).image().plane(0),
-                            ctx.output(kLightAttenuation, {size}).image()};
+    // Unreal's light-attenuation encoding is only written where a reader asks for it (the lit
+    // chain's denoiser and deferred lighting read shadow, transmission and hitDistance).
+    const ShadowOutputs out{
+        ctx.output(kShadow, {size}).image().plane(0),
+        ctx.output(kTransmission, {size}).image().plane(0),
+        ctx.output(kHitDistance, {size}).image().plane(0),
+        ctx.isRequested(kLightAttenuation) ? &ctx.output(kLightAttenuation, {size}).image()
+                                           : nullptr};
     forEachTile(size.width, size.height, [&](const Tile& t) {
         TileWork work;
         for (int py = t.y0; py < t.y1; ++py)

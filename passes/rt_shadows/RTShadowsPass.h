@@ -20,6 +20,7 @@ struct RTShadowsParams {
     float lodTransitionStart = 4000.0f;  //!< cm
     float lodTransitionEnd = 5000.0f;    //!< cm
     bool rayPackets = true;      //!< rtcOccluded8 packets; false traces one ray at a time
+    bool lanes = true;           //!< set-up and rays in SIMD lanes; false: the scalar reference
 };
 
 class RTShadowsPass final : public Pass {

@@ -5,54 +5,61 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace fp {
 
-namespace {
-// Reference §9.2: directional shadow rays run to 1e27, i.e. to infinity for any scene.
-constexpr float kDirectionalTraceDistance = 1e27f;
-}  // namespace
-
 ShadowRayGenerator::ShadowRayGenerator(const Light& light, const Vec3d& lightOrigin)
-    : mLight(light),
-      mPosition(Vec3f(light.position - lightOrigin)),
-      mToLight(normalize(-Vec3f(light.direction))),
-      mAxis(normalize(Vec3f(light.direction))),
-      mHalfU(Vec3f(light.halfU)),
-      mHalfV(Vec3f(light.halfV)) {
-    if (light.type == LightType::Rect) mAxis = normalize(cross(mHalfU, mHalfV));
-    if (light.type == LightType::Spot) mCosOuter = std::cos(light.outerConeDegrees * kPiF / 180.0f);
-    mSourceRadius = std::sin(0.5f * light.sourceAngleDegrees * kPiF / 180.0f);
+    : mLight(light) {
+    ShadowLightShape& s = mShape;
+    s.type = light.type;
+    s.position = Vec3f(light.position - lightOrigin);
+    s.toLight = normalize(-Vec3f(light.direction));
+    orthonormalBasis(s.toLight, s.toLightT, s.toLightB);
+    s.axis = normalize(Vec3f(light.direction));
+    s.halfU = Vec3f(light.halfU);
+    s.halfV = Vec3f(light.halfV);
+    if (light.type == LightType::Rect) s.axis = normalize(cross(s.halfU, s.halfV));
+    if (light.type == LightType::Spot) s.cosOuter = std::cos(light.outerConeDegrees * kPiF / 180.0f);
+    s.sourceRadius = std::sin(0.5f * light.sourceAngleDegrees * kPiF / 180.0f);
+    s.radius = light.radius;
+    s.reachBound = std::numeric_limits<float>::infinity();
+    if (light.type != LightType::Directional && light.attenuationRadius > 0.0) {
+        float bound = float(light.attenuationRadius);
+        if (double(bound) > light.attenuationRadius)
+            bound = std::nextafter(bound, -std::numeric_limits<float>::infinity());
+        s.reachBound = bound;
+    }
 }
 
 bool ShadowRayGenerator::reaches(const Vec3f& p) const {
-    if (mLight.type == LightType::Directional) return true;
-    const Vec3f d = mPosition - p;
-    if (mLight.attenuationRadius > 0.0 && length(d) > mLight.attenuationRadius) return false;
-    if (mLight.type == LightType::Spot) return dot(normalize(-d), mAxis) > mCosOuter;
-    if (mLight.type == LightType::Rect) return dot(-d, mAxis) > 0.0f;
+    const ShadowLightShape& s = mShape;
+    if (s.type == LightType::Directional) return true;
+    const Vec3f d = s.position - p;
+    if (length(d) > s.reachBound) return false;
+    if (s.type == LightType::Spot) return dot(normalize(-d), s.axis) > s.cosOuter;
+    if (s.type == LightType::Rect) return dot(-d, s.axis) > 0.0f;
     return true;
 }
 
 Vec3f ShadowRayGenerator::centreDirection(const Vec3f& p) const {
-    if (mLight.type == LightType::Directional) return mToLight;
-    return normalize(mPosition - p);
+    if (mShape.type == LightType::Directional) return mShape.toLight;
+    return normalize(mShape.position - p);
 }
 
 ShadowDirection ShadowRayGenerator::sample(const Vec3f& o, float u, float v) const {
+    const ShadowLightShape& l = mShape;
     ShadowDirection s;
-    switch (mLight.type) {
+    switch (l.type) {
     case LightType::Directional: {
         float dx, dy;
         ue::concentricDisk(u, v, dx, dy);
-        Vec3f t, b;
-        orthonormalBasis(mToLight, t, b);
-        s.dir = normalize(mToLight + (t * dx + b * dy) * mSourceRadius);
-        s.tfar = kDirectionalTraceDistance;
+        s.dir = normalize(l.toLight + (l.toLightT * dx + l.toLightB * dy) * l.sourceRadius);
+        s.tfar = ShadowLightShape::kDirectionalTraceDistance;
         return s;
     }
     case LightType::Rect: {
-        const Vec3f q = mPosition + mHalfU * (2.0f * u - 1.0f) + mHalfV * (2.0f * v - 1.0f);
+        const Vec3f q = l.position + l.halfU * (2.0f * u - 1.0f) + l.halfV * (2.0f * v - 1.0f);
         const Vec3f d = q - o;
         const float dist = length(d);
         s.dir = d / dist;
@@ -62,10 +69,10 @@ ShadowDirection ShadowRayGenerator::sample(const Vec3f& o, float u, float v) con
     }
     case LightType::Point:
     case LightType::Spot: {
-        const Vec3f d = mPosition - o;
+        const Vec3f d = l.position - o;
         const float dist = length(d);
         const Vec3f L = d / dist;
-        const float r = mLight.radius;
+        const float r = l.radius;
         if (r <= 0.0f || dist <= r) {  // a point, or a pixel inside the sphere
             s.dir = L;
             s.tfar = dist <= r ? 0.0f : dist;

@@ -13,6 +13,24 @@ struct ShadowDirection {
     float tfar = 0;   //!< where the ray stops: the light's surface, or far away for directional
 };
 
+/// The light as its shadow rays see it, in the float terms both the scalar generator below and
+/// the SIMD lanes (ShadowLanes.h) compute with.
+struct ShadowLightShape {
+    LightType type = LightType::Point;
+    Vec3f position;           //!< relative to the RayScene origin
+    Vec3f toLight;            //!< directional: unit vector towards the light
+    Vec3f toLightT, toLightB;  //!< directional: orthonormalBasis(toLight)
+    Vec3f axis;               //!< spot axis (direction of travel), rect emission normal
+    Vec3f halfU, halfV;       //!< rect half extents
+    float cosOuter = -1.0f;   //!< spot: cos of the outer cone angle
+    float sourceRadius = 0;   //!< directional: sin(½ angle)
+    float radius = 0;         //!< point/spot sphere radius
+    /// Attenuation radius as a float bound: a float distance d is beyond the (double) radius
+    /// exactly when d > reachBound (the largest float not above it); +∞ when unlimited.
+    float reachBound = 0;
+    static constexpr float kDirectionalTraceDistance = 1e27f;  // reference §9.2: "infinite"
+};
+
 class ShadowRayGenerator {
 public:
     /// `lightOrigin`: the scene origin of the RayScene the rays go into (positions are relative).
@@ -28,15 +46,11 @@ public:
     ShadowDirection sample(const Vec3f& o, float u, float v) const;
 
     const Light& light() const { return mLight; }
+    const ShadowLightShape& shape() const { return mShape; }
 
 private:
     const Light& mLight;
-    Vec3f mPosition;  // relative to the RayScene origin
-    Vec3f mToLight;   // directional: unit vector towards the light
-    Vec3f mAxis;      // spot axis (direction of travel), rect emission normal
-    Vec3f mHalfU, mHalfV;
-    float mCosOuter = -1.0f;
-    float mSourceRadius = 0.0f;  // directional: sin(½ angle)
+    ShadowLightShape mShape;
 };
 
 }  // namespace fp

@@ -3,7 +3,9 @@
 // coordinates, and the hard-case floor.
 #include "io/SceneLoader.h"
 #include "passes/lighting/LightAttenuation.h"
+#include "passes/common/Lanes.h"
 #include "passes/rt_shadows/RTShadowsPass.h"
+#include "passes/rt_shadows/ShadowLanes.h"
 #include "tests/support/TestScenes.h"
 
 #include <doctest/doctest.h>
@@ -189,6 +191,82 @@ TEST_CASE("packets and single rays agree bit for bit; 1 and 2 threads are byte-i
         for (int x = 0; x < s.width(); ++x)
             partial += s.at(x, y) > 0.0f && s.at(x, y) < 1.0f;
     CHECK(partial > 20);
+}
+
+TEST_CASE("set-up and rays in SIMD lanes give the scalar reference's bits for every light type") {
+    // A floor under three spheres: subsurface (2), hair (7) and subsurface profile (5), so the
+    // back-side bias, the hair normal and both transmission kinds take part; every light type,
+    // the local ones with an attenuation radius that leaves part of the floor out of reach and
+    // (spot) a cone that leaves out more. Two samples a pixel: the second reads each lane's
+    // advanced random stream.
+    Light sunLight = sun({0.3, -1, 0.2}, 4.0f);
+    Light bulb;
+    bulb.name = "bulb";
+    bulb.position = {20, 80, -10};
+    bulb.radius = 15.0f;
+    bulb.attenuationRadius = 140.0;
+    Light spot = bulb;
+    spot.name = "spot";
+    spot.type = LightType::Spot;
+    spot.direction = {0, -1, 0.2};
+    spot.outerConeDegrees = 35.0f;
+    Light panel;
+    panel.name = "panel";
+    panel.type = LightType::Rect;
+    panel.position = {-10, 90, 0};
+    panel.direction = {0, -1, 0};
+    panel.halfU = {20, 0, 0};
+    panel.halfV = {0, 0, 15};  // halfU × halfV points down: it lights the floor
+    panel.attenuationRadius = 160.0;
+    Scene scene = sphereOverFloor({}, sunLight);
+    scene.lights = {sunLight, bulb, spot, panel};
+    for (const int model : {2, 7, 5}) {
+        Material m = test::lambert(0.6f);
+        m.shadingModel = model;
+        m.opacity = 0.5f;
+        scene.materials.push_back(m);
+    }
+    scene.meshes[1].material = 1;  // the subsurface sphere of sphereOverFloor
+    scene.meshes.push_back(test::sphere({-35, 12, 15}, 12.0, 48, 2, 3));
+    scene.meshes.push_back(test::sphere({35, 12, 20}, 12.0, 48, 3, 4));
+    FrameCamera cam;
+    cam.current = CameraView::lookAt({0, 90, -130}, {0, 10, 0}, {0, 1, 0}, 60.0, 83, 61, 10.0);
+    cam.previous = cam.current;
+    auto src = test::captureToMemory(scene, cam);
+    const std::vector<std::string> outs = {"rt_shadows.shadow", "rt_shadows.transmission",
+                                           "rt_shadows.hitDistance", "rt_shadows.lightAttenuation"};
+    const std::vector<int64_t> targets = laneTargetsHere();
+    REQUIRE(!targets.empty());
+    int compared = 0;
+    for (const Light& light : scene.lights) {
+        auto trace = [&](bool lanes, int64_t target) {
+            useOnlyLaneTarget(target);
+            test::MemorySink sink;
+            const NodeDesc node = test::node(
+                "rt_shadows", {{"light", light.name}, {"lanes", lanes}, {"samplesPerPixel", 2}});
+            const FrameReport report = executePlan(test::planFor({node}, outs), src, sink);
+            useOnlyLaneTarget(0);
+            return std::pair{sink.layers, report.passes.back().work};
+        };
+        const auto [scalar, scalarWork] = trace(false, 0);
+        // Both branches of the light's reach and of N·L culling are compared.
+        CHECK_MESSAGE(scalarWork.at("pixels") > 500, light.name);
+        if (light.type != LightType::Directional)
+            CHECK_MESSAGE(scalarWork.at("skippedPixels") > 200, light.name);
+        CHECK_MESSAGE(scalarWork.at("transmissionRays") > 100, light.name);
+        for (int64_t target : targets) {
+            INFO(light.name, ", target ", target);
+            const auto [lanes, lanesWork] = trace(true, target);
+            CHECK(lanesWork == scalarWork);
+            for (const auto& o : outs) {
+                const Image& a = lanes.at(o).image();
+                for (int c = 0; c < a.channelCount(); ++c)
+                    CHECK_MESSAGE(test::sameBits(a.plane(c), scalar.at(o).image().plane(c)), o);
+            }
+            ++compared;
+        }
+    }
+    CHECK(compared == 4 * int(targets.size()));
 }
 
 TEST_CASE("the shadow denoiser brings 1-spp soft shadows closer to converged ones") {

@@ -1,0 +1,78 @@
+#pragma once
+// rt_shadows' per-pixel work with a row's pixels in SIMD lanes (Google Highway, the widest
+// instruction set the CPU has, chosen at run time): the set-up of each pixel (its position rebuilt
+// from depth in double, the light's reach, the normal) and each sample's shadow ray (the random
+// pair, N·L culling, the biases, the light sample), written as structures of arrays that Embree's
+// packets take without a per-ray copy.
+//
+// The scalar reference (RTShadowsPass.cpp with lanes=false) fills the same structures one pixel at
+// a time. Every lane does its IEEE operations in the same order (no fused multiply-add: the build
+// sets -ffp-contract=off), and the one step without an exact SIMD twin, libm's cosine and sine of
+// a sample's disk or cone angle, stays scalar per lane, so both give the same bits (ShadowTests
+// checks it on every instruction set the CPU runs).
+#include "passes/core/Camera.h"
+#include "passes/core/Tiles.h"
+#include "passes/rt_shadows/ShadowRayGenerator.h"
+
+#include <cstdint>
+
+namespace fp::shadow {
+
+constexpr int kMaxLanes = 16;                         // AVX-512's floats
+constexpr int kRowCapacity = kTileSize + kMaxLanes;  // a tile row, padded to whole vectors
+
+/// The GBuffer of pixels [x0, x0 + count) of row y, one pointer a plane (opacity and instance may
+/// be null: 1 and 0).
+struct RowInputs {
+    int x0 = 0, y = 0, count = 0;
+    const float *depth, *normalX, *normalY, *normalZ, *model, *opacity, *instance;
+};
+
+/// What stays the same for every sample of a row's pixels, one array a field; entry i is pixel
+/// x0 + i. Inactive pixels (unlit, sky, out of the light's reach) trace nothing and hold no
+/// meaningful values.
+struct RowPixels {
+    int count = 0;
+    int32_t active[kRowCapacity];
+    float px[kRowCapacity], py[kRowCapacity], pz[kRowCapacity];  // camera-relative position
+    float nx[kRowCapacity], ny[kRowCapacity], nz[kRowCapacity];  // bias normal (hair: to light)
+    float ex[kRowCapacity], ey[kRowCapacity], ez[kRowCapacity];  // unit, towards the eye
+    float eyeDistance[kRowCapacity];
+    int32_t model[kRowCapacity];
+    float opacity[kRowCapacity];
+    uint32_t instance[kRowCapacity];
+    uint32_t rng[kRowCapacity];  // each pixel's Rng state (Random.h), advanced per sample
+};
+
+/// One sample's rays of a row, gathered from the pixels that trace one, in pixel order; padded
+/// so a vector's compressed store past the last ray stays inside.
+struct RowRays {
+    int count = 0;
+    alignas(64) float ox[kRowCapacity], oy[kRowCapacity], oz[kRowCapacity];
+    alignas(64) float dx[kRowCapacity], dy[kRowCapacity], dz[kRowCapacity];
+    alignas(64) float tfar[kRowCapacity];
+    int32_t owner[kRowCapacity];  // the pixel (index into RowPixels) that traced it
+};
+
+/// What the set-up and the rays need besides the row: the camera, the light, the biases.
+struct RowContext {
+    const CameraView* camera;
+    Vec3d eyeOffset;  // the eye relative to the RayScene origin
+    ShadowLightShape light;
+    float maxBias, minBias;  // scene units
+    bool transmission;       // the light's bTransmission
+    uint32_t rngKey;         // Rng's per-frame, per-light part: pcgHash(frame ^ pcgHash(seed ^ …))
+};
+
+/// The Rng state of pixel (x, y), as Rng(frame, x, y, seed) seeds it, from the frame's key.
+uint32_t rngState(uint32_t key, int x, int y);
+
+/// Pixels one vector holds on this CPU (16 with AVX-512).
+int lanes();
+/// Fills `out` for the row (SIMD lanes).
+void setupRow(const RowContext& c, const RowInputs& in, RowPixels& out);
+/// One sample's rays of the active pixels (SIMD lanes): draws each active pixel's random pair
+/// and appends the rays of those not culled to `rays` (count reset first).
+void sampleRow(const RowContext& c, RowPixels& px, RowRays& rays);
+
+}  // namespace fp::shadow
