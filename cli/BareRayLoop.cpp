@@ -8,7 +8,7 @@
 
 namespace fp::cli {
 
-double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, bool packets,
+double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, int width,
                          uint64_t& blocked) {
     // The rays as the pass hands them to Embree, a structure of arrays, laid out before the clock
     // starts.
@@ -21,18 +21,18 @@ double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, bo
     }
     const RayArrays all{soa[0].data(), soa[1].data(), soa[2].data(), soa[3].data(),
                         soa[4].data(), soa[5].data(), soa[6].data()};
-    const std::size_t packetCount = (rays.size() + kPacketSize - 1) / kPacketSize;
+    const std::size_t packetCount = (rays.size() + width - 1) / width;
     const auto start = std::chrono::steady_clock::now();
     blocked = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, packetCount, 64), uint64_t(0),
         [&](const tbb::blocked_range<std::size_t>& r, uint64_t sum) {
-            bool hit[kPacketSize];
+            bool hit[kMaxPacketSize];
             for (std::size_t p = r.begin(); p != r.end(); ++p) {
-                const std::size_t first = p * kPacketSize;
-                const int n = int(std::min<std::size_t>(kPacketSize, rays.size() - first));
+                const std::size_t first = p * std::size_t(width);
+                const int n = int(std::min<std::size_t>(std::size_t(width), rays.size() - first));
                 const RayArrays packet = all.from(first);
-                if (packets) {
-                    scene.occluded8(packet, n, hit);
+                if (width > 1) {
+                    scene.occludedPacket(packet, n, width, hit);
                     for (int i = 0; i < n; ++i) sum += hit[i];
                 } else {
                     for (int i = 0; i < n; ++i) {

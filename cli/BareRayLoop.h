@@ -9,10 +9,11 @@
 
 namespace fp::cli {
 
-/// Seconds to test every ray for occlusion on all threads: in packets of eight consecutive rays
-/// (rtcOccluded8, as the pass groups them) or one at a time (rtcOccluded1). `blocked` receives the
-/// number of occluded rays so the work cannot be optimised away (and can be checked).
-double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, bool packets,
+/// Seconds to test every ray for occlusion on all threads: in packets of `width` (8 or 16)
+/// consecutive rays (rtcOccluded8/16, as the pass groups them) or, for width 1, one at a time
+/// (rtcOccluded1). `blocked` receives the number of occluded rays so the work cannot be optimised
+/// away (and can be checked).
+double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, int width,
                          uint64_t& blocked);
 
 }  // namespace fp::cli

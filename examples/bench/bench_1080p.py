@@ -16,8 +16,10 @@ import sys
 import time
 
 # Each scene and its passes with SIMD lanes (a `lanes` parameter): deferred lighting has lanes for
-# rect lights only, so only the Cornell ceiling's step is swept.
-SCENES = {"cornell": ["ssgi", "deferred_lighting_ceiling"], "hard": ["ssgi"]}
+# rect lights only, so only the Cornell ceiling's step is swept; of rt_shadows, one light's step
+# (every setting is a combination of the sweeps, so each one more doubles the runs).
+SCENES = {"cornell": ["ssgi", "deferred_lighting_ceiling", "rt_shadows_ceiling"],
+          "hard": ["ssgi", "rt_shadows_sun"]}
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 
@@ -73,21 +75,26 @@ def main():
         scalar = {n: {p["name"]: p for p in settings[label(n)]["passes"]}[n] for n in laned}
         passes = {p["name"]: p for p in setting["passes"]}
         bare8 = passes.get("bare loop rtcOccluded8")
+        bare16 = passes.get("bare loop rtcOccluded16")  # where the CPU has AVX-512
         shadowSteps = sum(p["type"] == "rt_shadows" for p in setting["passes"])
         for p in setting["passes"]:
             if p["name"].startswith("bare loop"):
                 continue
-            note = ""
+            notes = []
             if p["type"] == "rt_shadows" and bare8 and bare8["throughput"] > 0:
                 # The bare loop replays the rays of every rt_shadows step of the chain together.
-                        note = (f"{100 * p['throughput'] / bare8['throughput']:.0f} % of the bare "
-                        f"rtcOccluded8 loop ({bare8['throughput'] / 1e6:.1f} M rays/s"
-                        f"{', every light' if shadowSteps > 1 else ''})")
+                wide = (f"; rtcOccluded16 {bare16['throughput'] / 1e6:.1f} M rays/s"
+                        if bare16 else "")
+                notes.append(f"{100 * p['throughput'] / bare8['throughput']:.0f} % of the bare "
+                             f"rtcOccluded8 loop ({bare8['throughput'] / 1e6:.1f} M rays/s"
+                             f"{', every light' if shadowSteps > 1 else ''}{wide})")
             if p["name"] in scalar and scalar[p["name"]]["throughput"] > 0:
                 reference = scalar[p["name"]]
-                note = (f"{p['throughput'] / reference['throughput']:.1f}× the scalar reference "
-                        f"(`{p['name']}.lanes=false`: {reference['median'] * 1e3:,.0f} ms, "
-                        f"{reference['throughput'] / 1e6:.1f} M {p['unit']}/s; same bits)")
+                notes.append(f"{p['throughput'] / reference['throughput']:.1f}× the scalar "
+                             f"reference (`{p['name']}.lanes=false`: "
+                             f"{reference['median'] * 1e3:,.0f} ms, "
+                             f"{reference['throughput'] / 1e6:.1f} M {p['unit']}/s; same bits)")
+            note = "; ".join(notes)
             rate = f"{p['throughput'] / 1e6:.1f} M {p['unit']}/s" if p["work"] else ""
             rows.append((scene, p["name"], f"{p['median'] * 1e3:,.1f}", rate, note))
         pixels = result["width"] * result["height"]

@@ -50,6 +50,7 @@ RayScene::RayScene(const Scene& scene, const Vec3d& origin) : mScene(scene), mOr
         rtcReleaseGeometry(geom);
     }
     rtcCommitScene(rtc);
+    mPacketWidth = rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) ? 16 : 8;
     RTCBounds bounds;
     rtcGetSceneBounds(rtc, &bounds);
     mBoundsLo = {bounds.lower_x, bounds.lower_y, bounds.lower_z};
@@ -115,10 +116,11 @@ bool RayScene::occluded(const Vec3f& org, const Vec3f& dir, float tnear, float t
 }
 
 namespace {
-// Embree's 8-wide packets need 32-byte alignment; a lane is valid when its mask is −1. Lanes past
-// `count` repeat ray 0, so every lane Embree might look at holds a finite ray.
-void fillRay8(RTCRay8& r, int* valid, const RayArrays& rays, int count, const bool* use) {
-    for (int i = 0; i < kPacketSize; ++i) {
+// Embree's packets (RTCRay8, RTCRay16) need their width's alignment; a lane is valid when its mask
+// is −1. Lanes past `count` repeat ray 0, so every lane Embree might look at holds a finite ray.
+template <int W, class Packet>
+void fillPacket(Packet& r, int* valid, const RayArrays& rays, int count, const bool* use) {
+    for (int i = 0; i < W; ++i) {
         const bool on = i < count && (!use || use[i]);
         valid[i] = on ? -1 : 0;
         const int k = i < count ? i : 0;
@@ -136,43 +138,73 @@ void fillRay8(RTCRay8& r, int* valid, const RayArrays& rays, int count, const bo
         r.id[i] = unsigned(i);
     }
 }
-}  // namespace
 
-void RayScene::occluded8(const RayArrays& rays, int count, bool* occluded) const {
-    FP_ASSERT(count >= 1 && count <= kPacketSize);
-    if (mLog) log(rays, count);
-    alignas(32) int valid[kPacketSize];
-    alignas(32) RTCRay8 r;
-    fillRay8(r, valid, rays, count, nullptr);
+template <int W> struct Packet;
+template <> struct Packet<8> {
+    using Ray = RTCRay8;
+    using RayHit = RTCRayHit8;
+    static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) {
+        rtcOccluded8(v, s, c, r);
+    }
+    static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+        rtcIntersect8(v, s, c, r);
+    }
+};
+template <> struct Packet<16> {
+    using Ray = RTCRay16;
+    using RayHit = RTCRayHit16;
+    static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) {
+        rtcOccluded16(v, s, c, r);
+    }
+    static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+        rtcIntersect16(v, s, c, r);
+    }
+};
+
+// Occlusion of rays [0, count) in one packet of width W, and with `t` the closest hit of the
+// blocked ones: any-hit first (most shadow rays of a lit frame are unblocked, and the occlusion
+// query stops at the first occluder), then the nearest occluder on the blocked lanes only.
+template <int W>
+void tracePacket(RTCScene scene, const RayArrays& rays, int count, bool* occluded, float* t) {
+    alignas(4 * W) int valid[W];
+    alignas(4 * W) typename Packet<W>::Ray r;
+    fillPacket<W>(r, valid, rays, count, nullptr);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    rtcOccluded8(valid, static_cast<RTCScene>(mRtcScene), &context, &r);
-    for (int i = 0; i < count; ++i)
-        occluded[i] = r.tfar[i] == -std::numeric_limits<float>::infinity();
-}
-
-void RayScene::occludedWithDistance8(const RayArrays& rays, int count, bool* occluded,
-                                     float* t) const {
-    // Any-hit first: most shadow rays of a lit frame are unblocked, and rtcOccluded8 stops at
-    // the first occluder. Only the blocked lanes then look for their nearest one.
-    occluded8(rays, count, occluded);
+    Packet<W>::occluded(valid, scene, &context, &r);
     bool anyBlocked = false;
     for (int i = 0; i < count; ++i) {
-        t[i] = -1.0f;
+        occluded[i] = r.tfar[i] == -std::numeric_limits<float>::infinity();
         anyBlocked |= occluded[i];
     }
+    if (!t)
+        return;
+    std::fill(t, t + count, -1.0f);
     if (!anyBlocked)
         return;
-    alignas(32) int valid[kPacketSize];
-    alignas(32) RTCRayHit8 rh;
-    fillRay8(rh.ray, valid, rays, count, occluded);
-    for (int i = 0; i < kPacketSize; ++i) rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    rtcIntersect8(valid, static_cast<RTCScene>(mRtcScene), &context, &rh);
+    alignas(4 * W) typename Packet<W>::RayHit rh;
+    fillPacket<W>(rh.ray, valid, rays, count, occluded);
+    for (int i = 0; i < W; ++i) rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    Packet<W>::intersect(valid, scene, &context, &rh);
     for (int i = 0; i < count; ++i)
         if (occluded[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID)
             t[i] = rh.ray.tfar[i];
+}
+}  // namespace
+
+void RayScene::occludedPacket(const RayArrays& rays, int count, int width, bool* occluded) const {
+    occludedWithDistancePacket(rays, count, width, occluded, nullptr);
+}
+
+void RayScene::occludedWithDistancePacket(const RayArrays& rays, int count, int width,
+                                          bool* occluded, float* t) const {
+    FP_ASSERT((width == 8 || width == 16) && count >= 1 && count <= width);
+    if (mLog) log(rays, count);
+    const auto scene = static_cast<RTCScene>(mRtcScene);
+    if (width == 16)
+        tracePacket<16>(scene, rays, count, occluded, t);
+    else
+        tracePacket<8>(scene, rays, count, occluded, t);
 }
 
 RayHit RayScene::intersectInstance(const Vec3f& org, const Vec3f& dir, float tnear, float tfar,

@@ -46,8 +46,8 @@ inline Vec3f offsetRayOrigin(const Vec3f& p, const Vec3f& away) {
     return {offset(p.x, away.x), offset(p.y, away.y), offset(p.z, away.z)};
 }
 
-/// Embree's packet width for shadow rays (rtcOccluded8): eight neighbouring pixels.
-constexpr int kPacketSize = 8;
+/// The widest packet the packet queries take (rtcOccluded16).
+constexpr int kMaxPacketSize = 16;
 
 /// Rays as a structure of arrays, as shadow passes build them and Embree's packets take them:
 /// ray i runs from (orgX[i], orgY[i], orgZ[i]) along the unit (dirX[i], …) for t in [0, tfar[i]].
@@ -79,13 +79,17 @@ public:
     /// True when anything blocks org + t·dir for t in [tnear, tfar].
     bool occluded(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const;
 
-    /// rtcOccluded8 on rays [0, count) of `rays` (count 1 to kPacketSize): occluded[i] for each.
-    void occluded8(const RayArrays& rays, int count, bool* occluded) const;
-    /// occluded8, then each blocked ray's closest hit (rtcIntersect8 on the blocked lanes only,
-    /// as occluded() then intersect() do one ray at a time): t[i] is the closest-hit distance of
-    /// blocked ray i, −1 for an unblocked ray. Unblocked rays, most of a lit frame's, cost an
-    /// any-hit traversal only.
-    void occludedWithDistance8(const RayArrays& rays, int count, bool* occluded, float* t) const;
+    /// The packet width Embree traces natively on this CPU: 16 where it has AVX-512, else 8.
+    int packetWidth() const { return mPacketWidth; }
+    /// rtcOccluded8 or rtcOccluded16 (`width` 8 or 16) on rays [0, count) of `rays`, count 1 to
+    /// width: occluded[i] for each.
+    void occludedPacket(const RayArrays& rays, int count, int width, bool* occluded) const;
+    /// occludedPacket, then each blocked ray's closest hit (rtcIntersect8/16 on the blocked lanes
+    /// only, as occluded() then intersect() do one ray at a time): t[i] is the closest-hit
+    /// distance of blocked ray i, −1 for an unblocked ray. Unblocked rays, most of a lit frame's,
+    /// cost an any-hit traversal only.
+    void occludedWithDistancePacket(const RayArrays& rays, int count, int width, bool* occluded,
+                                    float* t) const;
     /// Closest hit of the ray on the meshes with this InstanceId only (other geometry is passed
     /// through): the thickness of a pixel's own object along a ray.
     RayHit intersectInstance(const Vec3f& org, const Vec3f& dir, float tnear, float tfar,
@@ -93,8 +97,8 @@ public:
     /// The farthest distance from `p` (relative to origin()) to any point of the scene's bounds.
     float farthestDistance(const Vec3f& p) const;
 
-    /// While a log is set, every ray of occluded(), occluded8() and occludedWithDistance8() is
-    /// appended to it, so
+    /// While a log is set, every ray of occluded(), occludedPacket() and
+    /// occludedWithDistancePacket() is appended to it, so
     /// `bench` can time a bare Embree loop over exactly the rays a pass traced. nullptr stops.
     void setOcclusionLog(std::vector<Ray>* log) const;
 
@@ -109,6 +113,7 @@ private:
     void* mDevice = nullptr;  // RTCDevice, kept opaque so passes need no Embree headers
     void* mRtcScene = nullptr;
     Vec3f mBoundsLo, mBoundsHi;  // relative to mOrigin
+    int mPacketWidth = 8;
     mutable std::mutex mLogMutex;
     mutable std::vector<Ray>* mLog = nullptr;
     void log(const RayArrays& rays, int count) const;

@@ -101,8 +101,8 @@ public:
 
     /// Pixels [x0, x1) of row py (x1 − x0 ≤ kTileSize). Each sample's rays are gathered from the
     /// pixels that trace one (unlit, sky, unreachable and back-facing pixels trace none) and
-    /// traced in full packets of kPacketSize, as the bare Embree loop traces them: a packet of
-    /// eight neighbouring pixels, most of them idle at a shadow's or the light's edge, costs a
+    /// traced in full packets of RayScene::packetWidth() (16 with AVX-512, else 8), as the bare
+    /// Embree loop traces them: a packet of neighbouring pixels, most of them idle at a shadow's or the light's edge, costs a
     /// full packet's traversal. Every pixel still draws its own random stream in sample order, so
     /// the result is that of one ray at a time.
     void traceRow(int x0, int x1, int py, const ShadowOutputs& out, TileWork& work) const {
@@ -113,9 +113,7 @@ public:
                                    .normalX = mNormal.plane(0).row(py) + x0,
                                    .normalY = mNormal.plane(1).row(py) + x0,
                                    .normalZ = mNormal.plane(2).row(py) + x0,
-                                   .model = mModels.row(py) + x0,
-                                   .opacity = mOpacity ? mOpacity->row(py) + x0 : nullptr,
-                                   .instance = mInstances ? mInstances->row(py) + x0 : nullptr};
+                                   .model = mModels.row(py) + x0};
         shadow::RowPixels px;
         if (mParams.lanes)
             shadow::setupRow(mRow, in, px);
@@ -140,11 +138,12 @@ public:
             else
                 sampleRow(px, rays);
             work.rays += uint64_t(rays.count);
-            for (int first = 0; first < rays.count; first += kPacketSize)
-                trace(arrays.from(first), std::min(kPacketSize, rays.count - first),
-                      &blocked[first], &hitT[first], work);
+            const int width = mRs.packetWidth();
+            for (int first = 0; first < rays.count; first += width)
+                trace(arrays.from(first), std::min(width, rays.count - first), &blocked[first],
+                      &hitT[first], work);
             for (int k = 0; k < rays.count; ++k)
-                addSample(px, rays.owner[k], arrays.at(k), blocked[k], hitT[k],
+                addSample(px, rays.owner[k], py, arrays.at(k), blocked[k], hitT[k],
                           res[rays.owner[k]], work);
         }
         for (int i = 0; i < in.count; ++i)
@@ -155,6 +154,7 @@ private:
     // The scalar reference of shadow::setupRow: what stays the same for all samples of each
     // pixel; inactive for unlit and sky pixels and those the light cannot reach.
     void setupRow(const shadow::RowInputs& in, shadow::RowPixels& px) const {
+        px.x0 = in.x0;
         px.count = in.count;
         const CameraView& cam = *mRow.camera;
         for (int i = 0; i < in.count; ++i) {
@@ -186,8 +186,6 @@ private:
             px.nx[i] = n.x;
             px.ny[i] = n.y;
             px.nz[i] = n.z;
-            px.opacity[i] = in.opacity ? in.opacity[i] : 1.0f;
-            px.instance[i] = in.instance ? uint32_t(truncToInt(in.instance[i], 0, 1 << 30)) : 0u;
             px.rng[i] = Rng::fromKey(mRow.rngKey, x, in.y).state();  // per-pixel streams
         }
     }
@@ -231,18 +229,16 @@ private:
         }
     }
 
-    // Occlusion of the first `count` (1 to kPacketSize) of the rays, and where a blocked ray's
+    // Occlusion of the first `count` (1 to the packet width) of the rays, and where a blocked ray's
     // distance is wanted (the denoiser's input) its closest hit (−1: none), found in the same
     // traversal; as a packet or one ray at a time, with the same result.
     void trace(const RayArrays& rays, int count, bool blocked[], float hitT[],
                TileWork& work) const {
         if (mParams.rayPackets) {
-            if (mWantDistance) {
-                mRs.occludedWithDistance8(rays, count, blocked, hitT);
-            } else {
-                mRs.occluded8(rays, count, blocked);
+            mRs.occludedWithDistancePacket(rays, count, mRs.packetWidth(), blocked,
+                                           mWantDistance ? hitT : nullptr);
+            if (!mWantDistance)
                 std::fill(hitT, hitT + count, -1.0f);
-            }
         } else {
             for (int i = 0; i < count; ++i) {
                 const Ray r = rays.at(i);
@@ -259,9 +255,10 @@ private:
                 work.distanceRays += blocked[i];
     }
 
-    // What one traced sample of pixel i adds to it.
+    // What one traced sample of pixel i of row py adds to it.
     void addSample(const shadow::RowPixels& px,
                    int i,
+                   int py,
                    const Ray& ray,
                    bool blocked,
                    float hitT,
@@ -278,30 +275,31 @@ private:
             if (hitT >= 0.0f && (r.closestHit < 0.0f || hitT < r.closestHit))
                 r.closestHit = hitT;
             if (mParams.transmission && hasThicknessTransmission(model))
-                addThicknessTransmission(px, i, ray, r, work);
+                addThicknessTransmission(px.model[i], opacityAt(px.x0 + i, py),
+                                         instanceAt(px.x0 + i, py), ray, r, work);
         }
         if (profile)
-            r.transmission += profileThickness(px, i, ray, work);
+            r.transmission += profileThickness(px, i, instanceAt(px.x0 + i, py), ray, work);
     }
 
     // Reference §9.3: the inverted ray from the far end finds where the light enters the pixel's
     // own object; the thickness gives the transmittance (hair: density 1 per cm), and a fully
     // transmitted sample counts as unoccluded.
-    void addThicknessTransmission(const shadow::RowPixels& px,
-                                  int i,
+    void addThicknessTransmission(int model,
+                                  float opacity,
+                                  uint32_t instance,
                                   const Ray& ray,
                                   PixelResult& r,
                                   TileWork& work) const {
         const float far = std::min(ray.tfar, mRs.farthestDistance(ray.org));
         const Vec3f start = ray.org + ray.dir * far;
-        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, far, px.instance[i]);
+        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, far, instance);
         ++work.transmissionRays;
         if (!h.hit)
             return;
         const float thicknessCm = (far - h.t) / mCm;
-        const float T = px.model[i] == kHair
-                            ? std::clamp(std::exp(-thicknessCm), 0.0f, 1.0f)
-                            : RTShadowsPass::transmittance(px.opacity[i], thicknessCm);
+        const float T = model == kHair ? std::clamp(std::exp(-thicknessCm), 0.0f, 1.0f)
+                                       : RTShadowsPass::transmittance(opacity, thicknessCm);
         r.transmission += T;
         if (T == 1.0f)
             r.visibility += 1.0f;  // promoted to unoccluded
@@ -311,17 +309,25 @@ private:
     // (inferred simplification of Unreal's constant-tracking estimate, reference §9.3).
     float profileThickness(const shadow::RowPixels& px,
                            int i,
+                           uint32_t instance,
                            const Ray& ray,
                            TileWork& work) const {
         const float reach = RTShadowsPass::kMaxProfileDistanceCm * mCm;
         const Vec3f start = ray.org + ray.dir * reach;
-        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, reach, px.instance[i]);
+        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, reach, instance);
         ++work.transmissionRays;
         const Vec3f n{px.nx[i], px.ny[i], px.nz[i]};
         const float thicknessCm =
             h.hit ? (reach - h.t) / mCm
                   : (dot(n, ray.dir) > 0.0f ? 0.0f : RTShadowsPass::kMaxProfileDistanceCm);
         return RTShadowsPass::encodeThickness(thicknessCm);
+    }
+
+    // CustomData.A (the subsurface opacity: the transmission density) and the InstanceId of pixel
+    // (x, y), read where a transmission ray needs them.
+    float opacityAt(int x, int y) const { return mOpacity ? mOpacity->at(x, y) : 1.0f; }
+    uint32_t instanceAt(int x, int y) const {
+        return mInstances ? uint32_t(truncToInt(mInstances->at(x, y), 0, 1 << 30)) : 0u;
     }
 
     // Pixel i's means over its samples, with far subsurface pixels blended towards transmission

@@ -147,22 +147,17 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
     const int N = int(hn::Lanes(d)), ND = int(hn::Lanes(dd));
     const int n = in.count;
     const int padded = (n + N - 1) / N * N;  // whole float vectors (a multiple of ND)
+    out.x0 = in.x0;
     out.count = n;
 
     // The row's planes copied into padded arrays, so whole vectors read inside.
     HWY_ALIGN float depth[kRowCapacity] = {}, nx[kRowCapacity] = {}, ny[kRowCapacity] = {},
-                    nz[kRowCapacity] = {}, model[kRowCapacity] = {}, instance[kRowCapacity] = {};
-    HWY_ALIGN float opacity[kRowCapacity];
+                    nz[kRowCapacity] = {}, model[kRowCapacity] = {};
     std::copy(in.depth, in.depth + n, depth);
     std::copy(in.normalX, in.normalX + n, nx);
     std::copy(in.normalY, in.normalY + n, ny);
     std::copy(in.normalZ, in.normalZ + n, nz);
     std::copy(in.model, in.model + n, model);
-    std::fill(opacity, opacity + kRowCapacity, 1.0f);
-    if (in.opacity)
-        std::copy(in.opacity, in.opacity + n, opacity);
-    if (in.instance)
-        std::copy(in.instance, in.instance + n, instance);
 
     // Camera.h translatedFromPixel in double, then the float position, eye distance and
     // direction to the eye: Vec3f(eyeOffset + offset), float(length), Vec3f(−offset / length).
@@ -192,8 +187,7 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
         hn::StoreU(hn::DemoteTo(df, hn::Neg(oz) / distance), df, out.ez + i);
     }
 
-    // Lit surfaces the light reaches, their normals (hair: towards the light), opacity, instance
-    // and random stream.
+    // Lit surfaces the light reaches, their normals (hair: towards the light) and random stream.
     const uint32_t rowKey = fp::pcgHash(uint32_t(in.y) ^ c.rngKey);
     for (int i = 0; i < padded; i += N) {
         const V z = hn::Load(d, depth + i);
@@ -215,9 +209,6 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
         hn::StoreU(normal.x, d, out.nx + i);
         hn::StoreU(normal.y, d, out.ny + i);
         hn::StoreU(normal.z, d, out.nz + i);
-        hn::StoreU(hn::Load(d, opacity + i), d, out.opacity + i);
-        hn::StoreU(hn::BitCast(du, truncClamped(hn::Load(d, instance + i), float(1 << 30))), du,
-                   out.instance + i);
         const VU x = hn::BitCast(du, hn::Iota(di, in.x0 + i));
         hn::StoreU(pcgHash(hn::Xor(x, hn::Set(du, rowKey))), du, out.rng + i);
     }

@@ -21,26 +21,24 @@ namespace fp::shadow {
 constexpr int kMaxLanes = 16;                         // AVX-512's floats
 constexpr int kRowCapacity = kTileSize + kMaxLanes;  // a tile row, padded to whole vectors
 
-/// The GBuffer of pixels [x0, x0 + count) of row y, one pointer a plane (opacity and instance may
-/// be null: 1 and 0).
+/// The GBuffer of pixels [x0, x0 + count) of row y, one pointer a plane. (Opacity and InstanceId
+/// are read only where a transmission ray needs them: most rows have none.)
 struct RowInputs {
     int x0 = 0, y = 0, count = 0;
-    const float *depth, *normalX, *normalY, *normalZ, *model, *opacity, *instance;
+    const float *depth, *normalX, *normalY, *normalZ, *model;
 };
 
 /// What stays the same for every sample of a row's pixels, one array a field; entry i is pixel
 /// x0 + i. Inactive pixels (unlit, sky, out of the light's reach) trace nothing and hold no
 /// meaningful values.
 struct RowPixels {
-    int count = 0;
+    int x0 = 0, count = 0;
     int32_t active[kRowCapacity];
     float px[kRowCapacity], py[kRowCapacity], pz[kRowCapacity];  // camera-relative position
     float nx[kRowCapacity], ny[kRowCapacity], nz[kRowCapacity];  // bias normal (hair: to light)
     float ex[kRowCapacity], ey[kRowCapacity], ez[kRowCapacity];  // unit, towards the eye
     float eyeDistance[kRowCapacity];
     int32_t model[kRowCapacity];
-    float opacity[kRowCapacity];
-    uint32_t instance[kRowCapacity];
     uint32_t rng[kRowCapacity];  // each pixel's Rng state (Random.h), advanced per sample
 };
 
