@@ -5,8 +5,9 @@
 // Every lane does the scalar reference's arithmetic (SSGIKernel.h: rayDirection, raySteps,
 // marchHzb) in the same order, one IEEE operation for one, with no fused multiply-add (the build
 // sets -ffp-contract=off), so the lanes give the same bits. Two steps without an exact SIMD twin
-// stay scalar, per lane: std::sin/std::cos of the disk angle (libm's result), and everything after
-// a hit (a read of the mip each ray reached, the Karis weight, the sum in ray order: shadeHit).
+// stay scalar, per lane: std::sin/std::cos of the disk angle (libm's result), and the sum of the
+// hits' weighted colours in ray order (PixelTrace's order); the colour reads, one gather per
+// reduced mip the hits reached, and their Karis weights run in lanes.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/ssgi/SSGILanes.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -177,21 +178,61 @@ void tracePixel(const Frame& f, int x, int y, const float* indexOverCount, const
             marching = hn::And(marching, hitSample < zero);
         }
 
-        // The hits, in ray order (PixelTrace sums in that order).
+        const M hits = hn::And(inUse, hitSample >= zero);
+        if (hn::AllFalse(d, hits))
+            continue;
+        if (wantDistance) {
+            // The debug distance output: each hit one at a time, as the scalar code shades it.
+            hn::Store(hitSample, d, hitAt);
+            hn::Store(level, d, levelAt);
+            hn::Store(originHx, d, ox);
+            hn::Store(originHy, d, oy);
+            hn::Store(originZ, d, oz);
+            hn::Store(stepHx, d, sx);
+            hn::Store(stepHy, d, sy);
+            hn::Store(stepZ1, d, sz);
+            hn::Store(tolerance, d, tol);
+            for (int i = 0; i < n; ++i) {
+                if (hitAt[i] < 0.0f)
+                    continue;
+                const RaySteps steps{{ox[i], oy[i], oz[i]}, {sx[i], sy[i], sz[i]}, tol[i]};
+                trace.add(shadeHit(s, p, steps, int(hitAt[i]), levelAt[i], wantDistance));
+            }
+            continue;
+        }
+        // shadeHit in lanes: the hit point (rayPointAt), the colour of the reduced mip nearest
+        // the level each ray reached (hitColor; one gather per mip present), the Karis weight;
+        // then the sums in ray order, as PixelTrace adds them.
+        const V hx = originHx + stepHx * hitSample, hy = originHy + stepHy * hitSample;
+        const VI mip = clampedFloor(level + hn::Set(d, 0.5f), hn::Set(d, float(kReducedMips - 1)));
+        V c[3] = {zero, zero, zero};
+        for (int m = 0; m < kReducedMips; ++m) {
+            const M onMip = hn::And(hits, hn::RebindMask(d, mip == hn::Set(di, m)));
+            if (hn::AllFalse(d, onMip))
+                continue;
+            const V scale = hn::Set(d, inversePowerOfTwo(m));
+            const VI rx = clampedFloor(hx * scale, hn::Set(d, float(s.reducedMaxX[m])));
+            const VI ry = clampedFloor(hy * scale, hn::Set(d, float(s.reducedMaxY[m])));
+            for (int ch = 0; ch < 3; ++ch) {
+                const PlaneView& plane = s.reduced[m][ch];
+                const VI index = ry * hn::Set(di, int32_t(plane.stride)) + rx;
+                c[ch] = hn::IfThenElse(onMip, hn::GatherIndex(d, plane.data, index), c[ch]);
+            }
+        }
+        const V luma = hn::Set(d, 0.3f) * c[0] + hn::Set(d, 0.59f) * c[1] + hn::Set(d, 0.11f) * c[2];
+        const V karis = hn::Set(d, 1.0f) / (hn::Set(d, 1.0f) + luma);
+        HWY_ALIGN float weighted[3][kMaxLanes];
+        for (int ch = 0; ch < 3; ++ch)
+            hn::Store(c[ch] * karis, d, weighted[ch]);
         hn::Store(hitSample, d, hitAt);
-        hn::Store(level, d, levelAt);
-        hn::Store(originHx, d, ox);
-        hn::Store(originHy, d, oy);
-        hn::Store(originZ, d, oz);
-        hn::Store(stepHx, d, sx);
-        hn::Store(stepHy, d, sy);
-        hn::Store(stepZ1, d, sz);
-        hn::Store(tolerance, d, tol);
         for (int i = 0; i < n; ++i) {
             if (hitAt[i] < 0.0f)
                 continue;
-            const RaySteps steps{{ox[i], oy[i], oz[i]}, {sx[i], sy[i], sz[i]}, tol[i]};
-            trace.add(shadeHit(s, p, steps, int(hitAt[i]), levelAt[i], wantDistance));
+            RayTrace t;
+            t.hit = true;
+            for (int ch = 0; ch < 3; ++ch)
+                t.weighted[ch] = weighted[ch][i];
+            trace.add(t);
         }
     }
     counts[kRays] += (unsigned long long)s.rays;

@@ -1,5 +1,6 @@
 // SSGI, its denoiser and the composite, run through the real planner and executor on in-memory
 // captures of small analytic scenes.
+#include "io/SceneLoader.h"
 #include "passes/common/Reprojection.h"
 #include "passes/core/Executor.h"
 #include "passes/core/Sampling.h"
@@ -117,17 +118,28 @@ TEST_CASE("SIMD lanes give the scalar reference's bits") {
     openCam.current = CameraView::lookAt({0, 8, -10}, {0, 2, 20}, {0, 1, 0}, 60.0, 37, 29, 1.0);
     openCam.previous = openCam.current;
     FrameCamera roomCam = wallCamera(37);
-    const std::vector<std::string> outputs = {"ssgi.diffuse", "ssgi.ao", "ssgi.hitMask",
-                                              "ssgi.hitDistance"};
+    // The Cornell box: coloured walls under its ceiling light, so each hit's colour depends on
+    // which reduced mip it reads.
+    const io::SceneFile cornell =
+        io::loadScene(std::string(FP_SOURCE_DIR) + "/examples/cornell/scene.json");
+    const FrameCamera cornellCam = cornell.cameraForFrame(1, {41, 31});
+    // With the debug hit distance read, hits are shaded one at a time; without it, in lanes.
+    const std::vector<std::string> withDistance = {"ssgi.diffuse", "ssgi.ao", "ssgi.hitMask",
+                                                   "ssgi.hitDistance"};
+    const std::vector<std::string> withoutDistance = {"ssgi.diffuse", "ssgi.ao", "ssgi.hitMask"};
     const std::vector<int64_t> targets = laneTargetsHere();
     REQUIRE(!targets.empty());
     int compared = 0;
+    using Shot = std::pair<const Scene*, const FrameCamera*>;
     for (int64_t target : targets)
-    for (const auto& [scene, cam] : {std::pair{&room, &roomCam}, std::pair{&open, &openCam}})
+    for (const auto& [scene, cam] : {Shot{&room, &roomCam}, Shot{&open, &openCam},
+                                     Shot{&cornell.scene, &cornellCam}})
         for (int64_t frame : {1, 6}) {
             auto src = test::captureToMemory(*scene, *cam, frame);
             for (int q = 1; q <= 4; ++q)
-                for (bool halfRes : {false, true}) {
+                for (bool halfRes : {false, true})
+                for (const auto* outs : {&withDistance, &withoutDistance}) {
+                    const std::vector<std::string>& outputs = *outs;
                     const nlohmann::json params = {{"quality", q}, {"halfRes", halfRes}};
                     nlohmann::json scalarParams = params;
                     scalarParams["lanes"] = false;
@@ -162,7 +174,7 @@ TEST_CASE("SIMD lanes give the scalar reference's bits") {
                     ++compared;
                 }
         }
-    CHECK(compared == 32 * int(targets.size()));
+    CHECK(compared == 96 * int(targets.size()));
 }
 
 TEST_CASE("ray directions are cosine-distributed around the normal") {
