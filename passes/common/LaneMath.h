@@ -14,6 +14,8 @@
 
 #include <hwy/highway.h>
 
+#include "passes/core/SinCos.h"
+
 HWY_BEFORE_NAMESPACE();
 namespace fp::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
@@ -34,6 +36,48 @@ HWY_INLINE V maxLike(V a, V b) {
 template <class V>
 HWY_INLINE V clampLike(V v, V lo, V hi) {
     return hn::IfThenElse(v < lo, lo, hn::IfThenElse(hi < v, hi, v));
+}
+
+/// fp::sinCos (SinCos.h) of the float lanes of `angle` (D: a float tag), the same operations on
+/// double lanes, so the same bits.
+template <class D>
+HWY_INLINE void sinCosLanes(D d, hn::Vec<D> angle, hn::Vec<D>& s, hn::Vec<D>& c) {
+#if HWY_TARGET == HWY_SCALAR  // one lane: no halves to promote
+    float sv, cv;
+    fp::sinCos(hn::GetLane(angle), sv, cv);
+    s = hn::Set(d, sv);
+    c = hn::Set(d, cv);
+#else
+    using namespace fp::sincos_terms;
+    const hn::Half<D> dh;
+    const hn::Rebind<double, hn::Half<D>> dd;
+    using VD = hn::Vec<decltype(dd)>;
+    const auto half = [&](hn::Vec<decltype(dh)> a, hn::Vec<decltype(dh)>& sh,
+                          hn::Vec<decltype(dh)>& ch) {
+        const VD x = hn::PromoteTo(dd, a);
+        const VD q = hn::Floor(x * hn::Set(dd, kTwoOverPi) + hn::Set(dd, 0.5));
+        const VD r = x - q * hn::Set(dd, kHalfPi);
+        const VD r2 = r * r;
+        const auto k = [&](double v) { return hn::Set(dd, v); };
+        const VD sinR = r + r * r2 * (k(S1) + r2 * (k(S2) + r2 * (k(S3) + r2 * (k(S4) +
+                                      r2 * (k(S5) + r2 * k(S6))))));
+        const VD cosR = k(1.0) + r2 * (k(C1) + r2 * (k(C2) + r2 * (k(C3) + r2 * (k(C4) +
+                                       r2 * (k(C5) + r2 * (k(C6) + r2 * k(C7)))))));
+        const VD quadrant = q - k(4.0) * hn::Floor(q * k(0.25));
+        const auto q1 = quadrant == k(1.0), q2 = quadrant == k(2.0), q3 = quadrant == k(3.0);
+        const VD sinX = hn::IfThenElse(q1, cosR, hn::IfThenElse(q2, hn::Neg(sinR),
+                                       hn::IfThenElse(q3, hn::Neg(cosR), sinR)));
+        const VD cosX = hn::IfThenElse(q1, hn::Neg(sinR), hn::IfThenElse(q2, hn::Neg(cosR),
+                                       hn::IfThenElse(q3, sinR, cosR)));
+        sh = hn::DemoteTo(dh, sinX);
+        ch = hn::DemoteTo(dh, cosX);
+    };
+    hn::Vec<decltype(dh)> sLo, cLo, sHi, cHi;
+    half(hn::LowerHalf(dh, angle), sLo, cLo);
+    half(hn::UpperHalf(dh, angle), sHi, cHi);
+    s = hn::Combine(d, sHi, sLo);
+    c = hn::Combine(d, cHi, cLo);
+#endif
 }
 
 }  // namespace fp::HWY_NAMESPACE

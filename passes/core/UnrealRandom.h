@@ -3,6 +3,7 @@
 // an Unreal shader draws the same numbers for the same pixel and frame index: interleaved gradient
 // noise, the 16-bit PCG hash of (x, y, frame) and the scrambled Hammersley point set.
 #include "passes/core/HostDevice.h"
+#include "passes/core/SinCos.h"
 
 #include <cmath>
 #include <cstdint>
@@ -63,8 +64,10 @@ FP_HD inline void concentricDisk(float e1, float e2, float& x, float& y) {
     const float ax = std::fabs(px), ay = std::fabs(py);
     const float lo = ax < ay ? ax : ay, hi = ax < ay ? ay : ax;
     const float phi = 0.78539816f * (lo / (hi + 5.42101086243e-20f) + (ay >= ax ? 2.0f : 0.0f));
-    x = std::copysign(std::fabs(std::cos(phi)) * hi, px);
-    y = std::copysign(std::fabs(std::sin(phi)) * hi, py);
+    float sinPhi, cosPhi;
+    sinCos(phi, sinPhi, cosPhi);  // the same bits on the CPU, in SIMD lanes and on the GPU
+    x = std::copysign(std::fabs(cosPhi) * hi, px);
+    y = std::copysign(std::fabs(sinPhi) * hi, py);
 }
 
 /// Unreal's luminance weights (Common.ush Luminance), used by Karis weighting.

@@ -23,6 +23,7 @@ namespace fp::shadow::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 using fp::HWY_NAMESPACE::clampLike;
 using fp::HWY_NAMESPACE::maxLike;
+using fp::HWY_NAMESPACE::sinCosLanes;
 
 using D = hn::ScalableTag<float>;
 using DI = hn::RebindToSigned<D>;
@@ -214,25 +215,8 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
     }
 }
 
-// libm's cos and sin of the lanes in `need`, one lane at a time (the scalar code's calls).
-HWY_INLINE void cosSin(V angle, M need, V& cosOut, V& sinOut) {
-    const D d;
-    HWY_ALIGN float a[kMaxLanes], co[kMaxLanes], si[kMaxLanes];
-    hn::Store(angle, d, a);
-    uint8_t bits[(kMaxLanes + 7) / 8] = {};
-    hn::StoreMaskBits(d, need, bits);
-    for (int k = 0; k < int(hn::Lanes(d)); ++k) {
-        const bool on = (bits[k / 8] >> (k % 8)) & 1;
-        co[k] = on ? std::cos(a[k]) : 0.0f;
-        si[k] = on ? std::sin(a[k]) : 0.0f;
-    }
-    cosOut = hn::Load(d, co);
-    sinOut = hn::Load(d, si);
-}
-
 // ShadowRayGenerator::sample from origins `o` with the random pair (u, v).
-HWY_INLINE void lightSample(const ShadowLightShape& l, const V3& o, V u, V v, M traces, V3& dir,
-                            V& tfar) {
+HWY_INLINE void lightSample(const ShadowLightShape& l, const V3& o, V u, V v, V3& dir, V& tfar) {
     const D d;
     const V one = hn::Set(d, 1.0f), two = hn::Set(d, 2.0f), zero = hn::Zero(d);
     switch (l.type) {
@@ -245,8 +229,8 @@ HWY_INLINE void lightSample(const ShadowLightShape& l, const V3& o, V u, V v, M 
         const V quadrant = hn::IfThenElseZero(ay >= ax, two);
         const V phi =
             hn::Set(d, 0.78539816f) * (lo / (hi + hn::Set(d, 5.42101086243e-20f)) + quadrant);
-        V c, s;
-        cosSin(phi, traces, c, s);
+        V s, c;
+        sinCosLanes(d, phi, s, c);
         const V dx = hn::CopySign(hn::Abs(c) * hi, px);
         const V dy = hn::CopySign(hn::Abs(s) * hi, py);
         const V radius = hn::Set(d, l.sourceRadius);
@@ -289,8 +273,8 @@ HWY_INLINE void lightSample(const ShadowLightShape& l, const V3& o, V u, V v, M 
         const V cosT = one - u * (one - cosMax);
         const V sinT = hn::Sqrt(maxLike(zero, one - cosT * cosT));
         const V phi = hn::Set(d, 2.0f * kPiF) * v;
-        V c, s;
-        cosSin(phi, hn::AndNot(inside, traces), c, s);
+        V s, c;
+        sinCosLanes(d, phi, s, c);
         // orthonormalBasis(L) (Sampling.h).
         const V sign = hn::IfThenElse(L.z >= zero, one, hn::Neg(one));
         const V a = hn::Neg(one) / (sign + L.z);
@@ -359,7 +343,7 @@ void sampleRowHere(const RowContext& c, RowPixels& px, RowRays& rays) {
                       p.z + e.z * toEye + n.z * along};
         V3 dir;
         V tfar;
-        lightSample(l, o, u, v, traces, dir, tfar);
+        lightSample(l, o, u, v, dir, tfar);
 
         const int k = rays.count;
         hn::CompressStore(o.x, traces, d, rays.ox + k);

@@ -7,9 +7,8 @@
 //
 // The scalar reference (RTShadowsPass.cpp with lanes=false) fills the same structures one pixel at
 // a time. Every lane does its IEEE operations in the same order (no fused multiply-add: the build
-// sets -ffp-contract=off), and the one step without an exact SIMD twin, libm's cosine and sine of
-// a sample's disk or cone angle, stays scalar per lane, so both give the same bits (ShadowTests
-// checks it on every instruction set the CPU runs).
+// sets -ffp-contract=off; the sample angles' sine and cosine are SinCos.h's, in double lanes), so
+// both give the same bits (ShadowTests checks it on every instruction set the CPU runs).
 #include "passes/core/Camera.h"
 #include "passes/core/Tiles.h"
 #include "passes/rt_shadows/ShadowRayGenerator.h"

@@ -1,6 +1,7 @@
 #include "passes/rt_shadows/ShadowRayGenerator.h"
 
 #include "passes/core/Sampling.h"
+#include "passes/core/SinCos.h"
 #include "passes/core/UnrealRandom.h"
 
 #include <algorithm>
@@ -82,10 +83,11 @@ ShadowDirection ShadowRayGenerator::sample(const Vec3f& o, float u, float v) con
         const float sinMax = r / dist, cosMax = std::sqrt(std::max(0.0f, 1.0f - sinMax * sinMax));
         const float cosT = 1.0f - u * (1.0f - cosMax);
         const float sinT = std::sqrt(std::max(0.0f, 1.0f - cosT * cosT));
-        const float phi = 2.0f * kPiF * v;
+        float sinPhi, cosPhi;
+        sinCos(2.0f * kPiF * v, sinPhi, cosPhi);
         Vec3f t, b;
         orthonormalBasis(L, t, b);
-        s.dir = normalize(t * (sinT * std::cos(phi)) + b * (sinT * std::sin(phi)) + L * cosT);
+        s.dir = normalize(t * (sinT * cosPhi) + b * (sinT * sinPhi) + L * cosT);
         // Distance to the near side of the sphere along the ray.
         const float along = dist * cosT;
         s.tfar = std::max(0.0f, along - std::sqrt(std::max(0.0f, r * r - dist * dist * sinT * sinT)));

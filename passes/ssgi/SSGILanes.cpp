@@ -4,10 +4,10 @@
 //
 // Every lane does the scalar reference's arithmetic (SSGIKernel.h: rayDirection, raySteps,
 // marchHzb) in the same order, one IEEE operation for one, with no fused multiply-add (the build
-// sets -ffp-contract=off), so the lanes give the same bits. Two steps without an exact SIMD twin
-// stay scalar, per lane: std::sin/std::cos of the disk angle (libm's result), and the sum of the
-// hits' weighted colours in ray order (PixelTrace's order); the colour reads, one gather per
-// reduced mip the hits reached, and their Karis weights run in lanes.
+// sets -ffp-contract=off), so the lanes give the same bits: the disk angle's sine and cosine
+// (SinCos.h, in double lanes), the march, the colour reads of the hits (one gather per reduced mip
+// the hits reached) and their Karis weights. Only the sum of the hits' weighted colours stays
+// scalar, in ray order (PixelTrace's order).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/ssgi/SSGILanes.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -36,6 +36,7 @@ constexpr int kMaxRays = SSGIPass::kMaxRays;
 
 using fp::HWY_NAMESPACE::maxLike;
 using fp::HWY_NAMESPACE::minLike;
+using fp::HWY_NAMESPACE::sinCosLanes;
 
 // hzbCell's index in lanes: floorToInt(v, 0, hi) — the clamp leaves v ≥ 0, so truncation floors.
 HWY_INLINE VI clampedFloor(V v, V hi) {
@@ -84,7 +85,7 @@ void tracePixel(const Frame& f, int x, int y, const float* indexOverCount, const
 
     PixelTrace trace;
     unsigned hzbSamples = 0;
-    HWY_ALIGN float phi[kMaxLanes], cosPhi[kMaxLanes], sinPhi[kMaxLanes], hitAt[kMaxLanes],
+    HWY_ALIGN float hitAt[kMaxLanes],
         levelAt[kMaxLanes], ox[kMaxLanes], oy[kMaxLanes], oz[kMaxLanes], sx[kMaxLanes],
         sy[kMaxLanes], sz[kMaxLanes], tol[kMaxLanes];
     for (int r0 = 0; r0 < s.rays; r0 += N) {
@@ -103,14 +104,11 @@ void tracePixel(const Frame& f, int x, int y, const float* indexOverCount, const
         const M xBelowY = ax < ay;
         const V lo = hn::IfThenElse(xBelowY, ax, ay), hi = hn::IfThenElse(xBelowY, ay, ax);
         const V quadrant = hn::IfThenElseZero(ay >= ax, hn::Set(d, 2.0f));
-        hn::Store(hn::Set(d, 0.78539816f) * (lo / (hi + hn::Set(d, 5.42101086243e-20f)) + quadrant),
-                  d, phi);
-        for (int i = 0; i < n; ++i) {
-            cosPhi[i] = std::cos(phi[i]);
-            sinPhi[i] = std::sin(phi[i]);
-        }
-        const V dx = hn::CopySign(hn::Abs(hn::Load(d, cosPhi)) * hi, px);
-        const V dy = hn::CopySign(hn::Abs(hn::Load(d, sinPhi)) * hi, py);
+        const V phi = hn::Set(d, 0.78539816f) * (lo / (hi + hn::Set(d, 5.42101086243e-20f)) + quadrant);
+        V sinPhi, cosPhi;
+        sinCosLanes(d, phi, sinPhi, cosPhi);
+        const V dx = hn::CopySign(hn::Abs(cosPhi) * hi, px);
+        const V dy = hn::CopySign(hn::Abs(sinPhi) * hi, py);
         const V dz = hn::Sqrt(maxLike(hn::Zero(d), hn::Set(d, 1.0f) - dx * dx - dy * dy));
         const V Lx = hn::Set(d, t.x) * dx + hn::Set(d, b.x) * dy + hn::Set(d, p.nView.x) * dz;
         const V Ly = hn::Set(d, t.y) * dx + hn::Set(d, b.y) * dy + hn::Set(d, p.nView.y) * dz;
