@@ -38,6 +38,34 @@ HWY_INLINE V clampLike(V v, V lo, V hi) {
     return hn::IfThenElse(v < lo, lo, hn::IfThenElse(hi < v, hi, v));
 }
 
+/// Three components in lanes (Vec3f's fields a vector at a time), combined as Vec3f's operators
+/// combine them.
+template <class V>
+struct Vec3Lanes {
+    V x, y, z;
+};
+
+/// Three planes' lanes from `x`, `y`, `z` (unaligned).
+template <class D>
+HWY_INLINE Vec3Lanes<hn::Vec<D>> load3(D d, const float* x, const float* y, const float* z) {
+    return {hn::LoadU(d, x), hn::LoadU(d, y), hn::LoadU(d, z)};
+}
+
+/// dot(a, b) = a.x·b.x + a.y·b.y + a.z·b.z, left to right.
+template <class V>
+HWY_INLINE V dot3(const Vec3Lanes<V>& a, const Vec3Lanes<V>& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+/// normalize(a): a / length(a) where the length is positive, else the zero vector.
+template <class V>
+HWY_INLINE Vec3Lanes<V> normalize3(const Vec3Lanes<V>& a) {
+    const V l = hn::Sqrt(dot3(a, a));
+    const auto positive = l > hn::Zero(hn::DFromV<V>());
+    return {hn::IfThenElseZero(positive, a.x / l), hn::IfThenElseZero(positive, a.y / l),
+            hn::IfThenElseZero(positive, a.z / l)};
+}
+
 /// fp::sinCos (SinCos.h) of the float lanes of `angle` (D: a float tag), the same operations on
 /// double lanes, so the same bits.
 template <class D>

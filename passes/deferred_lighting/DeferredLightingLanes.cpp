@@ -26,28 +26,12 @@ using V = hn::Vec<D>;
 using M = hn::Mask<D>;
 static_assert(HWY_MAX_BYTES / sizeof(float) <= kMaxLanes, "PixelLanes holds a whole vector");
 
-// A vector of three components, as Vec3f's operators combine them.
-struct V3 {
-    V x, y, z;
-};
+using V3 = fp::HWY_NAMESPACE::Vec3Lanes<V>;
+using fp::HWY_NAMESPACE::dot3;
+using fp::HWY_NAMESPACE::normalize3;
 
 HWY_INLINE V3 load3(const float* x, const float* y, const float* z) {
-    const D d;
-    return {hn::LoadU(d, x), hn::LoadU(d, y), hn::LoadU(d, z)};
-}
-
-// dot(a, b) = a.x·b.x + a.y·b.y + a.z·b.z, left to right.
-HWY_INLINE V dot3(const V3& a, const V3& b) {
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-
-// normalize(a): a / length(a) where the length is positive, else the zero vector.
-HWY_INLINE V3 normalize3(const V3& a) {
-    const D d;
-    const V l = hn::Sqrt(dot3(a, a));
-    const M positive = l > hn::Zero(d);
-    return {hn::IfThenElseZero(positive, a.x / l), hn::IfThenElseZero(positive, a.y / l),
-            hn::IfThenElseZero(positive, a.z / l)};
+    return fp::HWY_NAMESPACE::load3(D(), x, y, z);
 }
 
 int lanesHere() {
@@ -86,7 +70,7 @@ struct Surfaces {
         const D d;
         const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
         const V NoL = dot3(n, L);
-        const V3 H = normalize3({view.x + L.x, view.y + L.y, view.z + L.z});
+        const V3 H = normalize3(V3{view.x + L.x, view.y + L.y, view.z + L.z});
         const V NoH = clampLike(dot3(n, H), zero, one);
         const V VoH = clampLike(dot3(view, H), zero, one);
         const M lit = hn::Not(NoL <= zero);

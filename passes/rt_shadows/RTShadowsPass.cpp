@@ -102,9 +102,9 @@ public:
     /// Pixels [x0, x1) of row py (x1 − x0 ≤ kTileSize). Each sample's rays are gathered from the
     /// pixels that trace one (unlit, sky, unreachable and back-facing pixels trace none) and
     /// traced in full packets of RayScene::packetWidth() (16 with AVX-512, else 8), as the bare
-    /// Embree loop traces them: a packet of neighbouring pixels, most of them idle at a shadow's or the light's edge, costs a
-    /// full packet's traversal. Every pixel still draws its own random stream in sample order, so
-    /// the result is that of one ray at a time.
+    /// Embree loop traces them: a packet of neighbouring pixels, most of them idle at a shadow's
+    /// or the light's edge, would cost a full packet's traversal. Every pixel still draws its own
+    /// random stream in sample order, so the result is that of one ray at a time.
     void traceRow(int x0, int x1, int py, const ShadowOutputs& out, TileWork& work) const {
         const shadow::RowInputs in{.x0 = x0,
                                    .y = py,
@@ -396,8 +396,8 @@ ParamSpec<RTShadowsParams> RTShadowsPass::paramSpec() {
         .range(0.0, 1e9)
         .cvar("r.RayTracing.Shadows.LODTransitionEnd");
     s.add("rayPackets", &Params::rayPackets,
-          "trace rtcOccluded8 packets of 8 neighbouring pixels (false: one ray at a time; same "
-          "result bit for bit)");
+          "trace Embree packets of neighbouring pixels' rays, rtcOccluded16 with AVX-512 and "
+          "rtcOccluded8 elsewhere (false: one ray at a time; same result bit for bit)");
     s.add("lanes", &Params::lanes,
           "set up pixels and draw their rays in SIMD lanes (false: the scalar reference, one pixel "
           "at a time; same result bit for bit)");

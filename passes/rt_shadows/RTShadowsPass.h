@@ -1,7 +1,8 @@
 #pragma once
 // Ray-traced shadows of one light (reference §9, Unreal's RayTracingOcclusionRGS): per pixel,
 // shadow rays from the position reconstructed from depth, biased towards the camera and along the
-// normal, through Embree in packets of eight neighbouring pixels (rtcOccluded8). Subsurface and
+// normal, through Embree in packets of neighbouring pixels (rtcOccluded16 where the CPU has
+// AVX-512, else rtcOccluded8), the per-pixel work in SIMD lanes (ShadowLanes.h). Subsurface and
 // hair pixels whose ray is blocked trace the inverted ray through their own object: the thickness
 // gives a transmission exp(−density·thickness). Outputs visibility, transmission, the closest
 // occluder distance (for the denoiser) and the light-attenuation encoding (reference §9.5).
@@ -19,7 +20,7 @@ struct RTShadowsParams {
     bool transmission = true;    //!< the light's bTransmission: subsurface/hair thickness rays
     float lodTransitionStart = 4000.0f;  //!< cm
     float lodTransitionEnd = 5000.0f;    //!< cm
-    bool rayPackets = true;      //!< rtcOccluded8 packets; false traces one ray at a time
+    bool rayPackets = true;      //!< Embree packets (8 or 16); false traces one ray at a time
     bool lanes = true;           //!< set-up and rays in SIMD lanes; false: the scalar reference
 };
 

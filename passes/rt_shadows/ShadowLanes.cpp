@@ -37,14 +37,13 @@ using DF = hn::Rebind<float, DD>;  // the floats of one double vector
 using VD = hn::Vec<DD>;
 static_assert(HWY_MAX_BYTES / sizeof(float) <= kMaxLanes, "a row holds whole vectors");
 
-// A vector of three components, as Vec3f's operators combine them.
-struct V3 {
-    V x, y, z;
-};
+using V3 = fp::HWY_NAMESPACE::Vec3Lanes<V>;
+using fp::HWY_NAMESPACE::dot3;
+using fp::HWY_NAMESPACE::normalize3;
 
+// Lanes [i, i + N) of three planes.
 HWY_INLINE V3 load3(const float* x, const float* y, const float* z, int i) {
-    const D d;
-    return {hn::LoadU(d, x + i), hn::LoadU(d, y + i), hn::LoadU(d, z + i)};
+    return fp::HWY_NAMESPACE::load3(D(), x + i, y + i, z + i);
 }
 
 HWY_INLINE V3 splat(const Vec3f& v) {
@@ -56,11 +55,6 @@ HWY_INLINE V3 sub3(const V3& a, const V3& b) {
     return {a.x - b.x, a.y - b.y, a.z - b.z};
 }
 
-// dot(a, b) = a.x·b.x + a.y·b.y + a.z·b.z, left to right.
-HWY_INLINE V dot3(const V3& a, const V3& b) {
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-
 HWY_INLINE V length3(const V3& a) {
     return hn::Sqrt(dot3(a, a));
 }
@@ -70,34 +64,30 @@ HWY_INLINE V3 div3(const V3& a, V s) {
     return {a.x / s, a.y / s, a.z / s};
 }
 
-// normalize(a): a / length(a) where the length is positive, else the zero vector.
-HWY_INLINE V3 normalize3(const V3& a) {
-    const D d;
-    const V l = length3(a);
-    const M positive = l > hn::Zero(d);
-    return {hn::IfThenElseZero(positive, a.x / l), hn::IfThenElseZero(positive, a.y / l),
-            hn::IfThenElseZero(positive, a.z / l)};
+// PCG's state step and output permutation in every lane: pcgHash (Random.h) is one step and
+// the permutation, Rng::nextUint steps its state and permutes it.
+HWY_INLINE VU pcgStep(VU v) {
+    const DU du;
+    return v * hn::Set(du, 747796405u) + hn::Set(du, 2891336453u);
 }
 
-// pcgHash (Random.h) in every lane.
-HWY_INLINE VU pcgHash(VU v) {
+HWY_INLINE VU pcgPermute(VU state) {
     const DU du;
-    const VU state = v * hn::Set(du, 747796405u) + hn::Set(du, 2891336453u);
     const VU word = hn::Xor(state >> (hn::ShiftRight<28>(state) + hn::Set(du, 4u)), state) *
                     hn::Set(du, 277803737u);
     return hn::Xor(hn::ShiftRight<22>(word), word);
 }
 
+HWY_INLINE VU pcgHash(VU v) {
+    return pcgPermute(pcgStep(v));
+}
+
 // Rng::nextFloat in every lane: advances `state` and returns the top 24 bits over 2²⁴.
 HWY_INLINE V nextFloat(VU& state) {
     const D d;
-    const DU du;
-    state = state * hn::Set(du, 747796405u) + hn::Set(du, 2891336453u);
-    const VU word = hn::Xor(state >> (hn::ShiftRight<28>(state) + hn::Set(du, 4u)), state) *
-                    hn::Set(du, 277803737u);
-    const VU bits = hn::Xor(hn::ShiftRight<22>(word), word);
+    state = pcgStep(state);
     // Below 2²⁴: the conversion from int is exact, as float(uint32) is in the scalar code.
-    return hn::ConvertTo(d, hn::BitCast(DI(), hn::ShiftRight<8>(bits))) *
+    return hn::ConvertTo(d, hn::BitCast(DI(), hn::ShiftRight<8>(pcgPermute(state)))) *
            hn::Set(d, 1.0f / 16777216.0f);
 }
 
@@ -235,7 +225,7 @@ HWY_INLINE void lightSample(const ShadowLightShape& l, const V3& o, V u, V v, V3
         const V dy = hn::CopySign(hn::Abs(s) * hi, py);
         const V radius = hn::Set(d, l.sourceRadius);
         const V3 t = splat(l.toLightT), b = splat(l.toLightB), L = splat(l.toLight);
-        dir = normalize3({L.x + (t.x * dx + b.x * dy) * radius, L.y + (t.y * dx + b.y * dy) * radius,
+        dir = normalize3(V3{L.x + (t.x * dx + b.x * dy) * radius, L.y + (t.y * dx + b.y * dy) * radius,
                           L.z + (t.z * dx + b.z * dy) * radius});
         tfar = hn::Set(d, ShadowLightShape::kDirectionalTraceDistance);
         return;
@@ -282,7 +272,7 @@ HWY_INLINE void lightSample(const ShadowLightShape& l, const V3& o, V u, V v, V3
         const V3 t = {one + sign * a * L.x * L.x, sign * k, hn::Neg(sign) * L.x};
         const V3 b = {k, sign + a * L.y * L.y, hn::Neg(L.y)};
         const V sc = sinT * c, ss = sinT * s;
-        const V3 cone = normalize3({t.x * sc + b.x * ss + L.x * cosT, t.y * sc + b.y * ss + L.y * cosT,
+        const V3 cone = normalize3(V3{t.x * sc + b.x * ss + L.x * cosT, t.y * sc + b.y * ss + L.y * cosT,
                                     t.z * sc + b.z * ss + L.z * cosT});
         const V along = dist * cosT;
         const V coneTfar =
