@@ -108,6 +108,26 @@ HWY_INLINE void sinCosLanes(D d, hn::Vec<D> angle, hn::Vec<D>& s, hn::Vec<D>& c)
 #endif
 }
 
+/// ue::concentricDisk (UnrealRandom.h) of the lanes (e1, e2): the angle built in the first
+/// quadrant from Lo/Hi, its sine and cosine from sinCosLanes, the inputs' signs copied on.
+template <class D>
+HWY_INLINE void concentricDiskLanes(D d, hn::Vec<D> e1, hn::Vec<D> e2, hn::Vec<D>& x,
+                                    hn::Vec<D>& y) {
+    using V = hn::Vec<D>;
+    const V one = hn::Set(d, 1.0f), two = hn::Set(d, 2.0f);
+    const V px = two * e1 - one, py = two * e2 - one;
+    const V ax = hn::Abs(px), ay = hn::Abs(py);
+    const auto xBelowY = ax < ay;
+    const V lo = hn::IfThenElse(xBelowY, ax, ay), hi = hn::IfThenElse(xBelowY, ay, ax);
+    const V quadrant = hn::IfThenElseZero(ay >= ax, two);
+    const V phi =
+        hn::Set(d, 0.78539816f) * (lo / (hi + hn::Set(d, 5.42101086243e-20f)) + quadrant);
+    V sinPhi, cosPhi;
+    sinCosLanes(d, phi, sinPhi, cosPhi);
+    x = hn::CopySign(hn::Abs(cosPhi) * hi, px);
+    y = hn::CopySign(hn::Abs(sinPhi) * hi, py);
+}
+
 }  // namespace fp::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 

@@ -23,6 +23,7 @@ namespace fp::shadow::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 using fp::HWY_NAMESPACE::clampLike;
 using fp::HWY_NAMESPACE::maxLike;
+using fp::HWY_NAMESPACE::concentricDiskLanes;
 using fp::HWY_NAMESPACE::sinCosLanes;
 
 using D = hn::ScalableTag<float>;
@@ -211,18 +212,8 @@ HWY_INLINE void lightSample(const ShadowLightShape& l, const V3& o, V u, V v, V3
     const V one = hn::Set(d, 1.0f), two = hn::Set(d, 2.0f), zero = hn::Zero(d);
     switch (l.type) {
     case LightType::Directional: {
-        // ue::concentricDisk (UnrealRandom.h).
-        const V px = two * u - one, py = two * v - one;
-        const V ax = hn::Abs(px), ay = hn::Abs(py);
-        const M xBelowY = ax < ay;
-        const V lo = hn::IfThenElse(xBelowY, ax, ay), hi = hn::IfThenElse(xBelowY, ay, ax);
-        const V quadrant = hn::IfThenElseZero(ay >= ax, two);
-        const V phi =
-            hn::Set(d, 0.78539816f) * (lo / (hi + hn::Set(d, 5.42101086243e-20f)) + quadrant);
-        V s, c;
-        sinCosLanes(d, phi, s, c);
-        const V dx = hn::CopySign(hn::Abs(c) * hi, px);
-        const V dy = hn::CopySign(hn::Abs(s) * hi, py);
+        V dx, dy;
+        concentricDiskLanes(d, u, v, dx, dy);
         const V radius = hn::Set(d, l.sourceRadius);
         const V3 t = splat(l.toLightT), b = splat(l.toLightB), L = splat(l.toLight);
         dir = normalize3(V3{L.x + (t.x * dx + b.x * dy) * radius, L.y + (t.y * dx + b.y * dy) * radius,

@@ -36,7 +36,7 @@ constexpr int kMaxRays = SSGIPass::kMaxRays;
 
 using fp::HWY_NAMESPACE::maxLike;
 using fp::HWY_NAMESPACE::minLike;
-using fp::HWY_NAMESPACE::sinCosLanes;
+using fp::HWY_NAMESPACE::concentricDiskLanes;
 
 // hzbCell's index in lanes: floorToInt(v, 0, hi) — the clamp leaves v ≥ 0, so truncation floors.
 HWY_INLINE VI clampedFloor(V v, V hi) {
@@ -98,17 +98,8 @@ void tracePixel(const Frame& f, int x, int y, const float* indexOverCount, const
         const VI bits = hn::And(hn::Xor(hn::LoadU(di, reversed + r0), hn::Set(di, int32_t(seed.y))),
                                 hn::Set(di, 0xFFFF));
         const V e2 = hn::ConvertTo(d, bits) * hn::Set(d, 1.0f / 65536.0f);
-        const V px = hn::Set(d, 2.0f) * e1 - hn::Set(d, 1.0f);
-        const V py = hn::Set(d, 2.0f) * e2 - hn::Set(d, 1.0f);
-        const V ax = hn::Abs(px), ay = hn::Abs(py);
-        const M xBelowY = ax < ay;
-        const V lo = hn::IfThenElse(xBelowY, ax, ay), hi = hn::IfThenElse(xBelowY, ay, ax);
-        const V quadrant = hn::IfThenElseZero(ay >= ax, hn::Set(d, 2.0f));
-        const V phi = hn::Set(d, 0.78539816f) * (lo / (hi + hn::Set(d, 5.42101086243e-20f)) + quadrant);
-        V sinPhi, cosPhi;
-        sinCosLanes(d, phi, sinPhi, cosPhi);
-        const V dx = hn::CopySign(hn::Abs(cosPhi) * hi, px);
-        const V dy = hn::CopySign(hn::Abs(sinPhi) * hi, py);
+        V dx, dy;
+        concentricDiskLanes(d, e1, e2, dx, dy);
         const V dz = hn::Sqrt(maxLike(hn::Zero(d), hn::Set(d, 1.0f) - dx * dx - dy * dy));
         const V Lx = hn::Set(d, t.x) * dx + hn::Set(d, b.x) * dy + hn::Set(d, p.nView.x) * dz;
         const V Ly = hn::Set(d, t.y) * dx + hn::Set(d, b.y) * dy + hn::Set(d, p.nView.y) * dz;
