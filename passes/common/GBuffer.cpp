@@ -69,4 +69,12 @@ PortSpec gbufferAOInput(bool optional) {
             .doc = "material AO"};
 }
 
+PortSpec sceneColorInput(std::string name, std::string doc) {
+    return {.name = std::move(name),
+            .channels = {"R", "G", "B"},
+            .kind = PortKind::Color,
+            .captureDefault = "SceneColor",
+            .doc = std::move(doc)};
+}
+
 }  // namespace fp::gbuffer

@@ -43,6 +43,8 @@ PortSpec specularInput(std::string doc);
 PortSpec roughnessInput(std::string doc);
 /// GBufferAO, Y: the material's AO.
 PortSpec gbufferAOInput(bool optional);
+/// SceneColor, R G B colour, under the pass's own port `name` (the colour it composites into).
+PortSpec sceneColorInput(std::string name, std::string doc);
 
 /// The world normal stored at pixel (x, y), as stored (callers that need a unit vector normalise).
 inline Vec3f worldNormalAt(const Image& normal, int x, int y) {

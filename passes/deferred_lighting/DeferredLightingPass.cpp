@@ -152,11 +152,7 @@ ParamSpec<DeferredLightingParams> DeferredLightingPass::paramSpec() {
 PassIO DeferredLightingPass::describe() const {
     PassIO io;
     io.inputs = {
-        {.name = kColor,
-         .channels = {"R", "G", "B"},
-         .kind = PortKind::Color,
-         .captureDefault = "SceneColor",
-         .doc = "scene colour the light adds into"},
+        gbuffer::sceneColorInput(kColor, "scene colour the light adds into"),
         {.name = kAttenuation,
          .channels = {"R", "G", "B", "A"},
          .optional = true,

@@ -22,11 +22,8 @@ ParamSpec<DiffuseIndirectCompositeParams> DiffuseIndirectCompositePass::paramSpe
 PassIO DiffuseIndirectCompositePass::describe() const {
     PassIO io;
     io.inputs = {
-        {.name = composite::kSceneColor,
-         .channels = {"R", "G", "B"},
-         .kind = PortKind::Color,
-         .captureDefault = "SceneColor",
-         .doc = "emissive + precomputed light before direct lighting"},
+        gbuffer::sceneColorInput(composite::kSceneColor,
+                                 "emissive + precomputed light before direct lighting"),
         gbuffer::baseColorInput(),
         gbuffer::metallicInput("metalness"),
         gbuffer::shadingModelInput("shading model id"),

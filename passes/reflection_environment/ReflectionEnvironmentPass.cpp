@@ -61,11 +61,7 @@ ParamSpec<ReflectionEnvironmentParams> ReflectionEnvironmentPass::paramSpec() {
 PassIO ReflectionEnvironmentPass::describe() const {
     PassIO io;
     io.inputs = {
-        {.name = kColor,
-         .channels = {"R", "G", "B"},
-         .kind = PortKind::Color,
-         .captureDefault = "SceneColor",
-         .doc = "the lit colour the reflections and sky light add to"},
+        gbuffer::sceneColorInput(kColor, "the lit colour the reflections and sky light add to"),
         gbuffer::depthInput("linear view depth (position and view direction)"),
         gbuffer::normalInput(),
         gbuffer::baseColorInput(),

@@ -230,8 +230,8 @@ private:
     }
 
     // Occlusion of the first `count` (1 to the packet width) of the rays, and where a blocked ray's
-    // distance is wanted (the denoiser's input) its closest hit (−1: none), found in the same
-    // traversal; as a packet or one ray at a time, with the same result.
+    // distance is wanted (the denoiser's input) its closest hit (−1: none), asked for the blocked
+    // rays only; as a packet or one ray at a time, with the same result.
     void trace(const RayArrays& rays, int count, bool blocked[], float hitT[],
                TileWork& work) const {
         if (mParams.rayPackets) {
