@@ -99,58 +99,75 @@ public:
         mRow.rngKey = Rng::frameKey(ctx.frame().number, lightSeed(light.name));
     }
 
-    /// Pixels [x0, x1) of row py (x1 − x0 ≤ kTileSize). Each sample's rays are gathered from the
-    /// pixels that trace one (unlit, sky, unreachable and back-facing pixels trace none) and
-    /// traced in full packets of RayScene::packetWidth() (16 with AVX-512, else 8), as the bare
-    /// Embree loop traces them: a packet of neighbouring pixels, most of them idle at a shadow's
-    /// or the light's edge, would cost a full packet's traversal. Every pixel still draws its own
-    /// random stream in sample order, so the result is that of one ray at a time.
-    void traceRow(int x0, int x1, int py, const ShadowOutputs& out, TileWork& work) const {
-        const shadow::RowInputs in{.x0 = x0,
-                                   .y = py,
-                                   .count = x1 - x0,
-                                   .depth = mDepth.row(py) + x0,
-                                   .normalX = mNormal.plane(0).row(py) + x0,
-                                   .normalY = mNormal.plane(1).row(py) + x0,
-                                   .normalZ = mNormal.plane(2).row(py) + x0,
-                                   .model = mModels.row(py) + x0};
-        shadow::RowPixels px;
-        if (mParams.lanes)
-            shadow::setupRow(mRow, in, px);
-        else
-            setupRow(in, px);
-        std::array<PixelResult, kTileSize> res;
+    /// The tile's pixels, kStripRows rows at a time. Each sample's rays of a strip are gathered
+    /// from the pixels that trace one (unlit, sky, unreachable and back-facing pixels trace none)
+    /// and traced in full packets of RayScene::packetWidth() (16 with AVX-512, else 8), as the
+    /// bare Embree loop traces them: a packet of neighbouring pixels, most of them idle at a
+    /// shadow's or the light's edge, would cost a full packet's traversal, and so would a row's
+    /// last, part-filled packet. Every pixel still draws its own random stream and adds its
+    /// samples in sample order, so the result is that of one ray at a time.
+    void traceTile(const Tile& t, const ShadowOutputs& out, TileWork& work) const {
+        for (int y0 = t.y0; y0 < t.y1; y0 += shadow::kStripRows)
+            traceStrip(t, y0, std::min(y0 + shadow::kStripRows, t.y1), out, work);
+    }
+
+private:
+    // Rows [y0, y1) of tile t. The strip's working set (about 130 KB: its rows' set-up, one
+    // sample's rays and the running sums) lives on the stack; TBB's workers have megabytes.
+    void traceStrip(const Tile& t, int y0, int y1, const ShadowOutputs& out, TileWork& work) const {
+        const int rowCount = y1 - y0, count = t.x1 - t.x0;
+        std::array<shadow::RowPixels, shadow::kStripRows> rows;
         int activeCount = 0;
-        for (int i = 0; i < in.count; ++i) {
-            res[i] = {};
-            activeCount += px.active[i] != 0;
+        for (int r = 0; r < rowCount; ++r) {
+            const int py = y0 + r;
+            const shadow::RowInputs in{.x0 = t.x0,
+                                       .y = py,
+                                       .count = count,
+                                       .depth = mDepth.row(py) + t.x0,
+                                       .normalX = mNormal.plane(0).row(py) + t.x0,
+                                       .normalY = mNormal.plane(1).row(py) + t.x0,
+                                       .normalZ = mNormal.plane(2).row(py) + t.x0,
+                                       .model = mModels.row(py) + t.x0};
+            if (mParams.lanes)
+                shadow::setupRow(mRow, in, rows[r]);
+            else
+                setupRow(in, rows[r]);
+            for (int i = 0; i < count; ++i)
+                activeCount += rows[r].active[i] != 0;
         }
         work.pixels += uint64_t(activeCount);
-        work.skipped += uint64_t(in.count - activeCount);
+        work.skipped += uint64_t(rowCount * count - activeCount);
 
-        shadow::RowRays rays;
-        bool blocked[shadow::kRowCapacity];
-        float hitT[shadow::kRowCapacity];
+        std::array<PixelResult, shadow::kStripRows * shadow::kRowCapacity> res{};
+        shadow::StripRays rays;
+        bool blocked[shadow::kStripRayCapacity];
+        float hitT[shadow::kStripRayCapacity];
         const RayArrays arrays{rays.ox, rays.oy, rays.oz, rays.dx, rays.dy, rays.dz, rays.tfar};
         for (int sample = 0; sample < mSpp && activeCount > 0; ++sample) {
-            if (mParams.lanes)
-                shadow::sampleRow(mRow, px, rays);
-            else
-                sampleRow(px, rays);
+            rays.count = 0;
+            for (int r = 0; r < rowCount; ++r) {
+                if (mParams.lanes)
+                    shadow::sampleRow(mRow, r, rows[r], rays);
+                else
+                    sampleRow(r, rows[r], rays);
+            }
             work.rays += uint64_t(rays.count);
             const int width = mRs.packetWidth();
             for (int first = 0; first < rays.count; first += width)
                 trace(arrays.from(first), std::min(width, rays.count - first), &blocked[first],
                       &hitT[first], work);
-            for (int k = 0; k < rays.count; ++k)
-                addSample(px, rays.owner[k], py, arrays.at(k), blocked[k], hitT[k],
-                          res[rays.owner[k]], work);
+            for (int k = 0; k < rays.count; ++k) {
+                const int32_t owner = rays.owner[k];
+                const int r = shadow::ownerRow(owner);
+                addSample(rows[r], shadow::ownerIndex(owner), y0 + r, arrays.at(k), blocked[k],
+                          hitT[k], res[owner], work);
+            }
         }
-        for (int i = 0; i < in.count; ++i)
-            resolvePixel(px, i, res[i], x0 + i, py, out);
+        for (int r = 0; r < rowCount; ++r)
+            for (int i = 0; i < count; ++i)
+                resolvePixel(rows[r], i, res[shadow::ownerOf(r, i)], t.x0 + i, y0 + r, out);
     }
 
-private:
     // The scalar reference of shadow::setupRow: what stays the same for all samples of each
     // pixel; inactive for unlit and sky pixels and those the light cannot reach.
     void setupRow(const shadow::RowInputs& in, shadow::RowPixels& px) const {
@@ -193,8 +210,7 @@ private:
     // The scalar reference of shadow::sampleRow: one sample's rays of the active pixels. A
     // back-facing pixel's ray is culled (occluded without a ray), but its two random numbers are
     // drawn either way, so every sample of a pixel reads the same stream.
-    void sampleRow(shadow::RowPixels& px, shadow::RowRays& rays) const {
-        rays.count = 0;
+    void sampleRow(int stripRow, shadow::RowPixels& px, shadow::StripRays& rays) const {
         for (int i = 0; i < px.count; ++i) {
             if (!px.active[i])
                 continue;
@@ -225,7 +241,7 @@ private:
             rays.dy[k] = sd.dir.y;
             rays.dz[k] = sd.dir.z;
             rays.tfar[k] = sd.tfar;
-            rays.owner[k] = i;
+            rays.owner[k] = shadow::ownerOf(stripRow, i);
         }
     }
 
@@ -464,8 +480,7 @@ void RTShadowsPass::execute(PassContext& ctx) {
                                            : nullptr};
     forEachTile(size.width, size.height, [&](const Tile& t) {
         TileWork work;
-        for (int py = t.y0; py < t.y1; ++py)
-            tracer.traceRow(t.x0, t.x1, py, out, work);
+        tracer.traceTile(t, out, work);
         ctx.addWork("rays", work.rays);
         ctx.addWork("transmissionRays", work.transmissionRays);
         ctx.addWork("distanceRays", work.distanceRays);

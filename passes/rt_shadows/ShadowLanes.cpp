@@ -142,22 +142,24 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
     out.x0 = in.x0;
     out.count = n;
 
-    // The row's planes copied into padded arrays, so whole vectors read inside.
-    HWY_ALIGN float depth[kRowCapacity] = {}, nx[kRowCapacity] = {}, ny[kRowCapacity] = {},
-                    nz[kRowCapacity] = {}, model[kRowCapacity] = {};
-    std::copy(in.depth, in.depth + n, depth);
-    std::copy(in.normalX, in.normalX + n, nx);
-    std::copy(in.normalY, in.normalY + n, ny);
-    std::copy(in.normalZ, in.normalZ + n, nz);
-    std::copy(in.model, in.model + n, model);
+    // Whole vectors are read from the planes where they lie inside the row; a last, partial
+    // vector from a zero-padded copy of the row's tail.
+    const int whole = n / N * N;
+    HWY_ALIGN float tail[5][kMaxLanes] = {};
+    const float* planes[5] = {in.depth, in.normalX, in.normalY, in.normalZ, in.model};
+    for (int p = 0; p < 5; ++p)
+        std::copy(planes[p] + whole, planes[p] + n, tail[p]);
+    // Plane p's floats from pixel i on (i < padded; a vector from i stays in one part).
+    auto row = [&](int p, int i) { return i < whole ? planes[p] + i : tail[p] + (i - whole); };
 
     // Camera.h translatedFromPixel in double, then the float position, eye distance and
     // direction to the eye: Vec3f(eyeOffset + offset), float(length), Vec3f(−offset / length).
     const CameraView& cam = *c.camera;
     const VD rowTerm = hn::Set(dd, cam.screenY(double(in.y)) - cam.cy);
+    const VD laneD = hn::Iota(dd, 0.0);
     for (int i = 0; i < padded; i += ND) {
-        const VD z = hn::PromoteTo(dd, hn::LoadU(df, depth + i));
-        const VD pixelX = hn::Iota(dd, double(in.x0 + i));
+        const VD z = hn::PromoteTo(dd, hn::LoadU(df, row(0, i)));
+        const VD pixelX = laneD + hn::Set(dd, double(in.x0 + i));  // exact: small integers
         const VD screenX = (pixelX + hn::Set(dd, 0.5)) / hn::Set(dd, double(cam.width)) *
                                hn::Set(dd, 2.0) -
                            hn::Set(dd, 1.0);
@@ -181,16 +183,17 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
 
     // Lit surfaces the light reaches, their normals (hair: towards the light) and random stream.
     const uint32_t rowKey = fp::pcgHash(uint32_t(in.y) ^ c.rngKey);
+    const VI lane = hn::Iota(di, 0);
     for (int i = 0; i < padded; i += N) {
-        const V z = hn::Load(d, depth + i);
-        const VI modelId = truncClamped(hn::Load(d, model + i), 255.0f);
+        const V z = hn::LoadU(d, row(0, i));
+        const VI modelId = truncClamped(hn::LoadU(d, row(4, i)), 255.0f);
         const M lit = hn::And(hn::And(z > hn::Zero(d), hn::Not(hn::IsInf(z))),
                               hn::Not(isModel(modelId, kUnlit)));
         const V3 p = load3(out.px, out.py, out.pz, i);
         const M active = hn::And(hn::And(hn::FirstN(d, size_t(n - i)), lit), reaches(c.light, p));
         hn::StoreU(hn::VecFromMask(di, hn::RebindMask(di, active)), di, out.active + i);
         hn::StoreU(modelId, di, out.model + i);
-        V3 normal = load3(nx, ny, nz, i);
+        V3 normal = fp::HWY_NAMESPACE::load3(d, row(1, i), row(2, i), row(3, i));
         const M hair = isModel(modelId, kHair);
         if (!hn::AllFalse(d, hair)) {
             const V3 towardsLight = centreDirection(c.light, p);
@@ -201,7 +204,7 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
         hn::StoreU(normal.x, d, out.nx + i);
         hn::StoreU(normal.y, d, out.ny + i);
         hn::StoreU(normal.z, d, out.nz + i);
-        const VU x = hn::BitCast(du, hn::Iota(di, in.x0 + i));
+        const VU x = hn::BitCast(du, lane + hn::Set(di, in.x0 + i));
         hn::StoreU(pcgHash(hn::Xor(x, hn::Set(du, rowKey))), du, out.rng + i);
     }
 }
@@ -276,14 +279,14 @@ HWY_INLINE void lightSample(const ShadowLightShape& l, const V3& o, V u, V v, V3
     }
 }
 
-void sampleRowHere(const RowContext& c, RowPixels& px, RowRays& rays) {
+void sampleRowHere(const RowContext& c, int stripRow, RowPixels& px, StripRays& rays) {
     const D d;
     const DI di;
     const DU du;
     const int N = int(hn::Lanes(d));
     const ShadowLightShape& l = c.light;
     const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
-    rays.count = 0;
+    const VI owners = hn::Iota(di, ownerOf(stripRow, 0));
     for (int i = 0; i < px.count; i += N) {
         const M live = hn::RebindMask(d, hn::LoadU(di, px.active + i) != hn::Zero(di));
         if (hn::AllFalse(d, live))
@@ -334,8 +337,8 @@ void sampleRowHere(const RowContext& c, RowPixels& px, RowRays& rays) {
         hn::CompressStore(dir.y, traces, d, rays.dy + k);
         hn::CompressStore(dir.z, traces, d, rays.dz + k);
         hn::CompressStore(tfar, traces, d, rays.tfar + k);
-        rays.count += int(hn::CompressStore(hn::Iota(di, i), hn::RebindMask(di, traces), di,
-                                            rays.owner + k));
+        rays.count += int(hn::CompressStore(owners + hn::Set(di, i), hn::RebindMask(di, traces),
+                                            di, rays.owner + k));
     }
 }
 
@@ -357,8 +360,8 @@ void setupRow(const RowContext& c, const RowInputs& in, RowPixels& out) {
     HWY_DYNAMIC_DISPATCH(setupRowHere)(c, in, out);
 }
 
-void sampleRow(const RowContext& c, RowPixels& px, RowRays& rays) {
-    HWY_DYNAMIC_DISPATCH(sampleRowHere)(c, px, rays);
+void sampleRow(const RowContext& c, int stripRow, RowPixels& px, StripRays& rays) {
+    HWY_DYNAMIC_DISPATCH(sampleRowHere)(c, stripRow, px, rays);
 }
 
 }  // namespace fp::shadow

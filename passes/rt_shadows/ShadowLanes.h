@@ -41,15 +41,31 @@ struct RowPixels {
     uint32_t rng[kRowCapacity];  // each pixel's Rng state (Random.h), advanced per sample
 };
 
-/// One sample's rays of a row, gathered from the pixels that trace one, in pixel order; padded
-/// so a vector's compressed store past the last ray stays inside.
-struct RowRays {
+/// Rows a strip holds: the rows of a tile whose rays are traced together, so Embree's packets
+/// are full (a row's rays alone leave half of each packet's lanes idle on average).
+constexpr int kStripRows = 16;
+constexpr int kStripRayCapacity = kStripRows * kTileSize + kMaxLanes;
+
+/// One sample's rays of a strip, gathered row by row from the pixels that trace one, in pixel
+/// order; padded so a vector's compressed store past the last ray stays inside.
+struct StripRays {
     int count = 0;
-    alignas(64) float ox[kRowCapacity], oy[kRowCapacity], oz[kRowCapacity];
-    alignas(64) float dx[kRowCapacity], dy[kRowCapacity], dz[kRowCapacity];
-    alignas(64) float tfar[kRowCapacity];
-    int32_t owner[kRowCapacity];  // the pixel (index into RowPixels) that traced it
+    alignas(64) float ox[kStripRayCapacity], oy[kStripRayCapacity], oz[kStripRayCapacity];
+    alignas(64) float dx[kStripRayCapacity], dy[kStripRayCapacity], dz[kStripRayCapacity];
+    alignas(64) float tfar[kStripRayCapacity];
+    int32_t owner[kStripRayCapacity];  // the pixel that traced it: ownerOf(row in strip, index)
 };
+
+/// A pixel's owner id in StripRays: its row in the strip and its index in that row's RowPixels.
+constexpr int32_t ownerOf(int stripRow, int i) {
+    return stripRow * kRowCapacity + i;
+}
+constexpr int ownerRow(int32_t owner) {
+    return owner / kRowCapacity;
+}
+constexpr int ownerIndex(int32_t owner) {
+    return owner % kRowCapacity;
+}
 
 /// What the set-up and the rays need besides the row: the camera, the light, the biases.
 struct RowContext {
@@ -69,7 +85,7 @@ int lanes();
 /// Fills `out` for the row (SIMD lanes).
 void setupRow(const RowContext& c, const RowInputs& in, RowPixels& out);
 /// One sample's rays of the active pixels (SIMD lanes): draws each active pixel's random pair
-/// and appends the rays of those not culled to `rays` (count reset first).
-void sampleRow(const RowContext& c, RowPixels& px, RowRays& rays);
+/// and appends the rays of those not culled to `rays`, owned by ownerOf(stripRow, pixel).
+void sampleRow(const RowContext& c, int stripRow, RowPixels& px, StripRays& rays);
 
 }  // namespace fp::shadow
