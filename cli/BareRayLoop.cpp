@@ -9,7 +9,7 @@
 namespace fp::cli {
 
 double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, int width,
-                         uint64_t& blocked) {
+                         bool closestHits, uint64_t& blocked) {
     // The rays as the pass hands them to Embree, a structure of arrays, laid out before the clock
     // starts.
     std::vector<float> soa[7];
@@ -27,12 +27,14 @@ double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, in
         tbb::blocked_range<std::size_t>(0, packetCount, 64), uint64_t(0),
         [&](const tbb::blocked_range<std::size_t>& r, uint64_t sum) {
             bool hit[kMaxPacketSize];
+            float t[kMaxPacketSize];
             for (std::size_t p = r.begin(); p != r.end(); ++p) {
                 const std::size_t first = p * std::size_t(width);
                 const int n = int(std::min<std::size_t>(std::size_t(width), rays.size() - first));
                 const RayArrays packet = all.from(first);
                 if (width > 1) {
-                    scene.occludedPacket(packet, n, width, hit);
+                    scene.occludedWithDistancePacket(packet, n, width, hit,
+                                                     closestHits ? t : nullptr);
                     for (int i = 0; i < n; ++i) sum += hit[i];
                 } else {
                     for (int i = 0; i < n; ++i) {

@@ -11,9 +11,11 @@ namespace fp::cli {
 
 /// Seconds to test every ray for occlusion on all threads: in packets of `width` (8 or 16)
 /// consecutive rays (rtcOccluded8/16, as the pass groups them) or, for width 1, one at a time
-/// (rtcOccluded1). `blocked` receives the number of occluded rays so the work cannot be optimised
-/// away (and can be checked).
+/// (rtcOccluded1). With `closestHits` (packets only) each packet's blocked rays then find their
+/// closest hit (rtcIntersect8/16 on those lanes), as a shadow pass's packets do when its hit
+/// distance is read. `blocked` receives the number of occluded rays so the work cannot be optimised away
+/// (and can be checked).
 double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, int width,
-                         uint64_t& blocked);
+                         bool closestHits, uint64_t& blocked);
 
 }  // namespace fp::cli

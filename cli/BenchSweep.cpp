@@ -93,32 +93,42 @@ ErrorImages errorImages(const std::string& heat,
 }
 
 // Replays the shadow rays of one more run through bare Embree loops: packets of 8 (the yardstick),
-// of 16 where the pass traces them so (AVX-512), and single rays.
+// of 16 where the pass traces them so (AVX-512), and single rays; where the chain reads a shadow
+// pass's hit distance, also the pass's packets with their closest-hit queries, the same work.
 void addBareRayLoops(const Plan& plan,
                      CachedSource& source,
                      KeepingSink& sink,
                      const BenchOptions& opt,
                      BenchSetting& setting) {
-    std::vector<Ray> rays;
+    RayScene::OcclusionLog log;
     const RayScene& scene = source.scene();
-    scene.setOcclusionLog(&rays);
+    scene.setOcclusionLog(&log);
     sink.keep = false;
     executePlan(plan, source, sink);
     scene.setOcclusionLog(nullptr);
-    std::vector<int> widths = {8};
+    struct Loop {
+        int width;
+        bool closestHits;
+    };
+    std::vector<Loop> loops = {{8, false}};
     if (scene.packetWidth() == 16)
-        widths.push_back(16);
-    widths.push_back(1);
-    for (const int width : widths) {
+        loops.push_back({16, false});
+    loops.push_back({1, false});
+    if (log.closestHits)
+        loops.push_back({scene.packetWidth(), true});
+    for (const Loop& loop : loops) {
         std::vector<double> seconds;
         uint64_t blocked = 0;
         for (int r = 0; r < opt.warmup + opt.runs; ++r) {
-            const double t = timeBareOcclusion(scene, rays, width, blocked);
+            const double t =
+                timeBareOcclusion(scene, log.rays, loop.width, loop.closestHits, blocked);
             if (r >= opt.warmup)
                 seconds.push_back(t);
         }
-        setting.passes.push_back({fmt::format("bare loop rtcOccluded{}", width), kBareLoopType,
-                                  "rays", rays.size(), TimingStats::of(seconds)});
+        setting.passes.push_back(
+            {fmt::format("bare loop rtcOccluded{}{}", loop.width,
+                         loop.closestHits ? fmt::format(" + rtcIntersect{}", loop.width) : ""),
+             kBareLoopType, "rays", log.rays.size(), TimingStats::of(seconds)});
     }
 }
 

@@ -96,7 +96,7 @@ bool RayScene::occluded(const Vec3f& org, const Vec3f& dir, float tnear, float t
     if (mLog) {
         FP_ASSERT(tnear == 0.0f);  // the log's rays start at their origin, as RayArrays' do
         const RayArrays r{&org.x, &org.y, &org.z, &dir.x, &dir.y, &dir.z, &tfar};
-        log(r, 1);
+        log(r, 1, false);
     }
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -199,7 +199,7 @@ void RayScene::occludedPacket(const RayArrays& rays, int count, int width, bool*
 void RayScene::occludedWithDistancePacket(const RayArrays& rays, int count, int width,
                                           bool* occluded, float* t) const {
     FP_ASSERT((width == 8 || width == 16) && count >= 1 && count <= width);
-    if (mLog) log(rays, count);
+    if (mLog) log(rays, count, t != nullptr);
     const auto scene = static_cast<RTCScene>(mRtcScene);
     if (width == 16)
         tracePacket<16>(scene, rays, count, occluded, t);
@@ -226,15 +226,16 @@ float RayScene::farthestDistance(const Vec3f& p) const {
     return length(d);
 }
 
-void RayScene::setOcclusionLog(std::vector<Ray>* log) const {
+void RayScene::setOcclusionLog(OcclusionLog* log) const {
     std::lock_guard<std::mutex> lock(mLogMutex);
     mLog = log;
 }
 
-void RayScene::log(const RayArrays& rays, int count) const {
+void RayScene::log(const RayArrays& rays, int count, bool closestHits) const {
     std::lock_guard<std::mutex> lock(mLogMutex);
     if (!mLog) return;
-    for (int i = 0; i < count; ++i) mLog->push_back(rays.at(i));
+    for (int i = 0; i < count; ++i) mLog->rays.push_back(rays.at(i));
+    mLog->closestHits |= closestHits;
 }
 
 Vec3f RayScene::shadingNormal(const RayHit& hit) const {

@@ -97,10 +97,15 @@ public:
     /// The farthest distance from `p` (relative to origin()) to any point of the scene's bounds.
     float farthestDistance(const Vec3f& p) const;
 
+    /// What a log collects: the rays, and whether any packet also asked for the closest hits.
+    struct OcclusionLog {
+        std::vector<Ray> rays;
+        bool closestHits = false;
+    };
     /// While a log is set, every ray of occluded(), occludedPacket() and
-    /// occludedWithDistancePacket() is appended to it, so
-    /// `bench` can time a bare Embree loop over exactly the rays a pass traced. nullptr stops.
-    void setOcclusionLog(std::vector<Ray>* log) const;
+    /// occludedWithDistancePacket() is appended to it, so `bench` can time a bare Embree loop
+    /// over exactly the rays a pass traced, asking what the pass asked. nullptr stops.
+    void setOcclusionLog(OcclusionLog* log) const;
 
     /// Interpolated vertex normal (or the geometric normal for flat meshes), unit length.
     Vec3f shadingNormal(const RayHit& hit) const;
@@ -115,8 +120,8 @@ private:
     Vec3f mBoundsLo, mBoundsHi;  // relative to mOrigin
     int mPacketWidth = 8;
     mutable std::mutex mLogMutex;
-    mutable std::vector<Ray>* mLog = nullptr;
-    void log(const RayArrays& rays, int count) const;
+    mutable OcclusionLog* mLog = nullptr;
+    void log(const RayArrays& rays, int count, bool closestHits) const;
 };
 
 }  // namespace fp

@@ -32,6 +32,7 @@ JSON
 check "a scene with lights adds the light passes" bash -c "'$FP' plan '$DIR/lit.json' > '$DIR/lit_plan.txt' && grep -q 'rt_shadows_ceiling (rt_shadows)' '$DIR/lit_plan.txt' && grep -q 'color←deferred_lighting_ceiling.color' '$DIR/lit_plan.txt' && grep -q 'sceneColor←capture:Emissive' '$DIR/lit_plan.txt'"
 check "lit chain: 1 and 2 threads write the same bytes" bash -c "'$FP' --threads 1 run '$DIR/lit.json' -o '$DIR/l1' --dump all >/dev/null && '$FP' --threads 2 run '$DIR/lit.json' -o '$DIR/l2' --dump all >/dev/null && diff -r '$DIR/l1' '$DIR/l2' && test -f '$DIR/l1/shadows.0001.exr' && test -f '$DIR/l1/lit.0001.exr'"
 check "bench replays the shadow rays through a bare Embree loop" bash -c "'$FP' bench '$DIR/lit.json' --runs 1 --warmup 0 > '$DIR/lit_bench.txt' && grep -q 'bare loop rtcOccluded8' '$DIR/lit_bench.txt'"
+check "the lit chain's denoiser reads the hit distance: bench also replays the closest-hit queries" bash -c "grep -Eq 'bare loop rtcOccluded(8|16) \+ rtcIntersect(8|16) ' '$DIR/lit_bench.txt'"
 check "an unknown light name is an error that suggests the right one" expect_exit 1 "no light named 'ceilng' in the scene (did you mean 'ceiling'?)" "$FP" run "$DIR/lit.json" -o "$DIR/l3" --set rt_shadows_ceiling.light=ceilng
 check "plan shows the light template as written and what it expanded to" bash -c "grep -q '(preset ue4.27)/passes/5/forEachLight expands for light ceiling: rt_shadows_ceiling, shadow_denoise_ceiling, deferred_lighting_ceiling' '$DIR/lit_plan.txt'"
 cat > "$DIR/lights_only.json" <<JSON
