@@ -7,6 +7,7 @@
 #include "cli/Commands.h"
 #include "cli/Invocation.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -36,9 +37,13 @@ void printBench(const BenchResult& result) {
         if (s.hasError())
             std::cout << fmt::format(", RMSE {:.5g}{}", s.error(), s.pareto ? " [Pareto]" : "");
         std::cout << "\n";
+        // The name column fits the longest name (the bare loops' are long), at least 24 wide.
+        std::size_t nameWidth = 24;
+        for (const auto& p : s.passes)
+            nameWidth = std::max(nameWidth, p.name.size());
         for (const auto& p : s.passes) {
-            std::cout << fmt::format("  {:<24} {:>9.2f} ms  (min {:.2f}, max {:.2f})", p.name,
-                                     p.seconds.median * 1e3, p.seconds.min * 1e3,
+            std::cout << fmt::format("  {:<{}} {:>9.2f} ms  (min {:.2f}, max {:.2f})", p.name,
+                                     nameWidth, p.seconds.median * 1e3, p.seconds.min * 1e3,
                                      p.seconds.max * 1e3);
             if (p.work)
                 std::cout << fmt::format("  {:.2f} M{}/s", p.throughput() * 1e-6, p.unit);
