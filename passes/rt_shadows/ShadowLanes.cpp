@@ -144,10 +144,11 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
 
     // Whole vectors are read from the planes where they lie inside the row; a last, partial
     // vector from a zero-padded copy of the row's tail.
+    enum Input { kDepth, kNormalX, kNormalY, kNormalZ, kModel, kInputCount };
     const int whole = n / N * N;
-    HWY_ALIGN float tail[5][kMaxLanes] = {};
-    const float* planes[5] = {in.depth, in.normalX, in.normalY, in.normalZ, in.model};
-    for (int p = 0; p < 5; ++p)
+    HWY_ALIGN float tail[kInputCount][kMaxLanes] = {};
+    const float* planes[kInputCount] = {in.depth, in.normalX, in.normalY, in.normalZ, in.model};
+    for (int p = 0; p < kInputCount; ++p)
         std::copy(planes[p] + whole, planes[p] + n, tail[p]);
     // Plane p's floats from pixel i on (i < padded; a vector from i stays in one part).
     auto row = [&](int p, int i) { return i < whole ? planes[p] + i : tail[p] + (i - whole); };
@@ -158,7 +159,7 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
     const VD rowTerm = hn::Set(dd, cam.screenY(double(in.y)) - cam.cy);
     const VD laneD = hn::Iota(dd, 0.0);
     for (int i = 0; i < padded; i += ND) {
-        const VD z = hn::PromoteTo(dd, hn::LoadU(df, row(0, i)));
+        const VD z = hn::PromoteTo(dd, hn::LoadU(df, row(kDepth, i)));
         const VD pixelX = laneD + hn::Set(dd, double(in.x0 + i));  // exact: small integers
         const VD screenX = (pixelX + hn::Set(dd, 0.5)) / hn::Set(dd, double(cam.width)) *
                                hn::Set(dd, 2.0) -
@@ -185,15 +186,16 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
     const uint32_t rowKey = fp::pcgHash(uint32_t(in.y) ^ c.rngKey);
     const VI lane = hn::Iota(di, 0);
     for (int i = 0; i < padded; i += N) {
-        const V z = hn::LoadU(d, row(0, i));
-        const VI modelId = truncClamped(hn::LoadU(d, row(4, i)), 255.0f);
+        const V z = hn::LoadU(d, row(kDepth, i));
+        const VI modelId = truncClamped(hn::LoadU(d, row(kModel, i)), 255.0f);
         const M lit = hn::And(hn::And(z > hn::Zero(d), hn::Not(hn::IsInf(z))),
                               hn::Not(isModel(modelId, kUnlit)));
         const V3 p = load3(out.px, out.py, out.pz, i);
         const M active = hn::And(hn::And(hn::FirstN(d, size_t(n - i)), lit), reaches(c.light, p));
         hn::StoreU(hn::VecFromMask(di, hn::RebindMask(di, active)), di, out.active + i);
         hn::StoreU(modelId, di, out.model + i);
-        V3 normal = fp::HWY_NAMESPACE::load3(d, row(1, i), row(2, i), row(3, i));
+        V3 normal =
+            fp::HWY_NAMESPACE::load3(d, row(kNormalX, i), row(kNormalY, i), row(kNormalZ, i));
         const M hair = isModel(modelId, kHair);
         if (!hn::AllFalse(d, hair)) {
             const V3 towardsLight = centreDirection(c.light, p);
