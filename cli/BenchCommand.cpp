@@ -6,6 +6,7 @@
 #include "cli/BenchSweep.h"
 #include "cli/Commands.h"
 #include "cli/Invocation.h"
+#include "io/SafeFiles.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -66,12 +67,7 @@ void printBench(const BenchResult& result) {
 }
 
 void writeHtml(const BenchResult& result, const std::string& path) {
-    const auto parent = std::filesystem::path(path).parent_path();
-    if (!parent.empty())
-        std::filesystem::create_directories(parent);
-    const std::string tmp = path + ".tmp";
-    std::ofstream(tmp) << benchHtml(result);
-    std::filesystem::rename(tmp, path);
+    io::writeTextAtomically(path, benchHtml(result));
 }
 
 }  // namespace
@@ -93,6 +89,7 @@ Command addBenchCommand(CLI::App& app) {
                            "tracer (default 256); 0 leaves the decomposition out");
 
     return [opt]() {
+        if (!opt->html.empty()) io::checkWritable(opt->html, "--html");
         const std::vector<SweepPoint> grid = sweepGrid(opt->sweeps);
         Bencher bencher(*opt);
         bencher.expectRuns(int(grid.size()) * (opt->warmup + opt->runs));

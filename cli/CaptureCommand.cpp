@@ -73,8 +73,10 @@ Command addCaptureCommand(CLI::App& app) {
         const std::vector<std::string> inputs = {
             opt->scene, sf.geometryFile(),
             std::filesystem::path(sf.geometryFile()).replace_extension(".mtl").string()};
-        for (int frame : frames)
+        for (int frame : frames) {
             io::refuseToOverwriteInputs(pattern.path(frame), inputs, "-o");
+            io::checkWritable(pattern.path(frame), "-o");
+        }
         auto seconds = [](std::chrono::steady_clock::time_point t) {
             return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
         };

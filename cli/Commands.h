@@ -13,6 +13,7 @@ using Command = std::function<int()>;
 Command addBenchCommand(CLI::App& app);
 Command addCaptureCommand(CLI::App& app);
 Command addCompareCommand(CLI::App& app);
+Command addCompletionCommand(CLI::App& app);
 Command addInspectCommand(CLI::App& app);
 Command addPassesCommand(CLI::App& app);
 Command addPlanCommand(CLI::App& app);

@@ -15,8 +15,13 @@
 #include "passes/metrics/ErrorMetrics.h"
 #include "passes/metrics/Heatmap.h"
 
+#include <OpenImageIO/imageio.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -54,26 +59,197 @@ Image readImage(io::ExrReader& file, const std::string& layer,
                 const io::CaptureProfile& profile) {
     if (profile.mappings(layer)) {
         io::CaptureFiles files(file.path(), profile);
-        if (files.mappingFor(layer)) {
+        if (const io::BufferMapping* m = files.mappingFor(layer)) {
+            // A semantic buffer has its width; any other layer the profile maps (a Truth.*
+            // layer from a renderer's own pass) is as wide as its mapping.
+            const SemanticBuffer* sem = findSemanticBuffer(layer);
+            const int channels = sem                  ? int(sem->channels.size())
+                                 : !m->groups.empty() ? int(m->groups.front().size())
+                                                      : int(m->constant.size());
             std::vector<std::string> notes;
-            return files.read(layer, int(findSemanticBuffer(layer)->channels.size()), notes);
+            return files.read(layer, channels, notes);
         }
     }
     return io::readLayer(file, io::findLayer(file, layer));
 }
 
-// The capture's SceneDepth as its profile reads it (scale, sky threshold, the depth file of a
-// multi-file capture), or nothing when the file has none.
-std::optional<Image> readDepth(const std::string& path, const io::CaptureProfile& profile) {
+bool isExr(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".exr";
+}
+
+// A picture that is not OpenEXR (PNG, JPEG, TIFF, …), whole, through OpenImageIO: 8-bit data
+// becomes 0..1 (no colour conversion), channels named as the file names them (R G B A).
+Image readPicture(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in)
+        throw UsageError(fmt::format("{}: cannot read it as a picture: {}", path,
+                                     OIIO::geterror()));
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<std::string> names;
+    for (int c = 0; c < spec.nchannels; ++c)
+        names.push_back(c < int(spec.channelnames.size()) ? spec.channelnames[std::size_t(c)]
+                                                           : fmt::format("C{}", c));
+    std::vector<float> pixels(std::size_t(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
+        throw Error(fmt::format("{}: could not read its pixels: {}", path, in->geterror()));
+    Image img(spec.width, spec.height, names);
+    for (int y = 0; y < spec.height; ++y)
+        for (int x = 0; x < spec.width; ++x)
+            for (int c = 0; c < spec.nchannels; ++c)
+                img.plane(c).at(x, y) =
+                    pixels[(std::size_t(y) * spec.width + x) * spec.nchannels + std::size_t(c)];
+    return img;
+}
+
+// One file compared: an EXR read layer by layer (through a profile), or a picture read whole.
+struct ComparedFile {
+    std::string path;
+    std::optional<io::ExrReader> exr;
+    std::optional<Image> picture;
+    explicit ComparedFile(const std::string& p) : path(p) {
+        if (p.find("{file}") != std::string::npos) return;  // one file per buffer: via a profile
+        if (isExr(p)) exr.emplace(p);
+        else picture = readPicture(p);
+    }
+};
+
+Image oneChannel(const Image& img, int c, const std::string& name) {
+    Image out(img.width(), img.height(), {name});
+    for (int y = 0; y < img.height(); ++y)
+        std::copy_n(img.plane(c).row(y), img.width(), out.plane(0).row(y));
+    return out;
+}
+
+// What users compare, spelled as oiiotool and Nuke users would: a layer ("Truth.AO",
+// "ViewLayer.DiffInd"), one channel of it ("ViewLayer.AO.R", or "R" of a picture), or a product
+// of such ("ViewLayer.GlossInd*ViewLayer.GlossCol": Blender splits light into light × colour).
+Image readSpec(ComparedFile& file, const std::string& spec, const io::CaptureProfile& profile) {
+    if (const auto star = spec.find('*'); star != std::string::npos) {
+        Image product = readSpec(file, spec.substr(0, star), profile);
+        const Image factor = readSpec(file, spec.substr(star + 1), profile);
+        FP_CHECK(factor.width() == product.width() && factor.height() == product.height(),
+                 "{}: the factors of '{}' differ in size", file.path, spec);
+        const bool broadcast = factor.channelCount() == 1;
+        if (!broadcast && factor.channelCount() != product.channelCount())
+            throw UsageError(fmt::format("{}: '{}' multiplies {} channels by {}", file.path, spec,
+                                         product.channelCount(), factor.channelCount()));
+        for (int c = 0; c < product.channelCount(); ++c)
+            for (int y = 0; y < product.height(); ++y) {
+                float* p = product.plane(c).row(y);
+                const float* f = factor.plane(broadcast ? 0 : c).row(y);
+                for (int x = 0; x < product.width(); ++x) p[x] *= f[x];
+            }
+        return product;
+    }
+    if (file.picture) {
+        if (spec.empty()) return *file.picture;
+        for (int c = 0; c < file.picture->channelCount(); ++c)
+            if (file.picture->channels()[std::size_t(c)] == spec)
+                return oneChannel(*file.picture, c, spec);
+        throw UsageError(fmt::format("{}: a picture has channels, not layers; '{}' is none of "
+                                     "them",
+                                     file.path, spec));
+    }
+    if (!file.exr) {
+        io::CaptureFiles files(file.path, profile);
+        if (!files.mappingFor(spec))
+            throw UsageError(fmt::format("{}: profile {} maps no buffer '{}'", file.path,
+                                         profile.name(), spec));
+        const SemanticBuffer* sem = findSemanticBuffer(spec);
+        std::vector<std::string> notes;
+        return files.read(spec, sem ? int(sem->channels.size()) : 3, notes);
+    }
+    io::ExrReader& exr = *file.exr;
+    const auto layers = io::listLayers(exr);
+    const bool isLayer = std::any_of(layers.begin(), layers.end(),
+                                     [&](const io::ExrLayerInfo& l) { return l.name == spec; });
+    // LAYER.CHANNEL: one channel of a layer.
+    if (const auto dot = spec.rfind('.'); !isLayer && !profile.mappings(spec) &&
+                                          dot != std::string::npos) {
+        const std::string layer = spec.substr(0, dot), channel = spec.substr(dot + 1);
+        for (const auto& l : layers)
+            if (l.name == layer)
+                for (std::size_t c = 0; c < l.suffixes.size(); ++c)
+                    if (l.suffixes[c] == channel)
+                        return oneChannel(io::readLayer(exr, l), int(c), channel);
+    }
+    return readImage(exr, spec, profile);
+}
+
+// --mask: which pixels count. "sky" leaves out the sky (where the profile finds SceneDepth);
+// "shading-model=N" and "id=N" keep one shading model or one object (ShadingModel, InstanceId
+// through the profile); any other word is a picture whose first channel > 0 marks the kept
+// pixels. Several masks multiply.
+struct MaskSources {
+    const std::string& a;
+    const std::string& b;
+    const io::CaptureProfile& profileA;
+    const io::CaptureProfile& profileB;
+};
+
+std::optional<Image> readBuffer(const std::string& path, const io::CaptureProfile& profile,
+                                const std::string& buffer) {
+    if (!isExr(path) && path.find("{file}") == std::string::npos) return std::nullopt;
     std::optional<io::CaptureFiles> files;
     try {
         files.emplace(path, profile);
     } catch (const Error&) {
-        return std::nullopt;  // not a capture of this profile (a result image, say)
+        return std::nullopt;
     }
-    if (!files->mappingFor("SceneDepth")) return std::nullopt;
+    if (!files->mappingFor(buffer)) return std::nullopt;
     std::vector<std::string> notes;
-    return files->read("SceneDepth", 1, notes);
+    return files->read(buffer, 1, notes);
+}
+
+Image maskOf(const std::string& spec, const MaskSources& src, float skyDistance, Extent size,
+             std::string& note) {
+    auto keepEqual = [&](const std::string& buffer, const std::string& value) {
+        int wanted = 0;
+        try {
+            std::size_t used = 0;
+            wanted = std::stoi(value, &used);
+            if (used != value.size()) throw std::invalid_argument(value);
+        } catch (const std::exception&) {
+            throw UsageError(fmt::format("--mask {}: expected a whole number after '='", spec));
+        }
+        std::optional<Image> ids = readBuffer(src.b, src.profileB, buffer);
+        if (!ids) ids = readBuffer(src.a, src.profileA, buffer);
+        if (!ids)
+            throw UsageError(fmt::format("--mask {}: neither file has {} (profiles {}, {})", spec,
+                                         buffer, src.profileA.name(), src.profileB.name()));
+        Image m(ids->width(), ids->height(), {"Y"});
+        for (int y = 0; y < m.height(); ++y)
+            for (int x = 0; x < m.width(); ++x)
+                m.plane(0).at(x, y) = std::lround(ids->plane(0).at(x, y)) == wanted ? 1.0f : 0.0f;
+        note = fmt::format("only {} {}", buffer, wanted);
+        return m;
+    };
+    if (spec.rfind("shading-model=", 0) == 0) return keepEqual("ShadingModel", spec.substr(14));
+    if (spec.rfind("id=", 0) == 0) return keepEqual("InstanceId", spec.substr(3));
+    if (spec == "sky") {
+        std::optional<Image> depth = readBuffer(src.b, src.profileB, "SceneDepth");
+        if (!depth) depth = readBuffer(src.a, src.profileA, "SceneDepth");
+        if (!depth) {
+            note = fmt::format("no SceneDepth in either file (profile {}): nothing masked",
+                               src.profileB.name());
+            logWarning(note);
+            Image all(size.width, size.height, {"Y"});
+            for (int y = 0; y < size.height; ++y) std::fill_n(all.plane(0).row(y), size.width, 1.0f);
+            return all;
+        }
+        note = "sky masked by SceneDepth";
+        return notSkyMask(*depth, skyDistance);
+    }
+    ComparedFile file(spec);
+    const Image picture = readSpec(file, "", io::CaptureProfile::load("canonical"));
+    Image m(picture.width(), picture.height(), {"Y"});
+    for (int y = 0; y < m.height(); ++y)
+        for (int x = 0; x < m.width(); ++x)
+            m.plane(0).at(x, y) = picture.plane(0).at(x, y) > 0.0f ? 1.0f : 0.0f;
+    note = "mask " + spec;
+    return m;
 }
 
 std::string pngPathFor(const std::string& exr) {
@@ -85,8 +261,8 @@ std::string pngPathFor(const std::string& exr) {
 
 Command addCompareCommand(CLI::App& app) {
     struct Options {
-        std::string a, b, layer, refLayer, mask = "sky", heatmap, ocioConfig, profile = "canonical",
-                    refProfile;
+        std::string a, b, layer, refLayer, heatmap, ocioConfig, profile = "canonical", refProfile;
+        std::vector<std::string> masks = {"sky"};
         double tolerance = 0.1, skyDistance = std::numeric_limits<double>::infinity();
         double heatMax = 0, maxRmse = -1;
         bool json = false;
@@ -95,12 +271,18 @@ Command addCompareCommand(CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
         "compare", "error of image A against reference B: RMSE, relMSE, SMAPE, MAE, bias, max, "
                    "fraction over tolerance, the reference's own noise, and a heat map");
-    sub->add_option("a", opt->a, "result EXR")->required();
-    sub->add_option("b", opt->b, "reference EXR (e.g. a capture with Truth.* layers)")->required();
-    sub->add_option("--layer", opt->layer, "layer to compare (in A, and in B unless --ref-layer)");
-    sub->add_option("--ref-layer", opt->refLayer, "layer of B, when it is named differently");
-    sub->add_option("--mask", opt->mask, "sky: leave out pixels whose SceneDepth is sky; none")
-        ->check(CLI::IsMember({"sky", "none"}));
+    sub->add_option("a", opt->a, "result: an EXR, or a PNG/JPEG/TIFF read through OpenImageIO")
+        ->required();
+    sub->add_option("b", opt->b, "reference (e.g. a capture with Truth.* layers)")->required();
+    sub->add_option("--layer", opt->layer,
+                    "what to compare (in A, and in B unless --ref-layer): a layer (Truth.AO), one "
+                    "channel of it (ViewLayer.AO.R) or a product (ViewLayer.GlossInd*ViewLayer."
+                    "GlossCol)");
+    sub->add_option("--ref-layer", opt->refLayer, "the same for B, when it is named differently");
+    sub->add_option("--mask", opt->masks,
+                    "which pixels count (repeatable, masks multiply): sky (default: leave out "
+                    "the sky, where the profile finds SceneDepth), none, shading-model=N, id=N "
+                    "(InstanceId), or a picture whose first channel > 0 marks the kept pixels");
     sub->add_option("--profile", opt->profile,
                     "capture profile (NAME or FILE.json, default canonical): a --layer that names "
                     "a buffer it maps (SceneDepth, WorldNormal, …) is read through it, and it "
@@ -127,17 +309,20 @@ Command addCompareCommand(CLI::App& app) {
 
     return [opt]() {
         if (!opt->heatmap.empty())
-            for (const auto& out : {opt->heatmap, pngPathFor(opt->heatmap)})
+            for (const auto& out : {opt->heatmap, pngPathFor(opt->heatmap)}) {
                 io::refuseToOverwriteInputs(out, {opt->a, opt->b}, "--heatmap");
-        io::ExrReader a(opt->a), b(opt->b);
-        const std::string layerA = opt->layer.empty() && opt->refLayer.empty() ? commonLayer(a, b)
-                                                                                  : opt->layer;
+                io::checkWritable(out, "--heatmap");
+            }
+        ComparedFile a(opt->a), b(opt->b);
+        const std::string layerA = opt->layer.empty() && opt->refLayer.empty() && a.exr && b.exr
+                                       ? commonLayer(*a.exr, *b.exr)
+                                       : opt->layer;
         const std::string layerB = opt->refLayer.empty() ? layerA : opt->refLayer;
         const io::CaptureProfile profileA = io::CaptureProfile::load(opt->profile);
         const io::CaptureProfile profileB =
             opt->refProfile.empty() ? profileA : io::CaptureProfile::load(opt->refProfile);
-        const Image imgA = readImage(a, layerA, profileA);
-        const Image imgB = readImage(b, layerB, profileB);
+        const Image imgA = readSpec(a, layerA, profileA);
+        const Image imgB = readSpec(b, layerB, profileB);
         if (imgA.channelCount() != imgB.channelCount())
             throw UsageError(fmt::format("{}[{}] has {} channels but {}[{}] has {}", opt->a,
                                          displayName(layerA), imgA.channelCount(), opt->b,
@@ -146,24 +331,32 @@ Command addCompareCommand(CLI::App& app) {
             throw UsageError(fmt::format("{} is {}×{} but {} is {}×{}", opt->a, imgA.width(),
                                          imgA.height(), opt->b, imgB.width(), imgB.height()));
         std::optional<Image> stdErr;
-        for (const auto& l : io::listLayers(b))
-            if (l.name == layerB + ".StdErr" && int(l.channels.size()) == imgB.channelCount())
-                stdErr = io::readLayer(b, l);
+        if (b.exr)
+            for (const auto& l : io::listLayers(*b.exr))
+                if (l.name == layerB + ".StdErr" && int(l.channels.size()) == imgB.channelCount())
+                    stdErr = io::readLayer(*b.exr, l);
 
         std::optional<Image> mask;
-        std::string maskNote = "no mask";
-        if (opt->mask == "sky") {
-            std::optional<Image> depth = readDepth(opt->b, profileB);
-            if (!depth) depth = readDepth(opt->a, profileA);
-            if (depth) {
-                mask = notSkyMask(*depth, float(opt->skyDistance));
-                maskNote = "sky masked by SceneDepth";
-            } else {
-                maskNote = fmt::format("no SceneDepth in either file (profile {}): nothing masked",
-                                       profileB.name());
-                logWarning(maskNote);
-            }
+        std::vector<std::string> maskNotes;
+        const MaskSources sources{opt->a, opt->b, profileA, profileB};
+        for (const auto& m : opt->masks) {
+            if (m == "none") continue;
+            std::string note;
+            Image one = maskOf(m, sources, float(opt->skyDistance),
+                               {imgA.width(), imgA.height()}, note);
+            if (one.width() != imgA.width() || one.height() != imgA.height())
+                throw UsageError(fmt::format("--mask {}: is {}×{}, the images are {}×{}", m,
+                                             one.width(), one.height(), imgA.width(),
+                                             imgA.height()));
+            if (mask)
+                for (int y = 0; y < one.height(); ++y)
+                    for (int x = 0; x < one.width(); ++x)
+                        mask->plane(0).at(x, y) *= one.plane(0).at(x, y);
+            else
+                mask = std::move(one);
+            maskNotes.push_back(note);
         }
+        const std::string maskNote = maskNotes.empty() ? "no mask" : fmt::format("{}", fmt::join(maskNotes, "; "));
         Image absError(imgA.width(), imgA.height(), {"Y"});
         ErrorInputs in;
         in.result = &imgA;

@@ -119,7 +119,12 @@ Command addInspectCommand(CLI::App& app) {
             }
         }
         j["buffers"] = nlohmann::json::object();
-        for (const auto& b : files.availableBuffers()) j["buffers"][b] = files.describe(b);
+        j["warnings"] = nlohmann::json::object();
+        for (const auto& b : files.availableBuffers()) {
+            j["buffers"][b] = files.describe(b);
+            if (const io::BufferMapping* m = files.mappingFor(b); m && !m->warning.empty())
+                j["warnings"][b] = m->warning;
+        }
         // What the profile leaves out on purpose, where the capture has it.
         j["unmapped"] = nlohmann::json::object();
         for (const auto& [layer, why] : profile.unmapped())
@@ -180,6 +185,8 @@ Command addInspectCommand(CLI::App& app) {
         for (const auto& [b, how] : j["buffers"].items())
             std::cout << fmt::format("  {:<16} ← {}\n", b,
                                      fmt::join(how.get<std::vector<std::string>>(), " "));
+        for (const auto& [b, why] : j["warnings"].items())
+            std::cout << fmt::format("  warning: {}: {}\n", b, why.get<std::string>());
         for (const auto& [l, why] : j["unmapped"].items())
             std::cout << fmt::format("  not read: {} ({})\n", l, why.get<std::string>());
         if (j.contains("camera")) {

@@ -1,5 +1,9 @@
 #include "cli/Invocation.h"
 
+#include "passes/core/Error.h"
+
+#include <csignal>
+#include <cstring>
 #include <iostream>
 
 namespace fp::cli {
@@ -45,6 +49,32 @@ void logInfo(const std::string& line) {
 void logWarning(const std::string& line) {
     if (gInvocation.verbosity != Verbosity::Quiet)
         std::cerr << "warning: " << line << "\n" << std::flush;
+}
+
+namespace {
+volatile std::sig_atomic_t gStopSignal = 0;
+
+extern "C" void onStopSignal(int signal) {
+    if (gStopSignal != 0) {  // asked twice: stop now
+        std::signal(signal, SIG_DFL);
+        std::raise(signal);
+    }
+    gStopSignal = signal;
+}
+}  // namespace
+
+void catchStopSignals() {
+    std::signal(SIGTERM, onStopSignal);
+    std::signal(SIGINT, onStopSignal);
+}
+
+int stopSignal() { return gStopSignal; }
+
+void throwIfStopped() {
+    if (const int s = gStopSignal)
+        throw Interrupted(s, fmt::format("stopped by {} at a safe point",
+                                         s == SIGTERM ? "SIGTERM" : s == SIGINT ? "SIGINT"
+                                                                                : sigabbrev_np(s)));
 }
 
 void logVerbose(const std::string& line) {

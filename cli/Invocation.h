@@ -35,4 +35,13 @@ void logWarning(const std::string& line);
 /// A line on stderr only with -v.
 void logVerbose(const std::string& line);
 
+/// For commands that can stop cleanly (run): SIGTERM and SIGINT no longer end the process at
+/// once; the first is recorded and the command stops at its next safe point (between passes),
+/// where throwIfStopped throws fp::Interrupted. A second signal ends the process at once.
+void catchStopSignals();
+/// The signal that asked the process to stop (SIGTERM, SIGINT), or 0.
+int stopSignal();
+/// Throws fp::Interrupted ("stopped by SIGTERM …") when a stop signal arrived.
+void throwIfStopped();
+
 }  // namespace fp::cli

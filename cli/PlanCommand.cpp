@@ -2,16 +2,83 @@
 #include "cli/Commands.h"
 #include "cli/Invocation.h"
 #include "cli/RunSession.h"
+#include "io/SafeFiles.h"
 #include "passes/core/Cuda.h"
 
+#include <fmt/ranges.h>
+
 #include <iostream>
+#include <set>
 
 namespace fp::cli {
+
+namespace {
+
+std::string dotQuoted(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) out += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+    return out + "\"";
+}
+
+// One parameter value as plan prints it: numbers and booleans bare, text quoted.
+std::string paramText(const nlohmann::json& v) {
+    if (v.is_number_float()) return fmt::format("{:g}", v.get<double>());
+    return v.dump();
+}
+
+// The resolved chain as a Graphviz graph: capture buffers, passes (blue on the CPU, green on the
+// GPU) with their ports, the files written, and culled passes greyed with why.
+std::string planDot(const Plan& plan) {
+    std::string d = "digraph framepass {\n  rankdir=LR;\n  node [fontname=\"Helvetica\"];\n";
+    std::set<std::string> buffers;
+    for (const auto& s : plan.steps)
+        for (const auto& [port, ref] : s.inputs)
+            if (ref.fromCapture) buffers.insert(ref.buffer);
+    for (const auto& b : buffers)
+        d += fmt::format("  {} [shape=ellipse, style=filled, fillcolor=\"#f2e6c9\", label={}];\n",
+                         dotQuoted("capture:" + b), dotQuoted(b));
+    for (const auto& s : plan.steps) {
+        std::vector<std::string> ins, outs;
+        for (const auto& [port, ref] : s.inputs) ins.push_back("<in_" + port + "> " + port);
+        for (const auto& o : s.io.outputs)
+            if (s.requestedOutputs.count(o.name)) outs.push_back("<out_" + o.name + "> " + o.name);
+        const bool gpu = s.device == Device::Cuda;
+        d += fmt::format("  {} [shape=record, style=filled, fillcolor=\"{}\", label=\"{{{{{}}}|{} "
+                         "({}){}|{{{}}}}}\"];\n",
+                         dotQuoted(s.name), gpu ? "#cdebc5" : "#cfe0f3", fmt::join(ins, "|"),
+                         s.name, s.type, gpu ? " GPU" : "", fmt::join(outs, "|"));
+        for (const auto& [port, ref] : s.inputs) {
+            const std::string from = ref.fromCapture
+                                         ? dotQuoted("capture:" + ref.buffer)
+                                         : dotQuoted(plan.steps[std::size_t(ref.step)].name) +
+                                               ":" + dotQuoted("out_" + ref.port);
+            d += fmt::format("  {} -> {}:{};\n", from, dotQuoted(s.name), dotQuoted("in_" + port));
+        }
+    }
+    for (const auto& o : plan.outputs) {
+        d += fmt::format("  {} [shape=note, label={}];\n", dotQuoted("file:" + o.file),
+                         dotQuoted(o.file));
+        for (const auto& src : o.sources) {
+            const auto dot = src.find('.');
+            if (src.rfind("capture:", 0) == 0 || dot == std::string::npos) continue;
+            d += fmt::format("  {}:{} -> {} [style=dashed];\n", dotQuoted(src.substr(0, dot)),
+                             dotQuoted("out_" + src.substr(dot + 1)), dotQuoted("file:" + o.file));
+        }
+    }
+    for (const auto& c : plan.culled)
+        d += fmt::format("  {} [shape=box, style=\"filled,dashed\", fillcolor=\"#e6e6e6\", "
+                         "fontcolor=\"#808080\", label={}];\n",
+                         dotQuoted(c.name), dotQuoted(c.name + " (" + c.type + ")\nculled: " + c.reason));
+    return d + "}\n";
+}
+
+}  // namespace
 
 Command addPlanCommand(CLI::App& app) {
     struct Options {
         SessionOptions session;
         bool json = false;
+        std::string dot;
     };
     auto opt = std::make_shared<Options>();
     CLI::App* sub = app.add_subcommand("plan",
@@ -19,6 +86,9 @@ Command addPlanCommand(CLI::App& app) {
                                        "channels it reads, peak memory and culled passes");
     opt->session.addTo(*sub);
     sub->add_flag("--json", opt->json, "machine-readable output");
+    sub->add_option("--dot", opt->dot,
+                    "write the resolved chain as a Graphviz graph (passes and ports, CPU blue, GPU "
+                    "green, culled passes grey) to FILE, or - for stdout (dot -Tsvg renders it)");
 
     return [opt]() {
         const RunSession session(opt->session);
@@ -35,6 +105,11 @@ Command addPlanCommand(CLI::App& app) {
         for (auto& r : j["captureReads"])
             r["channels"] = files ? files->describe(r["buffer"].get<std::string>())
                                   : std::vector<std::string>{"(capture not on disk yet)"};
+        if (opt->dot == "-") {
+            std::cout << planDot(plan);
+            return 0;
+        }
+        if (!opt->dot.empty()) io::writeTextAtomically(opt->dot, planDot(plan));
         if (opt->json) {
             std::cout << j.dump(2) << "\n";
             return 0;
@@ -56,6 +131,10 @@ Command addPlanCommand(CLI::App& app) {
                                          ? (s.device == Device::Cuda ? " [gpu]" : " [cpu]")
                                          : "",
                                      fmt::join(ins, ", "), fmt::join(s.requestedOutputs, ", "));
+            std::vector<std::string> params;
+            for (const auto& [k, v] : s.params.items()) params.push_back(k + "=" + paramText(v));
+            if (!params.empty())
+                std::cout << fmt::format("       params: {}\n", fmt::join(params, " "));
         }
         if (plan.device == Device::Cuda) {
             const std::string why = cuda::unavailableReason();

@@ -5,7 +5,9 @@
 #include "cli/ErrorDecomposition.h"
 #include "cli/Invocation.h"
 #include "cli/RunSession.h"
+#include "cli/MemoryLimit.h"
 #include "io/CaptureSource.h"
+#include "io/OutputLock.h"
 #include "io/OutputWriter.h"
 #include "io/SafeFiles.h"
 #include "passes/core/Error.h"
@@ -103,23 +105,23 @@ nlohmann::json inputFile(const std::string& role, const std::string& path) {
 }
 
 // The console lines of one finished frame: its passes' times, work and metrics, its files.
-void printFrame(const FrameReport& fr, const std::vector<std::string>& written) {
-    std::cout << fmt::format("frame {}: {} passes in {:.3f} s, peak {:.1f} MiB\n", fr.frame,
+void printFrame(std::ostream& out, const FrameReport& fr, const std::vector<std::string>& written) {
+    out << fmt::format("frame {}: {} passes in {:.3f} s, peak {:.1f} MiB\n", fr.frame,
                              fr.passes.size(), fr.seconds, fr.peakBytes / 1048576.0);
     for (const auto& p : fr.passes) {
         std::string work;
         for (const auto& [k, v] : p.work)
             work += fmt::format(" {}={}", k, v);
-        std::cout << fmt::format("  {:<24} {:>9.2f} ms{}\n", p.name, p.seconds * 1e3, work);
+        out << fmt::format("  {:<24} {:>9.2f} ms{}\n", p.name, p.seconds * 1e3, work);
         if (!p.metrics.empty()) {
             std::string m;
             for (const auto& [k, v] : p.metrics)
                 m += fmt::format(" {}={:.5g}", k, v);
-            std::cout << fmt::format("  {:<24} {}\n", "", m);
+            out << fmt::format("  {:<24} {}\n", "", m);
         }
     }
     for (const auto& w : written)
-        std::cout << "  wrote " << w << "\n";
+        out << "  wrote " << w << "\n";
 }
 
 bool hasTemporalPass(const Plan& plan) {
@@ -136,14 +138,16 @@ Command addRunCommand(CLI::App& app) {
         bool strict = false, continueOnError = false, skipExisting = false;
         int warmupFrames = 0;
         int decomposeRays = 0;
+        std::string maxMemory;
     };
     auto opt = std::make_shared<Options>();
     CLI::App* sub = app.add_subcommand("run", "run the chain and write the requested outputs");
     opt->session.addTo(*sub);
     sub->add_option("-o,--output-dir", opt->outputDir, "folder for outputs (default: out)");
     sub->add_option("--report", opt->report,
-                    "write a JSON report (atomically, even when a frame fails): per-frame status, "
-                    "per-pass time and work counts, every input file");
+                    "write a JSON report (atomically, even when a frame fails or the run is "
+                    "stopped): per-frame status, per-pass time and work counts, every input "
+                    "file; - = stdout (the frame lines then go to stderr)");
     sub->add_flag("--strict", opt->strict,
                   "fail on NaN/Inf/negative input pixels and on assumed camera values instead "
                   "of sanitizing or assuming");
@@ -156,11 +160,13 @@ Command addRunCommand(CLI::App& app) {
                            "pixel, every frame, into the output and the report (default 0: off)");
     sub->add_flag("--continue-on-error", opt->continueOnError,
                   "attempt every frame; exit 1 at the end listing the frames that failed");
+    addMaxMemoryOption(*sub, opt->maxMemory);
     sub->add_flag("--skip-existing", opt->skipExisting,
                   "skip frames whose outputs all exist (a re-queued farm task); with temporal "
                   "passes the skipped frames before a computed one still run, writing nothing");
 
     return [opt]() {
+        catchStopSignals();
         // With --decompose-rays the chain is planned again with the error sources as dumps
         // that DecompositionSink keeps in memory instead of writing.
         const RunSession planned(opt->session);
@@ -198,7 +204,10 @@ Command addRunCommand(CLI::App& app) {
             inputs.push_back(session.capturePath(f));
             inputs.push_back(session.cameraPath(f));
         }
-        if (!opt->report.empty()) {
+        // "--report -": the report is the only thing on stdout; the frame lines go to stderr.
+        const bool reportToStdout = opt->report == "-";
+        std::ostream& console = reportToStdout ? std::cerr : std::cout;
+        if (!opt->report.empty() && !reportToStdout) {
             io::refuseToOverwriteInputs(opt->report, inputs, "--report");
             io::checkWritable(opt->report, "--report");
         }
@@ -208,12 +217,17 @@ Command addRunCommand(CLI::App& app) {
         wo.halfColor = session.config().colorPrecision == "half";
         wo.protectedPaths.insert(inputs.begin(), inputs.end());
         wo.protectedPaths.erase("");
+        io::checkFolderWritable(opt->outputDir, "-o");
+        if (session.extent().width > 0)
+            checkMemory(plan.estimatePeakBytes(session.extent()), opt->maxMemory,
+                        int(opt->session.dumps.size()));
+        const io::OutputLock lock(opt->outputDir, frames);
         io::OutputWriter writer(wo);
         // What a killed run left half-written: its temporaries (the final names are always whole).
         int stale = 0;
         for (const auto& dir : {opt->outputDir, writer.dumpDir()})
             stale += io::removeStaleTemporaries(dir);
-        if (!opt->report.empty())
+        if (!opt->report.empty() && !reportToStdout)
             stale += io::removeStaleTemporaries(
                 std::filesystem::path(opt->report).parent_path().empty()
                     ? "."
@@ -245,13 +259,17 @@ Command addRunCommand(CLI::App& app) {
                 addInput(role, path);
             report["inputs"] = inputFiles;
             report["plan"] = plan.toJson(session.extent());
-            io::writeTextAtomically(opt->report, report.dump(2) + "\n");
-            std::cout << "  wrote " << opt->report << "\n";
+            if (!reportToStdout) io::writeTextAtomically(opt->report, report.dump(2) + "\n");
+            if (reportToStdout)
+                std::cout << report.dump(2) << "\n";
+            else
+                console << "  wrote " << opt->report << "\n";
         };
 
         HistoryStore history;
         std::set<std::string> notesShown;  // each assumption once, not once per frame
         auto verbosePass = [](int, int, const PassReport& p) {
+            throwIfStopped();  // between passes: the safe point
             std::string work;
             for (const auto& [k, v] : p.work)
                 work += fmt::format(" {}={}", k, v);
@@ -277,6 +295,8 @@ Command addRunCommand(CLI::App& app) {
                                        so.path, s.nonFinite, s.negative, s.nonUnitNormals));
             for (const auto& n : source.notes())
                 if (notesShown.insert(n).second) logWarning(n);
+            for (const auto& w : source.files().warnings())
+                if (notesShown.insert(w).second) logWarning(w);
             nlohmann::json fj = fr.toJson();
             fj["capture"] = so.path;
             fj["channelsRead"] = source.readLog();
@@ -286,11 +306,18 @@ Command addRunCommand(CLI::App& app) {
         // Warm-up: the frames before the first, at the sequence's step, that exist on disk.
         const std::vector<int> warmup = warmupFrames(session, opt->warmupFrames);
         for (std::size_t i = 0; i < warmup.size(); ++i) {
-            logVerbose(fmt::format("warm-up frame {}:", warmup[i]));
-            DiscardSink discard;
-            const auto [fr, fj] = runFrame(warmup[i], i == 0, discard, verbosePass);
-            std::cout << fmt::format("warm-up frame {}: {} passes in {:.3f} s\n", warmup[i],
-                                     fr.passes.size(), fr.seconds);
+            try {
+                throwIfStopped();
+                logVerbose(fmt::format("warm-up frame {}:", warmup[i]));
+                DiscardSink discard;
+                const auto [fr, fj] = runFrame(warmup[i], i == 0, discard, verbosePass);
+                console << fmt::format("warm-up frame {}: {} passes in {:.3f} s\n", warmup[i],
+                                         fr.passes.size(), fr.seconds);
+            } catch (const Interrupted& e) {
+                report["interrupted"] = {{"warmupFrame", warmup[i]}, {"signal", e.signal()}};
+                writeReport();
+                throw;
+            }
         }
 
         // --skip-existing: frames whose every output is on disk. With temporal passes, those
@@ -321,19 +348,20 @@ Command addRunCommand(CLI::App& app) {
                 continue;
             }
             try {
+                throwIfStopped();
                 const std::size_t before = writer.written().size();
                 logVerbose(fmt::format("frame {}:", frames[i]));
                 DiscardSink discard;
                 DecompositionSink kept(skip[i] ? static_cast<FrameSink&>(discard) : writer,
                                        sources, extraDumps);
-                auto [fr, fj] = runFrame(
-                    frames[i], cut, kept,
-                    [&](int done, int total, const PassReport& pass) {
-                        verbosePass(done, total, pass);
-                        const double progress =
-                            (double(i) + double(done) / std::max(total, 1)) / frames.size();
-                        logProgress(int(progress * 100.0));
-                    });
+                const ProgressFn frameProgress = [&](int done, int total,
+                                                     const PassReport& pass) {
+                    verbosePass(done, total, pass);
+                    const double progress =
+                        (double(i) + double(done) / std::max(total, 1)) / frames.size();
+                    logProgress(int(progress * 100.0));
+                };
+                auto [fr, fj] = runFrame(frames[i], cut, kept, frameProgress);
                 cut = false;
                 const std::vector<std::string> written(writer.written().begin() + before,
                                                        writer.written().end());
@@ -356,19 +384,33 @@ Command addRunCommand(CLI::App& app) {
                     logInfo(fmt::format("frame {}: every output exists, run for history only",
                                         frames[i]));
                 } else {
-                    printFrame(fr, written);
+                    printFrame(console, fr, written);
                     for (const auto& e : errors)
                         if (e.decomposition)
-                            std::cout << fmt::format("  {} ({} against {}):\n", e.name, e.source,
+                            console << fmt::format("  {} ({} against {}):\n", e.name, e.source,
                                                      e.reference)
                                       << decompositionText(*e.decomposition);
                 }
+            } catch (const Interrupted& e) {
+                // Stopped between passes: nothing is half-written (outputs go through
+                // temporaries renamed into place), the report says where the run stopped.
+                status["status"] = "interrupted";
+                status["error"] = e.what();
+                report["frames"].push_back(status);
+                report["interrupted"] = {{"frame", frames[i]}, {"signal", e.signal()}};
+                writeReport();
+                throw;
             } catch (const Error& e) {
                 status["status"] = "failed";
                 status["error"] = e.what();
                 report["frames"].push_back(status);
                 if (!opt->continueOnError) {
-                    writeReport();
+                    try {
+                        writeReport();
+                    } catch (const Error& reportError) {
+                        // Both are said: the frame's error is the one that ends the run.
+                        std::cerr << "framepass error: " << reportError.what() << "\n";
+                    }
                     throw;
                 }
                 std::cerr << fmt::format("framepass error: frame {}: {}\n", frames[i], e.what());

@@ -8,6 +8,8 @@
 #include <OpenEXR/ImfIntAttribute.h>
 
 #include <filesystem>
+#include <fstream>
+#include <set>
 
 namespace fp::cli {
 
@@ -18,18 +20,79 @@ std::pair<std::string, std::string> splitAssignment(const std::string& text, con
         throw UsageError(fmt::format("{} {}: expected NAME=VALUE", flag, text));
     return {text.substr(0, eq), text.substr(eq + 1)};
 }
+
+std::string trimmed(const std::string& s) {
+    const auto b = s.find_first_not_of(" \t\r");
+    if (b == std::string::npos) return "";
+    return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+}
+
+// A cvar as Unreal's console takes it: "r.SSGI.Quality 4", or NAME=VALUE.
+std::pair<std::string, std::string> splitCvar(const std::string& text) {
+    const std::string t = trimmed(text);
+    const auto eq = t.find('=');
+    const auto space = t.find_first_of(" \t");
+    if (eq == std::string::npos && space != std::string::npos && space > 0)
+        return {t.substr(0, space), trimmed(t.substr(space))};
+    auto [name, value] = splitAssignment(t, "--cvar");
+    return {trimmed(name), trimmed(value)};
+}
 }  // namespace
+
+std::vector<std::string> readCvarsFile(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw UsageError(fmt::format("--cvars {}: cannot read the file", path));
+    // Unreal's .ini: cvars under [SystemSettings] or [ConsoleVariables] (what `tune` prints),
+    // "; comments", NAME=VALUE lines. Keys of other sections are not cvars and are skipped.
+    std::vector<std::string> out;
+    std::string line, section;
+    std::set<std::string> skipped;
+    for (int number = 1; std::getline(in, line); ++number) {
+        const std::string t = trimmed(line);
+        if (t.empty() || t[0] == ';' || t[0] == '#') continue;
+        if (t.front() == '[') {
+            if (t.back() != ']')
+                throw UsageError(fmt::format("--cvars {}:{}: '{}' is not a [Section]", path,
+                                             number, t));
+            section = t.substr(1, t.size() - 2);
+            continue;
+        }
+        if (section != "SystemSettings" && section != "ConsoleVariables") {
+            skipped.insert(section.empty() ? "(before any section)" : "[" + section + "]");
+            continue;
+        }
+        const auto eq = t.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw UsageError(fmt::format("--cvars {}:{}: expected NAME=VALUE, got '{}'", path,
+                                         number, t));
+        out.push_back(trimmed(t.substr(0, eq)) + "=" + trimmed(t.substr(eq + 1)));
+    }
+    for (const auto& s : skipped)
+        logWarning(fmt::format("--cvars {}: lines of {} skipped: cvars are read from "
+                               "[SystemSettings] and [ConsoleVariables]",
+                               path, s));
+    return out;
+}
 
 void SessionOptions::addTo(CLI::App& sub) {
     sub.add_option("config", config, "run config (JSON)")->required();
     sub.add_option("--cvar", cvars,
-                   "set an Unreal cvar, e.g. --cvar r.SSGI.LeakFreeReprojection=0");
+                   "set an Unreal cvar as the console takes it: --cvar \"r.SSGI.Quality 4\" or "
+                   "--cvar r.SSGI.Quality=4 (names in any case)");
+    sub.add_option("--cvars", cvarFiles,
+                   "read cvars from an Unreal .ini ([SystemSettings] / [ConsoleVariables], ; "
+                   "comments), such as the snippet tune prints; --cvar wins over it")
+        ->check(CLI::ExistingFile);
     sub.add_option("--set", sets, "set a pass parameter, e.g. --set hzb.halfPrecision=false");
     sub.add_option("--dump", dumps, "also write PASS.PORT (or 'all') to <out>/dump/");
     sub.add_option("--frames", frames, "frame spec (overrides the config), e.g. 1001-1010");
     sub.add_option("--capture", capture,
                    "capture file or frame pattern (overrides the config's \"capture\"; relative "
                    "to the working directory)");
+    sub.add_option("--previous", previous,
+                   "the previous frame's capture, for a single capture that is not a numbered "
+                   "sequence (cur.exr with prev.exr): temporal passes reproject it (overrides the "
+                   "config's \"previous\")");
     sub.add_option("--profile", profile,
                    "capture profile, a name or FILE.json (overrides the config's \"profile\")");
     sub.add_option("--device", device,
@@ -49,7 +112,18 @@ RunSession::RunSession(const SessionOptions& o)
                    : io::CaptureProfile::load(o.profile)) {
     if (!o.capture.empty())
         mConfig.capture = o.capture;
+    if (!o.previous.empty())
+        mConfig.previous = o.previous;
     plan(o);
+    if (!mConfig.previous.empty()) {
+        if (mFrames.size() != 1)
+            throw UsageError(fmt::format("--previous {}: names the frame before one capture, but "
+                                         "this run has {} frames (a sequence finds frame N−1 "
+                                         "itself)",
+                                         mConfig.previous, mFrames.size()));
+        if (!std::filesystem::exists(mConfig.previous) && mProfile.filePattern().empty())
+            throw UsageError(fmt::format("--previous {}: no such file", mConfig.previous));
+    }
     // Several frames of one file: each frame reads the same pixels (and temporal passes
     // accumulate one image), which is rarely what a frame list means.
     if (mFrames.size() > 1 && !io::FramePattern(mConfig.capture).hasFrameToken() &&
@@ -75,8 +149,12 @@ void RunSession::plan(const SessionOptions& o) {
     if (mConfig.capture.empty())
         inputs.priorErrors.push_back(
             {"/capture", "the config names no capture (a file or pattern)"});
-    for (const auto& c : o.cvars) {
-        auto [name, value] = splitAssignment(c, "--cvar");
+    std::vector<std::string> cvars;
+    for (const auto& file : o.cvarFiles)
+        for (auto& c : readCvarsFile(file)) cvars.push_back(std::move(c));
+    cvars.insert(cvars.end(), o.cvars.begin(), o.cvars.end());
+    for (const auto& c : cvars) {
+        auto [name, value] = splitCvar(c);
         inputs.overrides.cvars[name] = io::parseCliValue(value);
     }
     for (const auto& s : o.sets) {
@@ -121,6 +199,24 @@ void RunSession::plan(const SessionOptions& o) {
     } catch (const UsageError& e) {
         throw UsageError(fmt::format("{}: {}", o.config, e.what()));
     }
+    // A bad $OCIO, display or view fails now, before the first frame, not once per frame after
+    // the chain ran.
+    if (mPlan.needsColorConfig) {
+        try {
+            const auto colorConfig = mInputs->colorConfig();
+            for (const auto& step : mPlan.steps)
+                if (step.io.needsColorConfig) {
+                    try {
+                        step.pass->checkColorConfig(colorConfig);
+                    } catch (const Error& e) {
+                        throw UsageError(fmt::format("{} ({}): {}", step.pointer, step.name,
+                                                     e.what()));
+                    }
+                }
+        } catch (const Error& e) {
+            throw UsageError(fmt::format("{}: {}", o.config, e.what()));
+        }
+    }
 }
 
 std::string RunSession::capturePath(int frame) const {
@@ -128,6 +224,7 @@ std::string RunSession::capturePath(int frame) const {
 }
 
 std::string RunSession::previousCapturePath(int frame) const {
+    if (!mConfig.previous.empty()) return mConfig.previous;
     const io::FramePattern pattern(mConfig.capture);
     return pattern.hasFrameToken() ? pattern.path(frame - 1) : "";
 }
@@ -152,6 +249,8 @@ io::CaptureSource::Options RunSession::captureOptions(int frame) const {
     o.previousPath = previousCapturePath(frame);
     o.frame = frame;
     o.cameraSidecar = cameraPath(frame);
+    if (!mConfig.camera.empty() && io::FramePattern(mConfig.camera).hasFrameToken())
+        o.previousCameraSidecar = cameraPath(frame - 1);
     SessionInputs* inputs = mInputs.get();
     o.scene = [inputs]() -> const io::SceneFile& { return inputs->scene(); };
     o.lights = [inputs]() -> const std::vector<Light>& { return inputs->lights(); };

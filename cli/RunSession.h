@@ -18,12 +18,14 @@ namespace fp::cli {
 
 struct SessionOptions {
     std::string config;
-    std::vector<std::string> cvars;  //!< NAME=VALUE
+    std::vector<std::string> cvars;  //!< NAME=VALUE or "NAME VALUE"
+    std::vector<std::string> cvarFiles;  //!< Unreal .ini files (--cvars), before --cvar
     std::vector<std::string> sets;   //!< PASS.PARAM=VALUE
     std::vector<std::string> dumps;  //!< PASS.PORT or all
     std::string frames;
     std::string capture;  //!< file or frame pattern; overrides the config's "capture"
     std::string profile;  //!< NAME or FILE.json; overrides the config's "profile"
+    std::string previous;  //!< the previous frame's capture; overrides the config's "previous"
     bool allowUnknownCvars = false;  //!< an unknown cvar is a warning, not an error
     std::string device;              //!< cpu or cuda; "" = the config's "device"
 
@@ -31,6 +33,9 @@ struct SessionOptions {
     /// --allow-unknown-cvars on a subcommand.
     void addTo(CLI::App& sub);
 };
+
+/// The cvars of an Unreal .ini file as NAME=VALUE (its [SystemSettings] and [ConsoleVariables]).
+std::vector<std::string> readCvarsFile(const std::string& path);
 
 class RunSession {
 public:

@@ -9,6 +9,7 @@
 #include "io/ContactSheet.h"
 #include "io/ExrLayers.h"
 #include "io/PngWriter.h"
+#include "io/SafeFiles.h"
 #include "passes/core/Error.h"
 #include "passes/core/SemanticBuffers.h"
 #include "passes/display/DisplayTransform.h"
@@ -82,6 +83,7 @@ Command addSheetCommand(CLI::App& app) {
     sub->add_flag("--json", opt->json, "print the tiles (name, kind, range) as JSON");
 
     return [opt]() {
+        io::checkWritable(opt->output, "-o");
         const io::CaptureProfile profile = io::CaptureProfile::load(opt->profile);
         const std::vector<std::string> files = sheetInputs(opt->input);
         const bool folder = std::filesystem::is_directory(opt->input);

@@ -9,6 +9,7 @@
 #include "cli/Commands.h"
 #include "cli/Invocation.h"
 #include "io/ConfigLoader.h"
+#include "passes/core/CvarTable.h"
 #include "passes/core/Error.h"
 #include "passes/core/PassRegistry.h"
 #include "passes/core/Suggest.h"
@@ -85,6 +86,34 @@ const NodeDesc& targetNode(const io::RunConfig& config, const Target& t) {
                                                : didYouMean(t.error, names)));
 }
 
+// The parameter a sweep axis sets (a cvar, or PASS.PARAM), as the probe's chain resolves it.
+std::optional<ParamInfo> sweptParam(const Bencher& bencher, const std::string& name) {
+    const Plan& plan = bencher.probe().plan();
+    const CvarTable cvars(builtinPasses());
+    for (const PlanStep& step : plan.steps) {
+        const PassType* type = builtinPasses().find(step.type);
+        if (!type) continue;
+        for (const ParamInfo& p : type->params) {
+            const bool byCvar =
+                std::find(p.cvars.begin(), p.cvars.end(), cvars.spelling(name)) != p.cvars.end();
+            if (byCvar || name == step.name + "." + p.name) return p;
+        }
+    }
+    return std::nullopt;
+}
+
+// A parameter that acts only across frames does nothing on one frame: every value gives the
+// same pixels, and its timings differ only by noise. Said once, the axis dropped.
+bool actsOnThisBench(const Bencher& bencher, const std::string& name) {
+    if (bencher.probe().frames().size() > 1) return true;
+    const auto p = sweptParam(bencher, name);
+    if (!p || !p->needsHistory) return true;
+    logInfo(fmt::format("tune: {} is not searched: it acts only across frames, and this bench "
+                        "runs one frame (give --frames for a sequence)",
+                        name));
+    return false;
+}
+
 // Every small-domain cvar (a bool, or an int range of at most 8 values) of the passes the
 // target's source depends on, one axis per cvar.
 std::vector<std::string> defaultSweeps(const Bencher& bencher, const Target& t) {
@@ -110,7 +139,8 @@ std::vector<std::string> defaultSweeps(const Bencher& bencher, const Target& t) 
                 continue;
             for (const auto& c : p.cvars)
                 seenCvars.insert(c);
-            sweeps.push_back(p.cvars.front() + "=" + values);
+            if (actsOnThisBench(bencher, p.cvars.front()))
+                sweeps.push_back(p.cvars.front() + "=" + values);
         }
     }
     return sweeps;
@@ -125,6 +155,25 @@ struct Tried {
 
 // A setting's cost.
 double frameMs(const Tried& t) { return t.setting.chainSeconds() * 1e3; }
+
+// How far apart two measurements of one setting may lie: the spread of its runs, and with one
+// run (no spread of its own) a tenth of its time.
+double noiseMs(const Tried& t) {
+    const double spread = (t.setting.frame.max - t.setting.frame.min) * 1e3;
+    return spread > 0 ? spread : 0.1 * frameMs(t);
+}
+
+// How many times tied settings are measured again before they are called equal.
+constexpr int kTieRounds = 2;
+
+// The work a chain does (rays, samples, texels… each pass's throughput counter, summed): what
+// separates settings whose times cannot.
+double chainWork(const BenchSetting& s) {
+    double work = 0;
+    for (const auto& p : s.passes)
+        if (p.type != kErrorPassType && p.type != kBareLoopType) work += double(p.work);
+    return work;
+}
 
 double metricOf(const BenchSetting& s, const Target& t) {
     for (const auto& e : s.errors)
@@ -200,8 +249,11 @@ Command addTuneCommand(CLI::App& app) {
         const Target target = parseTarget(opt->target);
         Bencher bencher(opt->bench);
         targetNode(bencher.probe().config(), target);
-        std::vector<std::string> sweeps = opt->bench.sweeps;
-        if (sweeps.empty()) {
+        std::vector<std::string> sweeps;
+        for (const auto& s : opt->bench.sweeps)
+            if (actsOnThisBench(bencher, s.substr(0, s.find('='))))
+                sweeps.push_back(s);
+        if (opt->bench.sweeps.empty()) {
             sweeps = defaultSweeps(bencher, target);
             if (sweeps.empty())
                 throw UsageError(fmt::format(
@@ -271,7 +323,35 @@ Command addTuneCommand(CLI::App& app) {
                 break;
         }
 
+        // Times closer than their noise do not order two settings: measure both again, and
+        // if they stay that close, call them equal and take the one that does less work.
         const Tried* choice = cheapestMeeting();
+        std::string tieNote;
+        for (int round = 0; choice && round <= kTieRounds; ++round) {
+            std::vector<Tried*> ties;
+            for (Tried& t : tried)
+                if (&t != choice && t.value <= target.max &&
+                    std::fabs(frameMs(t) - frameMs(*choice)) <= noiseMs(t) + noiseMs(*choice))
+                    ties.push_back(&t);
+            if (ties.empty()) break;
+            if (round == kTieRounds) {
+                const Tried* least = choice;
+                for (const Tried* t : ties)
+                    if (chainWork(t->setting) < chainWork(least->setting)) least = t;
+                tieNote = fmt::format(
+                    "{} setting(s) within the timing noise of {} after {} more measurement(s): "
+                    "taken as equal, the one with the least work chosen",
+                    ties.size(), choice->setting.label, kTieRounds);
+                choice = least;
+                break;
+            }
+            ties.push_back(const_cast<Tried*>(choice));
+            for (Tried* t : ties) {
+                t->setting = bencher.measure(t->point, false);
+                t->value = metricOf(t->setting, target);
+            }
+            choice = cheapestMeeting();
+        }
         const Tried* mostAccurate = &tried.front();
         for (const Tried& t : tried)
             if (t.value < mostAccurate->value)
@@ -307,6 +387,7 @@ Command addTuneCommand(CLI::App& app) {
                                {"frameMs", frameMs(*choice)},
                                {"value", choice->value}};
                 j["systemSettings"] = systemSettings(choice->point);
+                if (!tieNote.empty()) j["tie"] = tieNote;
             } else {
                 j["mostAccurate"] = {{"label", mostAccurate->setting.label},
                                      {"setting", pointJson(mostAccurate->point)},
@@ -328,6 +409,7 @@ Command addTuneCommand(CLI::App& app) {
                                          frameMs(t), target.metric, t.value,
                                          t.value <= target.max ? "  meets" : "",
                                          t.refined ? "  (refined)" : "");
+            if (!tieNote.empty()) std::cout << tieNote << "\n";
             if (choice) {
                 std::cout << fmt::format("cheapest setting that meets {}: {} ({:.2f} ms, {} "
                                          "{:.5g})\n",

@@ -3,6 +3,9 @@
 #include "cli/Invocation.h"
 #include "passes/core/Error.h"
 #include "passes/core/Limits.h"
+#include "passes/core/Suggest.h"
+
+#include <fmt/ranges.h>
 
 #include <OpenEXR/ImfThreading.h>
 #include <OpenImageIO/imageio.h>
@@ -51,12 +54,41 @@ int main(int argc, char** argv) {
     add(fp::cli::addBenchCommand);
     add(fp::cli::addSheetCommand);
     add(fp::cli::addTuneCommand);
+    // `framepass version`, as git, docker and kubectl users type it.
+    CLI::App* versionCommand = app.add_subcommand("version", "print framepass's version");
+    add(fp::cli::addCompletionCommand);
 
     try {
         app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? 0 : int(fp::ExitCode::Usage);
+        // The first word that is not an option, when it names no subcommand: a typo of one.
+        std::vector<std::string> names;
+        for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+        std::string hint;
+        for (int i = 1; i < argc; ++i) {
+            const std::string word = argv[i];
+            if (word.empty() || word[0] == '-') {
+                if (word == "--threads") ++i;  // its value
+                continue;
+            }
+            if (std::find(names.begin(), names.end(), word) == names.end())
+                hint = fmt::format("\n'{}' is not a framepass command{}; the commands: {}", word,
+                                   fp::didYouMean(word, names), fmt::join(names, ", "));
+            break;
+        }
+        std::cerr << "framepass error: " << e.what() << hint
+                  << "\nRun 'framepass --help' (or 'framepass COMMAND --help') for the options.\n";
+        return int(fp::ExitCode::Usage);
+    }
+    if (versionCommand->parsed()) {
+        std::cout << "framepass " FP_VERSION "\n";
+        return 0;
     }
 
     std::unique_ptr<tbb::global_control> limit;

@@ -15,6 +15,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 
 namespace fp::io {
 
@@ -419,6 +421,16 @@ FrameCamera readCameraSidecar(const std::string& path, Extent extent,
         cam.sceneUnitsPerMeter = number(j, "sceneUnitsPerMeter", path + ":");
         if (!(cam.sceneUnitsPerMeter > 0))
             throw UsageError(fmt::format("{}: /sceneUnitsPerMeter must be positive", path));
+        // The camera's positions and the capture's depths must be in one unit: a sidecar in
+        // metres against a profile's centimetre depth would put every surface 100× off.
+        if (profileUnits && std::fabs(cam.sceneUnitsPerMeter - *profileUnits) >
+                                1e-6 * std::max(cam.sceneUnitsPerMeter, *profileUnits))
+            throw UsageError(fmt::format(
+                "{}: /sceneUnitsPerMeter is {}, but the capture profile's buffers are in {} "
+                "scene units per metre: the camera and the depth must share a unit (write the "
+                "sidecar in the profile's units, or give the profile \"sceneUnitsPerMeter\": {} "
+                "and scale its depth mapping to match)",
+                path, cam.sceneUnitsPerMeter, *profileUnits, cam.sceneUnitsPerMeter));
     } else if (profileUnits) {
         cam.sceneUnitsPerMeter = *profileUnits;
     } else {
@@ -437,12 +449,69 @@ FrameCamera readCameraSidecar(const std::string& path, Extent extent,
     return cam;
 }
 
+FrameCamera readUnrealMatrixText(const std::string& path, Extent extent,
+                                 std::optional<double> profileUnits) {
+    std::ifstream in(path);
+    FP_CHECK(in && !std::filesystem::is_directory(path), "{}: cannot open the camera file", path);
+    // "Name: [m00 m01 m02 m03] [m10 …] [m20 …] [m30 …]" (FMatrix::ToString) or "Name: value".
+    std::map<std::string, std::vector<double>> values;
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        const auto colon = line.find(':');
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        if (colon == std::string::npos)
+            throw UsageError(fmt::format("{}:{}: expected 'Name: values', got '{}'", path, number,
+                                         line));
+        std::string name = line.substr(0, colon);
+        name.erase(0, name.find_first_not_of(" \t"));
+        name.erase(name.find_last_not_of(" \t") + 1);
+        std::string rest = line.substr(colon + 1);
+        for (char& c : rest)
+            if (c == '[' || c == ']' || c == ',') c = ' ';
+        std::istringstream numbers(rest);
+        std::vector<double> v;
+        for (std::string word; numbers >> word;) {
+            char* end = nullptr;
+            const double d = std::strtod(word.c_str(), &end);
+            if (end == word.c_str() || *end != '\0' || !std::isfinite(d))
+                throw UsageError(fmt::format("{}:{}: '{}' in {} is not a number", path, number,
+                                             word, name));
+            v.push_back(d);
+        }
+        values[name] = v;
+    }
+    auto matrix = [&](const std::string& name) {
+        const auto it = values.find(name);
+        if (it == values.end() || it->second.size() != 16)
+            throw UsageError(fmt::format("{}: needs '{}:' with 16 numbers (Unreal's FMatrix, four "
+                                         "[rows])",
+                                         path, name));
+        // Unreal multiplies row vectors (v·M); framepass column vectors (M·v): the transpose.
+        Mat4d m;
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) m(c, r) = it->second[std::size_t(4 * r + c)];
+        return m;
+    };
+    FrameCamera cam;
+    cam.sceneUnitsPerMeter = profileUnits.value_or(100.0);  // Unreal's world is in centimetres
+    cam.current = CameraView::fromMatrices(matrix("ViewMatrix"), matrix("ProjectionMatrix"),
+                                           extent.width, extent.height);
+    checkCameraView(cam.current, path, ExitCode::Usage);
+    return cam;
+}
+
 std::optional<FoundCamera> findCamera(const CameraLookup& in) {
     FoundCamera found;
     std::string sidecar = in.sidecar;
     if (sidecar.empty() && !in.capturePath.empty() &&
         std::filesystem::exists(in.capturePath + ".camera.json"))
         sidecar = in.capturePath + ".camera.json";
+    if (!sidecar.empty() && sidecar.ends_with(".txt")) {
+        found.camera = readUnrealMatrixText(sidecar, in.extent, in.profileUnits);
+        found.source = "Unreal matrices " + sidecar;
+        found.sidecar = sidecar;
+        return found;
+    }
     if (!sidecar.empty()) {
         found.camera = readCameraSidecar(sidecar, in.extent, found.assumptions, in.profileUnits);
         found.source = "sidecar " + sidecar;

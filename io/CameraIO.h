@@ -47,6 +47,13 @@ FrameCamera readCameraSidecar(const std::string& path, Extent extent,
 
 /// Where a frame's camera comes from, in the order `run` uses: the given sidecar, else
 /// <capturePath>.camera.json beside the capture, else the header.
+/// A camera written as Unreal's matrices in text, as G-buffer datasets of neural-rendering work
+/// dump them: lines "ViewMatrix: [..] [..] [..] [..]" and "ProjectionMatrix: …" (FMatrix
+/// rows, row-vector convention; ClipToView, FOV and clip distances may follow and are not
+/// needed). No previous camera: that is frame N−1's file.
+FrameCamera readUnrealMatrixText(const std::string& path, Extent extent,
+                                 std::optional<double> profileUnits);
+
 struct CameraLookup {
     std::string sidecar;
     std::string capturePath;

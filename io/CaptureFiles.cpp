@@ -82,9 +82,13 @@ CaptureFiles::CaptureFiles(const std::string& path, const CaptureProfile& profil
             for (const auto& m : list)
                 if (!m.file.empty() && std::find(keys.begin(), keys.end(), m.file) == keys.end())
                     keys.push_back(m.file);
-        // Given one of the files rather than the base: strip "_<key>.exr".
+        // Given one of the files rather than the base: strip "_<key>.exr". A path that holds
+        // {file} itself names every file ("shot{file}.0001.exr": one file per buffer with the
+        // frame number after the buffer's name, as G-buffer datasets write them).
         mBase = path;
+        const bool named = path.find("{file}") != std::string::npos;
         for (const auto& k : keys) {
+            if (named) break;
             const std::string tail = filePath(pattern, "", k);
             if (path.size() > tail.size() && path.ends_with(tail)) {
                 mBase = path.substr(0, path.size() - tail.size());
@@ -94,7 +98,7 @@ CaptureFiles::CaptureFiles(const std::string& path, const CaptureProfile& profil
         mCapturePath = mBase;
         std::vector<std::string> tried;
         for (const auto& k : keys) {
-            const std::string file = filePath(pattern, mBase, k);
+            const std::string file = named ? replaceAll(mBase, "{file}", k) : filePath(pattern, mBase, k);
             tried.push_back(std::filesystem::path(file).filename().string());
             if (!std::filesystem::exists(file)) continue;
             mReaders[k] = std::make_unique<ExrReader>(file);
@@ -140,6 +144,22 @@ void CaptureFiles::chooseCamera() {
             "\"{}\", \"camera\": \"NAME\"}} (\"\" = the layers without a camera suffix)",
             mCapturePath, fmt::join(found, ", "), mProfile.name()));
     if (found.size() == 1 && !found.begin()->empty()) mCameraSuffix = "_" + *found.begin();
+}
+
+void CaptureFiles::checkCoversCapture(const ExrReader& file, const ExrChannel& ch,
+                                      const std::string& buffer) const {
+    // Every buffer of a capture is read onto the same pixels: a part whose data window is not
+    // exactly the capture's would leave pixels unwritten or drop some without a word.
+    const auto want = primary().header(0).dataWindow();
+    const auto have = file.header(ch.part).dataWindow();
+    if (have == want) return;
+    throw Error(fmt::format(
+        "{}: buffer '{}' (channel '{}', part {}) covers pixels ({},{})–({},{}), {}×{}, but the "
+        "capture covers ({},{})–({},{}), {}×{}: every buffer of a capture must cover the same "
+        "pixels (re-export it at the capture's size, e.g. oiiotool --resize or --crop)",
+        file.path(), buffer, ch.name, ch.part, have.min.x, have.min.y, have.max.x, have.max.y,
+        have.max.x - have.min.x + 1, have.max.y - have.min.y + 1, want.min.x, want.min.y,
+        want.max.x, want.max.y, want.max.x - want.min.x + 1, want.max.y - want.min.y + 1));
 }
 
 ExrReader* CaptureFiles::reader(const std::string& fileKey) const {
@@ -188,6 +208,13 @@ std::map<std::string, int> CaptureFiles::truthChannels() const {
     }
     std::map<std::string, int> out;
     for (const auto& [layer, s] : suffixes) out[layer] = int(s.size());
+    // A Truth layer the profile maps (a renderer's own pass) is as wide as its mapping, as
+    // inspect shows it and compare reads it.
+    for (const auto& [buffer, list] : mProfile.buffers())
+        if (isTruthBuffer(buffer))
+            if (const BufferMapping* m = mappingFor(buffer))
+                out[buffer] = !m->groups.empty() ? int(m->groups.front().size())
+                                                 : int(m->constant.size());
     return out;
 }
 
@@ -239,9 +266,12 @@ Image CaptureFiles::read(const std::string& buffer, int channels, std::vector<st
     if (!m && isTruthBuffer(buffer)) {
         std::vector<std::string> file;
         for (const auto& s : names) file.push_back(buffer + "." + s);
-        for (const auto& c : file)
-            FP_CHECK(primary().findChannel(c), "{}: buffer '{}' needs channel '{}', which the file "
-                     "does not have", primary().path(), buffer, c);
+        for (const auto& c : file) {
+            const ExrChannel* ch = primary().findChannel(c);
+            FP_CHECK(ch, "{}: buffer '{}' needs channel '{}', which the file does not have",
+                     primary().path(), buffer, c);
+            checkCoversCapture(primary(), *ch, buffer);
+        }
         return primary().read(file, names);
     }
     FP_CHECK(m, "{}: the capture has no '{}' (profile {})", mCapturePath, buffer, mProfile.name());
@@ -257,6 +287,9 @@ Image CaptureFiles::read(const std::string& buffer, int channels, std::vector<st
         return img;
     }
     ExrReader& file = *reader(m->file);
+    if (!m->warning.empty()) mWarnings.insert(buffer + ": " + m->warning);
+    Image term;
+    bool firstTerm = true;
     for (std::size_t g = 0; g < m->groups.size(); ++g) {
         std::vector<const ExrChannel*> found;
         for (const auto& spec : m->groups[g]) {
@@ -272,18 +305,34 @@ Image CaptureFiles::read(const std::string& buffer, int channels, std::vector<st
                 notes.push_back(fmt::format(
                     "{} (depth) is half float: 11-bit steps (8 cm at 100 m) and sky at 65504; "
                     "prefer float depth", ch->name));
+            checkCoversCapture(file, *ch, buffer);
             found.push_back(ch);
         }
         FP_CHECK(int(found.size()) == img.channelCount(),
                  "{}: buffer '{}' is {} channels wide but its mapping lists {} ({})", file.path(),
                  buffer, img.channelCount(), found.size(), m->pointer);
         const Image part = file.read(found, names);
+        // Terms add; the groups of one term (a product) multiply into `term` first.
+        const bool startsTerm = m->termOf.empty() || g == 0 || m->termOf[g] != m->termOf[g - 1];
+        const bool endsTerm = m->termOf.empty() || g + 1 == m->groups.size() ||
+                              m->termOf[g + 1] != m->termOf[g];
+        if (startsTerm) term = endsTerm ? Image() : part;
+        else
+            for (int c = 0; c < img.channelCount(); ++c)
+                for (int y = 0; y < size.height; ++y) {
+                    float* dst = term.plane(c).row(y);
+                    const float* src = part.plane(c).row(y);
+                    for (int x = 0; x < size.width; ++x) dst[x] *= src[x];
+                }
+        if (!endsTerm) continue;
+        const Image& add = startsTerm ? part : term;
         for (int c = 0; c < img.channelCount(); ++c)
             for (int y = 0; y < size.height; ++y) {
                 float* dst = img.plane(c).row(y);
-                const float* src = part.plane(c).row(y);
-                for (int x = 0; x < size.width; ++x) dst[x] = g == 0 ? src[x] : dst[x] + src[x];
+                const float* src = add.plane(c).row(y);
+                for (int x = 0; x < size.width; ++x) dst[x] = firstTerm ? src[x] : dst[x] + src[x];
             }
+        firstTerm = false;
     }
     if (std::isfinite(m->skyAbove))
         for (int y = 0; y < size.height; ++y) {

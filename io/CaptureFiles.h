@@ -34,7 +34,7 @@ public:
     const BufferMapping* mappingFor(const std::string& buffer) const;
     /// Every buffer this capture can give, Truth.* layers included.
     std::set<std::string> availableBuffers() const;
-    /// Channel count of every Truth.* layer.
+    /// Channel count of every Truth.* layer: the file's, and those the profile maps.
     std::map<std::string, int> truthChannels() const;
     /// What filling `buffer` reads, for `plan`: channel names (prefixed "<file>:" for
     /// multi-file captures), "constant …" or "frame N−1 …".
@@ -49,18 +49,24 @@ public:
 
     /// Every channel decoded so far, "<file>:<channel>" for multi-file captures.
     std::vector<std::string> readLog() const;
+    /// The caveats (BufferMapping::warning) of the buffers read so far, "<buffer>: <text>".
+    const std::set<std::string>& warnings() const { return mWarnings; }
 
 private:
     ExrReader* reader(const std::string& fileKey) const;
     /// The file channel a profile channel name stands for ({camera} substituted), or nullptr.
     const ExrChannel* channel(const BufferMapping& m, const std::string& spec) const;
     bool hasChannels(const BufferMapping& m) const;
+    /// Throws fp::Error naming `buffer` unless `ch`'s part covers exactly the capture's pixels.
+    void checkCoversCapture(const ExrReader& file, const ExrChannel& ch,
+                            const std::string& buffer) const;
     void chooseCamera();
 
     CaptureProfile mProfile;
     std::string mCapturePath, mBase, mPrimaryKey;
     std::map<std::string, std::unique_ptr<ExrReader>> mReaders;  // file key ("" = single) → file
     std::string mCameraSuffix;  // "" or "_<Camera>", for {camera}
+    std::set<std::string> mWarnings;
 };
 
 }  // namespace fp::io

@@ -71,7 +71,7 @@ std::vector<std::string> channelList(const nlohmann::json& j, const std::string&
 
 const std::set<std::string> kMappingKeys = {"channels", "sum",   "constant",      "previousFrame",
                                             "scale",    "offset", "skyAbove",     "normalEncoding",
-                                            "file",     "assumption", "doc"};
+                                            "file",     "assumption", "doc", "warning"};
 
 BufferMapping parseMapping(const nlohmann::json& j, const std::string& buffer, bool multiFile,
                            const std::string& where) {
@@ -95,8 +95,25 @@ BufferMapping parseMapping(const nlohmann::json& j, const std::string& buffer, b
             ++sources;
         } else if (key == "sum") {
             if (!v.is_array() || v.empty()) fail(at, "expected a list of channel lists");
-            for (std::size_t i = 0; i < v.size(); ++i)
-                m.groups.push_back(channelList(v[i], buffer, width, at + "/" + std::to_string(i)));
+            for (std::size_t i = 0; i < v.size(); ++i) {
+                const std::string term = at + "/" + std::to_string(i);
+                if (v[i].is_object()) {
+                    // {"product": [[..], [..]]}: one term, its channel lists multiplied.
+                    if (v[i].size() != 1 || !v[i].contains("product") ||
+                        !v[i]["product"].is_array() || v[i]["product"].size() < 2)
+                        fail(term, "a term is a channel list or {\"product\": [two or more "
+                                   "channel lists]}");
+                    const auto& factors = v[i]["product"];
+                    for (std::size_t f = 0; f < factors.size(); ++f) {
+                        m.groups.push_back(channelList(factors[f], buffer, width,
+                                                       term + "/product/" + std::to_string(f)));
+                        m.termOf.push_back(int(i));
+                    }
+                } else {
+                    m.groups.push_back(channelList(v[i], buffer, width, term));
+                    m.termOf.push_back(int(i));
+                }
+            }
             for (const auto& g : m.groups)
                 if (g.size() != m.groups.front().size())
                     fail(at, "every summed group has the same number of channels");
@@ -133,9 +150,10 @@ BufferMapping parseMapping(const nlohmann::json& j, const std::string& buffer, b
             if (!multiFile) fail(at, "'file' needs the profile's \"files\" pattern");
             if (!v.is_string() || v.get<std::string>().empty()) fail(at, "expected a file key");
             m.file = v.get<std::string>();
-        } else if (key == "assumption" || key == "doc") {
+        } else if (key == "assumption" || key == "doc" || key == "warning") {
             if (!v.is_string()) fail(at, "expected text");
             if (key == "assumption") m.assumption = v.get<std::string>();
+            if (key == "warning") m.warning = v.get<std::string>();
         }
     }
     if (sources != 1)
@@ -180,13 +198,28 @@ CaptureProfile CaptureProfile::load(const std::string& nameOrFile) {
     return parse(readJsonFile(path), path);
 }
 
-CaptureProfile CaptureProfile::parse(const nlohmann::json& j, const std::string& source) {
+CaptureProfile CaptureProfile::parse(const nlohmann::json& j, const std::string& source,
+                                     int depth) {
     if (!j.is_object()) fail(source, "a profile is a JSON object");
     CaptureProfile p;
+    // "base": start from another profile (a built-in name, or a file beside this one) and
+    // replace only what this file says, buffer by buffer.
+    if (j.contains("base")) {
+        const std::string at = source + ": /base";
+        if (!j["base"].is_string()) fail(at, "expected a profile name or file");
+        if (depth >= 8) fail(at, "profiles extend each other more than 8 deep (a cycle?)");
+        std::string base = j["base"].get<std::string>();
+        if (base.ends_with(".json") && fs::path(base).is_relative())
+            base = (fs::path(source).parent_path() / base).string();
+        p = isFile(base) ? parse(readJsonFile(base), base, depth + 1) : load(base);
+        p.mDescription.clear();
+    }
     p.mName = fs::path(source).stem().string();
     for (const auto& [key, v] : j.items()) {
         const std::string at = source + ": /" + key;
-        if (key == "version") {
+        if (key == "base") {
+            continue;
+        } else if (key == "version") {
             if (v != 1) fail(at, "this framepass reads profile version 1");
         } else if (key == "name" || key == "description" || key == "files" || key == "camera") {
             if (!v.is_string()) fail(at, "expected text");
@@ -207,12 +240,18 @@ CaptureProfile CaptureProfile::parse(const nlohmann::json& j, const std::string&
             for (const auto& [layer, why] : v.items())
                 p.mUnmapped[layer] = why.is_string() ? why.get<std::string>() : "";
         } else if (key != "buffers") {
-            fail(at, "unknown key (a profile has version, name, description, sceneUnitsPerMeter, "
-                     "files, camera, buffers, unmapped)");
+            fail(at, "unknown key (a profile has version, base, name, description, "
+                     "sceneUnitsPerMeter, files, camera, buffers, unmapped)");
         }
     }
-    if (!j.contains("buffers")) fail(source, "a profile needs \"buffers\"");
-    p.parseBuffers(j["buffers"], source + ": /buffers");
+    if (!j.contains("buffers") && !j.contains("base"))
+        fail(source, "a profile needs \"buffers\" (or a \"base\" to extend)");
+    if (j.contains("buffers")) {
+        CaptureProfile own;
+        own.mFilePattern = p.mFilePattern;
+        own.parseBuffers(j["buffers"], source + ": /buffers");
+        for (auto& [buffer, list] : own.mBuffers) p.mBuffers[buffer] = std::move(list);
+    }
     p.checkPreviousFrames();
     return p;
 }
@@ -261,13 +300,19 @@ CaptureProfile CaptureProfile::fromJson(const nlohmann::json& j, const std::stri
     if (!j.is_object())
         fail(where, "a profile is a name, a profile file, or {\"base\": .., \"buffers\": {..}}");
     for (const auto& [key, v] : j.items())
-        if (key != "base" && key != "buffers" && key != "camera")
-            fail(where + "/" + key, "unknown key (an inline profile has 'base', 'camera' and "
-                                    "'buffers')");
+        if (key != "base" && key != "buffers" && key != "camera" && key != "sceneUnitsPerMeter")
+            fail(where + "/" + key, "unknown key (an inline profile has 'base', 'camera', "
+                                    "'sceneUnitsPerMeter' and 'buffers')");
     const nlohmann::json base = j.value("base", nlohmann::json("canonical"));
     if (!base.is_string()) fail(where + "/base", "expected a profile name or file");
     CaptureProfile p = load(base.get<std::string>());
     p.mName = p.mName + "+inline";
+    if (j.contains("sceneUnitsPerMeter")) {
+        const auto& u = j["sceneUnitsPerMeter"];
+        if (!u.is_number() || !(u.get<double>() > 0))
+            fail(where + "/sceneUnitsPerMeter", "expected a positive number");
+        p.mSceneUnitsPerMeter = u.get<double>();
+    }
     if (j.contains("camera")) {
         if (!j["camera"].is_string()) fail(where + "/camera", "expected a camera name");
         p.mCamera = j["camera"].get<std::string>();

@@ -21,6 +21,10 @@ struct BufferMapping {
     /// Channel groups, each exactly as wide as the buffer and in its order (the swizzle); more
     /// than one group is summed ("sum"). May contain {camera} (see CaptureProfile::camera()).
     std::vector<std::vector<std::string>> groups;
+    /// The term each group belongs to: groups of one term multiply, terms add ("sum" with
+    /// {"product": [...]} elements: Blender's light passes are light × colour). Empty = each
+    /// group its own term.
+    std::vector<int> termOf;
     std::vector<float> constant;  //!< non-empty: the buffer is this value everywhere
     std::vector<float> scale, offset;  //!< per channel: v·scale + offset (sign flips included)
     float skyAbove = std::numeric_limits<float>::infinity();  //!< depth ≥ this (raw) is sky
@@ -28,6 +32,7 @@ struct BufferMapping {
     std::string file;           //!< multi-file profiles: the {file} of the file holding it
     std::string previousFrame;  //!< this buffer is that buffer of frame N−1 of the sequence
     std::string assumption;     //!< a guess the user should know about: a warning when used
+    std::string warning;        //!< a caveat of this source (not a guess): said once when read
     std::string pointer;        //!< where it was written ("profiles/x.json: /buffers/Y/1")
 };
 
@@ -58,7 +63,7 @@ public:
     const std::map<std::string, std::string>& unmapped() const { return mUnmapped; }
 
 private:
-    static CaptureProfile parse(const nlohmann::json& j, const std::string& source);
+    static CaptureProfile parse(const nlohmann::json& j, const std::string& source, int depth = 0);
     void parseBuffers(const nlohmann::json& j, const std::string& where);
     void checkPreviousFrames() const;
     std::string mName, mDescription, mFilePattern, mCamera;

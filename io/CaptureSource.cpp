@@ -5,6 +5,8 @@
 #include "passes/core/Error.h"
 #include "passes/core/SemanticBuffers.h"
 
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -63,6 +65,27 @@ FrameInfo CaptureSource::frameInfo() {
         if (!found->sidecar.empty()) mCameraSidecar = found->sidecar;
         for (const auto& a : found->assumptions) note(a);
     }
+    // A capture whose camera does not say where it was last frame: the previous frame's own
+    // capture does (two renders of a shot, cur.exr and prev.exr, each with its camera).
+    // A camera file per frame (Unreal's matrices as text) holds no previous camera either:
+    // frame N−1's file is it.
+    if (info.hasCamera && !info.camera.previous) {
+        CameraLookup prevLookup;
+        prevLookup.extent = info.extent;
+        prevLookup.profileUnits = mFiles.profile().sceneUnitsPerMeter();
+        std::optional<CaptureFiles> previous;
+        if (!mOptions.previousCameraSidecar.empty() &&
+            std::filesystem::exists(mOptions.previousCameraSidecar)) {
+            prevLookup.sidecar = mOptions.previousCameraSidecar;
+        } else if (!mOptions.previousPath.empty() && mFiles.profile().filePattern().empty() &&
+                   std::filesystem::exists(mOptions.previousPath)) {
+            previous.emplace(mOptions.previousPath, mFiles.profile());
+            prevLookup.capturePath = previous->capturePath();
+            prevLookup.header = &previous->primary().header();
+        }
+        if (!prevLookup.sidecar.empty() || prevLookup.header)
+            if (auto prev = findCamera(prevLookup)) info.camera.previous = prev->camera.current;
+    }
     mInfo = info;
     return info;
 }
@@ -101,8 +124,15 @@ Image CaptureSource::readPreviousFrame(const std::string& buffer, const BufferMa
     if (!exists) {
         // No frame N−1 on disk: the first frame of a sequence has no history, as after a
         // camera cut — black colour, sky depth.
-        note(fmt::format("frame {}: no previous frame{} for {}: no history, as after a camera "
-                         "cut", mOptions.frame, prev.empty() ? "" : " (" + prev + ")", buffer));
+        // Said plainly: the screen-space passes that read last frame's colour (SSGI, SSR) find
+        // nothing to gather on this frame.
+        note(fmt::format(
+            "frame {}: no previous frame{} for {}: no history, as after a camera cut, so the "
+            "passes that gather last frame's colour (SSGI, SSR) find no light on this frame{}",
+            mOptions.frame, prev.empty() ? "" : " (" + prev + ")", buffer,
+            prev.empty() ? "; give the previous frame's capture with --previous FILE (or "
+                           "\"previous\" in the config), or run a numbered sequence"
+                         : ""));
         const bool isDepth = isDepthBuffer(buffer);
         const SemanticBuffer* sem = findSemanticBuffer(buffer);
         return Image(mFiles.extent().width, mFiles.extent().height, sem->channels,
@@ -173,6 +203,33 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
                 for (int c = 0; c < 3; ++c)
                     img.plane(c).at(x, y) = n[c] / len;
             }
+    // A normal buffer that is zero everywhere is a mapping to the wrong channels or a pass the
+    // renderer did not write; with surfaces in the depth it would shade every pixel as sky.
+    if (buffer == "WorldNormal" && mFiles.mappingFor("SceneDepth")) {
+        bool allZero = true;
+        for (int c = 0; c < 3 && allZero; ++c)
+            for (int y = 0; y < img.height() && allZero; ++y) {
+                const float* row = img.plane(c).row(y);
+                allZero = std::all_of(row, row + img.width(), [](float v) { return v == 0.0f; });
+            }
+        if (allZero) {
+            std::vector<std::string> notes;
+            const Image depth = mFiles.read("SceneDepth", 1, notes);
+            uint64_t surfaces = 0;
+            for (int y = 0; y < depth.height(); ++y)
+                for (int x = 0; x < depth.width(); ++x) {
+                    const float d = depth.plane(0).at(x, y);
+                    surfaces += d > 0.0f && std::isfinite(d);
+                }
+            if (surfaces > 0)
+                throw Error(fmt::format(
+                    "{}: frame {}: buffer 'WorldNormal' ({}) is zero at every pixel, but "
+                    "SceneDepth has {} surface pixels: the normals were not written, or the "
+                    "profile maps the wrong channels",
+                    mFiles.capturePath(), mOptions.frame, fmt::join(mFiles.describe(buffer), " "),
+                    surfaces));
+        }
+    }
     if (buffer == "WorldNormal" && mOptions.strict && mFiles.mappingFor("SceneDepth")) {
         std::vector<std::string> notes;
         const Image depth = mFiles.read("SceneDepth", 1, notes);

@@ -28,6 +28,7 @@ public:
         std::string previousPath;  //!< frame N−1's capture ("" = none: a sequence's first)
         int64_t frame = 1;
         std::string cameraSidecar;                //!< "" = header, then <path>.camera.json
+        std::string previousCameraSidecar;        //!< frame N−1's camera file, when per frame
         std::function<const SceneFile&()> scene;  //!< loads the scene, geometry too, on first call
         std::function<const std::vector<Light>&()> lights;  //!< reads the scene's lights only
         std::function<const Environment&()> environment;    //!< the scene's sky light (no geometry)

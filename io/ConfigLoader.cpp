@@ -8,6 +8,8 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
+#include <iterator>
 #include <fstream>
 
 namespace fp::io {
@@ -18,7 +20,8 @@ namespace {
 
 const std::vector<std::string> kTopKeys = {"version", "engine", "capture", "profile",    "camera",
                                            "scene",   "frames", "cvars",   "passes",     "outputs",
-                                           "color",   "exr",    "$schema", "description", "device"};
+                                           "color",   "exr",    "$schema", "description", "device",
+                                           "previous"};
 const std::vector<std::string> kPassKeys = {"name", "type", "params", "inputs", "description"};
 const std::vector<std::string> kLightTemplateKeys = {"passes", "colorIn", "colorOut",
                                                      "rewire", "outputs", "description"};
@@ -192,7 +195,13 @@ void parsePasses(const nlohmann::json& passes,
 std::string configDirectory() {
     if (const char* env = std::getenv("FRAMEPASS_CONFIG_DIR"); env && *env)
         return env;
-    return FP_CONFIG_DIR;
+    // A build finds the source tree's configs/; an installed framepass (cmake --install) the
+    // copy beside it, <prefix>/share/framepass/configs, once the source tree is gone.
+    if (fs::is_directory(FP_CONFIG_DIR)) return FP_CONFIG_DIR;
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    const fs::path installed = exe.parent_path().parent_path() / "share/framepass/configs";
+    return !ec && fs::is_directory(installed) ? installed.string() : FP_CONFIG_DIR;
 }
 
 nlohmann::json parseCliValue(const std::string& text) {
@@ -229,6 +238,7 @@ RunConfig parseRunConfig(const nlohmann::json& j,
                                           rc.graph.engine, didYouMean(rc.graph.engine, kEngines)));
     rc.capture = resolvePath(baseDir, stringAt(j, "capture", "", diag));
     rc.camera = resolvePath(baseDir, stringAt(j, "camera", "", diag));
+    rc.previous = resolvePath(baseDir, stringAt(j, "previous", "", diag));
     rc.scene = resolvePath(baseDir, stringAt(j, "scene", "", diag));
     if (j.contains("frames")) {
         if (j["frames"].is_number_integer())
@@ -241,8 +251,18 @@ RunConfig parseRunConfig(const nlohmann::json& j,
         else
             rc.frames = stringAt(j, "frames", "", diag);
     }
-    if (j.contains("profile"))
+    if (j.contains("profile")) {
+        // A profile file (NAME.json) resolves against the config's folder, like every path in
+        // a config; a built-in profile name stays a name.
         rc.profile = j["profile"];
+        auto resolveProfile = [&](nlohmann::json& v) {
+            if (v.is_string() && v.get<std::string>().ends_with(".json"))
+                v = resolvePath(baseDir, v.get<std::string>());
+        };
+        resolveProfile(rc.profile);
+        if (rc.profile.is_object() && rc.profile.contains("base"))
+            resolveProfile(rc.profile["base"]);
+    }
     if (j.contains("color")) {
         if (!j["color"].is_object())
             diag.error("/color", "'color' must be an object");
@@ -310,6 +330,12 @@ RunConfig parseRunConfig(const nlohmann::json& j,
 }
 
 RunConfig loadRunConfig(const std::string& path) {
+    if (path == "-") {
+        // "-" is the standard input, read once (bench and tune plan it many times); its paths
+        // resolve against the working directory.
+        static const std::string text(std::istreambuf_iterator<char>(std::cin), {});
+        return parseRunConfig(parseJsonLimited(text, "- (standard input)"), "-", "");
+    }
     const nlohmann::json j = readJsonFile(path);
     return parseRunConfig(j, path, fs::path(path).parent_path().string());
 }

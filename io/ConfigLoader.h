@@ -17,6 +17,7 @@ struct RunConfig {
     std::string capture;  //!< capture file or frame pattern (resolved against baseDir)
     nlohmann::json profile = "canonical";
     std::string camera;   //!< optional camera sidecar (pattern allowed)
+    std::string previous;  //!< the frame before a single capture (cur.exr + prev.exr), or ""
     std::string scene;    //!< optional scene JSON, for passes that need geometry
     std::string frames;   //!< optional frame spec
     std::string ocioConfig;  //!< "" = $OCIO, else the shipped configs/ocio/config.ocio

@@ -1,5 +1,7 @@
 #include "io/ExrWriter.h"
 
+#include "io/SafeFiles.h"
+
 #include "io/CameraIO.h"
 #include "passes/core/Error.h"
 
@@ -43,7 +45,7 @@ void commitFile(const std::string& tmp, const std::string& path) {
     std::error_code ec;
     fs::rename(tmp, path, ec);
     if (ec) {
-        fs::remove(tmp);
+        removeTemporary(tmp);
         throw Error(fmt::format("{}: could not move the finished file into place: {}", path,
                                 ec.message()));
     }
@@ -124,8 +126,7 @@ void buildPart(PartBuffers& pb, const ExrPart& part, const ExrMetadata& meta,
 void writeExr(const std::string& path, const std::vector<ExrPart>& parts,
               const ExrMetadata& meta, ExrCompression compression) {
     FP_CHECK(!parts.empty(), "{}: nothing to write", path);
-    const fs::path parent = fs::path(path).parent_path();
-    if (!parent.empty()) fs::create_directories(parent);
+    createParentFolder(path);
     const std::string tmp = temporaryPathFor(path);
     const bool multiPart = parts.size() > 1;
     std::vector<PartBuffers> buffers(parts.size());
@@ -154,10 +155,10 @@ void writeExr(const std::string& path, const std::vector<ExrPart>& parts,
             }
         }
     } catch (const Error&) {
-        fs::remove(tmp);
+        removeTemporary(tmp);
         throw;
     } catch (const std::exception& e) {
-        fs::remove(tmp);
+        removeTemporary(tmp);
         throw Error(fmt::format("{}: could not write: {}", path, e.what()));
     }
     commitFile(tmp, path);

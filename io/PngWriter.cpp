@@ -1,5 +1,7 @@
 #include "io/PngWriter.h"
 
+#include "io/SafeFiles.h"
+
 #include "io/ExrWriter.h"
 #include "passes/core/Error.h"
 
@@ -25,15 +27,14 @@ void writePng(const std::string& path, const Image& rgb) {
                 const float v = std::clamp(rgb.plane(c).at(x, y), 0.0f, 1.0f);
                 pixels[(std::size_t(y) * w + x) * 3 + c] = (unsigned char)std::lround(v * 255.0f);
             }
-    const auto parent = std::filesystem::path(path).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
+    createParentFolder(path);
     const std::string tmp = temporaryPathFor(path);
     auto out = OIIO::ImageOutput::create("png");
     FP_CHECK(out, "{}: OpenImageIO has no PNG writer", path);
     OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
     if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) ||
         !out->close()) {
-        std::filesystem::remove(tmp);
+        removeTemporary(tmp);
         throw Error(fmt::format("{}: could not write PNG: {}", path, out->geterror()));
     }
     commitFile(tmp, path);

@@ -3,8 +3,12 @@
 #include "io/ExrWriter.h"
 #include "passes/core/Error.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -29,35 +33,85 @@ void refuseToOverwriteInputs(const std::string& output, const std::vector<std::s
                                          flag, output, in));
 }
 
+void createFolder(const std::string& folder, const std::string& flag) {
+    if (folder.empty()) return;
+    std::error_code ec;
+    if (fs::is_directory(folder, ec)) return;
+    fs::create_directories(folder, ec);
+    if (ec)
+        throw UsageError(fmt::format("{}{}: cannot create the folder: {}",
+                                     flag.empty() ? "" : flag + " ", folder, ec.message()));
+}
+
+void createParentFolder(const std::string& path) {
+    const auto parent = fs::path(path).parent_path();
+    if (parent.empty()) return;
+    std::error_code ec;
+    if (fs::is_directory(parent, ec)) return;
+    fs::create_directories(parent, ec);
+    if (ec)
+        throw Error(fmt::format("{}: cannot create its folder {}: {}", path, parent.string(),
+                                ec.message()));
+}
+
+void removeTemporary(const std::string& tmp) {
+    std::error_code ec;
+    fs::remove(tmp, ec);  // on a read-only file system the temporary was never made
+}
+
+namespace {
+// 0 when a new file can be made in `folder` (and is removed again), else the errno.
+int tryCreateFileIn(const std::string& folder) {
+    const std::string tmp = temporaryPathFor((fs::path(folder) / "check").string());
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) return errno;
+    ::close(fd);
+    removeTemporary(tmp);
+    return 0;
+}
+}  // namespace
+
 void checkWritable(const std::string& path, const std::string& flag) {
     std::error_code ec;
     if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
         throw UsageError(fmt::format("{} {}: exists and is not a regular file", flag, path));
     const auto parent = fs::path(path).parent_path();
-    if (!parent.empty()) fs::create_directories(parent, ec);
-    const std::string tmp = temporaryPathFor(path);
-    const bool ok = std::ofstream(tmp, std::ios::binary).good();
-    fs::remove(tmp, ec);
-    if (!ok)
-        throw UsageError(fmt::format("{} {}: cannot create a file in {}", flag, path,
-                                     parent.empty() ? "." : parent.string()));
+    const std::string folder = parent.empty() ? "." : parent.string();
+    createFolder(folder, flag + " " + path + ":");
+    if (const int err = tryCreateFileIn(folder))
+        throw UsageError(fmt::format("{} {}: cannot create a file in {}: {}", flag, path, folder,
+                                     std::strerror(err)));
+}
+
+void checkFolderWritable(const std::string& folder, const std::string& flag) {
+    createFolder(folder, flag);
+    if (const int err = tryCreateFileIn(folder))
+        throw UsageError(fmt::format("{}{}: cannot create a file there: {}",
+                                     flag.empty() ? "" : flag + " ", folder, std::strerror(err)));
 }
 
 void writeTextAtomically(const std::string& path, const std::string& text) {
     std::error_code ec;
     if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
         throw Error(fmt::format("{}: exists and is not a regular file; not writing over it", path));
-    const auto parent = fs::path(path).parent_path();
-    if (!parent.empty()) fs::create_directories(parent, ec);
+    createParentFolder(path);
     const std::string tmp = temporaryPathFor(path);
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << text;
-        out.flush();
-        if (!out) {
-            fs::remove(tmp, ec);
-            throw Error(fmt::format("{}: could not write {}", path, tmp));
-        }
+    // POSIX calls rather than a stream, so a failure carries its reason (ENOSPC, EROFS, EDQUOT).
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0)
+        throw Error(fmt::format("{}: could not create {}: {}", path, tmp, std::strerror(errno)));
+    std::size_t done = 0;
+    int err = 0;
+    while (done < text.size() && !err) {
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+        if (n < 0 && errno != EINTR) err = errno;
+        if (n > 0) done += std::size_t(n);
+    }
+    if (!err && ::fsync(fd) != 0 && errno != EINVAL) err = errno;
+    if (::close(fd) != 0 && !err) err = errno;
+    if (err) {
+        removeTemporary(tmp);
+        throw Error(fmt::format("{}: could not write {}: {}", path, tmp, std::strerror(err)));
     }
     commitFile(tmp, path);
 }

@@ -15,6 +15,17 @@ void refuseToOverwriteInputs(const std::string& output, const std::vector<std::s
 /// Fails early (fp::UsageError naming `flag`) when `path` cannot be written atomically: it
 /// exists but is not a regular file, or its folder takes no new file (/proc, read-only).
 void checkWritable(const std::string& path, const std::string& flag);
+/// Creates `folder` and checks it takes a new file, before any work: fp::UsageError naming
+/// `flag`, the folder and the system's reason otherwise.
+void checkFolderWritable(const std::string& folder, const std::string& flag);
+
+/// Creates `folder` and its parents; fp::UsageError naming `flag`, the folder and the reason.
+void createFolder(const std::string& folder, const std::string& flag);
+/// Creates the folder that will hold `path`; fp::Error naming both and the reason.
+void createParentFolder(const std::string& path);
+/// Removes a temporary file, ignoring failure (a read-only file system never held it): the error
+/// that made the caller give up is the one to report.
+void removeTemporary(const std::string& tmp);
 
 /// Writes `text` to `path` atomically. A target that exists but is not a regular file
 /// (/proc/version, a folder) is an error, not "written".

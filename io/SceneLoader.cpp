@@ -10,7 +10,9 @@
 #include <tiny_gltf.h>
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -24,7 +26,7 @@ namespace {
 const std::vector<std::string> kSceneKeys = {
     "version",      "geometry", "sceneUnitsPerMeter", "offset", "camera",     "previousCamera",
     "cameraMotion", "lights",   "materials",          "sky",    "resolution", "description",
-    "skyLight", "reflectionCaptures"};
+    "skyLight", "reflectionCaptures", "smoothAngleDegrees"};
 const std::vector<std::string> kCaptureKeys = {"name",   "shape",              "position",   "radius", "extent",
                                                "offset", "transitionDistance", "brightness", "cubemap"};
 const std::vector<std::string> kSkyLightKeys = {"color", "intensity", "latLong", "up", "occlusionTint"};
@@ -333,7 +335,43 @@ Light parseLight(const nlohmann::json& j, const std::string& file, const std::st
     return l;
 }
 
-void loadObj(const std::string& path, Scene& scene) {
+// Vertex normals for an OBJ that has none, smoothed across faces that meet at less than
+// `angleDegrees` (as Blender's Auto Smooth and Maya's soften-edge angle do): each corner's normal
+// is the area-weighted sum of the normals of the faces around its vertex whose normal lies within
+// the angle of its own face's. Returns one normal per corner (3 per face).
+std::vector<Vec3f> smoothCornerNormals(const tinyobj::attrib_t& attrib,
+                                       const tinyobj::mesh_t& mesh, float angleDegrees) {
+    const std::size_t faces = mesh.num_face_vertices.size();
+    std::vector<Vec3d> area(faces);  // face normal × 2·area
+    std::map<int, std::vector<std::size_t>> facesOf;
+    for (std::size_t f = 0; f < faces; ++f) {
+        Vec3d p[3];
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t v = std::size_t(mesh.indices[3 * f + k].vertex_index);
+            p[k] = {attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]};
+            facesOf[mesh.indices[3 * f + k].vertex_index].push_back(f);
+        }
+        area[f] = cross(p[1] - p[0], p[2] - p[0]);
+    }
+    const double cosLimit = std::cos(double(angleDegrees) * 3.14159265358979323846 / 180.0);
+    std::vector<Vec3f> out(3 * faces);
+    for (std::size_t f = 0; f < faces; ++f) {
+        const double len = length(area[f]);
+        for (int k = 0; k < 3; ++k) {
+            Vec3d sum{0, 0, 0};
+            for (std::size_t g : facesOf[mesh.indices[3 * f + k].vertex_index]) {
+                const double lg = length(area[g]);
+                if (len > 0 && lg > 0 && dot(area[f], area[g]) >= cosLimit * len * lg)
+                    sum = sum + area[g];
+            }
+            out[3 * f + std::size_t(k)] =
+                length(sum) > 0 ? Vec3f(normalize(sum)) : Vec3f(len > 0 ? normalize(area[f]) : Vec3d{0, 0, 1});
+        }
+    }
+    return out;
+}
+
+void loadObj(const std::string& path, Scene& scene, std::optional<float> smoothAngleDegrees) {
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     config.mtl_search_path = fs::path(path).parent_path().string();
@@ -358,6 +396,23 @@ void loadObj(const std::string& path, Scene& scene) {
         const auto& mesh = shapes[s].mesh;
         // One framepass mesh per (shape, material): the GBuffer's material is per triangle.
         std::map<int, Mesh> byMaterial;
+        // Checked first: the smoothing reads every face's three vertices.
+        for (std::size_t f = 0; f < mesh.num_face_vertices.size(); ++f)
+            for (int k = 0; k < 3 && mesh.num_face_vertices[f] == 3 && 3 * f + 2 < mesh.indices.size(); ++k) {
+                const auto idx = mesh.indices[3 * f + std::size_t(k)];
+                if (idx.vertex_index < 0 || 3 * std::size_t(idx.vertex_index) + 2 >= attrib.vertices.size())
+                    throw Error(
+                        fmt::format("{}: shape '{}' face {} has a vertex index out of range", path,
+                                    shapes[s].name, f),
+                        ExitCode::Usage);
+            }
+        const bool allTriangles =
+            std::all_of(mesh.num_face_vertices.begin(), mesh.num_face_vertices.end(),
+                        [](auto n) { return n == 3; }) &&
+            mesh.indices.size() == 3 * mesh.num_face_vertices.size();
+        const std::vector<Vec3f> smooth = smoothAngleDegrees && allTriangles
+                                              ? smoothCornerNormals(attrib, mesh, *smoothAngleDegrees)
+                                              : std::vector<Vec3f>{};
         for (std::size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
             // tinyobjloader triangulates; a face it could not is not a triangle (and its indices
             // would run past the list).
@@ -373,11 +428,6 @@ void loadObj(const std::string& path, Scene& scene) {
                 const auto idx = mesh.indices[3 * f + k];
                 // size_t arithmetic: 3·index overflows int for the indices a broken file holds.
                 const std::size_t v = std::size_t(idx.vertex_index), n = std::size_t(idx.normal_index);
-                if (idx.vertex_index < 0 || 3 * v + 2 >= attrib.vertices.size())
-                    throw Error(
-                        fmt::format("{}: shape '{}' face {} has a vertex index out of range", path,
-                                    shapes[s].name, f),
-                        ExitCode::Usage);
                 if (idx.normal_index >= 0 && 3 * n + 2 >= attrib.normals.size())
                     throw Error(
                         fmt::format("{}: shape '{}' face {} has a normal index out of range", path,
@@ -388,6 +438,8 @@ void loadObj(const std::string& path, Scene& scene) {
                 if (idx.normal_index >= 0)
                     m.normals.push_back(
                         {attrib.normals[3 * n], attrib.normals[3 * n + 1], attrib.normals[3 * n + 2]});
+                else if (!smooth.empty())
+                    m.normals.push_back(smooth[3 * f + std::size_t(k)]);
                 m.indices.push_back(uint32_t(m.indices.size()));
             }
         }
@@ -732,6 +784,17 @@ void loadGltf(const std::string& path, SceneFile& sf) {
                     }
                 }
                 if (prim.indices >= 0) {
+                    // glTF 2.0 §3.7.2.1: indices are UNSIGNED_BYTE, UNSIGNED_SHORT or
+                    // UNSIGNED_INT; floats would be read as garbage indices.
+                    const int indexType = model.accessors[std::size_t(prim.indices)].componentType;
+                    if (indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                        indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                        indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+                        throw Error(fmt::format("{}: {}: indices accessor {} has componentType "
+                                                "{}; glTF indices are unsigned byte (5121), "
+                                                "short (5123) or int (5125)",
+                                                path, what, prim.indices, indexType),
+                                    ExitCode::Usage);
                     for (double i : readAccessor<double>(model, prim.indices, 1, path, what)) {
                         if (i >= m.positions.size())
                             throw Error(
@@ -891,6 +954,15 @@ SceneFile loadScene(const std::string& path, SceneParts parts) {
                              limits::kMaxImageDimension, limits::kMaxImagePixels));
         sf.resolution = {int(w), int(h)};
     }
+    if (j.contains("smoothAngleDegrees")) {
+        const float a = num(j["smoothAngleDegrees"], path, "/smoothAngleDegrees");
+        if (!(a >= 0.0f && a <= 180.0f))
+            fail(path, "/smoothAngleDegrees", "expected an angle in degrees, 0 to 180");
+        if (ext != ".obj")
+            fail(path, "/smoothAngleDegrees",
+                 "smooths an OBJ without normals; a glTF carries its own normals");
+        sf.mSmoothAngleDegrees = a;
+    }
     if (j.contains("materials")) {
         if (!j["materials"].is_object())
             fail(path, "/materials", "expected {name: {...}}");
@@ -922,7 +994,7 @@ void SceneFile::loadGeometry() {
     std::vector<Light> jsonLights;  // already placed; the geometry's own come first
     jsonLights.swap(scene.lights);
     if (ext == ".obj")
-        loadObj(mGeometryFile, scene);
+        loadObj(mGeometryFile, scene, mSmoothAngleDegrees);
     else
         loadGltf(mGeometryFile, *this);
     if (scene.meshes.empty())

@@ -47,6 +47,7 @@ private:
     nlohmann::json mMaterialOverrides;  //!< "materials" of the scene JSON, applied to the geometry
     std::size_t mJsonLightCount = 0;    //!< the last lights of scene.lights came from the JSON
     bool mGeometryLoaded = false;
+    std::optional<float> mSmoothAngleDegrees;  //!< "smoothAngleDegrees": OBJ normals smoothed
     /// Sets Mesh::shapeOf from each JSON light's "shape" once both are loaded.
     void markLightShapes();
 };

@@ -27,7 +27,11 @@ PortSpec shadingModelInput(std::string doc) {
 }
 
 PortSpec velocityInput(std::string doc) {
-    return {.name = kVelocity, .channels = {"X", "Y"}, .optional = true, .doc = std::move(doc)};
+    return {.name = kVelocity,
+            .channels = {"X", "Y"},
+            .optional = true,
+            .doc = std::move(doc),
+            .captureWhenNoPreviousCamera = "Velocity"};
 }
 
 PortSpec customDataInput(std::string doc, bool optional) {

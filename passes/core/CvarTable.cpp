@@ -1,6 +1,7 @@
 #include "passes/core/CvarTable.h"
 
 #include <algorithm>
+#include <cctype>
 
 namespace fp {
 
@@ -18,6 +19,17 @@ const CvarMapping* CvarTable::find(const std::string& cvar) const {
         if (e.cvar == cvar)
             return &e;
     return nullptr;
+}
+
+std::string CvarTable::spelling(const std::string& cvar) const {
+    auto lower = [](std::string s) {
+        for (auto& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+        return s;
+    };
+    const std::string key = lower(cvar);
+    for (const auto& e : mEntries)
+        if (lower(e.cvar) == key) return e.cvar;
+    return cvar;
 }
 
 const CvarMapping* CvarTable::find(const std::string& cvar, const std::string& passType) const {

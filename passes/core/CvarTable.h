@@ -33,6 +33,9 @@ public:
     std::vector<std::string> targets(const std::string& cvar) const;
     const std::vector<CvarMapping>& all() const { return mEntries; }
     std::vector<std::string> names() const;
+    /// The table's spelling of `cvar`, matched without regard to case as Unreal's console does
+    /// (r.ssgi.quality is r.SSGI.Quality); `cvar` itself when the table does not know it.
+    std::string spelling(const std::string& cvar) const;
 
 private:
     std::vector<CvarMapping> mEntries;

@@ -13,6 +13,8 @@ enum class ExitCode : int {
     Ok = 0,
     FrameFailed = 1,  //!< a frame could not be processed (bad pixels, I/O error, ...)
     Usage = 2,        //!< bad command line, config or plan: nothing was computed
+    Interrupted = 130,  //!< stopped by SIGINT (128 + 2), as shells report it
+    Terminated = 143,   //!< stopped by SIGTERM (128 + 15): a farm's pre-emption
 };
 
 /// A runtime or input error. The message names the file, channel, JSON pointer or frame.
@@ -30,6 +32,17 @@ private:
 class UsageError : public Error {
 public:
     explicit UsageError(const std::string& message) : Error(message, ExitCode::Usage) {}
+};
+
+/// A run stopped by a signal at a safe point (exit 128 + the signal).
+class Interrupted : public Error {
+public:
+    explicit Interrupted(int signal, const std::string& message)
+        : Error(message, static_cast<ExitCode>(128 + signal)), mSignal(signal) {}
+    int signal() const { return mSignal; }
+
+private:
+    int mSignal;
 };
 
 }  // namespace fp

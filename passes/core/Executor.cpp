@@ -1,6 +1,7 @@
 #include "passes/core/Executor.h"
 
 #include "passes/core/Scene.h"
+#include "passes/core/SemanticBuffers.h"
 
 #include "passes/core/Cuda.h"
 #include "passes/core/Error.h"
@@ -122,6 +123,8 @@ public:
     const Texture* input(std::string_view port) const override {
         const std::string* key = boundKey(port);
         if (!key)
+            key = fallbackKey(port);
+        if (!key)
             return nullptr;  // unbound optional input
         const Texture* t = mStore.find(*key);
         FP_CHECK(t, "internal: input '{}' of pass '{}' is not in the store", port, mStep.name);
@@ -129,6 +132,8 @@ public:
     }
     const DeviceTexture* deviceInput(std::string_view port) override {
         const std::string* key = boundKey(port);
+        if (!key)
+            key = fallbackKey(port);
         if (!key)
             return nullptr;
         const DeviceTexture* t = mStore.findDevice(*key);
@@ -195,6 +200,19 @@ private:
         }
         return &it->second.key;
     }
+    // An unbound port the plan fills from the capture on a frame with no previous camera
+    // (PortSpec::captureWhenNoPreviousCamera), loaded on first use; nullptr otherwise.
+    const std::string* fallbackKey(std::string_view port) const {
+        if (mFrame.camera.previous) return nullptr;
+        auto it = mStep.noPreviousCameraInputs.find(std::string(port));
+        if (it == mStep.noPreviousCameraInputs.end()) return nullptr;
+        mFallbackKey = "capture:" + it->second;
+        if (!mStore.contains(mFallbackKey)) {
+            const SemanticBuffer* sem = findSemanticBuffer(it->second);
+            mStore.load(it->second, sem ? int(sem->channels.size()) : 1);
+        }
+        return &mFallbackKey;
+    }
     // Filament's rule: a pass may only touch what it declared.
     const PortSpec& checkDeclared(const std::vector<PortSpec>& ports,
                                   std::string_view port,
@@ -212,6 +230,7 @@ private:
     PassReport& mReport;
     const PassHistory* mHistory;
     std::optional<PassHistory> mKept;
+    mutable std::string mFallbackKey;  // the key fallbackKey returned (the store keeps the image)
     std::mutex mMutex;
 };
 

@@ -26,6 +26,7 @@ struct ParamInfo {
     std::optional<double> min, max;
     std::vector<std::string> choices;
     std::vector<std::string> cvars;  //!< Unreal console variables that set it
+    bool needsHistory = false;  //!< acts only on a frame with history (a sequence's later frames)
 };
 
 template <class T>
@@ -34,12 +35,18 @@ public:
     using Member = std::variant<bool T::*, int T::*, float T::*, std::string T::*>;
 
     ParamSpec& add(std::string name, Member member, std::string doc) {
-        mEntries.push_back({std::move(name), member, std::move(doc), {}, {}, {}, {}});
+        mEntries.push_back({std::move(name), member, std::move(doc), {}, {}, {}, {}, false});
         return *this;
     }
     /// An Unreal console variable that sets the last added parameter (a config's "cvars" or
     /// --cvar). Declared here, beside the parameter, and nowhere else: the cvar table is made
     /// from these declarations (CvarTable).
+    /// The parameter acts only across frames (a temporal blend): on one frame, or the first of
+    /// a sequence, every value gives the same pixels (`tune` does not search it there).
+    ParamSpec& needsHistory() {
+        mEntries.back().needsHistory = true;
+        return *this;
+    }
     ParamSpec& cvar(std::string name) {
         mEntries.back().cvars.push_back(std::move(name));
         return *this;
@@ -98,7 +105,8 @@ public:
         const T defaults{};
         std::vector<ParamInfo> list;
         for (const auto& e : mEntries) {
-            ParamInfo info{e.name, "", e.doc, {}, e.min, e.max, e.choices, e.cvars};
+            ParamInfo info{e.name, "", e.doc, {}, e.min, e.max, e.choices, e.cvars,
+                           e.needsHistory};
             std::visit(
                 [&](auto member) {
                     info.defaultValue = defaults.*member;
@@ -118,6 +126,7 @@ private:
         std::optional<double> min, max;
         std::vector<std::string> choices;
         std::vector<std::string> cvars;
+        bool needsHistory = false;
     };
 
     const Entry* find(const std::string& key) const {

@@ -54,6 +54,10 @@ struct PortSpec {
     bool optional = false;       //!< an unbound optional input reaches the pass as nullptr
     std::string captureDefault;  //!< inputs: the capture buffer read when the config binds none
     std::string doc;
+    /// Optional inputs the config leaves unbound: the capture buffer bound instead on a frame
+    /// whose camera has no previous camera (the first frame of a Blender sequence), so motion
+    /// comes from the capture's own velocity rather than from a camera it does not have.
+    std::string captureWhenNoPreviousCamera;
 };
 
 struct PassIO {
@@ -135,6 +139,10 @@ public:
     virtual std::vector<Extent> outputExtents(std::string_view port, Extent frame) const {
         return {frame};
     }
+    /// Passes with needsColorConfig: checks what the pass will ask of the colour config (a
+    /// display, a view, a colour space) when the chain is planned, so a bad name fails before
+    /// the first frame instead of after the chain ran. Throws fp::Error.
+    virtual void checkColorConfig(const OCIO_NAMESPACE::ConstConfigRcPtr& /*config*/) const {}
     /// True where this build compiled the pass's CUDA kernel (its .cu file, FP_HAVE_CUDA).
     virtual bool hasCudaKernel() const { return false; }
     /// Runs the pass on the GPU; called only when hasCudaKernel().

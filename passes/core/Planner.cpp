@@ -23,6 +23,7 @@ struct NodeState {
     nlohmann::json params;
     std::map<std::string, SourceRef> inputs;
     std::map<std::string, std::string> inputPointers;  // port → where its binding came from
+    std::map<std::string, std::string> noPreviousCameraInputs;  // port → capture buffer
     bool live = false;
 };
 
@@ -104,9 +105,9 @@ public:
     /// Cvars of the config, then --cvar; unknown, unemulated and unused ones are warnings.
     void validateCvars() {
         for (const auto& [k, v] : mGraph.cvars.items())
-            mCvars[k] = {v, "/cvars/" + jsonPointerEscape(k)};
+            mCvars[mCvarTable.spelling(k)] = {v, "/cvars/" + jsonPointerEscape(k)};
         for (const auto& [k, v] : mIn.overrides.cvars.items())
-            mCvars[k] = {v, "--cvar " + k};
+            mCvars[mCvarTable.spelling(k)] = {v, "--cvar " + k};
         for (const auto& [name, cv] : mCvars) {
             const CvarMapping* m = mCvarTable.find(name);
             if (!m && mIn.allowUnknownCvars) {
@@ -215,6 +216,9 @@ public:
                 if (text.empty()) {
                     if (!port.optional)
                         mUnboundRequired[i].push_back(port.name);
+                    else if (const std::string& b = port.captureWhenNoPreviousCamera;
+                             !b.empty() && mIn.availableBuffers && mIn.availableBuffers->count(b))
+                        n.noPreviousCameraInputs[port.name] = b;
                     continue;
                 }
                 SourceRef ref;
@@ -344,6 +348,7 @@ public:
             s.io = n.io;
             s.params = n.params;
             s.inputs = n.inputs;
+            s.noPreviousCameraInputs = n.noPreviousCameraInputs;
             mPlan.steps.push_back(std::move(s));
             mPlan.needsCamera |= n.io.needsCamera;
             mPlan.needsScene |= n.io.needsScene;

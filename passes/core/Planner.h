@@ -39,6 +39,8 @@ struct PlanStep {
     PassIO io;
     nlohmann::json params;                    //!< resolved parameter values
     std::map<std::string, SourceRef> inputs;  //!< bound input ports
+    /// Unbound optional ports read from this capture buffer on a frame with no previous camera.
+    std::map<std::string, std::string> noPreviousCameraInputs;
     std::set<std::string> requestedOutputs;
     Device device = Device::Cpu;  //!< Cuda where the plan asks for the GPU and the pass has a kernel
 };

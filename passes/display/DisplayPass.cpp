@@ -36,6 +36,11 @@ DisplayTransform DisplayPass::transform(PassContext& ctx) const {
                             mParams.display, mParams.view, mParams.exposure, colorManaged);
 }
 
+void DisplayPass::checkColorConfig(const OCIO_NAMESPACE::ConstConfigRcPtr& config) const {
+    DisplayTransform(config, mParams.inputSpace, mParams.display, mParams.view, mParams.exposure,
+                     true);
+}
+
 void DisplayPass::execute(PassContext& ctx) {
     const Image& src = ctx.input(kDisplayColor)->image();
     Texture& out = ctx.output(kDisplayImage, {{src.width(), src.height()}});

@@ -27,6 +27,7 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    void checkColorConfig(const OCIO_NAMESPACE::ConstConfigRcPtr& config) const override;
 
 #if FP_HAVE_CUDA
     bool hasCudaKernel() const override { return true; }

@@ -22,6 +22,7 @@ ParamSpec<SSGIDenoiseParams> SSGIDenoisePass::paramSpec() {
         .range(0, 2)
         .cvar("r.DiffuseIndirect.Denoiser");
     s.add("temporalAccumulation", &Params::temporalAccumulation, "accumulate across frames")
+        .needsHistory()
         .cvar("r.GlobalIllumination.Denoiser.TemporalAccumulation");
     s.add("halfRes", &Params::halfRes,
           "the SSGI trace ran at half resolution: the denoiser runs at the trace resolution (the "

@@ -151,6 +151,7 @@ ParamSpec<SSRParams> SSRPass::paramSpec() {
     s.add("temporal", &Params::temporal,
           "smooth the reflection across frames: last frame's, reprojected and clamped to this "
           "frame's 3×3 neighbourhood, moves 1/8 of the way to this frame's")
+        .needsHistory()
         .cvar("r.SSR.Temporal");
     return s;
 }

@@ -273,4 +273,47 @@ assert byRole['ocioConfig'][0]['path'].endswith('config.ocio')
 PY
 check "report.json lists the scene and its geometry when the chain traces rays" bash -c "'$FP' run '$DIR/lit.json' -o '$DIR/l4' --report '$DIR/l4.json' >/dev/null && python3 -c \"import json; r=json.load(open('$DIR/l4.json')); roles={f['role'] for f in r['inputs']}; assert {'scene','geometry','capture','config'} <= roles, roles\""
 
+# Command-line habits: typos, `version`, error prefixes, "-" for stdin and stdout, cvars as
+# Unreal takes them, the resolved parameters and the chain as a Graphviz graph.
+check "a mistyped command gets a did-you-mean, exit 2" expect_exit 2 "'rn' is not a framepass command (did you mean 'run'?)" "$FP" rn "$DIR/config.json"
+check "framepass version" bash -c "'$FP' version | grep -qx 'framepass 0.1.0'"
+check "an unknown option carries the framepass error: prefix" expect_exit 2 "framepass error: The following argument was not expected: --bogus" "$FP" plan "$DIR/config.json" --bogus
+check "a config on stdin (-), its paths relative to the working directory" bash -c "cd '$DIR' && '$FP' plan - < config.json | grep -q 'plan for - (1 frame, capture cornell.exr)'"
+check "--report - prints the report as the only thing on stdout" bash -c "set -o pipefail; '$FP' run '$DIR/config.json' -o '$DIR/rstd' --report - 2>/dev/null | python3 -c 'import json, sys; r = json.load(sys.stdin); assert r[\"frames\"][0][\"status\"] == \"ok\", r[\"frames\"]'"
+check "cvar names in any case and \"NAME VALUE\" as the console takes them" bash -c "'$FP' plan '$DIR/config.json' --cvar 'r.ssgi.quality 2' | grep -q 'quality=2'"
+printf '; tune wrote this\n[SystemSettings]\nr.SSGI.Quality=3\n[/Script/Engine.RendererSettings]\nr.SSGI.Quality=1\n' > "$DIR/tuned.ini"
+check "--cvars reads [SystemSettings] of an Unreal .ini and skips other sections, saying so" bash -c "'$FP' plan '$DIR/config.json' --cvars '$DIR/tuned.ini' > '$DIR/ini.txt' 2> '$DIR/ini.err' && grep -q 'quality=3' '$DIR/ini.txt' && grep -q 'lines of \[/Script/Engine.RendererSettings\] skipped' '$DIR/ini.err'"
+check "--cvar wins over --cvars" bash -c "'$FP' plan '$DIR/config.json' --cvars '$DIR/tuned.ini' --cvar r.SSGI.Quality=1 2>/dev/null | grep -q 'quality=1'"
+check "tune's [SystemSettings] snippet reads back in" bash -c "'$FP' tune '$DIR/ssgi_bench.json' --target 'vs_full<=1' --sweep r.SSGI.Quality=1,2 --runs 1 2>/dev/null | sed -n '/^\[SystemSettings\]/,/^\$/p' > '$DIR/tune.ini' && grep -q '^r.SSGI.Quality=' '$DIR/tune.ini' && '$FP' plan '$DIR/config.json' --cvars '$DIR/tune.ini' > /dev/null"
+check "plan --dot writes the chain as a Graphviz graph, culled passes greyed" bash -c "'$FP' plan '$DIR/reduced_only.json' --dot '$DIR/chain.dot' > /dev/null && grep -q '\"hzb\":\"out_furthest\" -> \"prev_color_reduction\":\"in_furthestHzb\"' '$DIR/chain.dot' && grep -q '\"ssgi\" \[shape=box, style=\"filled,dashed\"' '$DIR/chain.dot' && grep -q '^}' '$DIR/chain.dot'"
+check "a bad OCIO display fails when planning, naming the pass" expect_exit 2 "(display): OCIO display transform (space 'scene_linear', display 'Nope'" "$FP" plan "$DIR/config.json" --set display.display=Nope
+check "a bad \$OCIO fails when planning" bash -c "OCIO='$DIR/nope.ocio' '$FP' run '$DIR/config.json' -o '$DIR/bad_ocio' > '$DIR/ocio.log' 2>&1; [ \$? = 2 ] && grep -q 'cannot load the OCIO config' '$DIR/ocio.log' && test ! -e '$DIR/bad_ocio/indirect.0001.exr'"
+# compare measures what users compare: one channel, a product of layers, a mask, a PNG.
+cmpjson() { "$FP" compare "$@" --json 2>/dev/null; }
+check "compare one channel of a layer" bash -c "$(declare -f cmpjson); FP='$FP'; cmpjson '$DIR/cornell.exr' '$DIR/cornell.exr' --layer WorldNormal.Y | python3 -c 'import json, sys; j = json.load(sys.stdin); assert j[\"rmse\"] == 0 and j[\"a\"][\"layer\"] == \"WorldNormal.Y\", j'"
+# GBufferAO is 1 on every surface of the Cornell box: BaseColor × GBufferAO is BaseColor exactly.
+check "compare a product of two layers (Blender's light × colour)" bash -c "$(declare -f cmpjson); FP='$FP'; cmpjson '$DIR/cornell.exr' '$DIR/cornell.exr' --layer 'BaseColor*GBufferAO' --ref-layer BaseColor | python3 -c 'import json, sys; j = json.load(sys.stdin); assert j[\"rmse\"] == 0 and j[\"pixels\"] > 3000, j'"
+check "a mask picture keeps the pixels where it is above 0" bash -c "oiiotool --create 64x64 3 --fill:color=1,1,1 32x64+0+0 -d uint8 -o '$DIR/left.png' && $(declare -f cmpjson); FP='$FP'; cmpjson '$DIR/cornell.exr' '$DIR/cornell.exr' --layer SceneColor --mask none --mask '$DIR/left.png' | python3 -c 'import json, sys; j = json.load(sys.stdin); assert j[\"pixels\"] == 32 * 64, j'"
+check "--mask shading-model=N keeps one shading model (every surface of the box is default lit)" bash -c "$(declare -f cmpjson); FP='$FP'; a=\$(cmpjson '$DIR/cornell.exr' '$DIR/cornell.exr' --layer SceneColor --mask shading-model=1 | python3 -c 'import json, sys; print(json.load(sys.stdin)[\"pixels\"])'); b=\$(cmpjson '$DIR/cornell.exr' '$DIR/cornell.exr' --layer SceneColor | python3 -c 'import json, sys; print(json.load(sys.stdin)[\"pixels\"])'); n=\$(cmpjson '$DIR/cornell.exr' '$DIR/cornell.exr' --layer SceneColor --mask shading-model=7 | python3 -c 'import json, sys; print(json.load(sys.stdin)[\"pixels\"])'); [ \$a = \$b ] && [ \$n = 0 ] && [ \$a -gt 3000 ]"
+check "--mask id=N keeps one object, and masks multiply" bash -c "$(declare -f cmpjson); FP='$FP'; a=\$(cmpjson '$DIR/cornell.exr' '$DIR/cornell.exr' --layer SceneColor --mask id=1 | python3 -c 'import json, sys; print(json.load(sys.stdin)[\"pixels\"])'); b=\$(cmpjson '$DIR/cornell.exr' '$DIR/cornell.exr' --layer SceneColor --mask id=1 --mask '$DIR/left.png' | python3 -c 'import json, sys; print(json.load(sys.stdin)[\"pixels\"])'); [ \$a -gt 0 ] && [ \$b -lt \$a ]"
+# An 8-bit PNG holds each value to within half a step: |error| ≤ 0.5/255 on values in 0..1.
+check "compare reads PNG through OpenImageIO (8-bit: RMSE ≤ 0.5/255 against the EXR)" bash -c "oiiotool '$DIR/cornell.exr' --subimage BaseColor --ch R=BaseColor.R,G=BaseColor.G,B=BaseColor.B -d uint8 -o '$DIR/base.png' &&
+    oiiotool '$DIR/cornell.exr' --subimage BaseColor --ch R=BaseColor.R,G=BaseColor.G,B=BaseColor.B -d float -o '$DIR/base.exr' &&
+    '$FP' compare '$DIR/base.png' '$DIR/base.exr' --mask none --max-rmse 0.00197"
+
+# The bash completion and the man page the build makes, and `cmake --install`.
+BUILD="$(cd "$(dirname "$FP")/.." && pwd)"
+complete_words() {  # complete_words WORD...: what bash completion offers for the last word
+    bash -c 'source "$1/cli/framepass.bash"; shift; COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); _framepass; echo "${COMPREPLY[@]}"' _ "$BUILD" "$@"
+}
+check "bash completion: commands" bash -c "[ \"\$($(declare -f complete_words); BUILD='$BUILD'; complete_words framepass ru)\" = run ]"
+check "bash completion: a subcommand's options" bash -c "$(declare -f complete_words); BUILD='$BUILD'; complete_words framepass run cfg.json --warm | grep -qx -- '--warmup-frames'"
+check "bash completion: cvar names after --cvar, pass parameters after --set" bash -c "$(declare -f complete_words); BUILD='$BUILD'; complete_words framepass run cfg.json --cvar r.SSGI.Qu | grep -q 'r.SSGI.Quality=' && complete_words framepass plan cfg.json --set ssgi_denoise.temp | grep -q 'ssgi_denoise.temporalAccumulation='"
+check "the man page is made from --help" bash -c "grep -q '^.TH FRAMEPASS' '$BUILD/cli/framepass.1' && grep -q 'tune' '$BUILD/cli/framepass.1'"
+check "dot renders plan --dot" bash -c "command -v dot >/dev/null || { echo 'no dot (apt-get install graphviz)'; exit 1; }; dot -Tsvg '$DIR/chain.dot' -o '$DIR/chain.svg' && grep -q '<svg' '$DIR/chain.svg'"
+check "cmake --install puts the binary, the completion, the man page and the configs in place" bash -c "cmake --install '$BUILD' --prefix '$DIR/prefix' > /dev/null &&
+    test -x '$DIR/prefix/bin/framepass' && test -f '$DIR/prefix/share/bash-completion/completions/framepass' &&
+    test -f '$DIR/prefix/share/man/man1/framepass.1' && test -f '$DIR/prefix/share/framepass/configs/ue4.27.json' &&
+    '$DIR/prefix/bin/framepass' passes > /dev/null"
+
 finish

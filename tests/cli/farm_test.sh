@@ -55,6 +55,52 @@ check "the rerun removes the temporaries and matches the clean run" bash -c "
     '$FP' run big.json -o big_kill --dump all --skip-existing 2> rerun.err > /dev/null && grep -q 'temporary file(s) a killed run left' rerun.err &&
     [ -z \"\$(find big_kill -name '.*.tmp')\" ] && diff -r big_clean big_kill"
 
+echo '{ "version": 1, "capture": "seq.0001.exr" }' > one.json
+
+# Two runs into one folder: the second whose frames overlap the first's is refused while the
+# first runs; a run of other frames (another chunk of the shot) goes ahead beside it.
+check "a second run writing the same frames into the same folder is refused, naming the first" bash -c "
+    '$FP' --threads 1 run big.json -o shared --frames 1-4 > /dev/null 2>&1 & pid=\$!
+    for i in \$(seq 1 600); do [ -e shared/ssgi.0001.exr ] && break; sleep 0.05; done
+    kill -STOP \$pid   # held mid-run, its lock with it, however fast the machine
+    '$FP' run big.json -o shared --frames 3-4 > second.log 2>&1; code=\$?
+    '$FP' run big.json -o shared --frames 5-6 > other.log 2>&1; other=\$?
+    kill -CONT \$pid; wait \$pid; first=\$?
+    [ \$code = 2 ] && grep -q \"another framepass run (process \$pid) is writing frame 3 into this folder\" second.log &&
+    [ \$other = 0 ] && [ \$first = 0 ]"
+check "the two chunks together are the clean run's outputs" bash -c "for f in ssgi indirect; do for n in 1 2 3 4; do cmp big_clean/\$f.000\$n.exr shared/\$f.000\$n.exr || exit 1; done; done"
+
+# SIGTERM (pre-emption) and SIGINT: stop between passes, no temporaries, the report marks the
+# interrupted frame, exit 143 / 130.
+for sig in TERM INT; do
+    code=143; [ $sig = INT ] && code=130
+    check "SIG$sig stops the run at a safe point: exit $code, report written, no temporaries" bash -c "
+        '$FP' --threads 1 run big.json -o sig$sig --report sig$sig.json > sig$sig.log 2>&1 & pid=\$!
+        for i in \$(seq 1 600); do [ -e sig$sig/ssgi.0002.exr ] && break; sleep 0.05; done
+        kill -$sig \$pid; wait \$pid; got=\$?
+        [ \$got = $code ] && [ -z \"\$(find sig$sig -name '.*.tmp')\" ] && grep -q 'stopped by SIG$sig at a safe point' sig$sig.log &&
+        python3 -c '
+import json; r = json.load(open(\"sig$sig.json\")); s = [f[\"status\"] for f in r[\"frames\"]]
+assert s[-1] == \"interrupted\" and all(x == \"ok\" for x in s[:-1]) and len(s) < 6, s
+assert r[\"interrupted\"][\"frame\"] == r[\"frames\"][-1][\"frame\"], r[\"interrupted\"]'"
+done
+
+# Memory: the plan's predicted peak against --max-memory, before any pixel is read.
+check "a plan over --max-memory is refused with both figures, nothing written" bash -c "'$FP' run big.json -o mem --max-memory 1M > mem.log 2>&1; [ \$? = 2 ] && grep -q 'more than the 1.0 MiB allowed (--max-memory 1M)' mem.log && grep -q 'half resolution' mem.log && [ -z \"\$(ls mem 2>/dev/null | grep exr)\" ]"
+check "--max-memory takes sizes as 8G, 512M" bash -c "'$FP' run one.json -o mem2 --max-memory 8G > /dev/null 2>&1 && '$FP' run one.json -o mem3 --max-memory 12X 2>&1 | grep -q 'expected a size such as 8G'"
+
+# Output folders that cannot be made or written: an error naming the path and the reason, before
+# the first frame, from every command that writes.
+check "run -o into /proc: exit 2, the folder and the reason" expect_exit 2 "-o /proc/nope: cannot create the folder: No such file or directory" "$FP" run one.json -o /proc/nope
+check "capture -o into /proc" expect_exit 2 "cannot create the folder" "$FP" capture "$SRC/examples/cornell/scene.json" -o /proc/nope/c.exr --width 16 --height 16
+check "sheet -o into /proc" expect_exit 2 "cannot create the folder" "$FP" sheet seq.0001.exr -o /proc/nope/s.png
+check "compare --heatmap into /proc" expect_exit 2 "cannot create the folder" "$FP" compare seq.0001.exr seq.0001.exr --layer SceneColor --heatmap /proc/nope/h.exr
+check "bench --html into /proc" expect_exit 2 "cannot create the folder" "$FP" bench one.json --runs 1 --html /proc/nope/b.html
+# A write that fails says why: a file size limit (RLIMIT_FSIZE, SIGXFSZ ignored) makes every
+# write past 2 KiB fail with EFBIG, as a full disk fails with ENOSPC. The frame's output fails
+# first; the report's failure is said too, and neither hides the other.
+check "a report that cannot be written gives the system's reason" bash -c "trap '' XFSZ; ulimit -f 2; '$FP' run one.json -o small --report small/report.json > fsize.log 2>&1; [ \$? = 1 ] && grep -q 'report.json: could not write .*File too large' fsize.log && grep -q 'ssgi.0001.exr: could not write: .*File too large' fsize.log"
+
 # No command writes over its inputs.
 cp -r "$SRC/examples/cornell" scene_copy
 check "run --report onto the capture is refused, exit 2, capture untouched" bash -c "cp seq.0001.exr keep.exr &&

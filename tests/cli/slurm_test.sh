@@ -63,12 +63,13 @@ trap stop EXIT
 check "a single-node Slurm starts" bash -c "slurmctld -f '$SLURM_CONF' && slurmd -f '$SLURM_CONF' &&
     for i in \$(seq 1 60); do sinfo -h -o %t 2>/dev/null | grep -q idle && exit 0; sleep 0.5; done; cat '$DIR/slurmctld.log' '$DIR/slurmd.log'; exit 1"
 
-check "capture a 6-frame shot" "$FP" capture "$SRC/examples/cornell/scene.json" -o shot.####.exr --frames 1-6 --width 48 --height 48
+check "capture a 12-frame shot" "$FP" capture "$SRC/examples/cornell/scene.json" -o shot.####.exr --frames 1-12 --width 48 --height 48
 echo '{ "version": 1, "capture": "shot.####.exr" }' > shot.json
-check "the sequential run" "$FP" run shot.json --frames 1-6 -o sequential
-check "the job array: 3 tasks of 2 frames, each warming up" bash -c "sbatch --wait --array=0-2 -o '$DIR/task.%a.log' \
-    --export=ALL,FRAMEPASS='$FP',CONFIG='$DIR/shot.json',FIRST=1,LAST=6,CHUNK=2,OUT='$DIR/array' \
-    '$SRC/examples/slurm/framepass_array.sbatch' && grep -q 'warm-up frame 1' task.2.log"
+check "the sequential run" "$FP" run shot.json --frames 1-12 -o sequential
+# The script's defaults: the last task (frames 9-12) warms up from frame 1, more than 8 back.
+check "the job array: 3 tasks of 4 frames, each warming up from the shot's start" bash -c "sbatch --wait --array=0-2 -o '$DIR/task.%a.log' \
+    --export=ALL,FRAMEPASS='$FP',CONFIG='$DIR/shot.json',FIRST=1,LAST=12,CHUNK=4,OUT='$DIR/array' \
+    '$SRC/examples/slurm/framepass_array.sbatch' && grep -q 'warm-up frame 1:' task.2.log && grep -q 'warm-up frame 8:' task.2.log"
 check "every task wrote its report" bash -c "ls array/report.0.json array/report.1.json array/report.2.json && rm array/report.*.json"
 check "the array's outputs are the sequential run's, byte for byte" diff -r sequential array
 finish

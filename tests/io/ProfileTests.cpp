@@ -5,6 +5,7 @@
 #include "io/CaptureFiles.h"
 #include "io/CaptureProfile.h"
 #include "io/CaptureSource.h"
+#include "io/ExrWriter.h"
 #include "passes/core/Error.h"
 #include "tests/support/Scratch.h"
 
@@ -199,6 +200,58 @@ TEST_SUITE("io") {
         CHECK(files.describe("Emissive") ==
               std::vector<std::string>{"e.R", "e.G", "e.B", "s.R", "s.G", "s.B"});
         CHECK(notes.empty());
+    }
+
+    TEST_CASE("a sum of products (Blender's light × colour passes) and a mapping's warning") {
+        const std::string path = scratch("products.exr");
+        writeExr(path, 2, 2, {"e.R", "e.G", "e.B", "s.R", "s.G", "s.B"},
+                 [&](int, int, int c) -> float { return c < 3 ? 0.5f : 0.25f; },
+                 OIIO::TypeDesc::FLOAT);
+        const auto profile = io::CaptureProfile::fromJson(
+            {{"buffers",
+              {{"SceneColor",
+                {{"sum",
+                  {{{"product", {{"e.R", "e.G", "e.B"}, {"s.R", "s.G", "s.B"}}}},
+                   {"e.R", "e.G", "e.B"}}},
+                 {"warning", "counted twice"}}}}}},
+            "/profile");
+        io::CaptureFiles files(path, profile);
+        std::vector<std::string> notes;
+        CHECK(files.warnings().empty());
+        const Image c = files.read("SceneColor", 3, notes);
+        // 0.5 × 0.25 + 0.5, exact in float.
+        CHECK(c.plane(1).at(1, 1) == 0.625f);
+        CHECK(files.warnings() == std::set<std::string>{"SceneColor: counted twice"});
+        CHECK(notes.empty());  // a warning is not an assumption (--strict does not refuse it)
+        CHECK_THROWS_WITH_AS(
+            io::CaptureProfile::fromJson(
+                {{"buffers", {{"SceneColor", {{"sum", {{{"product", {{"e.R", "e.G", "e.B"}}}}}}}}}}},
+                "/p"),
+            doctest::Contains("/p/buffers/SceneColor/sum/0: a term is a channel list or {\"product\""),
+            UsageError);
+    }
+
+    TEST_CASE("a part that does not cover the capture's pixels is an error naming its buffer") {
+        // One part per buffer, as framepass capture and Movie Render Queue write them: a
+        // SceneColor part of 24×24 (or 96×96) in a 48×48 capture once read past its planes.
+        const Image depth(48, 48, {"Z"});
+        for (const int size : {24, 96}) {
+            Image color(size, size, {"R", "G", "B"});
+            const std::string path = scratch(fmt::format("parts{}.exr", size));
+            io::writeExr(path,
+                         {{"SceneDepth", {{"SceneDepth", &depth, false}}},
+                          {"SceneColor", {{"SceneColor", &color, false}}}},
+                         {});
+            io::CaptureFiles files(path, io::CaptureProfile::load("canonical"));
+            std::vector<std::string> notes;
+            CHECK(files.read("SceneDepth", 1, notes).width() == 48);
+            const std::string expected = fmt::format("buffer 'SceneColor' (channel 'SceneColor.R', part "
+                                              "1) covers pixels (0,0)–({0},{0}), {1}×{1}, but "
+                                              "the capture covers (0,0)–(47,47), 48×48",
+                                                     size - 1, size);
+            CHECK_THROWS_WITH_AS(files.read("SceneColor", 3, notes),
+                                 doctest::Contains(expected.c_str()), Error);
+        }
     }
 
     TEST_CASE("ue-mrq: half, B G R A order, a camera suffix, the camera from unreal/camera/*") {

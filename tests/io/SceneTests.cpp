@@ -4,6 +4,7 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -74,6 +75,34 @@ TEST_CASE("a scene with a bad key or a degenerate index is a clear error") {
 }
 
 TEST_SUITE("io") {
+
+TEST_CASE("an OBJ without normals is smoothed by angle where the scene asks") {
+    // Two triangles folded 90° along the edge x = 0 (the floor z = 0 and the wall x = 0): the
+    // shared vertices' normal is (√½, 0, √½) under a 100° limit and stays each face's own under
+    // a 30° one (a hard edge); with no "smoothAngleDegrees" the mesh has no normals (faceted).
+    const std::string dir = std::string(FP_TEST_SCRATCH) + "/scenes";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/fold.obj") << "v 0 0 0\nv 0 1 0\nv 1 0 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n";
+    auto load = [&](const std::string& extra) {
+        std::ofstream(dir + "/fold.json")
+            << R"({"version": 1, "geometry": "fold.obj")" << extra << "}";
+        auto sf = io::loadScene(dir + "/fold.json");
+        REQUIRE(sf.scene.meshes.size() == 1);
+        return sf.scene.meshes[0];
+    };
+    CHECK(load("").normals.empty());
+    const Mesh soft = load(R"(, "smoothAngleDegrees": 100)");
+    REQUIRE(soft.normals.size() == 6);
+    const float h = float(std::sqrt(0.5));
+    CHECK(soft.normals[0].x == doctest::Approx(h));  // vertex 1 of the floor, on the edge
+    CHECK(soft.normals[0].z == doctest::Approx(h));
+    CHECK(soft.normals[1].z == doctest::Approx(1.0f));  // vertex 3, the floor's alone
+    const Mesh hard = load(R"(, "smoothAngleDegrees": 30)");
+    CHECK(hard.normals[0].z == doctest::Approx(1.0f));
+    CHECK(hard.normals[3].x == doctest::Approx(1.0f));  // the wall's own normal
+    CHECK_THROWS_WITH_AS(load(R"(, "smoothAngleDegrees": 200)"),
+                         doctest::Contains("/smoothAngleDegrees"), Error);
+}
 
 TEST_CASE("an OBJ scene's lights are read without its meshes; the meshes when asked, once") {
     auto sf = io::loadScene(std::string(FP_SOURCE_DIR) + "/examples/cornell/scene.json",
