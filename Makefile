@@ -60,12 +60,12 @@ demo: build
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure
 
-# make bench: the README's 1080p speed table (captures out/bench/ once; BENCH_RUNS timed runs).
+# make bench: the 1080p speed table of docs/results/speed-1080p.md (captures out/bench/ once; BENCH_RUNS timed runs).
 BENCH_RUNS ?= 3
 bench: build
 	python3 examples/bench/bench_1080p.py --framepass $(FRAMEPASS) --runs $(BENCH_RUNS)
 
-# make stability: the README's half-float table (captures into out/stability/ and compares every
+# make stability: the half-float table of docs/results/half-float.md (captures into out/stability/ and compares every
 # pass output of half captures with the float32 capture's).
 stability: build
 	python3 examples/stability/half_float.py --framepass $(FRAMEPASS)

@@ -1,5 +1,5 @@
 #pragma once
-// Why the error is what it is (README "The error taken apart"). For an error_measure whose source
+// Why the error is what it is (docs/commands.md, "The error taken apart" under bench). For an error_measure whose source
 // comes from a screen-space pass (ssgi) and whose reference is a truth layer of the capture, bench
 // measures a ladder of images between the two, each closer to the truth than the one before:
 //   result → the same chain converged (the tracer at many rays, averaged over Unreal's 8 frame

@@ -5,6 +5,8 @@
 #include "passes/core/PassRegistry.h"
 #include "passes/core/Suggest.h"
 
+#include <fmt/ranges.h>
+
 #include <iostream>
 
 namespace fp::cli {
@@ -52,18 +54,76 @@ nlohmann::json describeType(const PassType& t) {
             {"needsScene", io.needsScene},
             {"needsCamera", io.needsCamera}};
 }
+// Markdown cells hold no raw '|' or newline.
+std::string cell(const std::string& text) {
+    std::string out;
+    for (char c : text) out += c == '|' ? std::string("\\|") : c == '\n' ? std::string(" ") : std::string(1, c);
+    return out;
+}
+
+// docs/passes.md: every pass type's ports, parameters and cvars, made from the same specs that
+// validate configs (tests/cli/cli_test.sh checks the committed file matches).
+std::string markdown(const nlohmann::json& all) {
+    std::string md =
+        "# Pass reference\n\n"
+        "Written by `framepass passes --markdown` from each pass's declarations (its ports and "
+        "`ParamSpec`), the same specs that validate configs; `make test` checks this file "
+        "matches the code. What the passes compute, and why, is in "
+        "[algorithms.md](algorithms.md).\n\n";
+    for (const auto& t : all) md += fmt::format("- [`{0}`](#{0})\n", t["type"].get<std::string>());
+    for (const auto& t : all) {
+        md += fmt::format("\n## {}\n\n{}\n", t["type"].get<std::string>(),
+                          t["doc"].get<std::string>());
+        if (t["needsScene"].get<bool>()) md += "\nTraces rays: loads the scene's geometry.\n";
+        for (const char* dir : {"inputs", "outputs"}) {
+            if (t[dir].empty()) continue;
+            md += fmt::format("\n| {} | channels | kind | default | |\n|---|---|---|---|---|\n",
+                              std::string(dir) == "inputs" ? "input" : "output");
+            for (const auto& p : t[dir]) {
+                const auto ch = p["channels"].get<std::vector<std::string>>();
+                md += fmt::format("| `{}` | {} | {}{} | {} | {} |\n", p["name"].get<std::string>(),
+                                  ch.empty() ? "any" : fmt::format("{}", fmt::join(ch, " ")),
+                                  p["kind"].get<std::string>(),
+                                  p["optional"].get<bool>() ? ", optional" : "",
+                                  p["default"].get<std::string>().empty()
+                                      ? ""
+                                      : "`" + p["default"].get<std::string>() + "`",
+                                  cell(p["doc"].get<std::string>()));
+            }
+        }
+        if (!t["params"].empty()) {
+            md += "\n| parameter | type | default | range | cvars | |\n|---|---|---|---|---|---|\n";
+            for (const auto& p : t["params"]) {
+                std::vector<std::string> cvars;
+                for (const auto& c : t["cvars"])
+                    if (c["param"] == p["name"]) cvars.push_back("`" + c["cvar"].get<std::string>() + "`");
+                md += fmt::format(
+                    "| `{}` | {} | `{}` | {} | {} | {} |\n", p["name"].get<std::string>(),
+                    p["type"].get<std::string>(), p["default"].dump(),
+                    p.contains("min") ? fmt::format("{} … {}", p["min"].dump(), p["max"].dump())
+                                      : "",
+                    fmt::join(cvars, ", "), cell(p["doc"].get<std::string>()));
+            }
+        }
+    }
+    return md;
+}
+
 }  // namespace
 
 Command addPassesCommand(CLI::App& app) {
     struct Options {
         std::string type;
-        bool json = false;
+        bool json = false, markdown = false;
     };
     auto opt = std::make_shared<Options>();
     CLI::App* sub =
         app.add_subcommand("passes", "list pass types, or the ports and parameters of one");
     sub->add_option("type", opt->type, "a pass type id");
-    sub->add_flag("--json", opt->json, "machine-readable output");
+    auto* json = sub->add_flag("--json", opt->json, "machine-readable output");
+    sub->add_flag("--markdown", opt->markdown,
+                  "the pass reference as Markdown (docs/passes.md is this output)")
+        ->excludes(json);
 
     return [opt]() {
         const PassRegistry& reg = builtinPasses();
@@ -76,6 +136,10 @@ Command addPassesCommand(CLI::App& app) {
                                          didYouMean(opt->type, reg.ids())));
         if (opt->json) {
             std::cout << (opt->type.empty() ? all : all[0]).dump(2) << "\n";
+            return 0;
+        }
+        if (opt->markdown) {
+            std::cout << markdown(all);
             return 0;
         }
         for (const auto& t : all) {

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""make bench: the 1080p speed table the README quotes ("Speed at 1080p").
+"""make bench: the 1080p speed table of docs/results/speed-1080p.md.
 
 Captures the Cornell, hard and dense scenes at 1920x1080 once (out/bench/<scene>.exr, kept
 between runs; the dense terrain's geometry is written there first), times the default lit chain on each with `framepass bench --json` (medians; every pass that

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""make stability: the README's half-float table ("Numerical stability: half-float captures").
+"""make stability: the half-float table of docs/results/half-float.md.
 
 Movie Render Queue writes 16-bit (half) EXR by default. This captures the Cornell and hard scenes
 three ways into out/stability/<scene>/ (float32; every buffer half; half with the two depth

@@ -8,7 +8,7 @@
 
 namespace fp {
 
-/// Process exit codes, documented in the README ("Exit codes").
+/// Process exit codes, documented in docs/commands.md ("Exit codes").
 enum class ExitCode : int {
     Ok = 0,
     FrameFailed = 1,  //!< a frame could not be processed (bad pixels, I/O error, ...)

@@ -1,7 +1,7 @@
 #pragma once
 // Limits on what an input may ask for, checked where the input is read so a bad file fails early
 // with a message that says which limit, instead of allocating gigabytes or recursing without end.
-// The README's "Limits" lists them; raise one here and there together.
+// docs/commands.md ("Limits") lists them; raise one here and there together.
 #include <cstdint>
 
 namespace fp::limits {

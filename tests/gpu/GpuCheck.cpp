@@ -2,7 +2,7 @@
 // doctest cases below (the GPU's outputs against the CPU's on the Cornell and hard captures; each
 // case says why it skipped on a machine without a GPU); with --bench it times the demo chain on
 // the GPU and the CPU. It links only the core, the passes, OpenEXR and the scene loaders, so it
-// runs on a GPU machine without OpenImageIO's dependency tree (README "GPU").
+// runs on a GPU machine without OpenImageIO's dependency tree (docs/gpu.md).
 #define DOCTEST_CONFIG_IMPLEMENT
 #include "io/ConfigLoader.h"
 #include "io/SceneLoader.h"
@@ -206,7 +206,7 @@ Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, boo
     return out;
 }
 
-// The tolerance of each output (README "GPU"). The kernels run the CPU's own FP_HD code without
+// The tolerance of each output (docs/gpu.md). The kernels run the CPU's own FP_HD code without
 // FMA contraction, with IEEE division and square root, so outputs are expected bit for bit except:
 // - ssgi.hitDistance, a debug output: its distance goes through a float→double→float path whose
 //   last bit was seen to differ (largest relative difference 1.4e-4 on the hard capture, whose hits

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Packs framepass_gpu_check and the Debian shared libraries it needs (everything ldd resolves
 # except glibc, libstdc++ and the loader, which the GPU machine has) into .gpu/, a folder git
-# ignores, so the check can be carried to a GPU machine without Debian packages (README "GPU").
+# ignores, so the check can be carried to a GPU machine without Debian packages (docs/gpu.md).
 #   tests/gpu/pack_for_device.sh [BUILD_DIR]
 # On the GPU machine, from the repository root:
 #   mkdir -p /tmp/fp && tar -xJf .gpu/libs.tar.xz -C /tmp/fp

@@ -1,0 +1,60 @@
+#!/usr/bin/env python3
+"""The documentation against the code: docs/passes.md is what `framepass passes --markdown`
+prints; every option of every command appears in docs/commands.md; the README stays under 20 KB;
+every relative link in README.md and docs/ names a file that exists.
+
+    check_docs.py FRAMEPASS SOURCE_DIR
+"""
+import os
+import re
+import subprocess
+import sys
+
+fp, src = sys.argv[1], sys.argv[2]
+failures = []
+
+
+def run(*args):
+    return subprocess.run([fp, *args], capture_output=True, text=True, check=True).stdout
+
+
+# 1. The pass reference is generated, never edited by hand.
+committed = open(os.path.join(src, "docs/passes.md")).read()
+if run("passes", "--markdown") != committed:
+    failures.append("docs/passes.md differs from `framepass passes --markdown` "
+                    "(regenerate: framepass passes --markdown > docs/passes.md)")
+
+# 2. Every option a user can type is documented.
+commands_md = open(os.path.join(src, "docs/commands.md")).read()
+top = run("--help")
+subcommands = re.findall(r"^  (\w+)\s", top.split("Subcommands:")[1], re.M)
+for sub in subcommands:
+    helptext = run(sub, "--help")
+    # The options' own names, at the start of their help lines ("  -o,--output-dir TEXT").
+    options = set(re.findall(r"^\s+(?:-\w,)?(--[a-z][a-z0-9-]*)", helptext, re.M)) - {"--help"}
+    if f"framepass {sub}" not in commands_md:
+        failures.append(f"docs/commands.md has no section for `framepass {sub}`")
+    for o in sorted(options):
+        if o not in commands_md:
+            failures.append(f"docs/commands.md does not mention {sub}'s option {o}")
+
+# 3. The README is the short way in.
+size = os.path.getsize(os.path.join(src, "README.md"))
+if size > 20 * 1024:
+    failures.append(f"README.md is {size} bytes; keep it under 20 KB and move detail to docs/")
+
+# 4. Links between the documents resolve.
+documents = ["README.md"] + [os.path.join(d, f) for d, _, fs in os.walk(os.path.join(src, "docs"))
+                             for f in fs if f.endswith(".md")]
+for doc in documents:
+    path = doc if os.path.isabs(doc) else os.path.join(src, doc)
+    for target in re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", open(path).read()):
+        if re.match(r"^[a-z]+://", target):
+            continue
+        if not os.path.exists(os.path.normpath(os.path.join(os.path.dirname(path), target))):
+            failures.append(f"{os.path.relpath(path, src)}: link to {target}, which does not exist")
+
+for f in failures:
+    print("FAIL", f)
+print(f"{len(failures)} problem(s)")
+sys.exit(1 if failures else 0)
