@@ -1,4 +1,4 @@
-// framepass compare: error of one image against a reference (DESIGN §6), as numbers, JSON and a
+// framepass compare: error of one image against a reference (docs/design.md, Truth and evaluation), as numbers, JSON and a
 // heat map.
 #include "cli/Commands.h"
 #include "cli/Invocation.h"

@@ -12,7 +12,7 @@ namespace {
 
 constexpr std::string_view kCameraToken = "{camera}";
 
-// Truth layers carry colour as R G B and scalars as Y (DESIGN §2).
+// Truth layers carry colour as R G B and scalars as Y (docs/captures.md).
 std::vector<std::string> truthSuffixes(int channels) {
     if (channels == 1) return {"Y"};
     if (channels == 4) return {"R", "G", "B", "A"};

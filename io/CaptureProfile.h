@@ -1,5 +1,5 @@
 #pragma once
-// A profile maps a capture's files and channels onto the semantic buffers of DESIGN §2. Profiles
+// A profile maps a capture's files and channels onto the semantic buffers of docs/captures.md. Profiles
 // are data: configs/profiles/<name>.json (canonical, ue-mrq, ue-bufvis, blender), a user's JSON
 // file, or an object inline in a config that overrides a base profile buffer by buffer. No
 // engine has a code path of its own; what a profile can say is the BufferMapping below.

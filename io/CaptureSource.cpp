@@ -165,7 +165,7 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
              mOptions.frame, buffer, img.width(), img.height(), mFiles.extent().width,
              mFiles.extent().height);
 
-    // DESIGN §5: no NaN ever reaches an output. Colour: non-finite or negative → 0. Depth: NaN,
+    // docs/design.md, Numerics and determinism: no NaN ever reaches an output. Colour: non-finite or negative → 0. Depth: NaN,
     // zero or negative → sky (a view depth lies beyond the near plane, so never ≤ 0, and
     // 1/depth would be infinite). Normals: renormalised when off unit length by more than half precision; zero is
     // what sky pixels hold (the passes' normalize keeps it 0, never NaN), so a zero normal is bad

@@ -2,7 +2,7 @@
 // A frame read from a capture through its profile: the headers (channels, camera) when opened,
 // pixels buffer by buffer as the executor asks for them, frame N−1's files only for buffers the
 // profile takes from the previous frame, the scene's BVH and the OCIO config only if a pass needs
-// them. Input pixels pass through the sanitize policy of DESIGN §5 on the way in.
+// them. Input pixels pass through the sanitize policy of docs/design.md, Numerics and determinism on the way in.
 #include "io/CaptureFiles.h"
 #include "io/CaptureProfile.h"
 #include "io/SceneLoader.h"

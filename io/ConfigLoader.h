@@ -1,5 +1,5 @@
 #pragma once
-// Loads a run config (DESIGN §3): JSON with comments, versioned, every key checked, every problem
+// Loads a run config (docs/config.md): JSON with comments, versioned, every key checked, every problem
 // reported at once with its JSON pointer. A config without "passes" takes the whole chain of its
 // engine's preset (configs/<engine>.json), so a user's config can be three lines.
 #include "passes/core/Diagnostics.h"

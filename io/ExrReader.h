@@ -1,6 +1,6 @@
 #pragma once
 // Reads multi-layer (and multi-part) OpenEXR files channel by channel: the header is read when
-// the file is opened, pixels only for the channels asked for (DESIGN §2, lazy reads).
+// the file is opened, pixels only for the channels asked for (docs/captures.md, lazy reads).
 #include "passes/core/Image.h"
 
 #include <OpenEXR/ImfHeader.h>

@@ -25,7 +25,7 @@ std::string OutputWriter::pathFor(const OutputDesc& output, int64_t frame) const
 }
 
 namespace {
-// DESIGN §5: no NaN reaches a file. A NaN (or an infinite colour; +inf is sky in depth-like data)
+// docs/design.md, Numerics and determinism: no NaN reaches a file. A NaN (or an infinite colour; +inf is sky in depth-like data)
 // here is a pass's fault: the frame fails naming it instead of writing the pixels.
 void checkFinite(const OutputLayer& layer, const std::string& path, int64_t frame) {
     for (int m = 0; m < layer.texture->mipCount(); ++m) {

@@ -48,7 +48,7 @@ const std::vector<std::string> kLightKeys = {"name",
 const std::vector<std::string> kMaterialKeys = {
     "baseColor",    "metallic",        "specular", "roughness", "emission",
     "shadingModel", "subsurfaceColor", "opacity",  "clearCoat", "clearCoatRoughness"};
-// reference §1.6
+// algorithms §1.6
 const std::vector<std::string> kShadingModels = {"unlit",
                                                  "default_lit",
                                                  "subsurface",

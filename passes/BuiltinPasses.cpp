@@ -20,38 +20,38 @@ namespace fp {
 const PassRegistry& builtinPasses() {
     static const PassRegistry registry = [] {
         PassRegistry r;
-        r.add<HZBPass>("hzb", "furthest and closest hierarchical Z of device depth (reference §2)");
+        r.add<HZBPass>("hzb", "furthest and closest hierarchical Z of device depth (algorithms §2)");
         r.add<PrevColorReductionPass>(
             "prev_color_reduction",
-            "previous-frame colour reprojected and reduced to 5 mips, leak-free (reference §3)");
+            "previous-frame colour reprojected and reduced to 5 mips, leak-free (algorithms §3)");
         r.add<SSGIPass>("ssgi",
                         "screen-space diffuse indirect: cosine rays marched through the "
-                        "HZB, last frame's colour at the hits, AO (reference §4)");
+                        "HZB, last frame's colour at the hits, AO (algorithms §4)");
         r.add<SSGIDenoisePass>("ssgi_denoise",
                                "SSGI denoiser: 8-tap bilateral reconstruction and "
-                               "temporal accumulation (reference §6.2)");
+                               "temporal accumulation (algorithms §6.2)");
         r.add<DiffuseIndirectCompositePass>("diffuse_indirect_composite",
                                             "SceneColor × AO + diffuse albedo × SSGI, 4.27 or UE5 "
-                                            "per shading model (reference §7)");
+                                            "per shading model (algorithms §7)");
         r.add<RTShadowsPass>("rt_shadows",
                              "ray-traced shadows of one light through Embree "
                              "packets, subsurface transmission, light attenuation "
-                             "(reference §9)");
+                             "(algorithms §9)");
         r.add<ShadowDenoisePass>("shadow_denoise",
                                  "penumbra-aware spatial shadow denoiser: blur "
                                  "radius from occluder distance and light size "
-                                 "(reference §6.3)");
+                                 "(algorithms §6.3)");
         r.add<DeferredLightingPass>(
             "deferred_lighting",
             "direct lighting of one light per shading model, shadowed by "
-            "its light attenuation, added to scene colour (reference §9.6)");
+            "its light attenuation, added to scene colour (algorithms §9.6)");
         r.add<SSRPass>("ssr",
                        "screen-space reflections: mirror or GGX rays marched through the HZB as "
-                       "SSGI's, last frame's colour at the reprojected hits (reference §5)");
+                       "SSGI's, last frame's colour at the reprojected hits (algorithms §5)");
         r.add<ReflectionEnvironmentPass>(
             "reflection_environment",
             "ReflectionEnvironment + SkyLighting: the sky light's SH diffuse, screen-space "
-            "reflections then the prefiltered sky under specular occlusion, × EnvBRDF (reference §8)");
+            "reflections then the prefiltered sky under specular occlusion, × EnvBRDF (algorithms §8)");
         r.add<CameraVelocityPass>("camera_velocity", "camera motion vectors: where each pixel's "
                                                      "surface was on last frame's screen");
         r.add<DisplayPass>("display",
@@ -69,7 +69,6 @@ const PassRegistry& builtinPasses() {
         r.recognise("r.DynamicGlobalIlluminationMethod", 2,
                     "UE5 GI method: framepass's chain is 2 (screen-space GI); Lumen (1) is not "
                     "emulated");
-        r.recognise("r.SSR.Quality", nullptr, "screen-space reflections: not emulated yet");
         r.recognise("r.RayTracing.Shadows", 1,
                     "shadows are ray traced (rt_shadows) whenever the chain has the light step");
         r.recognise("r.RayTracing.Shadows.EnableTwoSidedGeometry", 1,

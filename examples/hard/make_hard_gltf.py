@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes hard.gltf: the hard-case geometry of DESIGN §5, in Unreal units (cm), y up.
+"""Writes hard.gltf: the hard-case geometry of docs/design.md, Numerics and determinism, in Unreal units (cm), y up.
 
 A 400 m floor seen at a grazing angle, a 1 cm thin pole (about a pixel wide at 256 px), a
 mirror-smooth and a fully rough sphere. The scene JSON moves it all 10^7 units from the origin.

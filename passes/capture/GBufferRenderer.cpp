@@ -119,7 +119,7 @@ CaptureResult GBufferRenderer::render() const {
                 B["Opacity"].plane(0).at(px, py) = m.opacity;
                 B["InstanceId"].plane(0).at(px, py) = float(rs.mesh(h.ray).instanceId);
                 if (usesCustomData(m.shadingModel)) {
-                    // reference §1.7: subsurface-type models store √colour and opacity; clear
+                    // algorithms §1.7: subsurface-type models store √colour and opacity; clear
                     // coat stores its amount and roughness.
                     float cd[4] = {std::sqrt(m.subsurfaceColor.x), std::sqrt(m.subsurfaceColor.y),
                                    std::sqrt(m.subsurfaceColor.z), m.opacity};

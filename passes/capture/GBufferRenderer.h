@@ -1,7 +1,7 @@
 #pragma once
 // Renders a canonical capture from scene geometry, as a deferred renderer's GBuffer would hold it:
 // one primary ray through each pixel centre (no anti-aliasing, as a rasteriser), every semantic
-// buffer of DESIGN §2, SceneColor = emission + direct lighting with ray-traced shadows, and last
+// buffer of docs/captures.md, SceneColor = emission + direct lighting with ray-traced shadows, and last
 // frame's colour and depth from the previous camera plus the velocity between the two.
 #include "passes/core/Camera.h"
 #include "passes/core/Image.h"

@@ -1,5 +1,5 @@
 #pragma once
-// The bilateral weight of Unreal's screen-space denoiser (reference §6.2 for SSGI, §6.3 for
+// The bilateral weight of Unreal's screen-space denoiser (algorithms §6.2 for SSGI, §6.3 for
 // shadows): a neighbour counts as much as it lies on the receiver's tangent plane and faces the
 // same way, so a blur neither crosses a crease nor reaches a surface in front of or behind it.
 #include "passes/common/Surface.h"

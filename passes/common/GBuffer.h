@@ -1,7 +1,7 @@
 #pragma once
 // The GBuffer inputs that many passes read, named and declared once so a port means the same in
 // every pass: its name, its channels, the capture buffer it reads when the config binds none
-// (reference §1.5–1.7), and how its world normal is read. Each pass still says in its own words
+// (algorithms §1.5–1.7), and how its world normal is read. Each pass still says in its own words
 // what it does with the buffer (the doc).
 #include "passes/core/Image.h"
 #include "passes/core/Math.h"
@@ -31,7 +31,7 @@ PortSpec shadingModelInput(std::string doc);
 /// Optional motion, X Y in pixels towards last frame; no capture default (the capture's velocity
 /// is bound explicitly where a chain has one).
 PortSpec velocityInput(std::string doc);
-/// CustomData, R G B A: per shading model (reference §1.7).
+/// CustomData, R G B A: per shading model (algorithms §1.7).
 PortSpec customDataInput(std::string doc, bool optional);
 /// BaseColor, R G B colour.
 PortSpec baseColorInput(std::string doc = "albedo");

@@ -1,5 +1,5 @@
 #pragma once
-// The screen-space ray march through the furthest HZB (reference §4.5–4.6, Unreal's
+// The screen-space ray march through the furthest HZB (algorithms §4.5–4.6, Unreal's
 // CastScreenSpaceRay): samples in batches of 4, point-sampled at the nearest mip of a level that
 // climbs two increments per batch, a hit where the ray is behind the cell's furthest surface by
 // less than twice its tolerance. One implementation for every screen-space tracer and for both
@@ -43,7 +43,7 @@ FP_HD inline float inversePowerOfTwo(int m) {
     return std::bit_cast<float>(uint32_t(127 - m) << 23);
 }
 
-/// Point sampling with an explicit fractional level: the nearest mip (reference §2, §13.10).
+/// Point sampling with an explicit fractional level: the nearest mip (algorithms §2, §13.10).
 FP_HD inline int nearestMip(float level, int mipCount) {
     return floorToInt(level + 0.5f, 0, mipCount - 1);
 }
@@ -81,7 +81,7 @@ inline void bindScreenRayCamera(ScreenRayFrame& g, const CameraView& cam, int wi
     g.cy = float(cam.cy);
 }
 
-/// Where a pixel's rays start (reference §4.5): its screen position, device Z (and that of twice
+/// Where a pixel's rays start (algorithms §4.5): its screen position, device Z (and that of twice
 /// its depth, for the tolerance), the jitter of its first sample and the start in march units.
 struct ScreenRayOrigin {
     double depth;
@@ -103,7 +103,7 @@ FP_HD inline ScreenRayOrigin screenRayOrigin(const ScreenRayFrame& g, int px, in
     return p;
 }
 
-/// Reference §4.5 (InitScreenSpaceRay) for view-space direction L (x right, y up, z forward):
+/// algorithms §4.5 (InitScreenSpaceRay) for view-space direction L (x right, y up, z forward):
 /// the end point of a ray as long as the pixel is deep, projected, then rescaled so the end lies
 /// exactly on the screen border (extends short rays); the tolerance T = max(|ΔZ|, (Z − Z(2·depth))·k)
 /// for the whole ray, k = `toleranceScale` (2 for SSGI, 4 for SSR). False for a ray straight

@@ -1,5 +1,5 @@
 #pragma once
-// Where this frame's pixel was in the previous frame (reference §3.2 step 1, §6.2 temporal step
+// Where this frame's pixel was in the previous frame (algorithms §3.2 step 1, §6.2 temporal step
 // 1): the pixel's own motion when a velocity buffer is bound, otherwise its surface projected
 // through last frame's camera. A surface behind that camera was not on last frame's screen
 // (§6.2 step 2: off screen ⇒ no history), whatever the projection's divide would say.
@@ -12,7 +12,7 @@
 
 namespace fp {
 
-/// Screen-edge fade at screen position (sx, sy) ∈ [−1, 1]² (reference §3.2 step 7; SSR's hits too,
+/// Screen-edge fade at screen position (sx, sy) ∈ [−1, 1]² (algorithms §3.2 step 7; SSR's hits too,
 /// §5.4): 1 inside 80 % of the screen, 0 beyond it.
 FP_HD inline float vignette(float sx, float sy) {
     const float cx = saturate(std::fabs(sx) * 5.0f - 4.0f);

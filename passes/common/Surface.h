@@ -53,7 +53,7 @@ struct PixelCoord {
 
 /// The full-resolution pixel of a `width` × `height` frame that texel (x, y) of a grid `step`
 /// pixels apart stands for: (min(x·step, W − 1), min(y·step, H − 1)) — the pixel itself at step 1,
-/// the top-left pixel of its 2×2 block at step 2 (a half-resolution trace, reference §4.3).
+/// the top-left pixel of its 2×2 block at step 2 (a half-resolution trace, algorithms §4.3).
 FP_HD inline PixelCoord fullResPixel(int x, int y, int step, int width, int height) {
     return {x * step < width - 1 ? x * step : width - 1, y * step < height - 1 ? y * step : height - 1};
 }

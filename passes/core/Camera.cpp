@@ -93,7 +93,7 @@ Mat4d CameraView::projectionMatrix() const {
     p(0, 2) = cx;
     p(1, 1) = fy;
     p(1, 2) = cy;
-    // reference §1.2: infinite reversed Z has M[2][2] = 0, M[3][2] = NearZ
+    // algorithms §1.2: infinite reversed Z has M[2][2] = 0, M[3][2] = NearZ
     p(2, 2) = projectionZScale();
     p(2, 3) = projectionZOffset();
     p(3, 2) = 1.0;

@@ -1,5 +1,5 @@
 #pragma once
-// The camera of one frame, in Unreal's conventions (reference §1.2–1.3): view space is x right,
+// The camera of one frame, in Unreal's conventions (algorithms §1.2–1.3): view space is x right,
 // y up, z forward, SceneDepth is view z, device depth is reversed Z (near → 1, sky → 0).
 // Positions are handled camera-relative ("translated world"): the camera origin is kept in double
 // and per-pixel maths runs on offsets from it, so a camera 10⁷ units from the origin loses nothing.
@@ -39,7 +39,7 @@ public:
     FP_HD double projectionZOffset() const {  // P23
         return std::isinf(farPlane) ? nearPlane : nearPlane * farPlane / (farPlane - nearPlane);
     }
-    /// Device Z = P22 + P23/depth (reference §1.2: NearZ/SceneDepth for the infinite variant).
+    /// Device Z = P22 + P23/depth (algorithms §1.2: NearZ/SceneDepth for the infinite variant).
     FP_HD double deviceZFromDepth(double depth) const {
         if (std::isinf(depth))
             return projectionZScale();
@@ -52,7 +52,7 @@ public:
         return projectionZOffset() / (deviceZ - projectionZScale());
     }
 
-    /// Screen position in [−1, 1]², +y up, of the centre of pixel (px, py) (reference §1.3).
+    /// Screen position in [−1, 1]², +y up, of the centre of pixel (px, py) (algorithms §1.3).
     FP_HD double screenX(double px) const { return (px + 0.5) / width * 2.0 - 1.0; }
     FP_HD double screenY(double py) const { return 1.0 - (py + 0.5) / height * 2.0; }
     /// Offset from the eye of the surface at pixel (px, py) and view depth `depth`.
@@ -87,7 +87,7 @@ public:
     }
     FP_HD Projection project(const Vec3d& world) const { return projectOffset(world, Vec3d{}); }
 
-    /// tan(half horizontal FOV)/width × depth: the blur radius unit of reference §3.2.
+    /// tan(half horizontal FOV)/width × depth: the blur radius unit of algorithms §3.2.
     FP_HD double pixelRadiusAtDepth(double depth) const { return depth / (fx * width); }
 };
 

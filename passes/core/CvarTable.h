@@ -1,6 +1,6 @@
 #pragma once
 // Unreal console variables, accepted verbatim in a config's "cvars" section and mapped onto pass
-// parameters (users_and_conventions §5: names and defaults from Unreal's code, not help strings).
+// parameters (docs/config.md, cvars: names and defaults from Unreal's code, not its help strings).
 // The table is computed: each parameter declares the cvars that set it beside its own declaration
 // (ParamSpec::cvar), and the registry adds one short list of cvars framepass recognises but does
 // not emulate. A recognised-but-not-emulated cvar set to anything but the value framepass runs is

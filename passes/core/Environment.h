@@ -1,5 +1,5 @@
 #pragma once
-// The light that comes from far away: Unreal's sky light (reference §8.1–8.3), as the scene JSON
+// The light that comes from far away: Unreal's sky light (algorithms §8.1–8.3), as the scene JSON
 // gives it, a constant colour or a lat-long (equirectangular) radiance map, times an intensity.
 // The reflection passes light with it; the truth tracer gives its radiance to every ray that
 // leaves the scene, so both see the same sky. Data only: io/ reads the map into `latLong`.
@@ -60,7 +60,7 @@ struct SkyLight {
     }
 };
 
-/// Unreal's reflection capture actor (reference §8.3): a cubemap of the scene seen from
+/// Unreal's reflection capture actor (algorithms §8.3): a cubemap of the scene seen from
 /// `position`, used for the reflections of points inside its influence, with parallax against
 /// its sphere or box. The faces are the radiance itself (io/ reads them from an EXR, or the
 /// session renders them from the scene); reflection_environment prefilters them.

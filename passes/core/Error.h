@@ -1,5 +1,5 @@
 #pragma once
-// Errors for bad input are exceptions with context (STYLE.md); asserts are for bugs.
+// Errors for bad input are exceptions with context (docs/design.md, Errors); asserts are for bugs.
 #include <fmt/format.h>
 
 #include <cassert>

@@ -24,7 +24,7 @@ struct OutputDesc {
     bool isDump = false;  //!< from --dump: one intermediate, written for debugging
 };
 
-/// Passes repeated once per light of the scene (Unreal's RenderLights, reference §10 step 6),
+/// Passes repeated once per light of the scene (Unreal's RenderLights, algorithms §10 step 6),
 /// written in a chain as {"forEachLight": {...}} where the expansion goes. Its strings may hold the
 /// placeholders {light} (the light's identifier, as in its Truth.Shadow layer), {lightName} (its
 /// name in the scene), {colorIn} (the colour this light adds into: `colorIn` for the first light,

@@ -1,6 +1,6 @@
 #pragma once
 // Rounding to IEEE half precision, for passes that mirror a PF_R16F render target (the HZB,
-// reference §2) so their texels carry the same quantisation as Unreal's.
+// algorithms §2) so their texels carry the same quantisation as Unreal's.
 #include "passes/core/HostDevice.h"
 
 #include <bit>

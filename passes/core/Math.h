@@ -1,6 +1,6 @@
 #pragma once
 // Small vector and matrix types. Doubles where precision matters (camera, world positions far
-// from the origin); floats in per-pixel kernels, which work camera-relative (reference §1.2–1.3).
+// from the origin); floats in per-pixel kernels, which work camera-relative (algorithms §1.2–1.3).
 #include "passes/core/HostDevice.h"
 
 #include <array>

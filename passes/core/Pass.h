@@ -19,7 +19,7 @@
 // - Bad input is an fp::Error with context; a bug is an FP_ASSERT.
 // - Work counts ("pixels", "skippedPixels", "rays", ...) go through addWork so the run report can
 //   show throughput next to wall time.
-// - A pass with a CUDA kernel (DESIGN §7) keeps its per-pixel maths in an FP_HD function that
+// - A pass with a CUDA kernel (docs/gpu.md) keeps its per-pixel maths in an FP_HD function that
 //   execute() and the kernel in its .cu file both call; on the GPU it reads deviceInput() and writes
 //   deviceOutput(), and the executor moves images between host and device only where they cross.
 #include "passes/core/Camera.h"

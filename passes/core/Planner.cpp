@@ -358,7 +358,7 @@ public:
     }
 
     /// Where each step runs: with --device cuda (or "device": "cuda"), every pass with a CUDA
-    /// kernel goes to the GPU and the rest stay on the CPU (DESIGN §7).
+    /// kernel goes to the GPU and the rest stay on the CPU (docs/gpu.md).
     void placeSteps() {
         const std::string& device =
             mIn.overrides.device.empty() ? mGraph.device : mIn.overrides.device;

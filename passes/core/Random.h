@@ -1,5 +1,5 @@
 #pragma once
-// Counter-based per-pixel random numbers (DESIGN §5): the stream of a pixel depends only on
+// Counter-based per-pixel random numbers (docs/design.md, Numerics and determinism): the stream of a pixel depends only on
 // (frame, x, y, pass seed), never on which thread ran it or how frames were chunked.
 #include <cstdint>
 

@@ -1,7 +1,7 @@
 #pragma once
 // The ray-traceable scene: an Embree 3 BVH over the scene's triangles. Vertices are stored as
 // float offsets from `origin` (usually the camera), computed in double, so rays near a camera far
-// from the world origin keep full precision (reference §1.2–1.3, "translated world"). Every Embree
+// from the world origin keep full precision (algorithms §1.2–1.3, "translated world"). Every Embree
 // call of framepass lives in RayScene.cpp, so moving to Embree 4 touches one file.
 #include "passes/core/Math.h"
 #include "passes/core/Scene.h"

@@ -1,5 +1,5 @@
 #pragma once
-// Sampling primitives shared by the ray-traced passes and the reference tracer (reference §1.9):
+// Sampling primitives shared by the ray-traced passes and the reference tracer (algorithms §1.9):
 // the branchless orthonormal basis, cosine-weighted hemisphere directions from the concentric
 // disk, and GGX visible-normal sampling with its pdf.
 #include "passes/core/HostDevice.h"
@@ -11,7 +11,7 @@
 
 namespace fp {
 
-/// Orthonormal basis (t, b) around unit n (Duff et al. 2017, branchless; reference §1.9).
+/// Orthonormal basis (t, b) around unit n (Duff et al. 2017, branchless; algorithms §1.9).
 FP_HD inline void orthonormalBasis(const Vec3f& n, Vec3f& t, Vec3f& b) {
     const float s = n.z >= 0.0f ? 1.0f : -1.0f;
     const float a = -1.0f / (s + n.z);
@@ -51,7 +51,7 @@ inline void concentricDisk(float u, float v, float& x, float& y) {
 }
 
 /// Cosine-weighted direction around unit n: a concentric-disk point lifted to the hemisphere
-/// (pdf = cosθ/π), as Unreal's SSGI builds its rays (reference §4.4).
+/// (pdf = cosθ/π), as Unreal's SSGI builds its rays (algorithms §4.4).
 inline Vec3f cosineHemisphere(const Vec3f& n, float u, float v) {
     float x, y;
     concentricDisk(u, v, x, y);

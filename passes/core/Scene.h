@@ -21,7 +21,7 @@ struct Material {
     float specular = 0.5f;              //!< [0, 1]; F0 = 0.08·specular for dielectrics
     float roughness = 0.5f;             //!< [0, 1] perceptual (α = roughness²)
     Vec3f emission{0, 0, 0};            //!< emitted radiance
-    int shadingModel = 1;               //!< reference §1.6 (1 = default lit)
+    int shadingModel = 1;               //!< algorithms §1.6 (1 = default lit)
     Vec3f subsurfaceColor{1, 1, 1};     //!< for subsurface-type models
     float opacity = 1.0f;
     float clearCoat = 0.0f;

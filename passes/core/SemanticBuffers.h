@@ -1,5 +1,5 @@
 #pragma once
-// The semantic buffers of a capture (DESIGN §2). A profile maps file channels onto these names;
+// The semantic buffers of a capture (docs/captures.md). A profile maps file channels onto these names;
 // passes bind to them as "capture:<Name>". Truth layers ("Truth.<Name>") are open-ended.
 #include "passes/core/Pass.h"
 
@@ -23,8 +23,8 @@ inline const std::vector<SemanticBuffer>& semanticBuffers() {
         {"Metallic", {"Y"}, PortKind::Data, "GBufferB.r"},
         {"Specular", {"Y"}, PortKind::Data, "GBufferB.g"},
         {"Roughness", {"Y"}, PortKind::Data, "GBufferB.b"},
-        {"ShadingModel", {"Y"}, PortKind::Data, "Unreal shading-model id (reference §1.6)"},
-        {"CustomData", {"R", "G", "B", "A"}, PortKind::Data, "GBufferD (reference §1.7)"},
+        {"ShadingModel", {"Y"}, PortKind::Data, "Unreal shading-model id (algorithms §1.6)"},
+        {"CustomData", {"R", "G", "B", "A"}, PortKind::Data, "GBufferD (algorithms §1.7)"},
         {"Velocity", {"X", "Y"}, PortKind::Data, "pixels to the previous position, +Y down"},
         {"SceneColor", {"R", "G", "B"}, PortKind::Color, "this frame's lit colour"},
         {"Emissive", {"R", "G", "B"}, PortKind::Color,

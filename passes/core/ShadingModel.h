@@ -1,5 +1,5 @@
 #pragma once
-// Unreal's shading-model ids (reference §1.6), as the capture's ShadingModel buffer holds them.
+// Unreal's shading-model ids (algorithms §1.6), as the capture's ShadingModel buffer holds them.
 #include "passes/core/FloatToInt.h"
 #include "passes/core/HostDevice.h"
 

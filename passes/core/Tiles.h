@@ -1,6 +1,6 @@
 #pragma once
 // Fixed 64×64 tiles, independent of the thread count, so anything computed per tile (and every
-// per-pixel random number) is the same whatever `--threads` says (DESIGN §5).
+// per-pixel random number) is the same whatever `--threads` says (docs/design.md, Numerics and determinism).
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 

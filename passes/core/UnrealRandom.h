@@ -1,5 +1,5 @@
 #pragma once
-// Unreal's own per-pixel random sequences (reference §1.9), reproduced so that a pass that mirrors
+// Unreal's own per-pixel random sequences (algorithms §1.9), reproduced so that a pass that mirrors
 // an Unreal shader draws the same numbers for the same pixel and frame index: interleaved gradient
 // noise, the 16-bit PCG hash of (x, y, frame) and the scrambled Hammersley point set.
 #include "passes/core/HostDevice.h"
@@ -57,7 +57,7 @@ FP_HD inline void hammersley16(uint32_t index, uint32_t count, uint32_t seedX, u
     e2 = float(((reverseBits32(index) >> 16u) ^ seedY) & 0xFFFFu) * (1.0f / 65536.0f);
 }
 
-/// Unreal's concentric disk mapping (reference §1.9): the angle is built in the first quadrant
+/// Unreal's concentric disk mapping (algorithms §1.9): the angle is built in the first quadrant
 /// from Lo/Hi and the signs of the input are copied onto the result.
 FP_HD inline void concentricDisk(float e1, float e2, float& x, float& y) {
     const float px = 2.0f * e1 - 1.0f, py = 2.0f * e2 - 1.0f;

@@ -104,7 +104,7 @@ BxDFSurface materialAt(const MaterialInputs& m, int model, int x, int y) {
     s.specularColor = brdf.specularColor;
     s.roughness = brdf.roughness;
     if (m.customData) {
-        // Reference §1.7: subsurface-type colours are stored as √colour.
+        // algorithms §1.7: subsurface-type colours are stored as √colour.
         const Image& cd = m.customData->image();
         const float r = cd.plane(0).at(x, y), g = cd.plane(1).at(x, y), b = cd.plane(2).at(x, y),
                     a = cd.plane(3).at(x, y);
@@ -118,7 +118,7 @@ BxDFSurface materialAt(const MaterialInputs& m, int model, int x, int y) {
 }
 
 // The light reflected and transmitted towards the eye at camera-relative p: surface terms dimmed
-// by the surface shadow, transmission by the transmission shadow (reference §9.5).
+// by the surface shadow, transmission by the transmission shadow (algorithms §9.5).
 Vec3f reflectedLight(const BxDFSurface& s,
                      const Vec3f& p,
                      const Incoming* in,
@@ -156,7 +156,7 @@ PassIO DeferredLightingPass::describe() const {
         {.name = kAttenuation,
          .channels = {"R", "G", "B", "A"},
          .optional = true,
-         .doc = "light attenuation (reference §9.5) from rt_shadows or shadow_denoise; unbound = "
+         .doc = "light attenuation (algorithms §9.5) from rt_shadows or shadow_denoise; unbound = "
                 "unshadowed"},
         gbuffer::depthInput(),
         gbuffer::normalInput(),
@@ -165,7 +165,7 @@ PassIO DeferredLightingPass::describe() const {
         gbuffer::specularInput("GBufferB.g"),
         gbuffer::roughnessInput("GBufferB.b"),
         gbuffer::shadingModelInput("picks the BxDF; unlit and sky pixels are skipped"),
-        gbuffer::customDataInput("per shading model (reference §1.7)", true),
+        gbuffer::customDataInput("per shading model (algorithms §1.7)", true),
         gbuffer::gbufferAOInput(true),
     };
     io.outputs = {

@@ -1,10 +1,10 @@
 #pragma once
-// Deferred direct lighting of one light (Unreal's RenderLights, reference §9.5–9.6): per pixel the
+// Deferred direct lighting of one light (Unreal's RenderLights, algorithms §9.5–9.6): per pixel the
 // GBuffer is decoded, the light's unshadowed falloff computed (E for directional lights, I/r² with
 // the spot cone for point and spot lights, the area integral for rect lights), the shading model's
 // BxDF evaluated (passes/lighting/ShadingModelBxDF.h), and surface and transmission terms shadowed
 // by the light-attenuation buffer's surface and transmission shadows. The result is added to the
-// incoming scene colour, as Unreal's additive light accumulation does (reference §7.5).
+// incoming scene colour, as Unreal's additive light accumulation does (algorithms §7.5).
 #include "passes/core/Params.h"
 #include "passes/core/Pass.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-// The diffuse-indirect composite's per-pixel work (reference §7), for
+// The diffuse-indirect composite's per-pixel work (algorithms §7), for
 // DiffuseIndirectCompositePass::execute and DiffuseIndirectCompositePass.cu alike.
 #include "passes/common/GBuffer.h"
 #include "passes/core/Camera.h"
@@ -76,7 +76,7 @@ FP_HD inline void sampleSsgi(const Frame& f, int x, int y, float e[3]) {
         e[c] = wSum > 0.0f ? sum[c] / wSum : f.ssgi[c].at(x0, y0);
 }
 
-// Reference §7.2–7.3: the diffuse colour SSGI is multiplied by, per channel. Subsurface profile
+// algorithms §7.2–7.3: the diffuse colour SSGI is multiplied by, per channel. Subsurface profile
 // and eye keep their real albedo (StoredBaseColor) and have no metalness; everyone else's
 // DiffuseColor = BaseColor·(1 − Metallic); UE5 adds the subsurface / fuzz colour.
 FP_HD inline void diffuseAlbedo(const Frame& f, int model, int x, int y, float albedo[3]) {
@@ -110,7 +110,7 @@ FP_HD inline void compositePixel(const Frame& f, int x, int y, unsigned long lon
         return;
     }
     ++counts[kComposited];
-    // reference §7.1: FinalAO = lerp(1, GBufferAO × DynamicAO, staticFraction).
+    // algorithms §7.1: FinalAO = lerp(1, GBufferAO × DynamicAO, staticFraction).
     const float dyn = f.dynamicAO.at(f.half ? x / 2 : x, f.half ? y / 2 : y);
     const float finalAO = 1.0f + (f.gbufferAO.at(x, y) * dyn - 1.0f) * f.aoStaticFraction;
     float e[3], albedo[3];

@@ -1,5 +1,5 @@
 #pragma once
-// DiffuseIndirectComposite (reference §7): applies the denoised SSGI and its AO to scene colour,
+// DiffuseIndirectComposite (algorithms §7): applies the denoised SSGI and its AO to scene colour,
 // SceneColor × FinalAO + diffuse albedo × SSGI. Unreal 4.27 multiplies DiffuseColor and point-
 // upsamples a half-resolution trace; UE5 adds per-shading-model terms (subsurface, skin, foliage,
 // cloth, hair) and a depth-tested 2×2 bilinear upsample.
@@ -25,7 +25,7 @@ public:
     void execute(PassContext& ctx) override;
 
     /// UE5's half-resolution upsample: a 2×2 bilinear tap is dropped when its surface is farther
-    /// than 16 × 2√2 pixel radii from the pixel's (reference §7.3).
+    /// than 16 × 2√2 pixel radii from the pixel's (algorithms §7.3).
     static constexpr double kUpsampleRejection = 16.0 * 2.0 * 1.4142135623730951;
 
 #if FP_HAVE_CUDA

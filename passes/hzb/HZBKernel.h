@@ -1,5 +1,5 @@
 #pragma once
-// The HZB's per-texel work (reference §2), for HZBPass::execute and HZBPass.cu alike.
+// The HZB's per-texel work (algorithms §2), for HZBPass::execute and HZBPass.cu alike.
 #include "passes/common/GBuffer.h"
 #include "passes/core/Camera.h"
 #include "passes/core/HalfFloat.h"

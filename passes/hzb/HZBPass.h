@@ -1,5 +1,5 @@
 #pragma once
-// Hierarchical Z (reference §2): mip chains of device Z holding, per texel, the furthest (min,
+// Hierarchical Z (algorithms §2): mip chains of device Z holding, per texel, the furthest (min,
 // reversed Z) and closest (max) depth of the pixels beneath it. SSR and SSGI march against the
 // furthest chain; the reduced previous colour uses it as its reference depth.
 #include "passes/core/Params.h"

@@ -1,5 +1,5 @@
 #pragma once
-// Unreal's default-lit BRDF terms (reference §7/§9 and Unreal's BRDF.ush as described there):
+// Unreal's default-lit BRDF terms (algorithms §7/§9 and Unreal's BRDF.ush as described there):
 // Lambert diffuse, GGX distribution, Smith joint visibility approximation, Schlick Fresnel with
 // Unreal's 2% cut-off. Shared by the capture renderer and the lighting passes.
 #include "passes/core/Math.h"

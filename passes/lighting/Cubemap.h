@@ -1,6 +1,6 @@
 #pragma once
 // A cubemap of RGB radiance with a mip chain, as Unreal keeps its sky light and its reflection
-// captures (reference §8.3): mip 0 is the radiance itself, each further mip is prefiltered with the
+// captures (algorithms §8.3): mip 0 is the radiance itself, each further mip is prefiltered with the
 // GGX lobe of the roughness that maps to it, so one trilinear fetch at the roughness's mip gives
 // the prefiltered radiance of the split-sum approximation. Shared by the sky light and (later)
 // the reflection captures, which framepass renders itself.

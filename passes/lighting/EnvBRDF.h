@@ -1,5 +1,5 @@
 #pragma once
-// Unreal's environment BRDF (reference §8.4): the split-sum scale A and bias B that turn the
+// Unreal's environment BRDF (algorithms §8.4): the split-sum scale A and bias B that turn the
 // prefiltered radiance of a reflection into reflected radiance, EnvBRDF = F0·A + saturate(50·F0.g)·B.
 // framepass builds its own preintegrated table the way Unreal's SystemTextures generates
 // PreIntegratedGF (128 NoV × 32 roughness texels, 128 Hammersley samples of the GGX lobe per texel,
@@ -27,7 +27,7 @@ inline Vec3f applyEnvBRDF(const Vec3f& F0, EnvBRDFTerms t) {
 /// exactly as Unreal's generator does (E1 = i/samples, E2 = radical inverse of i).
 EnvBRDFTerms integrateEnvBRDF(float NoV, float roughness, int samples);
 
-/// Unreal's EnvBRDFApprox (Lazarov-style analytic fit, reference §8.4).
+/// Unreal's EnvBRDFApprox (Lazarov-style analytic fit, algorithms §8.4).
 EnvBRDFTerms envBRDFApprox(float NoV, float roughness);
 
 class EnvBRDFLut {

@@ -1,9 +1,9 @@
 #pragma once
-// Unreal's light-attenuation buffer (reference §9.5): RGBA = whole-scene (directional) shadow, its
+// Unreal's light-attenuation buffer (algorithms §9.5): RGBA = whole-scene (directional) shadow, its
 // subsurface term, non-whole-scene (local light) shadow, its subsurface term. Values are stored as
 // √value and read back squared, an 8-bit-friendly gamma. The ray-traced shadow pass writes its
 // shadow with ShadowFadeFraction = 1, i.e. FadedShadow = Shadow², so the stored value is Shadow and
-// the lights see Shadow² (reference §9.4).
+// the lights see Shadow² (algorithms §9.4).
 #include "passes/core/Image.h"
 #include "passes/core/Math.h"
 #include "passes/core/Scene.h"
@@ -39,7 +39,7 @@ struct LightAttenuation {
         image.plane(3).at(x, y) = a;
     }
 
-    /// GetShadowTerms (reference §9.5) without static shadowing or distance fade: the opaque
+    /// GetShadowTerms (algorithms §9.5) without static shadowing or distance fade: the opaque
     /// surface shadow and the transmission shadow a light of `type` applies.
     float surfaceShadow(LightType type) const {
         return type == LightType::Directional ? decode(r) * decode(b) : decode(b);

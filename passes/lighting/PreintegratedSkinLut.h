@@ -1,6 +1,6 @@
 #pragma once
 // The preintegrated-skin lookup table that Unreal reads from the engine texture
-// View.PreIntegratedBRDF (an asset, reference §9.6 and §13 gap 3). framepass computes its own from
+// View.PreIntegratedBRDF (an asset, algorithms §9.6 and §13 gap 3). framepass computes its own from
 // Penner's preintegrated skin diffusion (Penner & Borshukov, GPU Pro 2 / SIGGRAPH 2011): a sphere
 // of radius r lit at angle θ, its irradiance blurred around the great circle by the skin diffusion
 // profile R:

@@ -1,5 +1,5 @@
 #pragma once
-// Reflection captures in the reflection composite (reference §8.3): which captures a point is
+// Reflection captures in the reflection composite (algorithms §8.3): which captures a point is
 // in, the parallax-corrected lookup into each one's cubemap (against its sphere or box), the
 // distance fade at its edge, and Unreal's front-to-back "under" compositing in ascending radius,
 // each capture taking what the ones before it left of the reflection's weight.

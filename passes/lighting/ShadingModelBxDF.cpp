@@ -56,7 +56,7 @@ BxDFTerms defaultLit(const BxDFSurface& s, const Geometry& g) {
     return t;
 }
 
-// Reference §9.6 subsurface (2): wrap-around back scatter plus a forward in-scatter lobe towards
+// algorithms §9.6 subsurface (2): wrap-around back scatter plus a forward in-scatter lobe towards
 // the viewer, lerped so the sum never exceeds the lobe.
 Vec3f subsurfaceTransmission(const BxDFSurface& s,
                              const Vec3f& V,
@@ -69,14 +69,14 @@ Vec3f subsurfaceTransmission(const BxDFSurface& s,
     return s.subsurfaceColor * (backScatter + (1.0f - backScatter) * inScatter);
 }
 
-// Reference §9.6 preintegrated skin (3): the LUT row is 1 − Opacity.
+// algorithms §9.6 preintegrated skin (3): the LUT row is 1 − Opacity.
 Vec3f skinTransmission(const BxDFSurface& s, const Geometry& g) {
     const Vec3f lut =
         PreintegratedSkinLut::instance().sample(saturate(g.NoL * 0.5f + 0.5f), 1.0f - s.opacity);
     return lut * s.subsurfaceColor;
 }
 
-// Reference §9.6 two-sided foliage (6): wrapped back lighting (wrap 0.5, normalised by
+// algorithms §9.6 two-sided foliage (6): wrapped back lighting (wrap 0.5, normalised by
 // (1 + wrap)²) times a fixed GGX lobe (a2 = 0.36) around the view-through direction.
 Vec3f foliageTransmission(const BxDFSurface& s, const Vec3f& V, const Vec3f& L, const Geometry& g) {
     const float wrapNoL = saturate((-g.NoL + 0.5f) / 2.25f);
@@ -143,7 +143,7 @@ bool isDefaultLitLobe(int model) {
         default:
             // Default lit, and the stand-in for subsurface profile (5), hair (7), eye (9) and
             // later ids: Burley diffuse with the profile's dual specular, the hair BSDF and the
-            // eye's iris model are not transcribed (reference §13 gaps 3–4).
+            // eye's iris model are not transcribed (algorithms §13 gaps 3–4).
             return true;
     }
 }

@@ -1,17 +1,17 @@
 #pragma once
 // Direct lighting of one decoded GBuffer pixel by one light, per shading model, as Unreal 4.27's
-// deferred lights evaluate it (ShadingModels.ush, reference §9.6): a surface part (diffuse and
+// deferred lights evaluate it (ShadingModels.ush, algorithms §9.6): a surface part (diffuse and
 // specular, both already × NoL) and a transmission part that is not × NoL, because it models
 // light arriving through the surface from the far side. The caller multiplies each term by the
 // light's falloff colour and its own shadowing (the transmission term takes the subsurface
-// shadow, reference §9.3).
+// shadow, algorithms §9.3).
 #include "passes/core/Math.h"
 
 namespace fp {
 
 /// One GBuffer pixel, decoded.
 struct BxDFSurface {
-    int shadingModel;                   //!< reference §1.6 ids (ShadingModelId)
+    int shadingModel;                   //!< algorithms §1.6 ids (ShadingModelId)
     Vec3f N;                            //!< unit world normal
     Vec3f diffuseColor, specularColor;  //!< as SurfaceBRDF: BaseColor·(1 − Metallic), F0
     float roughness;                    //!< perceptual roughness [0, 1]

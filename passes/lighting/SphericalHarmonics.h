@@ -1,6 +1,6 @@
 #pragma once
 // Order-3 (9-coefficient) real spherical harmonics of RGB radiance, and the Lambert-convolved
-// lookup Unreal's sky diffuse makes from them (reference §8.1: the packing folds the clamped-cosine
+// lookup Unreal's sky diffuse makes from them (algorithms §8.1: the packing folds the clamped-cosine
 // convolution and 1/π in, so DiffuseColor × diffuse(N) is outgoing radiance). With the convolution
 // factors A_l/π = 1, 2/3, 1/4 this is Ramamoorthi & Hanrahan's irradiance environment map;
 // Unreal's constants c1 = √3/(3√π) = Y₁·(2/3) and c3 = √5/(16√π) = Y₂₀·(1/4) are these same

@@ -1,5 +1,5 @@
 #pragma once
-// Error of an image against a reference, over the pixels that matter (DESIGN §6). With N the
+// Error of an image against a reference, over the pixels that matter (docs/design.md, Truth and evaluation). With N the
 // number of (pixel, channel) values in the mask, e = a − b and ε = 0.01 (the usual guard of
 // relative metrics against dark pixels):
 //   RMSE   √(Σe²/N)            relMSE  Σ e²/(b² + ε) / N        SMAPE  Σ 2|e|/(|a| + |b|) / N

@@ -1,5 +1,5 @@
 #pragma once
-// The previous-colour reduction's per-pixel work (reference §3.2–3.3), written once for
+// The previous-colour reduction's per-pixel work (algorithms §3.2–3.3), written once for
 // PrevColorReductionPass::execute and PrevColorReductionPass.cu.
 #include "passes/common/GBuffer.h"
 #include "passes/common/Reprojection.h"
@@ -25,7 +25,7 @@ inline constexpr const char* kFurthestHzb = "furthestHzb";
 inline constexpr const char* kColor = "color";
 inline constexpr const char* kAlpha = "alpha";
 
-// reference §3.2 step 8: saturate(1 − (d_ref − d)²/R²). Sky against sky keeps its weight (the two
+// algorithms §3.2 step 8: saturate(1 − (d_ref − d)²/R²). Sky against sky keeps its weight (the two
 // are the same "surface" at infinity); sky against geometry is a leak and gets none [inferred].
 FP_HD inline float depthWeight(double dRef, double d, double radius) {
     const bool refSky = std::isinf(dRef), sky = std::isinf(d);
@@ -50,7 +50,7 @@ FP_HD inline float sanitize(float v) {
     return std::isfinite(v) && v > 0.0f ? v : 0.0f;
 }
 
-// reference §3.2: R = 100 × (pixel world radius at depth d).
+// algorithms §3.2: R = 100 × (pixel world radius at depth d).
 FP_HD inline double leakFreeRadius(const CameraView& cam, double d) {
     return 100.0 * cam.pixelRadiusAtDepth(d);
 }
@@ -67,7 +67,7 @@ struct ReprojectInputs {
     float preExposureCorrection, skyDistance;
 };
 
-// Reference §3.2 steps 1–7 for full-resolution pixel (px, py): last frame's colour at its previous
+// algorithms §3.2 steps 1–7 for full-resolution pixel (px, py): last frame's colour at its previous
 // position, premultiplied by the leak-free weight, pre-exposure and the screen-edge vignette, and
 // that weight × vignette in out[3] (1 on the plain path).
 FP_HD inline void reprojectColor(const ReprojectInputs& in, int px, int py, float out[4]) {
@@ -112,7 +112,7 @@ FP_HD inline void reprojectColor(const ReprojectInputs& in, int px, int py, floa
     out[3] = leakFree ? w * fade : 1.0f;
 }
 
-// Reduces 2×2 children (colour, weight, depth) into one texel (reference §3.2 step 8).
+// Reduces 2×2 children (colour, weight, depth) into one texel (algorithms §3.2 step 8).
 FP_HD inline void reduceChildren(const CameraView& cam,
                                  bool leakFree,
                                  const float child[4][5],
@@ -187,7 +187,7 @@ FP_HD inline void reduceLevelTexel(const CameraView& cam, bool leakFree, const L
         dst.plane[c].at(x, y) = out[c];
 }
 
-// Pass 2 (reference §3.3), texel (x, y) of mip 2 from mip 1: the reference depth and the
+// Pass 2 (algorithms §3.3), texel (x, y) of mip 2 from mip 1: the reference depth and the
 // children's depths read from the furthest HZB (mips 2 and 1) instead of the chain's own.
 FP_HD inline void reduceAgainstHzbTexel(const CameraView& cam, bool leakFree, const PlaneView& hzb2,
                                         const PlaneView& hzb1, const Level& src, const Level& dst,
@@ -208,7 +208,7 @@ FP_HD inline void reduceAgainstHzbTexel(const CameraView& cam, bool leakFree, co
         dst.plane[c].at(x, y) = out[c];
 }
 
-/// Texel (x, y) of mip m ≥ 1 from mip m − 1: against the HZB for mip 2 (reference §3.3), from
+/// Texel (x, y) of mip m ≥ 1 from mip m − 1: against the HZB for mip 2 (algorithms §3.3), from
 /// the level's own depths otherwise.
 struct ReduceLevel {
     CameraView cam;

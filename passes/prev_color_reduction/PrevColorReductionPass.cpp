@@ -11,7 +11,7 @@ ParamSpec<PrevColorReductionParams> PrevColorReductionPass::paramSpec() {
     ParamSpec<PrevColorReductionParams> s;
     s.add("leakFree", &Params::leakFree,
           "reproject previous colour + depth with leak-free weights (true) or bilinear TAA "
-          "history (false) (reference §3.1)")
+          "history (false) (algorithms §3.1)")
         .cvar("r.SSGI.LeakFreeReprojection");
     s.add("preExposureCorrection", &Params::preExposureCorrection,
           "PreExposure(current)/PreExposure(previous) applied to the previous colour")

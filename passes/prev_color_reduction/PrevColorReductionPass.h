@@ -1,5 +1,5 @@
 #pragma once
-// The previous-frame colour mip chain that SSGI samples at its hits (reference §3,
+// The previous-frame colour mip chain that SSGI samples at its hits (algorithms §3,
 // "SSRTPrevFrameReduction"): last frame's colour reprojected into this frame's pixel grid, with
 // leak-free weighting that drops colour whose previous surface is not this pixel's surface.
 #include "passes/core/Params.h"
@@ -25,7 +25,7 @@ public:
     void execute(PassContext& ctx) override;
     std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
 
-    /// Mip 0 is half resolution rounded up to a multiple of 16; five mips (reference §3.1).
+    /// Mip 0 is half resolution rounded up to a multiple of 16; five mips (algorithms §3.1).
     static std::vector<Extent> mipExtents(Extent frame);
 #if FP_HAVE_CUDA
     bool hasCudaKernel() const override { return true; }

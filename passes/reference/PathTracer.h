@@ -1,5 +1,5 @@
 #pragma once
-// The reference path tracer behind the truth layers (DESIGN §6). It handles what framepass
+// The reference path tracer behind the truth layers (docs/design.md, Truth and evaluation). It handles what framepass
 // captures: Lambert diffuse plus Unreal's GGX specular (metallic/specular/roughness) and emission.
 // Analytic lights are sampled by next-event estimation (DirectLighting, as the capture does);
 // emissive triangles by next-event estimation combined with lobe sampling through the balance

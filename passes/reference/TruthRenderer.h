@@ -1,12 +1,12 @@
 #pragma once
-// Renders the truth layers of a capture (DESIGN §2 and §6) with the reference path tracer, for
+// Renders the truth layers of a capture (docs/captures.md and docs/design.md, Truth and evaluation) with the reference path tracer, for
 // the same pixels and camera as the GBuffer: one primary ray through each pixel centre, then
 // `spp` independent samples per pixel. Every layer comes with a `.StdErr` layer, the standard
 // error of its per-pixel mean, so a comparison can tell when the reference itself is the limit.
 //
 //   Truth.DiffuseIndirectOneBounce  RGB  cosine-weighted mean of the radiance arriving from other
 //                                        surfaces, each holding emission + direct light (what
-//                                        SSGI reads from last frame's colour; reference §4.8:
+//                                        SSGI reads from last frame's colour; algorithms §4.8:
 //                                        irradiance/π, so DiffuseColor × this = indirect diffuse)
 //   Truth.DiffuseIndirectFull       RGB  the same with every bounce
 //   Truth.AO                        Y    fraction of cosine-distributed rays that travel further

@@ -23,7 +23,7 @@ constexpr const char* kAo = "ao";
 constexpr const char* kSpecular = "specular";
 constexpr const char* kDiffuse = "diffuse";
 
-// Unreal's F0 for the clear coat's own interface (reference §8.2 step 8).
+// Unreal's F0 for the clear coat's own interface (algorithms §8.2 step 8).
 constexpr float kCoatF0 = 0.04f;
 
 Vec3f rgbAt(const Image& im, int x, int y) {

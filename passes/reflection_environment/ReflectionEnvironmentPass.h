@@ -1,5 +1,5 @@
 #pragma once
-// ReflectionEnvironment + SkyLighting (reference §8): after the lights, adds the sky light's
+// ReflectionEnvironment + SkyLighting (algorithms §8): after the lights, adds the sky light's
 // diffuse (order-3 SH of the sky, dimmed by the screen-space and material AO) and the specular
 // reflections: the screen-space reflections first, then, in the weight they leave and under
 // Lagarde's specular occlusion, the reflection captures around the pixel (parallax-corrected,

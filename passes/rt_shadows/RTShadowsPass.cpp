@@ -25,7 +25,7 @@ constexpr const char* kHitDistance = "hitDistance";
 constexpr const char* kLightAttenuation = "lightAttenuation";
 
 constexpr uint32_t kSeed = 0x52545348u;    // "RTSH"
-constexpr float kMinNormalBiasCm = 0.01f;  // reference §9.1: r.RayTracing.NormalBias min 0.01
+constexpr float kMinNormalBiasCm = 0.01f;  // algorithms §9.1: r.RayTracing.NormalBias min 0.01
 
 // Each light draws its own random numbers, so adding a light leaves the others' shadows alone.
 uint32_t lightSeed(const std::string& name) {
@@ -35,7 +35,7 @@ uint32_t lightSeed(const std::string& name) {
     return kSeed ^ h;
 }
 
-// Reference §9.2: N·L ≤ 0 means "occluded" without a ray, except for hair, eye, two-sided foliage,
+// algorithms §9.2: N·L ≤ 0 means "occluded" without a ray, except for hair, eye, two-sided foliage,
 // subsurface (inferred: subsurface and subsurface profile) and rect lights.
 bool cullsBackFacing(int model, LightType type) {
     if (type == LightType::Rect)
@@ -222,7 +222,7 @@ private:
             const float NoL = dot(n, mGenerator.centreDirection(p));
             if (NoL <= 0.0f && cullsBackFacing(model, mLight.type))
                 continue;
-            // Reference §9.2: towards the camera by max(1e-4·distance, bias), then along the
+            // algorithms §9.2: towards the camera by max(1e-4·distance, bias), then along the
             // normal by lerp(bias, 0.01 cm, N·L); a transmissive pixel facing away starts on its
             // back side instead.
             const Vec3f toEye{px.ex[i], px.ey[i], px.ez[i]};
@@ -298,7 +298,7 @@ private:
             r.transmission += profileThickness(px, i, instanceAt(px.x0 + i, py), ray, work);
     }
 
-    // Reference §9.3: the inverted ray from the far end finds where the light enters the pixel's
+    // algorithms §9.3: the inverted ray from the far end finds where the light enters the pixel's
     // own object; the thickness gives the transmittance (hair: density 1 per cm), and a fully
     // transmitted sample counts as unoccluded.
     void addThicknessTransmission(int model,
@@ -322,7 +322,7 @@ private:
     }
 
     // Subsurface profile: the encoded thickness of its own object towards the light, up to 5 cm
-    // (inferred simplification of Unreal's constant-tracking estimate, reference §9.3).
+    // (inferred simplification of Unreal's constant-tracking estimate, algorithms §9.3).
     float profileThickness(const shadow::RowPixels& px,
                            int i,
                            uint32_t instance,
@@ -347,7 +347,7 @@ private:
     }
 
     // Pixel i's means over its samples, with far subsurface pixels blended towards transmission
-    // (reference §9.3), written with their light-attenuation encoding where it is read.
+    // (algorithms §9.3), written with their light-attenuation encoding where it is read.
     void resolvePixel(const shadow::RowPixels& px,
                       int i,
                       const PixelResult& r,
@@ -447,7 +447,7 @@ PassIO RTShadowsPass::describe() const {
          .doc = "closest occluder distance over the samples, scene units; −1 = no occluder"},
         {.name = kLightAttenuation,
          .channels = {"R", "G", "B", "A"},
-         .doc = "Unreal's light-attenuation encoding (reference §9.5), √ of the faded shadow"},
+         .doc = "Unreal's light-attenuation encoding (algorithms §9.5), √ of the faded shadow"},
     };
     io.needsCamera = true;
     io.needsScene = true;

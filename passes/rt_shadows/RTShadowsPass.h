@@ -1,11 +1,11 @@
 #pragma once
-// Ray-traced shadows of one light (reference §9, Unreal's RayTracingOcclusionRGS): per pixel,
+// Ray-traced shadows of one light (algorithms §9, Unreal's RayTracingOcclusionRGS): per pixel,
 // shadow rays from the position reconstructed from depth, biased towards the camera and along the
 // normal, through Embree in packets of neighbouring pixels (rtcOccluded16 where the CPU has
 // AVX-512, else rtcOccluded8), the per-pixel work in SIMD lanes (ShadowLanes.h). Subsurface and
 // hair pixels whose ray is blocked trace the inverted ray through their own object: the thickness
 // gives a transmission exp(−density·thickness). Outputs visibility, transmission, the closest
-// occluder distance (for the denoiser) and the light-attenuation encoding (reference §9.5).
+// occluder distance (for the denoiser) and the light-attenuation encoding (algorithms §9.5).
 #include "passes/core/Params.h"
 #include "passes/core/Pass.h"
 
@@ -33,7 +33,7 @@ public:
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
 
-    /// Transmission through `thicknessCm` of a material of this opacity (reference §9.3):
+    /// Transmission through `thicknessCm` of a material of this opacity (algorithms §9.3):
     /// saturate(exp(−density·thickness)), density = −0.05·ln(1 − min(opacity, 0.999)) per cm.
     static float transmittance(float opacity, float thicknessCm);
     /// Unreal's subsurface-profile thickness encoding: 1 − thickness/5 cm, saturated.

@@ -316,7 +316,7 @@ void sampleRowHere(const RowContext& c, int stripRow, RowPixels& px, StripRays& 
         if (hn::AllFalse(d, traces))
             continue;
 
-        // Reference §9.2 biases: towards the camera by max(1e-4·distance, bias), then along the
+        // algorithms §9.2 biases: towards the camera by max(1e-4·distance, bias), then along the
         // normal by lerp(bias, 0.01 cm, N·L), backwards for a transmissive pixel facing away.
         const V3 e = load3(px.ex, px.ey, px.ez, i);
         const V toEye =

@@ -79,7 +79,7 @@ ShadowDirection ShadowRayGenerator::sample(const Vec3f& o, float u, float v) con
             s.tfar = dist <= r ? 0.0f : dist;
             return s;
         }
-        // Uniform in the solid angle the sphere subtends (reference §9.2, inferred generator).
+        // Uniform in the solid angle the sphere subtends (algorithms §9.2, inferred generator).
         const float sinMax = r / dist, cosMax = std::sqrt(std::max(0.0f, 1.0f - sinMax * sinMax));
         const float cosT = 1.0f - u * (1.0f - cosMax);
         const float sinT = std::sqrt(std::max(0.0f, 1.0f - cosT * cosT));

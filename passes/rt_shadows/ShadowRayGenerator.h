@@ -1,6 +1,6 @@
 #pragma once
 // Shadow-ray directions towards one light, as Unreal's ray-traced shadow generators choose them
-// (reference §9.2): a concentric-disk sample of the directional light's cone (SourceRadius =
+// (algorithms §9.2): a concentric-disk sample of the directional light's cone (SourceRadius =
 // sin(½·LightSourceAngle)), a uniform sample of the solid angle of a sphere light, a uniform point
 // of a rect light. Positions are relative to the RayScene origin (camera-relative).
 #include "passes/core/Math.h"
@@ -28,7 +28,7 @@ struct ShadowLightShape {
     /// Attenuation radius as a float bound: a float distance d is beyond the (double) radius
     /// exactly when d > reachBound (the largest float not above it); +∞ when unlimited.
     float reachBound = 0;
-    static constexpr float kDirectionalTraceDistance = 1e27f;  // reference §9.2: "infinite"
+    static constexpr float kDirectionalTraceDistance = 1e27f;  // algorithms §9.2: "infinite"
 };
 
 class ShadowRayGenerator {
@@ -37,7 +37,7 @@ public:
     ShadowRayGenerator(const Light& light, const Vec3d& lightOrigin);
 
     /// False when the light sends nothing to `p`: beyond its attenuation radius, outside a spot's
-    /// cone, behind a rect light (reference §9.2, "local lights: rays longer than the attenuation
+    /// cone, behind a rect light (algorithms §9.2, "local lights: rays longer than the attenuation
     /// radius are skipped"). Such pixels are skipped.
     bool reaches(const Vec3f& p) const;
     /// Unit direction from `p` to the light's centre, the L of N·L culling and biasing.

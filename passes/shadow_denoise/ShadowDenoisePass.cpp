@@ -24,10 +24,10 @@ constexpr const char* kHitDistance = "hitDistance";
 constexpr const char* kLightAttenuation = "lightAttenuation";
 
 constexpr float kGoldenAngle = 2.39996323f;
-// Plane-distance tolerance in pixel footprints (the SSGI preset's 2√2 × 3, reference §6.2).
+// Plane-distance tolerance in pixel footprints (the SSGI preset's 2√2 × 3, algorithms §6.2).
 constexpr float kPlaneTolerance = 2.0f * 1.41421356f * 3.0f;
 
-// World-space half-width of the penumbra behind an occluder `hit` away (reference §6.3).
+// World-space half-width of the penumbra behind an occluder `hit` away (algorithms §6.3).
 float penumbraRadius(const Light& light, float hit, float lightDistance) {
     switch (light.type) {
         case LightType::Directional:
@@ -101,7 +101,7 @@ private:
     std::vector<uint32_t> mSum;
 };
 
-// What the blur radius of a pixel depends on (reference §6.3).
+// What the blur radius of a pixel depends on (algorithms §6.3).
 struct RadiusInputs {
     const Light& light;
     Vec3f lightPos;  // camera-relative
@@ -141,7 +141,7 @@ float blurRadius(const RadiusInputs& in, int x, int y) {
 }
 
 // One filtering pass at one pixel with radius r ≥ ½: the centre and `taps` spiral taps, each
-// weighted by the receiver's plane and normal⁴ (reference §6.3); S and T are filtered together.
+// weighted by the receiver's plane and normal⁴ (algorithms §6.3); S and T are filtered together.
 void filterPixel(const SurfaceGrid& surfaces,
                  const Image& signal,
                  const Spiral& spiral,
@@ -178,7 +178,7 @@ ParamSpec<ShadowDenoiseParams> ShadowDenoisePass::paramSpec() {
     ParamSpec<ShadowDenoiseParams> s;
     s.add("denoiser", &Params::denoiser,
           "0 off (raw shadow), 1 or 2 on (2, a third-party denoiser in Unreal, runs framepass's) "
-          "(reference §6.3)")
+          "(algorithms §6.3)")
         .range(0, 2)
         .cvar("r.Shadow.Denoiser");
     s.add("light", &Params::light, "name of the light (\"\" = the scene's only light)");
@@ -207,7 +207,7 @@ PassIO ShadowDenoisePass::describe() const {
         {.name = kTransmission, .channels = {"Y"}, .doc = "filtered subsurface term"},
         {.name = kLightAttenuation,
          .channels = {"R", "G", "B", "A"},
-         .doc = "Unreal's light-attenuation encoding of the filtered result (reference §9.5)"},
+         .doc = "Unreal's light-attenuation encoding of the filtered result (algorithms §9.5)"},
     };
     io.needsCamera = true;
     io.needsLights = true;  // the light's size and position

@@ -1,10 +1,10 @@
 #pragma once
-// The shadow configuration of Unreal's screen-space denoiser (reference §6.3), spatial part: the
+// The shadow configuration of Unreal's screen-space denoiser (algorithms §6.3), spatial part: the
 // penumbra of a light is as wide as the light looks from the occluder, so each pixel's blur radius
 // comes from its closest occluder distance and the light's size (directional: tan(½·angle) × the
 // distance; local: radius × d/(D − d)). Golden-angle taps inside that radius are weighted by the
 // receiver's plane and normal, so contact shadows stay sharp and shadows do not bleed across
-// creases. Writes the light-attenuation encoding (reference §9.5) of the filtered result.
+// creases. Writes the light-attenuation encoding (algorithms §9.5) of the filtered result.
 #include "passes/core/Params.h"
 #include "passes/core/Pass.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-// SSGI's per-pixel work (reference §4.3–4.8), written once for both backends: SSGIPass::execute
+// SSGI's per-pixel work (algorithms §4.3–4.8), written once for both backends: SSGIPass::execute
 // calls ssgiPixel from its tile loop, SSGIPass.cu from one CUDA thread per traced pixel. Everything
 // a pixel reads is in SSGIFrame, plain views passed by value.
 #include "passes/common/GBuffer.h"
@@ -32,9 +32,9 @@ inline constexpr const char* kAo = "ao";
 inline constexpr const char* kHitMask = "hitMask";
 inline constexpr const char* kHitDistance = "hitDistance";
 
-constexpr float kStepOffsetBias = -0.9f;  // reference §4.6: IGN − 0.9 for SSGI (−0.5 for SSR)
-constexpr float kToleranceScale = 2.0f;   // reference §4.5: k = 2 for SSGI (4 for SSR)
-constexpr int kReducedMips = 5;           // prev_color_reduction's chain (reference §3.1)
+constexpr float kStepOffsetBias = -0.9f;  // algorithms §4.6: IGN − 0.9 for SSGI (−0.5 for SSR)
+constexpr float kToleranceScale = 2.0f;   // algorithms §4.5: k = 2 for SSGI (4 for SSR)
+constexpr int kReducedMips = 5;           // prev_color_reduction's chain (algorithms §3.1)
 
 /// What every ray of the frame shares: the screen-space march's frame, and SSGI's own.
 struct TraceSetup : ScreenRayFrame {
@@ -42,7 +42,7 @@ struct TraceSetup : ScreenRayFrame {
     int rays;
     uint32_t frameMod8;
     float levelStep;
-    // Largest valid reduced-colour texel per mip (reference §3.4 ReducedColorUVMax).
+    // Largest valid reduced-colour texel per mip (algorithms §3.4 ReducedColorUVMax).
     int reducedMaxX[kReducedMips], reducedMaxY[kReducedMips];
 };
 
@@ -60,14 +60,14 @@ struct Frame {
 enum Counter { kTraced, kSkipped, kRays, kHzbSamples, kCounterCount };
 
 
-// The view-space normal goes through 8 bits per axis in Unreal's LDS (reference §4.3).
+// The view-space normal goes through 8 bits per axis in Unreal's LDS (algorithms §4.3).
 FP_HD inline Vec3f quantiseNormal(const Vec3f& n) {
     auto q = [](float v) { return std::round((v * 0.5f + 0.5f) * 255.0f) / 255.0f * 2.0f - 1.0f; };
     return normalize(Vec3f{q(n.x), q(n.y), q(n.z)});
 }
 
 /// Ray `index` of `count` of trace pixel (x, y) on frame index `frameMod8`, in view space around
-/// unit view-space normal `n` (reference §4.4: PCG seed, Hammersley, concentric-disk cosine).
+/// unit view-space normal `n` (algorithms §4.4: PCG seed, Hammersley, concentric-disk cosine).
 FP_HD inline Vec3f rayDirection(const Vec3f& n, int x, int y, uint32_t frameMod8, int index,
                                 int count) {
     const ue::Rand3 seed = ue::rand3DPCG16(x, y, int32_t(frameMod8));
@@ -80,7 +80,7 @@ FP_HD inline Vec3f rayDirection(const Vec3f& n, int x, int y, uint32_t frameMod8
     return t * dx + b * dy + n * dz;
 }
 
-// The per-pixel start of every ray (reference §4.3–4.5): the shared origin and the quantised
+// The per-pixel start of every ray (algorithms §4.3–4.5): the shared origin and the quantised
 // view-space normal the rays are drawn around.
 struct PixelStart : ScreenRayOrigin {
     Vec3f nView;
@@ -100,7 +100,7 @@ pixelStart(const Frame& f, int x, int y, int px, int py, double d) {
     return p;
 }
 
-// Reference §4.5 with SSGI's tolerance.
+// algorithms §4.5 with SSGI's tolerance.
 FP_HD inline bool raySteps(const TraceSetup& s, const PixelStart& p, const Vec3f& L, RaySteps& r) {
     return screenRaySteps(s, p, L, kToleranceScale, r);
 }
@@ -141,7 +141,7 @@ struct RayTrace {
     double distance = 0;
 };
 
-// Reference §4.7 for a ray that hit at sample `hitSample` having reached mip level `level`:
+// algorithms §4.7 for a ray that hit at sample `hitSample` having reached mip level `level`:
 // last frame's colour there, Karis-weighted, and (when wanted) the distance to the hit.
 FP_HD inline RayTrace shadeHit(const TraceSetup& s,
                                const PixelStart& p,
@@ -161,7 +161,7 @@ FP_HD inline RayTrace shadeHit(const TraceSetup& s,
     return t;
 }
 
-// Reference §4.4–4.7 for ray `r` of a traced pixel, one ray at a time: the scalar reference that
+// algorithms §4.4–4.7 for ray `r` of a traced pixel, one ray at a time: the scalar reference that
 // the CPU's SIMD lanes (SSGILanes.cpp) reproduce bit for bit, and the GPU's per-thread loop.
 FP_HD inline RayTrace traceRay(const TraceSetup& s,
                                const PixelStart& p,
@@ -201,7 +201,7 @@ struct PixelTrace {
     }
 };
 
-/// Reference §4.8: the mean of the rays with the Karis weighting undone, written out.
+/// algorithms §4.8: the mean of the rays with the Karis weighting undone, written out.
 FP_HD inline void finishPixel(const Frame& f, int x, int y, const PixelTrace& t) {
     const float invRays = 1.0f / float(f.setup.rays);
     const float mean[3] = {t.sum[0] * invRays, t.sum[1] * invRays, t.sum[2] * invRays};
@@ -247,7 +247,7 @@ FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* co
     finishPixel(f, x, y, t);
 }
 
-/// Trace resolution: the frame, or half of it rounded up (reference §4.3).
+/// Trace resolution: the frame, or half of it rounded up (algorithms §4.3).
 inline Extent traceExtent(Extent frame, bool halfRes) {
     return halfRes ? Extent{(frame.width + 1) / 2, (frame.height + 1) / 2} : frame;
 }
@@ -284,7 +284,7 @@ Frame bindFrame(const Ports& ports,
     s.steps = steps;
     s.frameMod8 = ue::frameIndexMod8(frame.number);
     s.invSteps = 1.0f / float(steps);
-    s.levelStep = 8.0f * s.invSteps;  // reference §4.6: (8/N)·Roughness, Roughness = 1
+    s.levelStep = 8.0f * s.invSteps;  // algorithms §4.6: (8/N)·Roughness, Roughness = 1
     for (int m = 0; m < kReducedMips; ++m) {
         for (int c = 0; c < 3; ++c)
             s.reduced[m][c] = viewOf(reduced.mip(m).plane(c));

@@ -13,7 +13,7 @@ namespace fp {
 ParamSpec<SSGIParams> SSGIPass::paramSpec() {
     ParamSpec<SSGIParams> s;
     s.add("quality", &Params::quality,
-          "1..4 → 4/8/16/32 rays per pixel and 8/8/8/12 steps per ray (reference §4.2)")
+          "1..4 → 4/8/16/32 rays per pixel and 8/8/8/12 steps per ray (algorithms §4.2)")
         .range(1, 4)
         .cvar("r.SSGI.Quality");
     s.add("rays", &Params::rays,

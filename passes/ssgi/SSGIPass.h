@@ -1,5 +1,5 @@
 #pragma once
-// Screen-space diffuse indirect (reference §4, Unreal's SSRTDiffuseIndirect): per pixel, cosine-
+// Screen-space diffuse indirect (algorithms §4, Unreal's SSRTDiffuseIndirect): per pixel, cosine-
 // distributed rays around the view-space normal are marched through the furthest HZB in device Z;
 // a hit gathers last frame's reduced colour (prev_color_reduction) at the HZB level the ray
 // reached. The result is the mean incoming radiance of the rays (irradiance/π) and an AO term,
@@ -18,7 +18,7 @@ struct SSGIParams {
     bool lanes = true;  //!< CPU: a pixel's rays in SIMD lanes (false: the scalar reference)
 };
 
-/// What one quality level costs (reference §4.2).
+/// What one quality level costs (algorithms §4.2).
 struct SSGIQuality {
     int rays;   //!< rays per pixel
     int steps;  //!< HZB samples per ray, in batches of 4
@@ -38,10 +38,10 @@ public:
     /// The quality's steps with `rays` rays per pixel, or its own count when `rays` is 0.
     static SSGIQuality traced(int quality, int rays);
     static constexpr int kMaxRays = 1024;
-    /// Trace resolution: the frame, or half of it rounded up (reference §4.3).
+    /// Trace resolution: the frame, or half of it rounded up (algorithms §4.3).
     static Extent traceExtent(Extent frame, bool halfRes);
     /// Ray `index` of `count` of trace pixel (x, y) on frame index `frameMod8`, in view space around
-    /// unit view-space normal `n` (reference §4.4: PCG seed, Hammersley, concentric-disk cosine).
+    /// unit view-space normal `n` (algorithms §4.4: PCG seed, Hammersley, concentric-disk cosine).
     static Vec3f rayDirection(const Vec3f& n, int x, int y, uint32_t frameMod8, int index,
                               int count);
 

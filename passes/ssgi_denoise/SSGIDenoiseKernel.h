@@ -1,5 +1,5 @@
 #pragma once
-// SSGI denoiser's per-pixel work (reference §6.2), written once for both backends: SSGIDenoisePass
+// SSGI denoiser's per-pixel work (algorithms §6.2), written once for both backends: SSGIDenoisePass
 // runs it with CpuPixels from execute(), SSGIDenoisePass.cu with CudaPixels. Three sweeps over
 // the trace grid — surfaces, the spatial reconstruction, the temporal accumulation — each
 // reading only what the sweep before it wrote.
@@ -34,7 +34,7 @@ constexpr int kTaps = 8;    // reconstruction samples besides the centre
 constexpr float kClampSigma = 1.25f;
 constexpr float kTargetSamples = 128.0f;
 constexpr float kHistoryCap = 64.0f;  // R8 storage of SampleCount/64
-// reference §6.2: bilateral distance = pixel world radius × 2√2 × 3 (the SSGI multiplier); the
+// algorithms §6.2: bilateral distance = pixel world radius × 2√2 × 3 (the SSGI multiplier); the
 // history test uses the same multiplier (max(3, 3)).
 constexpr float kBilateralScale = 2.0f * 1.41421356f * 3.0f;
 
@@ -46,7 +46,7 @@ struct KernelTable {
     Offset tap[kTracks][kTaps];
 };
 
-/// Unreal's Stackowiak tables are not transcribed (reference §13.1). framepass builds the same
+/// Unreal's Stackowiak tables are not transcribed (algorithms §13.1). framepass builds the same
 /// kind of set [inferred]: the pixels of an 8×8 block around the quad centre, quad excluded,
 /// ordered by radius then angle and dealt round-robin to the four tracks, so each pixel of the
 /// quad sees its own 8 taps, balanced around the centre, out to 2.5·√2 pixels.
@@ -114,7 +114,7 @@ FP_HD inline int pickTexel(const float w[4], float u) {
     return 3;
 }
 
-// Reconstruction (reference §6.2): the centre and the 8 taps of its track, bilaterally weighted
+// Reconstruction (algorithms §6.2): the centre and the 8 taps of its track, bilaterally weighted
 // against the centre's surface with the smaller of the two pixel radii (MIN_METADATA), summed as
 // moment-1 sums. Writes R G B AO (normalised) and the accumulated sample count; false when the
 // pixel has no surface and passes through as it is.
@@ -158,7 +158,7 @@ struct HistoryTap {
     float count;
 };
 
-// Reference §6.2 steps 1–3: reproject, then one texel of the bilinear 2×2 footprint picked by IGN.
+// algorithms §6.2 steps 1–3: reproject, then one texel of the bilinear 2×2 footprint picked by IGN.
 FP_HD inline HistoryTap pickHistoryTexel(const Frame& f, int x, int y, int px, int py,
                                          const Surface& ref) {
     const int TW = f.ao.width, TH = f.ao.height;
@@ -177,7 +177,7 @@ FP_HD inline HistoryTap pickHistoryTexel(const Frame& f, int x, int y, int px, i
     return {cx, cy, prev.onScreen(f.full) ? f.hist[kCount].at(cx, cy) : 0.0f};
 }
 
-// Bilateral validation of the history texel against its own surface (reference §6.2 step 3,
+// Bilateral validation of the history texel against its own surface (algorithms §6.2 step 3,
 // history multiplier max(3, 3) = 3), rebuilt from the depth and normal the history kept.
 FP_HD inline float historyWeight(const Frame& f, const Surface& ref, int cx, int cy) {
     const double hd = f.hist[kViewDepth].at(cx, cy);
@@ -189,7 +189,7 @@ FP_HD inline float historyWeight(const Frame& f, const Surface& ref, int cx, int
                            ref.radius * kBilateralScale);
 }
 
-// Reference §6.2 step 4: mean and σ of the current reconstruction on the "plus" set (centre + 4
+// algorithms §6.2 step 4: mean and σ of the current reconstruction on the "plus" set (centre + 4
 // edge neighbours), bilaterally weighted with the centre's own radius.
 FP_HD inline void neighbourhoodStats(const Frame& f, const Surface& ref, int x, int y,
                                      float mean[4], float sigma[4]) {
@@ -225,7 +225,7 @@ struct Accumulated {
     bool reused;     // the history contributed
 };
 
-// Reference §6.2 steps 1–6 for one pixel: the reconstruction alone when there is no valid history,
+// algorithms §6.2 steps 1–6 for one pixel: the reconstruction alone when there is no valid history,
 // else the clamped history blended with it by sample counts.
 FP_HD inline Accumulated accumulatePixel(const Frame& f, int x, int y) {
     const Surface& ref = f.surfaces.at(x, y);

@@ -1,5 +1,5 @@
 #pragma once
-// Unreal's screen-space denoiser in its SSGI configuration (reference §6.2): an 8-tap bilateral
+// Unreal's screen-space denoiser in its SSGI configuration (algorithms §6.2): an 8-tap bilateral
 // reconstruction (plane distance × normal⁴) at the trace resolution, then temporal accumulation
 // with the frames before — reprojection through the history's camera (or velocity), a stochastic
 // 2×2 history tap validated bilaterally, a 1.25σ neighbourhood clamp, AO-driven rejection and a

@@ -26,8 +26,8 @@ constexpr const char* kReflection = "reflection";
 constexpr const char* kHitMask = "hitMask";
 constexpr const char* kHitDistance = "hitDistance";
 
-constexpr float kStepOffsetBias = -0.5f;  // reference §4.6/§5.3: IGN − 0.5 for SSR
-constexpr float kToleranceScale = 4.0f;   // reference §4.5: k = 4 for SSR
+constexpr float kStepOffsetBias = -0.5f;  // algorithms §4.6/§5.3: IGN − 0.5 for SSR
+constexpr float kToleranceScale = 4.0f;   // algorithms §4.5: k = 4 for SSR
 constexpr float kSingleRayRoughness = 0.1f;  // §5.3: below it one mirror ray
 constexpr int kSingleRayMaxSteps = 24;       // §5.3: that ray's steps, min(steps·rays, 24)
 

@@ -1,5 +1,5 @@
 #pragma once
-// Screen-space reflections (Unreal's SSRTReflections, reference §5): per pixel a mirror ray or
+// Screen-space reflections (Unreal's SSRTReflections, algorithms §5): per pixel a mirror ray or
 // several GGX (visible-normal) rays, set up and marched through the furthest HZB by the same code
 // as SSGI (common/HzbMarch.h) with SSR's tolerance, jitter, roughness-scaled level schedule and
 // interpolated hit; each hit reprojected into last frame and read from its colour (TAA history),
@@ -21,7 +21,7 @@ struct SSRParams {
     bool temporal = false;       //!< r.SSR.Temporal: smooth across frames with its own history
 };
 
-/// One row of the quality table (reference §5.1).
+/// One row of the quality table (algorithms §5.1).
 struct SSRQuality {
     int level;    //!< 0 off, 1 Low … 4 Epic
     int steps, rays;

@@ -10,7 +10,7 @@ TEST_SUITE("camera") {
 
 TEST_CASE("device Z is near/depth for Unreal's infinite reversed-Z projection") {
     CameraView c = CameraView::lookAt({0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 60.0, 64, 64, 10.0);
-    // reference §1.2: DeviceZ = NearZ / SceneDepth; near → 1, sky → 0.
+    // algorithms §1.2: DeviceZ = NearZ / SceneDepth; near → 1, sky → 0.
     CHECK(c.deviceZFromDepth(10.0) == doctest::Approx(1.0));
     CHECK(c.deviceZFromDepth(250.0) == doctest::Approx(10.0 / 250.0));
     CHECK(c.deviceZFromDepth(INFINITY) == 0.0);

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """The documentation against the code: docs/passes.md is what `framepass passes --markdown`
 prints; every option of every command appears in docs/commands.md; the README stays under 20 KB;
-every relative link in README.md and docs/ names a file that exists.
+every relative link in README.md and docs/ names a file that exists; every section the code
+cites (`algorithms §N.M`, or a bare `§N.M`) is a heading of docs/algorithms.md, and no file
+cites a document outside the repository.
 
     check_docs.py FRAMEPASS SOURCE_DIR
 """
@@ -53,6 +55,24 @@ for doc in documents:
             continue
         if not os.path.exists(os.path.normpath(os.path.join(os.path.dirname(path), target))):
             failures.append(f"{os.path.relpath(path, src)}: link to {target}, which does not exist")
+
+# 5. Every section the code cites is in docs/algorithms.md; nothing cites a document that does
+# not ship (the design brief, the reference notes, the style guide of the team's own folder).
+headings = set(re.findall(r"^#{2,3} §(\d+(?:\.\d+)*) ", open(os.path.join(src, "docs/algorithms.md")).read(), re.M))
+tracked = subprocess.run(["git", "-C", src, "ls-files"], capture_output=True, text=True).stdout.split()
+outside = re.compile(r"DESIGN §|DESIGN\.md|STYLE\.md|ue_algorithms|ue_raytracing|users_and_conventions|"
+                     r"architecture_anchors|\breference §|\.\./shared/")
+for f in tracked:
+    if not re.search(r"\.(cpp|h|cu|cuh|json|py|sh|md|txt)$|^Makefile$", f) or f == "tests/docs/check_docs.py":
+        continue
+    text = open(os.path.join(src, f), errors="replace").read()
+    for m in outside.finditer(text):
+        failures.append(f"{f}: cites '{m.group(0)}', a document outside the repository")
+    if f.startswith("docs/") or f.endswith(".md"):
+        continue
+    for m in re.finditer(r"(?<!glTF )(?<!glTF 2\.0 )§(\d+(?:\.\d+)*)", text):
+        if m.group(1).rstrip(".") not in headings:
+            failures.append(f"{f}: cites §{m.group(1)}, which docs/algorithms.md does not have")
 
 for f in failures:
     print("FAIL", f)

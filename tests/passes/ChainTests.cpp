@@ -136,7 +136,7 @@ TEST_SUITE("passes") {
                 }
         }
         // At the screen border the vignette v(s) = 1 − saturate(5|s| − 4)² fades colour and weight
-        // (reference §3.2 step 7): texel (0, 16) averages pixels 0 and 1 of a 64-pixel row.
+        // (algorithms §3.2 step 7): texel (0, 16) averages pixels 0 and 1 of a 64-pixel row.
         auto v = [](double s) {
             const double c = std::clamp(5 * std::fabs(s) - 4, 0.0, 1.0);
             return 1 - c * c;

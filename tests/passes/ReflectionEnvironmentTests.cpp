@@ -1,4 +1,4 @@
-// reflection_environment (reference §8) against hand-worked values and the path-traced truth: a
+// reflection_environment (algorithms §8) against hand-worked values and the path-traced truth: a
 // floor under a constant sky, specular occlusion, clear coat's energy, threads, pass-through.
 #include "passes/capture/ReflectionCaptureRenderer.h"
 #include "passes/core/RayScene.h"

@@ -1,4 +1,4 @@
-// ssr (reference §5) against hand-worked values: the quality table and roughness fade, the shared
+// ssr (algorithms §5) against hand-worked values: the quality table and roughness fade, the shared
 // HZB march's interpolated hit, a mirror floor reflecting a glowing wall × EnvBRDF, rough pixels
 // skipped and counted, thread counts.
 #include "passes/common/HzbMarch.h"

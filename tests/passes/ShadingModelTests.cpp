@@ -1,4 +1,4 @@
-// Per-shading-model direct-lighting BxDFs (reference §9.6) against hand-computed values, analytic
+// Per-shading-model direct-lighting BxDFs (algorithms §9.6) against hand-computed values, analytic
 // bounds and the default-lit model they extend; the preintegrated-skin table against the
 // properties of Penner's integral and its small-curvature asymptote.
 #include "passes/core/ShadingModel.h"

@@ -135,7 +135,7 @@ TEST_CASE("light attenuation: √ on write, ² on read, Unreal's channel layout"
     for (float v = 0.0f; v <= 1.0f; v += 1.0f / 64.0f)
         CHECK(LightAttenuation::decode(LightAttenuation::encode(v)) ==
               doctest::Approx(v).epsilon(1e-6));
-    // ShadowFadeFraction = 1 (reference §9.4): the stored value is the shadow itself and lights
+    // ShadowFadeFraction = 1 (algorithms §9.4): the stored value is the shadow itself and lights
     // see its square.
     const LightAttenuation dir = LightAttenuation::fromShadow(LightType::Directional, 0.6f, 0.3f);
     CHECK(dir.r == doctest::Approx(0.6f));
