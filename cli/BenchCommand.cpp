@@ -2,10 +2,11 @@
 // and throughput; --sweep varies cvars or parameters over a grid and, where the chain measures
 // error against truth (error_measure passes), produces the speed-against-error table, its Pareto
 // front, the error taken apart, and an HTML report.
-#include "cli/BenchResult.h"
-#include "cli/BenchSweep.h"
+#include "app/BenchResult.h"
+#include "app/BenchSweep.h"
 #include "cli/Commands.h"
-#include "cli/Invocation.h"
+#include "cli/Flags.h"
+#include "app/Invocation.h"
 #include "io/SafeFiles.h"
 
 #include <algorithm>
@@ -78,8 +79,8 @@ Command addBenchCommand(CLI::App& app) {
         "bench",
         "time the chain over several runs (median, min, max, throughput per pass); "
         "--sweep gives the speed-against-error table");
-    opt->session.addTo(*sub);
-    opt->addTimingOptions(*sub);
+    addSetupOptions(*sub, opt->session);
+    addTimingOptions(*sub, *opt);
     sub->add_option("--sweep", opt->sweeps,
                     "vary a cvar or PASS.PARAM: NAME=V1,V2,... or NAME=A..B; several make a grid");
     sub->add_flag("--json", opt->json, "print the results as JSON");

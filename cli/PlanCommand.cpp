@@ -1,7 +1,8 @@
 // framepass plan: the resolved graph, without reading a pixel.
 #include "cli/Commands.h"
-#include "cli/Invocation.h"
-#include "cli/RunSession.h"
+#include "cli/Flags.h"
+#include "app/Invocation.h"
+#include "app/RunSetup.h"
 #include "io/SafeFiles.h"
 #include "passes/core/Cuda.h"
 
@@ -76,7 +77,7 @@ std::string planDot(const Plan& plan) {
 
 Command addPlanCommand(CLI::App& app) {
     struct Options {
-        SessionOptions session;
+        SetupOptions session;
         bool json = false;
         std::string dot;
     };
@@ -84,14 +85,14 @@ Command addPlanCommand(CLI::App& app) {
     CLI::App* sub = app.add_subcommand("plan",
                                        "show the resolved pass graph in order, the capture "
                                        "channels it reads, peak memory and culled passes");
-    opt->session.addTo(*sub);
+    addSetupOptions(*sub, opt->session);
     sub->add_flag("--json", opt->json, "machine-readable output");
     sub->add_option("--dot", opt->dot,
                     "write the resolved chain as a Graphviz graph (passes and ports, CPU blue, GPU "
                     "green, culled passes grey) to FILE, or - for stdout (dot -Tsvg renders it)");
 
     return [opt]() {
-        const RunSession session(opt->session);
+        const RunSetup session(opt->session);
         const Plan& plan = session.plan();
         for (const auto& w : plan.warnings)
             logWarning(fmt::format("{}: {}", w.pointer, w.message));

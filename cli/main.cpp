@@ -1,6 +1,5 @@
 // framepass: re-runs Unreal's deferred lighting passes on captured GBuffers.
 #include "cli/Commands.h"
-#include "cli/Invocation.h"
 #include "passes/core/Error.h"
 #include "passes/core/Limits.h"
 #include "passes/core/Suggest.h"
@@ -12,9 +11,25 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <csignal>
 #include <iostream>
 #include <memory>
 #include <thread>
+
+namespace {
+extern "C" void onStopSignal(int signal) {
+    if (fp::app::stopSignal() != 0) {  // asked twice: stop now
+        std::signal(signal, SIG_DFL);
+        std::raise(signal);
+    }
+    fp::app::requestStop(signal);
+}
+}  // namespace
+
+void fp::cli::catchStopSignals() {
+    std::signal(SIGTERM, onStopSignal);
+    std::signal(SIGINT, onStopSignal);
+}
 
 int main(int argc, char** argv) {
     CLI::App app{"framepass — re-run Unreal's screen-space and ray-traced lighting passes on "
@@ -60,11 +75,7 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForVersion& e) {
+    } catch (const CLI::Success& e) {  // --help, --help-all, --version
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         // The first word that is not an option, when it names no subcommand: a typo of one.
@@ -100,27 +111,27 @@ int main(int argc, char** argv) {
             tbb::global_control::max_allowed_parallelism, threads);
         OIIO::attribute("threads", threads);
     }
-    fp::cli::Invocation invocation;
+    fp::app::Invocation invocation;
     invocation.version = FP_VERSION;
     invocation.arguments.assign(argv, argv + argc);
     invocation.threadsRequested = threads;
     invocation.threads =
         int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-    invocation.verbosity = quiet     ? fp::cli::Verbosity::Quiet
-                           : verbose ? fp::cli::Verbosity::Verbose
-                                     : fp::cli::Verbosity::Normal;
-    fp::cli::setInvocation(invocation);
+    invocation.verbosity = quiet     ? fp::app::Verbosity::Quiet
+                           : verbose ? fp::app::Verbosity::Verbose
+                                     : fp::app::Verbosity::Normal;
+    fp::app::setInvocation(invocation);
     try {
         for (auto& [sub, run] : commands)
             if (sub->parsed()) return run();
     } catch (const fp::Error& e) {
         std::cerr << "framepass error: " << e.what()
                   << (std::string(e.what()).back() == '\n' ? "" : "\n")
-                  << "Full command line was:\n> " << fp::cli::invocation().commandLine() << "\n";
+                  << "Full command line was:\n> " << fp::app::invocation().commandLine() << "\n";
         return int(e.code());
     } catch (const std::bad_alloc&) {
         std::cerr << "framepass error: out of memory\nFull command line was:\n> "
-                  << fp::cli::invocation().commandLine() << "\n";
+                  << fp::app::invocation().commandLine() << "\n";
         return int(fp::ExitCode::FrameFailed);
     } catch (const std::exception& e) {
         std::cerr << "framepass internal error: " << e.what() << "\n";

@@ -45,6 +45,12 @@ private:
     int mSignal;
 };
 
+/// A run cancelled from another thread (a newer request superseded it) at a safe point.
+class Cancelled : public Error {
+public:
+    explicit Cancelled(const std::string& message) : Error(message, ExitCode::Interrupted) {}
+};
+
 }  // namespace fp
 
 #define FP_CHECK(cond, ...)                                  \

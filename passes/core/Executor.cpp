@@ -6,6 +6,9 @@
 #include "passes/core/Cuda.h"
 #include "passes/core/Error.h"
 
+#include <fmt/ranges.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -27,17 +30,28 @@ public:
     }
     Texture& put(const std::string& key, Texture t) {
         Slot& slot = mSlots[key] = Slot{};
-        slot.host = std::move(t);
-        slot.onHost = true;
+        slot.host = std::make_shared<Texture>(std::move(t));
         track();
-        return slot.host;
+        return *slot.host;
     }
     DeviceTexture& putDevice(const std::string& key, DeviceTexture t) {
         Slot& slot = mSlots[key] = Slot{};
-        slot.device = std::move(t);
-        slot.onDevice = true;
+        slot.device = std::make_shared<DeviceTexture>(std::move(t));
         track();
-        return slot.device;
+        return *slot.device;
+    }
+    /// Puts images a StepCache kept (shared, not copied).
+    void adopt(const std::string& key, std::shared_ptr<Texture> host,
+               std::shared_ptr<DeviceTexture> device) {
+        mSlots[key] = Slot{std::move(host), std::move(device)};
+        track();
+    }
+    /// The images under `key`, shared (for a StepCache).
+    std::pair<std::shared_ptr<Texture>, std::shared_ptr<DeviceTexture>> shared(
+        const std::string& key) const {
+        auto it = mSlots.find(key);
+        if (it == mSlots.end()) return {};
+        return {it->second.host, it->second.device};
     }
     bool contains(const std::string& key) const { return mSlots.count(key) > 0; }
     /// The host copy (downloaded from the GPU on first use); nullptr if the key is unknown.
@@ -46,12 +60,11 @@ public:
         if (it == mSlots.end())
             return nullptr;
         Slot& slot = it->second;
-        if (!slot.onHost) {
-            slot.host = cuda::download(slot.device);
-            slot.onHost = true;
+        if (!slot.host) {
+            slot.host = std::make_shared<Texture>(cuda::download(*slot.device));
             track();
         }
-        return &slot.host;
+        return slot.host.get();
     }
     /// The device copy (uploaded on first use); nullptr if the key is unknown.
     const DeviceTexture* findDevice(const std::string& key) {
@@ -59,28 +72,28 @@ public:
         if (it == mSlots.end())
             return nullptr;
         Slot& slot = it->second;
-        if (!slot.onDevice) {
-            slot.device = cuda::upload(slot.host);
-            slot.onDevice = true;
+        if (!slot.device) {
+            slot.device = std::make_shared<DeviceTexture>(cuda::upload(*slot.host));
             track();
         }
-        return &slot.device;
+        return slot.device.get();
     }
     void release(const std::string& key) { mSlots.erase(key); }
     std::size_t peak() const { return mPeak; }
     std::size_t peakDevice() const { return mPeakDevice; }
 
 private:
+    // An image on the host, on the GPU or both (null where it is not). Shared with a StepCache
+    // when there is one, so a kept output is never copied.
     struct Slot {
-        Texture host;
-        DeviceTexture device;
-        bool onHost = false, onDevice = false;
+        std::shared_ptr<Texture> host;
+        std::shared_ptr<DeviceTexture> device;
     };
     void track() {
         std::size_t host = 0, device = 0;
         for (const auto& [k, slot] : mSlots) {
-            host += slot.onHost ? slot.host.bytes() : 0;
-            device += slot.onDevice ? slot.device.bytes() : 0;
+            host += slot.host ? slot.host->bytes() : 0;
+            device += slot.device ? slot.device->bytes() : 0;
         }
         mPeak = std::max(mPeak, host);
         mPeakDevice = std::max(mPeakDevice, device);
@@ -121,22 +134,18 @@ public:
     std::optional<PassHistory>& kept() { return mKept; }
 
     const Texture* input(std::string_view port) const override {
-        const std::string* key = boundKey(port);
-        if (!key)
-            key = fallbackKey(port);
-        if (!key)
+        const std::string key = storeKey(port);
+        if (key.empty())
             return nullptr;  // unbound optional input
-        const Texture* t = mStore.find(*key);
+        const Texture* t = mStore.find(key);
         FP_CHECK(t, "internal: input '{}' of pass '{}' is not in the store", port, mStep.name);
         return t;
     }
     const DeviceTexture* deviceInput(std::string_view port) override {
-        const std::string* key = boundKey(port);
-        if (!key)
-            key = fallbackKey(port);
-        if (!key)
+        const std::string key = storeKey(port);
+        if (key.empty())
             return nullptr;
-        const DeviceTexture* t = mStore.findDevice(*key);
+        const DeviceTexture* t = mStore.findDevice(key);
         FP_CHECK(t, "internal: input '{}' of pass '{}' is not in the store", port, mStep.name);
         return t;
     }
@@ -191,27 +200,22 @@ private:
         FP_CHECK(mStep.io.temporal, "pass '{}' {} history without declaring temporal", mStep.name,
                  verb);
     }
-    // The store key bound to an input port; nullptr for an unbound optional input.
-    const std::string* boundKey(std::string_view port) const {
-        auto it = mStep.inputs.find(std::string(port));
-        if (it == mStep.inputs.end()) {
-            checkDeclared(mStep.io.inputs, port, "input");
-            return nullptr;
-        }
-        return &it->second.key;
-    }
-    // An unbound port the plan fills from the capture on a frame with no previous camera
-    // (PortSpec::captureWhenNoPreviousCamera), loaded on first use; nullptr otherwise.
-    const std::string* fallbackKey(std::string_view port) const {
-        if (mFrame.camera.previous) return nullptr;
+    // The store key of an input port: the one bound to it or, for an unbound port the plan fills
+    // from the capture on a frame with no previous camera (PortSpec::captureWhenNoPreviousCamera),
+    // that buffer's (loaded on first use); "" for an unbound optional input.
+    std::string storeKey(std::string_view port) const {
+        if (auto it = mStep.inputs.find(std::string(port)); it != mStep.inputs.end())
+            return it->second.key;
+        checkDeclared(mStep.io.inputs, port, "input");
+        if (mFrame.camera.previous) return "";
         auto it = mStep.noPreviousCameraInputs.find(std::string(port));
-        if (it == mStep.noPreviousCameraInputs.end()) return nullptr;
-        mFallbackKey = "capture:" + it->second;
-        if (!mStore.contains(mFallbackKey)) {
+        if (it == mStep.noPreviousCameraInputs.end()) return "";
+        const std::string key = "capture:" + it->second;
+        if (!mStore.contains(key)) {
             const SemanticBuffer* sem = findSemanticBuffer(it->second);
             mStore.load(it->second, sem ? int(sem->channels.size()) : 1);
         }
-        return &mFallbackKey;
+        return key;
     }
     // Filament's rule: a pass may only touch what it declared.
     const PortSpec& checkDeclared(const std::vector<PortSpec>& ports,
@@ -230,9 +234,25 @@ private:
     PassReport& mReport;
     const PassHistory* mHistory;
     std::optional<PassHistory> mKept;
-    mutable std::string mFallbackKey;  // the key fallbackKey returned (the store keeps the image)
     std::mutex mMutex;
 };
+
+// A step's StepCache key: what it is, how it is set, which outputs are asked of it, the frame,
+// and the keys of what it reads (StepCache says why each is there).
+std::string stepKey(const PlanStep& step, const std::vector<std::string>& stepKeys,
+                    const FrameInfo& frame, const std::string& sourceId,
+                    const std::string& historyKey) {
+    std::string key = fmt::format("{}|{}|{}|{}|{}#{}", step.type, int(step.device),
+                                  step.params.dump(), fmt::join(step.requestedOutputs, ","),
+                                  sourceId, frame.number);
+    for (const auto& [port, ref] : step.inputs)
+        key += "|" + port + "=" +
+               (ref.fromCapture ? ref.key : ref.port + "@" + stepKeys[std::size_t(ref.step)]);
+    if (step.io.temporal)
+        key += "|history=" + (frame.firstInSequence ? std::string("none") : historyKey);
+    // Long chains nest keys: keep each to a fixed size.
+    return fmt::format("{:016x}", std::hash<std::string>{}(key));
+}
 
 }  // namespace
 
@@ -240,7 +260,8 @@ const PassHistory* HistoryStore::placeOn(const std::string& pass, Device device)
     auto it = mHistories.find(pass);
     if (it == mHistories.end())
         return nullptr;
-    PassHistory& h = it->second;
+    // The copy across is added beside the state (copies of the store share it, and see it too).
+    PassHistory& h = *it->second.state;
     if (device == Device::Cuda && h.deviceState.empty() && !h.state.empty())
         h.deviceState = cuda::upload(h.state);
     if (device == Device::Cpu && h.state.empty() && !h.deviceState.empty())
@@ -265,7 +286,8 @@ FrameReport executePlan(const Plan& plan,
                         FrameSource& source,
                         FrameSink& sink,
                         const ProgressFn& progress,
-                        HistoryStore* history) {
+                        HistoryStore* history,
+                        StepCache* cache) {
     using Clock = std::chrono::steady_clock;
     const auto frameStart = Clock::now();
     if (plan.device == Device::Cuda)
@@ -311,6 +333,12 @@ FrameReport executePlan(const Plan& plan,
     };
 
     const int total = int(plan.steps.size());
+    std::vector<std::string> stepKeys(plan.steps.size());
+    if (cache)  // steps the plan no longer has are forgotten
+        std::erase_if(cache->mEntries, [&](const auto& entry) {
+            return std::none_of(plan.steps.begin(), plan.steps.end(),
+                                [&](const PlanStep& st) { return st.name == entry.first; });
+        });
     for (int s = 0; s < total; ++s) {
         const PlanStep& step = plan.steps[s];
         if (auto it = plan.loadsBefore.find(s); it != plan.loadsBefore.end())
@@ -318,6 +346,37 @@ FrameReport executePlan(const Plan& plan,
                 if (!store.contains("capture:" + b))
                     store.load(b, channelsOf(b));
         PassReport pr{.name = step.name, .type = step.type};
+        if (cache) {
+            stepKeys[std::size_t(s)] = stepKey(step, stepKeys, frame, cache->sourceId,
+                                               history ? history->signature(step.name) : "");
+            auto hit = cache->mEntries.find(step.name);
+            if (hit != cache->mEntries.end() && hit->second.key == stepKeys[std::size_t(s)]) {
+                // Unchanged since the cache's run: its outputs (and the history it kept then)
+                // stand, nothing is executed.
+                const StepCache::Entry& e = hit->second;
+                for (const auto& port : step.io.outputs) {
+                    const std::string key = step.name + "." + port.name;
+                    auto h = e.host.find(key);
+                    auto d = e.device.find(key);
+                    if (h != e.host.end() || d != e.device.end())
+                        store.adopt(key, h != e.host.end() ? h->second : nullptr,
+                                    d != e.device.end() ? d->second : nullptr);
+                }
+                if (history && e.kept)
+                    history->keepShared(step.name, e.kept, e.key);
+                pr = e.report;
+                pr.seconds = 0;
+                pr.gpuSeconds.reset();
+                pr.reused = true;
+                ++report.reusedSteps;
+                report.passes.push_back(std::move(pr));
+                writeOutputs(s);
+                releaseAfter(s);
+                if (progress)
+                    progress(s + 1, total, report.passes.back());
+                continue;
+            }
+        }
         const PassHistory* past = nullptr;
         if (history && step.io.temporal && !frame.firstInSequence) {
             past = history->find(step.name);
@@ -356,13 +415,27 @@ FrameReport executePlan(const Plan& plan,
                         e.code());
         }
         pr.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-        if (history && ctx.kept())
-            history->keep(step.name, std::move(*ctx.kept()));
+        std::shared_ptr<PassHistory> kept;
+        if (history && ctx.kept()) {
+            kept = std::make_shared<PassHistory>(std::move(*ctx.kept()));
+            history->keepShared(step.name, kept, cache ? stepKeys[std::size_t(s)] : "");
+        }
         for (const auto& port : step.requestedOutputs)
             FP_CHECK(store.contains(step.name + "." + port),
                      "frame {}: pass '{}' did not write its "
                      "requested output '{}'",
                      frame.number, step.name, port);
+        ++report.executedSteps;
+        if (cache) {
+            StepCache::Entry& e = cache->mEntries[step.name];
+            e = {stepKeys[std::size_t(s)], {}, {}, pr, kept};
+            for (const auto& port : step.io.outputs) {
+                const std::string key = step.name + "." + port.name;
+                auto [host, device] = store.shared(key);
+                if (host) e.host[key] = host;
+                if (device) e.device[key] = device;
+            }
+        }
         report.passes.push_back(std::move(pr));
         writeOutputs(s);
         releaseAfter(s);
@@ -397,6 +470,8 @@ nlohmann::json FrameReport::toJson() const {
             pj["device"] = "cuda";
             pj["gpuSeconds"] = *p.gpuSeconds;
         }
+        if (p.reused)
+            pj["reused"] = true;
         if (!p.metrics.empty())
             pj["metrics"] = p.metrics;
         j["passes"].push_back(pj);

@@ -29,6 +29,7 @@
 #include <OpenColorIO/OpenColorIO.h>
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -60,8 +61,27 @@ struct PortSpec {
     std::string captureWhenNoPreviousCamera;
 };
 
+/// What the application's error tools (bench's error breakdown and its bare ray loop) need to
+/// know of a pass. The pass declares it, so the application never names a pass type.
+struct PassRoles {
+    /// Measures input "source" against input "reference" and reports its figures (rmse, ...)
+    /// through addMetric: a bench setting's error. An optional "depth" input with the
+    /// "skyDistance" parameter leaves the sky out.
+    bool measuresError = false;
+    /// A screen-space tracer whose noise this integer parameter sets (its rays per pixel): the
+    /// breakdown's converged rung runs the chain with it raised.
+    std::string raysParam;
+    /// A screen-space oracle (the best any screen-space method does with the frame's depth and
+    /// colour): per capture truth layer, the output that estimates the same quantity. Its ray
+    /// count is raysParam.
+    std::map<std::string, std::string> oracleFor;
+    /// Traces shadow rays through RayScene: bench replays them in a bare Embree loop.
+    bool tracesShadowRays = false;
+};
+
 struct PassIO {
     std::vector<PortSpec> inputs, outputs;
+    PassRoles roles;
     bool needsCamera = false;  //!< frame().camera must be known
     bool needsScene = false;   //!< geometry is loaded and a BVH built only if a live pass says so
     bool needsLights = false;  //!< the scene's lights are read (not its geometry)

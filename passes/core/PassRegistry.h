@@ -18,6 +18,8 @@ struct PassType {
     std::string id;   //!< lower_snake type id used in configs
     std::string doc;  //!< one line
     std::vector<ParamInfo> params;
+    /// What the pass declares of itself for the error tools (PassRoles), at default parameters.
+    PassRoles roles;
     /// Parses parameters (errors into diag under pointer) and creates the pass; returns the
     /// resolved parameter values through `resolved`.
     std::function<std::unique_ptr<Pass>(const nlohmann::json& params,
@@ -44,6 +46,7 @@ public:
         t.id = std::move(id);
         t.doc = std::move(doc);
         t.params = P::paramSpec().infos();
+        t.roles = P(typename P::Params{}).describe().roles;
         t.create = [](const nlohmann::json& params, const std::string& pointer, Diagnostics& diag,
                       nlohmann::json& resolved) -> std::unique_ptr<Pass> {
             const auto spec = P::paramSpec();

@@ -28,6 +28,7 @@ ParamSpec<ErrorMeasureParams> ErrorMeasurePass::paramSpec() {
 
 PassIO ErrorMeasurePass::describe() const {
     PassIO io;
+    io.roles.measuresError = true;  // bench's error of a setting
     io.inputs = {
         {.name = kSource, .channels = {}, .doc = "the result to measure (any pass output)"},
         {.name = kReference, .channels = {}, .doc = "the reference, e.g. capture:Truth.AO"},

@@ -5,6 +5,7 @@
 // the outputs are a heat map for people and the per-pixel |error| for tools.
 #include "passes/core/Params.h"
 #include "passes/core/Pass.h"
+#include "passes/metrics/ErrorMetrics.h"
 
 #include <limits>
 
@@ -39,18 +40,6 @@ public:
     static constexpr const char* kHeat = "heat";
     static constexpr const char* kRoughness = "roughness";
     static constexpr const char* kAbsError = "absError";
-
-    /// A half-resolution source (a half-res SSGI trace) is measured as the 4.27 composite reads
-    /// it: point-upsampled, full-res pixel (x, y) taking texel (x/2, y/2).
-    static bool isHalfResolution(Extent source, Extent reference) {
-        return source.width == (reference.width + 1) / 2 &&
-               source.height == (reference.height + 1) / 2 && source.width < reference.width;
-    }
-
-    /// The depth at and beyond which a pixel is sky for a `skyDistance` parameter (0: +inf only).
-    static float skyDepthFor(float skyDistance) {
-        return skyDistance > 0.0f ? skyDistance : std::numeric_limits<float>::infinity();
-    }
 
 private:
     /// Depths at or beyond this are sky.

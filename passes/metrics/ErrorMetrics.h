@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -23,6 +24,18 @@
 namespace fp {
 
 inline constexpr double kRelativeEpsilon = 0.01;
+
+/// A half-resolution source (a half-res SSGI trace) is measured as the 4.27 composite reads it:
+/// point-upsampled, full-res pixel (x, y) taking texel (x/2, y/2).
+inline bool isHalfResolution(Extent source, Extent reference) {
+    return source.width == (reference.width + 1) / 2 &&
+           source.height == (reference.height + 1) / 2 && source.width < reference.width;
+}
+
+/// The depth at and beyond which a pixel is sky for a `skyDistance` parameter (0: +inf only).
+inline float skyDepthFor(float skyDistance) {
+    return skyDistance > 0.0f ? skyDistance : std::numeric_limits<float>::infinity();
+}
 
 struct ErrorStats {
     uint64_t pixels = 0;         //!< pixels compared (inside the mask)

@@ -169,6 +169,11 @@ ParamSpec<ScreenSpaceOracleParams> ScreenSpaceOraclePass::paramSpec() {
 
 PassIO ScreenSpaceOraclePass::describe() const {
     PassIO io;
+    // The error breakdown's oracle rung: which output estimates which truth layer.
+    io.roles.raysParam = "rays";
+    io.roles.oracleFor = {{"Truth.DiffuseIndirectOneBounce", kDiffuse},
+                          {"Truth.DiffuseIndirectFull", kDiffuse},
+                          {"Truth.AO", kAoWithinRadius}};
     io.inputs = {
         gbuffer::depthInput("full-resolution linear depth: what the rays march against"),
         gbuffer::normalInput(),

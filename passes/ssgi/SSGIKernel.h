@@ -5,6 +5,7 @@
 #include "passes/common/GBuffer.h"
 #include "passes/common/HzbMarch.h"
 #include "passes/common/Surface.h"
+#include "passes/common/TraceResolution.h"
 #include "passes/core/Camera.h"
 #include "passes/core/Error.h"
 #include "passes/core/HostDevice.h"
@@ -247,11 +248,6 @@ FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* co
     finishPixel(f, x, y, t);
 }
 
-/// Trace resolution: the frame, or half of it rounded up (algorithms §4.3).
-inline Extent traceExtent(Extent frame, bool halfRes) {
-    return halfRes ? Extent{(frame.width + 1) / 2, (frame.height + 1) / 2} : frame;
-}
-
 /// The frame as ssgiPixel reads it, bound through HostPorts or DevicePorts (PassPorts.h).
 /// Outputs are allocated here; hitMask and hitDistance only when something reads them.
 template <class Ports>
@@ -275,7 +271,7 @@ Frame bindFrame(const Ports& ports,
     f.height = depth.image().height();
     f.toFull = halfRes ? 2 : 1;
     f.colorScale = colorScale;
-    const std::vector<Extent> trace = {traceExtent({f.width, f.height}, halfRes)};
+    const std::vector<Extent> trace = {fp::traceExtent({f.width, f.height}, halfRes)};
 
     TraceSetup& s = f.setup;
     bindScreenRayCamera(s, frame.camera.current, f.width, f.height);

@@ -48,11 +48,12 @@ SSGIQuality SSGIPass::traced(int quality, int rays) {
 }
 
 Extent SSGIPass::traceExtent(Extent frame, bool halfRes) {
-    return ssgi::traceExtent(frame, halfRes);
+    return fp::traceExtent(frame, halfRes);
 }
 
 PassIO SSGIPass::describe() const {
     PassIO io;
+    io.roles.raysParam = "rays";  // the error breakdown's converged rung raises it
     io.inputs = {
         gbuffer::depthInput(),
         gbuffer::normalInput(),

@@ -7,6 +7,7 @@
 #include "passes/common/GBuffer.h"
 #include "passes/common/Reprojection.h"
 #include "passes/common/Surface.h"
+#include "passes/common/TraceResolution.h"
 #include "passes/core/Error.h"
 #include "passes/core/FloatToInt.h"
 #include "passes/core/HostDevice.h"
@@ -14,7 +15,6 @@
 #include "passes/core/PerPixel.h"
 #include "passes/core/PlaneView.h"
 #include "passes/core/UnrealRandom.h"
-#include "passes/ssgi/SSGIKernel.h"
 
 #include <algorithm>
 #include <array>
@@ -299,7 +299,7 @@ void run(PassContext& ctx,
     const auto& normal = ports.input(gbuffer::kNormal)->image();
     const auto& shadingModel = ports.input(gbuffer::kShadingModel)->image();
     const Extent full{depth.width(), depth.height()};
-    const Extent trace = ssgi::traceExtent(full, halfRes);
+    const Extent trace = traceExtent(full, halfRes);
     FP_CHECK(inColor.width() == trace.width && inColor.height() == trace.height,
              "diffuse is {}×{} but the trace resolution is {}×{} (ssgi_denoise.halfRes must match "
              "ssgi.halfRes)",

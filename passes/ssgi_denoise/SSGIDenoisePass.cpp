@@ -1,9 +1,9 @@
 #include "passes/ssgi_denoise/SSGIDenoisePass.h"
 
 #include "passes/common/GBuffer.h"
+#include "passes/common/TraceResolution.h"
 #include "passes/core/PassPorts.h"
 #include "passes/core/PerPixel.h"
-#include "passes/ssgi/SSGIPass.h"
 #include "passes/ssgi_denoise/SSGIDenoiseKernel.h"
 
 namespace fp {
@@ -63,7 +63,7 @@ PassIO SSGIDenoisePass::describe() const {
 }
 
 std::vector<Extent> SSGIDenoisePass::outputExtents(std::string_view, Extent frame) const {
-    return {SSGIPass::traceExtent(frame, mParams.halfRes)};
+    return {traceExtent(frame, mParams.halfRes)};
 }
 
 void SSGIDenoisePass::execute(PassContext& ctx) {

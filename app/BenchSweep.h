@@ -2,9 +2,9 @@
 // What `bench` and `tune` share: the sweep grid, and timing one setting of it (median of the
 // runs, throughput per pass, each error_measure's figures and, where a screen-space error can be
 // taken apart, its decomposition).
-#include "cli/BenchResult.h"
-#include "cli/ErrorDecomposition.h"
-#include "cli/RunSession.h"
+#include "app/BenchResult.h"
+#include "app/ErrorBreakdown.h"
+#include "app/RunSetup.h"
 
 #include <optional>
 #include <set>
@@ -12,22 +12,16 @@
 #include <utility>
 #include <vector>
 
-namespace fp::cli {
+namespace fp::app {
 
 struct BenchOptions {
-    SessionOptions session;
+    SetupOptions session;
     int runs = 5, warmup = 1;
     std::vector<std::string> sweeps;
     bool json = false;
     std::string html;
     int decomposeRays = 256;  //!< 0: no error decomposition
-
-    /// Registers --runs and --warmup (their help names the current defaults) on bench or tune.
-    void addTimingOptions(CLI::App& sub);
 };
-
-/// Registers --decompose-rays, bounded by what the converged tracer can trace (bench, tune, run).
-void addDecomposeRaysOption(CLI::App& sub, int& rays, const std::string& help);
 
 /// One point of the grid: (cvar or PASS.PARAM, value) per axis.
 using SweepPoint = std::vector<std::pair<std::string, std::string>>;
@@ -56,19 +50,19 @@ public:
     /// Runs done and to do, for the progress line (set the total before measuring).
     void expectRuns(int total) { mTotalRuns = total; }
 
-    const RunSession& probe() const { return mProbe; }
+    const RunSetup& probe() const { return mProbe; }
     const BenchOptions& options() const { return mOptions; }
     /// The header of a result: config, capture, frame, size, runs, threads.
     BenchResult emptyResult() const;
 
 private:
     BenchOptions mOptions;
-    RunSession mProbe;
-    SessionOptions mBase;  //!< the command line, plus the error_measure ports as dumps
-    std::optional<ErrorDecomposer> mDecomposer;
+    RunSetup mProbe;
+    SetupOptions mBase;  //!< the command line, plus the error_measure ports as dumps
+    std::optional<ErrorBreakdown> mDecomposer;
     bool mDecomposerChecked = false;
     int mRunsDone = 0, mTotalRuns = 1;
     std::set<std::string> mWarned;  //!< plan warnings already said
 };
 
-}  // namespace fp::cli
+}  // namespace fp::app

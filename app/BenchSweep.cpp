@@ -1,8 +1,8 @@
-#include "cli/BenchSweep.h"
+#include "app/BenchSweep.h"
 
-#include "cli/BareRayLoop.h"
-#include "cli/BenchSources.h"
-#include "cli/Invocation.h"
+#include "app/BareRayLoop.h"
+#include "app/BenchSources.h"
+#include "app/Invocation.h"
 #include "io/CaptureSource.h"
 #include "io/ContactSheet.h"
 #include "io/PngWriter.h"
@@ -10,18 +10,15 @@
 #include "passes/core/Executor.h"
 #include "passes/display/DisplayTransform.h"
 #include "passes/metrics/Heatmap.h"
-#include "passes/ssgi/SSGIPass.h"
 
 #include <tbb/global_control.h>
 
 #include <map>
 #include <memory>
 
-namespace fp::cli {
+namespace fp::app {
 
 namespace {
-
-constexpr const char* kShadowPassType = "rt_shadows";
 
 std::string base64(const std::string& bytes) {
     static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -42,12 +39,13 @@ std::string base64(const std::string& bytes) {
     return out;
 }
 
-// error_measure passes are roots here even when the config writes none of their outputs; the
-// ports they compare are kept for the report's images and the error decomposition.
+// Error measures are roots here even when the config writes none of their outputs; the ports
+// they compare are kept for the report's images and the error decomposition.
 std::vector<std::string> errorDumps(const GraphDesc& graph) {
     std::vector<std::string> dumps;
     for (const auto& n : graph.nodes) {
-        if (n.type != kErrorPassType)
+        const PassType* type = builtinPasses().find(n.type);
+        if (!type || !type->roles.measuresError)
             continue;
         dumps.push_back(n.name + ".heat");
         for (const char* port : {"source", "reference"})
@@ -137,11 +135,11 @@ void addBareRayLoops(const Plan& plan,
 // Warm-up runs, timed runs, then the per-pass table and the errors (taken apart if asked).
 
 BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
-    SessionOptions sessionOptions = mBase;
+    SetupOptions sessionOptions = mBase;
     for (const auto& [name, value] : point)
         (name.rfind("r.", 0) == 0 ? sessionOptions.cvars : sessionOptions.sets)
             .push_back(name + "=" + value);
-    const RunSession session(mProbe, sessionOptions);
+    const RunSetup session(mProbe, sessionOptions);
     // A setting's own warnings (a swept cvar that the config's params shadow), each said once.
     for (const auto& w : session.plan().warnings)
         if (mWarned.insert(w.pointer + ": " + w.message).second)
@@ -158,7 +156,7 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
             mDecomposer.emplace(mProbe, std::move(targets), mOptions.decomposeRays, measured);
     }
     const BenchOptions& opt = mOptions;
-    ErrorDecomposer* decomposer = decompose && mDecomposer ? &*mDecomposer : nullptr;
+    ErrorBreakdown* decomposer = decompose && mDecomposer ? &*mDecomposer : nullptr;
     const Plan& plan = session.plan();
     // A sequence (--frames) runs frame after frame with the temporal passes' history, as `run`
     // does; each frame's buffers are read once. Times are per frame; errors are the last frame's.
@@ -196,7 +194,7 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
             if (lastRun && frames.size() > 1)
                 for (std::size_t s = 0; s < last.passes.size(); ++s)
                     if (auto it = last.passes[s].metrics.find("rmse");
-                        plan.steps[s].type == kErrorPassType && it != last.passes[s].metrics.end())
+                        plan.steps[s].io.roles.measuresError && it != last.passes[s].metrics.end())
                         rmseByFrame[s].push_back(it->second);
         }
         logProgress(100 * ++mRunsDone / std::max(1, mTotalRuns));
@@ -208,13 +206,14 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     setting.peakBytes = last.peakBytes;
     for (std::size_t s = 0; s < plan.steps.size(); ++s) {
         const PlanStep& step = plan.steps[s];
-        PassTiming t{step.name, step.type, step.io.workUnit, 0, TimingStats::of(stepSeconds[s]), {}};
+        PassTiming t{step.name, step.type, step.io.workUnit, 0, TimingStats::of(stepSeconds[s]), {},
+                     step.io.roles.measuresError};
         if (!stepGpuSeconds[s].empty())
             t.gpuSeconds = TimingStats::of(stepGpuSeconds[s]);
         if (auto it = last.passes[s].work.find(t.unit); it != last.passes[s].work.end())
             t.work = it->second;
         setting.passes.push_back(t);
-        if (step.type != kErrorPassType)
+        if (!step.io.roles.measuresError)
             continue;
         ErrorNodeResult e = errorNodeResult(step, last.passes[s]);
         if (auto it = rmseByFrame.find(s); it != rmseByFrame.end())
@@ -226,21 +225,12 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     if (decomposer)
         decomposer->decompose(sessionOptions, sink.images, setting.label, setting.errors);
     if (std::any_of(plan.steps.begin(), plan.steps.end(),
-                    [](const PlanStep& s) { return s.type == kShadowPassType; }))
+                    [](const PlanStep& s) { return s.io.roles.tracesShadowRays; }))
         addBareRayLoops(plan, source, sink, opt, setting);
     return setting;
 }
 
-void BenchOptions::addTimingOptions(CLI::App& sub) {
-    sub.add_option("--runs", runs, fmt::format("timed runs per setting (default {})", runs))
-        ->check(CLI::Range(1, 1000));
-    sub.add_option("--warmup", warmup, fmt::format("untimed runs first (default {})", warmup))
-        ->check(CLI::Range(0, 100));
-}
 
-void addDecomposeRaysOption(CLI::App& sub, int& rays, const std::string& help) {
-    sub.add_option("--decompose-rays", rays, help)->check(CLI::Range(0, SSGIPass::kMaxRays));
-}
 
 SweepAxis parseSweep(const std::string& text) {
     const auto eq = text.find('=');
@@ -325,4 +315,4 @@ BenchResult Bencher::emptyResult() const {
     return result;
 }
 
-}  // namespace fp::cli
+}  // namespace fp::app

@@ -11,10 +11,8 @@
 #include <string>
 #include <vector>
 
-namespace fp::cli {
+namespace fp::app {
 
-/// The pass type whose figures are a setting's error (error_measure).
-inline constexpr const char* kErrorPassType = "error_measure";
 /// Not a pass: the Embree yardstick bench lists with the passes (BareRayLoop.h).
 inline constexpr const char* kBareLoopType = "embree";
 
@@ -28,6 +26,7 @@ struct PassTiming {
     uint64_t work = 0;             //!< of one run
     TimingStats seconds;
     std::optional<TimingStats> gpuSeconds;  //!< passes run on the GPU: kernel time (CUDA events)
+    bool measuresError = false;  //!< an error measure (PassRoles): not part of the chain's time
     double throughput() const { return seconds.median > 0 ? double(work) / seconds.median : 0; }
 };
 
@@ -35,14 +34,14 @@ struct ErrorImages {
     std::string result, truth, heat;  //!< PNG files as base64 (empty when not available)
 };
 
-/// One step of an error decomposition: rung `from` against rung `to` (ErrorDecomposition.h).
+/// One step of an error decomposition: rung `from` against rung `to` (app/ErrorBreakdown.h).
 struct DecompositionStepResult {
     std::string name;      //!< "noise", "approximation", "screen-space limit", "multi-bounce"
     std::string from, to;  //!< what the two rungs are (a key, or how it was made)
     double rmse = 0, bias = 0, share = 0;
 };
 
-/// Why the error is what it is: the error of an error_measure taken apart (cli/ErrorDecomposition).
+/// Why the error is what it is: the error of an error_measure taken apart (app/ErrorBreakdown.h).
 struct ErrorDecompositionResult {
     double rmse = 0, bias = 0;  //!< of the source against the reference
     std::vector<DecompositionStepResult> steps;
@@ -96,4 +95,4 @@ std::string decompositionText(const ErrorDecompositionResult& d);
 /// A self-contained HTML page: the table, an SVG plot of time against error, the images.
 std::string benchHtml(const BenchResult& result);
 
-}  // namespace fp::cli
+}  // namespace fp::app

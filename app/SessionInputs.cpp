@@ -1,4 +1,4 @@
-#include "cli/SessionInputs.h"
+#include "app/SessionInputs.h"
 
 #include "io/CaptureSource.h"
 #include "passes/capture/ReflectionCaptureRenderer.h"
@@ -7,7 +7,7 @@
 #include <algorithm>
 #include "passes/core/Error.h"
 
-namespace fp::cli {
+namespace fp::app {
 
 io::SceneFile& SessionInputs::description() {
     if (!mScene) {
@@ -63,4 +63,4 @@ OCIO_NAMESPACE::ConstConfigRcPtr SessionInputs::colorConfig() {
     return mColorConfig;
 }
 
-}  // namespace fp::cli
+}  // namespace fp::app

@@ -1,9 +1,8 @@
-#include "cli/ErrorDecomposition.h"
+#include "app/ErrorBreakdown.h"
 
-#include "cli/Invocation.h"
+#include "app/Invocation.h"
 #include "passes/common/GBuffer.h"
 #include "passes/core/Error.h"
-#include "passes/error_measure/ErrorMeasurePass.h"
 #include "passes/metrics/ErrorDecomposition.h"
 #include "passes/metrics/ErrorMetrics.h"
 
@@ -12,18 +11,25 @@
 
 #include <algorithm>
 
-namespace fp::cli {
+namespace fp::app {
 
 namespace {
 
-constexpr const char* kTracerType = "ssgi";
-constexpr const char* kOracleType = "screen_space_oracle";
 // The oracle runs in a chain of its own, so its name cannot clash with the config's passes.
 constexpr const char* kOracleNode = "decomposition_oracle";
 
-constexpr const char* kOneBounce = "capture:Truth.DiffuseIndirectOneBounce";
-constexpr const char* kFull = "capture:Truth.DiffuseIndirectFull";
-constexpr const char* kAo = "capture:Truth.AO";
+// The truth of light that bounced once, and of all of it: a rung between the two says how much
+// of the error is multi-bounce light.
+constexpr const char* kOneBounce = "Truth.DiffuseIndirectOneBounce";
+constexpr const char* kFull = "Truth.DiffuseIndirectFull";
+
+// The pass type that declares itself a screen-space oracle (PassRoles::oracleFor), or null.
+const PassType* oracleType() {
+    for (const PassType& t : builtinPasses().types())
+        if (!t.roles.oracleFor.empty())
+            return &t;
+    return nullptr;
+}
 
 /// What one step of the ladder is, and what would reduce it.
 struct StepKind {
@@ -50,8 +56,9 @@ constexpr StepKind kSteps[] = {
      "Truth.DiffuseIndirectOneBounce to judge the pass on what it can see"},
 };
 
-// The nearest pass of type kTracerType upstream of step `from` (itself included), or "".
-std::string upstreamTracer(const Plan& plan, int from) {
+// The nearest screen-space tracer (a pass that declares its rays parameter, not the oracle)
+// upstream of step `from`, itself included; null when there is none.
+const PlanStep* upstreamTracer(const Plan& plan, int from) {
     std::vector<int> queue = {from};
     std::set<int> seen;
     for (std::size_t q = 0; q < queue.size(); ++q) {
@@ -59,13 +66,13 @@ std::string upstreamTracer(const Plan& plan, int from) {
         if (i < 0 || !seen.insert(i).second)
             continue;
         const PlanStep& step = plan.steps[std::size_t(i)];
-        if (step.type == kTracerType)
-            return step.name;
+        if (!step.io.roles.raysParam.empty() && step.io.roles.oracleFor.empty())
+            return &step;
         for (const auto& [port, ref] : step.inputs)
             if (!ref.fromCapture)
                 queue.push_back(ref.step);
     }
-    return "";
+    return nullptr;
 }
 
 // A copy of a config whose chain writes no files: only what is dumped is run.
@@ -79,8 +86,7 @@ io::RunConfig chainWithoutOutputs(const io::RunConfig& config) {
 
 // A point-upsampled image is read at half resolution by decomposeError instead.
 bool isHalf(const Image& image, const Image& reference) {
-    return ErrorMeasurePass::isHalfResolution({image.width(), image.height()},
-                                              {reference.width(), reference.height()});
+    return isHalfResolution({image.width(), image.height()}, {reference.width(), reference.height()});
 }
 
 }  // namespace
@@ -88,31 +94,34 @@ bool isHalf(const Image& image, const Image& reference) {
 std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
                                                       const std::set<std::string>& available) {
     std::vector<DecompositionTarget> targets;
+    const PassType* oracle = oracleType();
+    if (!oracle)
+        return targets;
     for (const PlanStep& step : plan.steps) {
-        if (step.type != kErrorPassType)
+        if (!step.io.roles.measuresError)
             continue;
-        const SourceRef& source = step.inputs.at(ErrorMeasurePass::kSource);
-        const SourceRef& reference = step.inputs.at(ErrorMeasurePass::kReference);
-        if (source.fromCapture)
+        const SourceRef& source = step.inputs.at("source");
+        const SourceRef& reference = step.inputs.at("reference");
+        if (source.fromCapture || !reference.fromCapture)
+            continue;
+        const PlanStep* tracer = upstreamTracer(plan, source.step);
+        const auto port = oracle->roles.oracleFor.find(reference.buffer);
+        if (!tracer || port == oracle->roles.oracleFor.end())
             continue;
         DecompositionTarget t;
         t.errorNode = step.name;
         t.source = source.key;
         t.reference = reference.key;
-        t.tracer = upstreamTracer(plan, source.step);
-        if (t.tracer.empty())
-            continue;
-        if (reference.key == kOneBounce || reference.key == kFull) {
-            t.oraclePort = "diffuse";
-            t.truths = {kOneBounce};
-            if (reference.key == kFull)
-                t.truths.push_back(kFull);
-        } else if (reference.key == kAo) {
-            t.oraclePort = "aoWithinRadius";
-            t.truths = {kAo};
-        } else {
-            continue;
-        }
+        t.tracer = tracer->name;
+        t.tracerRays = tracer->io.roles.raysParam;
+        t.oracleType = oracle->id;
+        t.oracleRays = oracle->roles.raysParam;
+        t.oraclePort = port->second;
+        // Against the full truth, the one-bounce truth is a rung of its own when the oracle
+        // estimates it too.
+        if (reference.buffer == kFull && oracle->roles.oracleFor.count(kOneBounce))
+            t.truths.push_back(std::string("capture:") + kOneBounce);
+        t.truths.push_back(reference.key);
         if (!std::all_of(t.truths.begin(), t.truths.end(), [&](const std::string& k) {
                 return available.count(k.substr(8)) > 0;
             }))
@@ -134,7 +143,7 @@ ErrorNodeResult errorNodeResult(const PlanStep& step, const PassReport& report) 
     return e;
 }
 
-ErrorDecomposer::ErrorDecomposer(const RunSession& probe,
+ErrorBreakdown::ErrorBreakdown(const RunSetup& probe,
                                  std::vector<DecompositionTarget> targets,
                                  int rays,
                                  int frame)
@@ -145,14 +154,16 @@ ErrorDecomposer::ErrorDecomposer(const RunSession& probe,
       mCapture(probe.captureOptions(frame), probe.profile()),
       mSource(mCapture) {}
 
-const Image& ErrorDecomposer::oracle(const std::string& port) {
+const Image& ErrorBreakdown::oracle(const std::string& port) {
     if (auto it = mOracle.find(port); it != mOracle.end())
         return it->second;
     // Every port the targets read, traced together once.
     io::RunConfig config = chainWithoutOutputs(mProbe.config());
-    config.graph.nodes = {{kOracleNode, kOracleType, {{"rays", mRays}}, {}, "/decomposition"}};
+    const DecompositionTarget& first = mTargets.front();
+    config.graph.nodes = {
+        {kOracleNode, first.oracleType, {{first.oracleRays, mRays}}, {}, "/decomposition"}};
     config.graph.lightTemplates.clear();
-    SessionOptions options;
+    SetupOptions options;
     options.config = mProbe.config().path;
     options.frames = std::to_string(mFrame);
     for (const auto& t : mTargets) {
@@ -160,8 +171,8 @@ const Image& ErrorDecomposer::oracle(const std::string& port) {
         if (std::find(options.dumps.begin(), options.dumps.end(), key) == options.dumps.end())
             options.dumps.push_back(key);
     }
-    logInfo(fmt::format("error decomposition: screen_space_oracle at {} rays per pixel", mRays));
-    const RunSession session(mProbe, config, options);
+    logInfo(fmt::format("error decomposition: {} at {} rays per pixel", first.oracleType, mRays));
+    const RunSetup session(mProbe, config, options);
     KeepingSink sink;
     sink.keep = true;
     executePlan(session.plan(), mSource, sink);
@@ -170,13 +181,13 @@ const Image& ErrorDecomposer::oracle(const std::string& port) {
     return mOracle.at(port);
 }
 
-std::map<std::string, Image> ErrorDecomposer::converged(const SessionOptions& setting,
-                                                        const std::string& tracer,
+std::map<std::string, Image> ErrorBreakdown::converged(const SetupOptions& setting,
+                                                        const std::string& tracerRays,
                                                         const std::vector<std::string>& sources) {
-    SessionOptions options = setting;
+    SetupOptions options = setting;
     options.dumps = sources;
-    options.sets.push_back(fmt::format("{}.rays={}", tracer, mRays));
-    const RunSession session(mProbe, chainWithoutOutputs(mProbe.config()), options);
+    options.sets.push_back(fmt::format("{}={}", tracerRays, mRays));
+    const RunSetup session(mProbe, chainWithoutOutputs(mProbe.config()), options);
     std::map<std::string, Image> sum;
     const int64_t first = mSource.frameInfo().number;
     for (int k = 0; k < kFrameSeeds; ++k) {
@@ -205,7 +216,7 @@ std::map<std::string, Image> ErrorDecomposer::converged(const SessionOptions& se
     return sum;
 }
 
-void ErrorDecomposer::decompose(const SessionOptions& options,
+void ErrorBreakdown::decompose(const SetupOptions& options,
                                 const std::map<std::string, Image>& kept,
                                 const std::string& label,
                                 std::vector<ErrorNodeResult>& errors) {
@@ -214,17 +225,18 @@ void ErrorDecomposer::decompose(const SessionOptions& options,
     for (const ErrorNodeResult& e : errors)
         for (const auto& t : mTargets)
             if (t.errorNode == e.name) {
-                auto& list = sourcesByTracer[t.tracer];
+                auto& list = sourcesByTracer[t.tracer + "." + t.tracerRays];
                 if (std::find(list.begin(), list.end(), t.source) == list.end())
                     list.push_back(t.source);
             }
     std::map<std::string, Image> convergedBySource;
-    for (const auto& [tracer, sources] : sourcesByTracer) {
+    for (const auto& [tracerRays, sources] : sourcesByTracer) {
         logInfo(fmt::format("error decomposition, {}: {} converged ({} at {} rays, {} frame "
                             "seeds)",
-                            label, fmt::join(sources, " and "), tracer, mRays,
+                            label, fmt::join(sources, " and "),
+                            tracerRays.substr(0, tracerRays.rfind('.')), mRays,
                             kFrameSeeds));
-        convergedBySource.merge(converged(options, tracer, sources));
+        convergedBySource.merge(converged(options, tracerRays, sources));
     }
     for (ErrorNodeResult& e : errors) {
         const auto t = std::find_if(mTargets.begin(), mTargets.end(), [&](const auto& t) {
@@ -248,7 +260,7 @@ void ErrorDecomposer::decompose(const SessionOptions& options,
         std::optional<Image> mask;
         if (!t->depth.empty())
             mask = notSkyMask(mSource.loadBuffer(t->depth.substr(8), 1).image(),
-                              ErrorMeasurePass::skyDepthFor(t->skyDistance));
+                              skyDepthFor(t->skyDistance));
         const ErrorDecompositionStats stats = decomposeError(ladder, mask ? &*mask : nullptr);
 
         ErrorDecompositionResult d;
@@ -257,9 +269,9 @@ void ErrorDecomposer::decompose(const SessionOptions& options,
         const std::vector<std::string> rungNames = [&] {
             std::vector<std::string> n = {
                 t->source,
-                fmt::format("{} converged ({}.rays={}, {} frame seeds)", t->source, t->tracer,
+                fmt::format("{} converged ({}.{}={}, {} frame seeds)", t->source, t->tracer, t->tracerRays,
                             mRays, kFrameSeeds),
-                fmt::format("screen_space_oracle.{} ({} rays)", t->oraclePort, mRays)};
+                fmt::format("{}.{} ({} rays)", t->oracleType, t->oraclePort, mRays)};
             n.insert(n.end(), t->truths.begin(), t->truths.end());
             return n;
         }();
@@ -284,4 +296,4 @@ void ErrorDecomposer::decompose(const SessionOptions& options,
     }
 }
 
-}  // namespace fp::cli
+}  // namespace fp::app

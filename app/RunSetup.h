@@ -1,22 +1,21 @@
 #pragma once
-// What `plan` and `run` share: the config with the command line applied, the frames to process
-// and the plan, made after reading only the first capture's header.
-#include "cli/SessionInputs.h"
+// A run's setup: the config with the command line (or a session's settings) applied, the frames
+// to process and the plan, made after reading only the first capture's header. What `plan`,
+// `run`, bench and a Session share.
+#include "app/SessionInputs.h"
 #include "io/CaptureProfile.h"
 #include "io/CaptureSource.h"
 #include "io/ConfigLoader.h"
 #include "passes/core/Planner.h"
-
-#include <CLI/CLI.hpp>
 
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-namespace fp::cli {
+namespace fp::app {
 
-struct SessionOptions {
+struct SetupOptions {
     std::string config;
     std::vector<std::string> cvars;  //!< NAME=VALUE or "NAME VALUE"
     std::vector<std::string> cvarFiles;  //!< Unreal .ini files (--cvars), before --cvar
@@ -29,24 +28,22 @@ struct SessionOptions {
     bool allowUnknownCvars = false;  //!< an unknown cvar is a warning, not an error
     std::string device;              //!< cpu or cuda; "" = the config's "device"
 
-    /// Registers --cvar, --set, --dump, --frames, --capture, --profile, --device and
-    /// --allow-unknown-cvars on a subcommand.
-    void addTo(CLI::App& sub);
 };
 
 /// The cvars of an Unreal .ini file as NAME=VALUE (its [SystemSettings] and [ConsoleVariables]).
 std::vector<std::string> readCvarsFile(const std::string& path);
 
-class RunSession {
+class RunSetup {
 public:
     /// Reads the config and the first capture's header, and plans.
-    explicit RunSession(const SessionOptions& options);
+    explicit RunSetup(const SetupOptions& options);
     /// The same config planned again with other command-line values (bench's sweep points): the
-    /// config is not read again and the scene and OCIO config are shared with `base`.
-    RunSession(const RunSession& base, const SessionOptions& options);
+    /// config and --cvars files are not read again; the scene and OCIO config are shared with
+    /// `base`.
+    RunSetup(const RunSetup& base, const SetupOptions& options);
     /// Another chain on the same capture, scene and OCIO config as `base` (bench plans the
     /// passes of an error decomposition this way).
-    RunSession(const RunSession& base, io::RunConfig config, const SessionOptions& options);
+    RunSetup(const RunSetup& base, io::RunConfig config, const SetupOptions& options);
 
     const io::RunConfig& config() const { return mConfig; }
     /// The scene and OCIO config, read once on first use and shared by every frame.
@@ -68,13 +65,14 @@ public:
     std::optional<io::CaptureFiles> openCapture(const std::string& path) const;
 
 private:
-    void plan(const SessionOptions& options);
+    void plan(const SetupOptions& options);
     io::RunConfig mConfig;
     std::shared_ptr<SessionInputs> mInputs;
     io::CaptureProfile mProfile;
+    std::vector<std::string> mFileCvars;  //!< --cvars files, read once by the first setup
     std::vector<int> mFrames;
     Extent mExtent;
     Plan mPlan;
 };
 
-}  // namespace fp::cli
+}  // namespace fp::app

@@ -11,7 +11,7 @@
 #include <optional>
 #include <string>
 
-namespace fp::cli {
+namespace fp::app {
 
 class SessionInputs {
 public:
@@ -40,4 +40,4 @@ private:
     OCIO_NAMESPACE::ConstConfigRcPtr mColorConfig;
 };
 
-}  // namespace fp::cli
+}  // namespace fp::app

@@ -1,6 +1,6 @@
-#include "cli/RunSession.h"
+#include "app/RunSetup.h"
 
-#include "cli/Invocation.h"
+#include "app/Invocation.h"
 #include "io/ExrReader.h"
 #include "io/FramePattern.h"
 #include "passes/core/Error.h"
@@ -11,7 +11,7 @@
 #include <fstream>
 #include <set>
 
-namespace fp::cli {
+namespace fp::app {
 
 namespace {
 std::pair<std::string, std::string> splitAssignment(const std::string& text, const char* flag) {
@@ -74,42 +74,15 @@ std::vector<std::string> readCvarsFile(const std::string& path) {
     return out;
 }
 
-void SessionOptions::addTo(CLI::App& sub) {
-    sub.add_option("config", config, "run config (JSON)")->required();
-    sub.add_option("--cvar", cvars,
-                   "set an Unreal cvar as the console takes it: --cvar \"r.SSGI.Quality 4\" or "
-                   "--cvar r.SSGI.Quality=4 (names in any case)");
-    sub.add_option("--cvars", cvarFiles,
-                   "read cvars from an Unreal .ini ([SystemSettings] / [ConsoleVariables], ; "
-                   "comments), such as the snippet tune prints; --cvar wins over it")
-        ->check(CLI::ExistingFile);
-    sub.add_option("--set", sets, "set a pass parameter, e.g. --set hzb.halfPrecision=false");
-    sub.add_option("--dump", dumps, "also write PASS.PORT (or 'all') to <out>/dump/");
-    sub.add_option("--frames", frames, "frame spec (overrides the config), e.g. 1001-1010");
-    sub.add_option("--capture", capture,
-                   "capture file or frame pattern (overrides the config's \"capture\"; relative "
-                   "to the working directory)");
-    sub.add_option("--previous", previous,
-                   "the previous frame's capture, for a single capture that is not a numbered "
-                   "sequence (cur.exr with prev.exr): temporal passes reproject it (overrides the "
-                   "config's \"previous\")");
-    sub.add_option("--profile", profile,
-                   "capture profile, a name or FILE.json (overrides the config's \"profile\")");
-    sub.add_option("--device", device,
-                   "cpu, or cuda: the passes with a CUDA kernel run on the GPU, images stay "
-                   "there between them (overrides the config's \"device\")")
-        ->check(CLI::IsMember({"cpu", "cuda"}));
-    sub.add_flag("--allow-unknown-cvars", allowUnknownCvars,
-                 "a cvar framepass does not know (--cvar or the config's \"cvars\") is a "
-                 "warning instead of an error");
-}
 
-RunSession::RunSession(const SessionOptions& o)
+RunSetup::RunSetup(const SetupOptions& o)
     : mConfig(io::loadRunConfig(o.config)),
       mInputs(std::make_shared<SessionInputs>(o.config, mConfig)),
       mProfile(o.profile.empty()
                    ? io::CaptureProfile::fromJson(mConfig.profile, o.config + ": /profile")
                    : io::CaptureProfile::load(o.profile)) {
+    for (const auto& file : o.cvarFiles)
+        for (auto& c : readCvarsFile(file)) mFileCvars.push_back(std::move(c));
     if (!o.capture.empty())
         mConfig.capture = o.capture;
     if (!o.previous.empty())
@@ -133,25 +106,29 @@ RunSession::RunSession(const SessionOptions& o)
                                mConfig.capture, mFrames.size()));
 }
 
-RunSession::RunSession(const RunSession& base, const SessionOptions& o)
-    : mConfig(base.mConfig), mInputs(base.mInputs), mProfile(base.mProfile) {
+RunSetup::RunSetup(const RunSetup& base, const SetupOptions& o)
+    : mConfig(base.mConfig),
+      mInputs(base.mInputs),
+      mProfile(base.mProfile),
+      mFileCvars(base.mFileCvars) {
     plan(o);
 }
 
-RunSession::RunSession(const RunSession& base, io::RunConfig config, const SessionOptions& o)
-    : mConfig(std::move(config)), mInputs(base.mInputs), mProfile(base.mProfile) {
+RunSetup::RunSetup(const RunSetup& base, io::RunConfig config, const SetupOptions& o)
+    : mConfig(std::move(config)),
+      mInputs(base.mInputs),
+      mProfile(base.mProfile),
+      mFileCvars(base.mFileCvars) {
     plan(o);
 }
 
-void RunSession::plan(const SessionOptions& o) {
+void RunSetup::plan(const SetupOptions& o) {
     PlanInputs inputs;
     inputs.priorErrors = mConfig.errors;
     if (mConfig.capture.empty())
         inputs.priorErrors.push_back(
             {"/capture", "the config names no capture (a file or pattern)"});
-    std::vector<std::string> cvars;
-    for (const auto& file : o.cvarFiles)
-        for (auto& c : readCvarsFile(file)) cvars.push_back(std::move(c));
+    std::vector<std::string> cvars = mFileCvars;
     cvars.insert(cvars.end(), o.cvars.begin(), o.cvars.end());
     for (const auto& c : cvars) {
         auto [name, value] = splitCvar(c);
@@ -219,17 +196,17 @@ void RunSession::plan(const SessionOptions& o) {
     }
 }
 
-std::string RunSession::capturePath(int frame) const {
+std::string RunSetup::capturePath(int frame) const {
     return io::FramePattern(mConfig.capture).path(frame);
 }
 
-std::string RunSession::previousCapturePath(int frame) const {
+std::string RunSetup::previousCapturePath(int frame) const {
     if (!mConfig.previous.empty()) return mConfig.previous;
     const io::FramePattern pattern(mConfig.capture);
     return pattern.hasFrameToken() ? pattern.path(frame - 1) : "";
 }
 
-std::optional<io::CaptureFiles> RunSession::openCapture(const std::string& path) const {
+std::optional<io::CaptureFiles> RunSetup::openCapture(const std::string& path) const {
     if (path.empty()) return std::nullopt;
     // A single-file capture that is not there yet is planned without it (plan before capture).
     if (mProfile.filePattern().empty() && !std::filesystem::exists(path)) return std::nullopt;
@@ -243,7 +220,7 @@ std::optional<io::CaptureFiles> RunSession::openCapture(const std::string& path)
     }
 }
 
-io::CaptureSource::Options RunSession::captureOptions(int frame) const {
+io::CaptureSource::Options RunSetup::captureOptions(int frame) const {
     io::CaptureSource::Options o;
     o.path = capturePath(frame);
     o.previousPath = previousCapturePath(frame);
@@ -260,8 +237,8 @@ io::CaptureSource::Options RunSession::captureOptions(int frame) const {
     return o;
 }
 
-std::string RunSession::cameraPath(int frame) const {
+std::string RunSetup::cameraPath(int frame) const {
     return mConfig.camera.empty() ? "" : io::FramePattern(mConfig.camera).path(frame);
 }
 
-}  // namespace fp::cli
+}  // namespace fp::app

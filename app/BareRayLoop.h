@@ -7,7 +7,7 @@
 
 #include <vector>
 
-namespace fp::cli {
+namespace fp::app {
 
 /// Seconds to test every ray for occlusion on all threads: in packets of `width` (8 or 16)
 /// consecutive rays (rtcOccluded8/16, as the pass groups them) or, for width 1, one at a time
@@ -18,4 +18,4 @@ namespace fp::cli {
 double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, int width,
                          bool closestHits, uint64_t& blocked);
 
-}  // namespace fp::cli
+}  // namespace fp::app

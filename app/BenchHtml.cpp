@@ -1,6 +1,6 @@
 // The HTML bench report: one self-contained page (inline CSS, SVG and base64 PNGs) that opens
 // anywhere, including a farm's artefact browser with no network.
-#include "cli/BenchResult.h"
+#include "app/BenchResult.h"
 #include "passes/metrics/Heatmap.h"
 
 #include <fmt/format.h>
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace fp::cli {
+namespace fp::app {
 
 namespace {
 
@@ -440,4 +440,4 @@ window.addEventListener('load', () => {
     return h.str();
 }
 
-}  // namespace fp::cli
+}  // namespace fp::app

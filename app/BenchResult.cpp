@@ -1,10 +1,10 @@
-#include "cli/BenchResult.h"
+#include "app/BenchResult.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 
-namespace fp::cli {
+namespace fp::app {
 
 TimingStats TimingStats::of(std::vector<double> s) {
     TimingStats t;
@@ -33,7 +33,7 @@ void BenchResult::markPareto() {
 double BenchSetting::chainSeconds() const {
     double seconds = 0;
     for (const auto& p : passes)
-        if (p.type != kErrorPassType && p.type != kBareLoopType)
+        if (!p.measuresError && p.type != kBareLoopType)
             seconds += p.seconds.median;
     return seconds;
 }
@@ -104,4 +104,4 @@ nlohmann::json BenchResult::toJson() const {
     return j;
 }
 
-}  // namespace fp::cli
+}  // namespace fp::app

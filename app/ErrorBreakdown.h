@@ -7,22 +7,27 @@
 //   best any screen-space method does with this depth and colour) → the one-bounce truth (what the
 //   screen cannot see) → the full truth (what bounced more than once).
 // The ladder stops at the error_measure's reference; the maths is decomposeError's.
-#include "cli/BenchResult.h"
-#include "cli/BenchSources.h"
-#include "cli/RunSession.h"
+#include "app/BenchResult.h"
+#include "app/BenchSources.h"
+#include "app/RunSetup.h"
 
 #include <map>
 #include <set>
 #include <string>
 #include <vector>
 
-namespace fp::cli {
+namespace fp::app {
+
+/// The most rays per pixel the breakdown's oracle and converged tracer are asked for.
+inline constexpr int kMaxBreakdownRays = 1024;
 
 /// An error_measure that can be taken apart, and the rungs between its source and reference.
 struct DecompositionTarget {
     std::string errorNode, source, reference;  //!< the error_measure and its two inputs' keys
     std::string tracer;      //!< the screen-space pass upstream of the source
-    std::string oraclePort;  //!< screen_space_oracle's output for the same quantity
+    std::string tracerRays;  //!< its rays-per-pixel parameter (PassRoles::raysParam)
+    std::string oracleType, oracleRays;  //!< the oracle's pass type and its rays parameter
+    std::string oraclePort;  //!< the oracle's output for the same quantity (PassRoles::oracleFor)
     std::vector<std::string> truths;  //!< capture:Truth.* rungs after the oracle, ending at reference
     std::string depth;       //!< the error_measure's depth input ("" = none): sky is left out
     float skyDistance = 0;   //!< its skyDistance parameter
@@ -32,18 +37,19 @@ struct DecompositionTarget {
 /// bench and run hand it to the decomposition.
 ErrorNodeResult errorNodeResult(const PlanStep& step, const PassReport& report);
 
-/// The error_measure steps of `plan` that can be taken apart (source downstream of an ssgi pass,
-/// reference a diffuse-indirect or AO truth of the capture). `available`: the capture's buffers.
+/// The error measures of `plan` that can be taken apart: source downstream of a screen-space
+/// tracer, reference a truth layer of the capture that the oracle estimates (PassRoles).
+/// `available`: the capture's buffers.
 std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
                                                       const std::set<std::string>& available);
 
 /// Runs the extra chains a decomposition needs on bench's capture: the oracle once, the converged
 /// chain once per setting (every source it feeds at once).
-class ErrorDecomposer {
+class ErrorBreakdown {
 public:
     /// `rays`: the oracle's rays and the converged tracer's rays per frame seed; `frame`: the
     /// frame whose error is taken apart (its capture).
-    ErrorDecomposer(const RunSession& probe, std::vector<DecompositionTarget> targets, int rays,
+    ErrorBreakdown(const RunSetup& probe, std::vector<DecompositionTarget> targets, int rays,
                     int frame);
 
     const std::vector<DecompositionTarget>& targets() const { return mTargets; }
@@ -51,7 +57,7 @@ public:
     /// setting's --cvar and --set (its dumps are not used); `kept`: the images the run kept of
     /// the frame (the error sources among them; in a sequence, made with history); `label`: the
     /// setting, for the log.
-    void decompose(const SessionOptions& options, const std::map<std::string, Image>& kept,
+    void decompose(const SetupOptions& options, const std::map<std::string, Image>& kept,
                    const std::string& label, std::vector<ErrorNodeResult>& errors);
 
     /// Frame seeds the converged chain is averaged over: every value of Unreal's frame index mod 8.
@@ -59,12 +65,13 @@ public:
 
 private:
     const Image& oracle(const std::string& port);
-    /// The chain with `tracer` at mRays rays, each of `sources` averaged over the frame seeds.
-    std::map<std::string, Image> converged(const SessionOptions& options,
-                                           const std::string& tracer,
+    /// The chain with `tracerRays` ("pass.param") at mRays rays, each of `sources` averaged over
+    /// the frame seeds.
+    std::map<std::string, Image> converged(const SetupOptions& options,
+                                           const std::string& tracerRays,
                                            const std::vector<std::string>& sources);
 
-    const RunSession& mProbe;
+    const RunSetup& mProbe;
     std::vector<DecompositionTarget> mTargets;
     int mRays;
     int mFrame;
@@ -73,4 +80,4 @@ private:
     std::map<std::string, Image> mOracle;  //!< oracle port → image, made on first use
 };
 
-}  // namespace fp::cli
+}  // namespace fp::app

@@ -6,7 +6,7 @@
 #include <map>
 #include <string>
 
-namespace fp::cli {
+namespace fp::app {
 
 /// A frame source that reads each buffer from the capture once and serves copies afterwards,
 /// so repeated runs time the passes, not the disk.
@@ -72,4 +72,4 @@ private:
     int64_t mNumber;
 };
 
-}  // namespace fp::cli
+}  // namespace fp::app

@@ -1,4 +1,4 @@
-#include "cli/MemoryLimit.h"
+#include "app/MemoryLimit.h"
 
 #include "passes/core/Error.h"
 
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace fp::cli {
+namespace fp::app {
 
 uint64_t parseByteSize(const std::string& text, const std::string& flag) {
     auto bad = [&]() {
@@ -77,12 +77,6 @@ std::string formatBytes(uint64_t bytes) {
     return u == 0 ? fmt::format("{} B", bytes) : fmt::format("{:.1f} {}", v, units[u]);
 }
 
-void addMaxMemoryOption(CLI::App& sub, std::string& value) {
-    sub.add_option("--max-memory", value,
-                   "refuse to start when the plan's predicted peak of image memory is above "
-                   "this (8G, 512M, bytes; default 3/4 of the memory available, within the "
-                   "job's cgroup limit)");
-}
 
 void checkMemory(uint64_t peakBytes, const std::string& value, int dumps) {
     const uint64_t limit =
@@ -101,4 +95,4 @@ void checkMemory(uint64_t peakBytes, const std::string& value, int dumps) {
         lower));
 }
 
-}  // namespace fp::cli
+}  // namespace fp::app

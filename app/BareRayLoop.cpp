@@ -1,4 +1,4 @@
-#include "cli/BareRayLoop.h"
+#include "app/BareRayLoop.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <chrono>
 
-namespace fp::cli {
+namespace fp::app {
 
 double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, int width,
                          bool closestHits, uint64_t& blocked) {
@@ -49,4 +49,4 @@ double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, in
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-}  // namespace fp::cli
+}  // namespace fp::app

@@ -1,0 +1,358 @@
+// compare: error of one image against a reference (docs/design.md, Truth and evaluation), as numbers, JSON and a
+// heat map.
+#include "app/Compare.h"
+
+#include "app/Invocation.h"
+
+#include "io/CaptureFiles.h"
+#include "io/CaptureSource.h"
+#include "io/ContactSheet.h"
+#include "io/ExrLayers.h"
+#include "io/ExrWriter.h"
+#include "io/PngWriter.h"
+#include "io/SafeFiles.h"
+#include "passes/core/Error.h"
+#include "passes/core/SemanticBuffers.h"
+#include "passes/display/DisplayTransform.h"
+#include "passes/metrics/ErrorMetrics.h"
+#include "passes/metrics/Heatmap.h"
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <optional>
+#include <set>
+
+namespace fp::app {
+
+namespace {
+
+std::string displayName(const std::string& layer) { return layer.empty() ? "\"\"" : layer; }
+
+// The one layer both files have (ignoring depth and standard errors), for when no --layer is
+// given.
+std::string commonLayer(const io::ExrReader& a, const io::ExrReader& b) {
+    std::set<std::string> inB;
+    for (const auto& l : io::listLayers(b)) inB.insert(l.name);
+    std::vector<std::string> common, namesA;
+    for (const auto& l : io::listLayers(a)) {
+        namesA.push_back(displayName(l.name));
+        const bool stdErr = l.name.size() > 7 && l.name.compare(l.name.size() - 7, 7, ".StdErr") == 0;
+        const bool meta = l.name == "SceneDepth" || stdErr;
+        if (inB.count(l.name) && !meta) common.push_back(l.name);
+    }
+    if (common.size() == 1) return common[0];
+    throw UsageError(fmt::format("{} and {} share {} comparable layers; pick one with --layer "
+                                 "(and --ref-layer if the reference names it differently). "
+                                 "Layers of {}: {}",
+                                 a.path(), b.path(), common.size(), a.path(), fmt::join(namesA, ", ")));
+}
+
+// `layer` of the file: through the profile when it maps a buffer of that name (so a Blender
+// capture's SceneDepth is in scene units, with its sky), else the file's own layer.
+Image readImage(io::ExrReader& file, const std::string& layer,
+                const io::CaptureProfile& profile) {
+    if (profile.mappings(layer)) {
+        io::CaptureFiles files(file.path(), profile);
+        if (const io::BufferMapping* m = files.mappingFor(layer)) {
+            // A semantic buffer has its width; any other layer the profile maps (a Truth.*
+            // layer from a renderer's own pass) is as wide as its mapping.
+            const SemanticBuffer* sem = findSemanticBuffer(layer);
+            const int channels = sem                  ? int(sem->channels.size())
+                                 : !m->groups.empty() ? int(m->groups.front().size())
+                                                      : int(m->constant.size());
+            std::vector<std::string> notes;
+            return files.read(layer, channels, notes);
+        }
+    }
+    return io::readLayer(file, io::findLayer(file, layer));
+}
+
+bool isExr(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".exr";
+}
+
+// A picture that is not OpenEXR (PNG, JPEG, TIFF, …), whole, through OpenImageIO: 8-bit data
+// becomes 0..1 (no colour conversion), channels named as the file names them (R G B A).
+Image readPicture(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in)
+        throw UsageError(fmt::format("{}: cannot read it as a picture: {}", path,
+                                     OIIO::geterror()));
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<std::string> names;
+    for (int c = 0; c < spec.nchannels; ++c)
+        names.push_back(c < int(spec.channelnames.size()) ? spec.channelnames[std::size_t(c)]
+                                                           : fmt::format("C{}", c));
+    std::vector<float> pixels(std::size_t(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
+        throw Error(fmt::format("{}: could not read its pixels: {}", path, in->geterror()));
+    Image img(spec.width, spec.height, names);
+    for (int y = 0; y < spec.height; ++y)
+        for (int x = 0; x < spec.width; ++x)
+            for (int c = 0; c < spec.nchannels; ++c)
+                img.plane(c).at(x, y) =
+                    pixels[(std::size_t(y) * spec.width + x) * spec.nchannels + std::size_t(c)];
+    return img;
+}
+
+// One file compared: an EXR read layer by layer (through a profile), or a picture read whole.
+struct ComparedFile {
+    std::string path;
+    std::optional<io::ExrReader> exr;
+    std::optional<Image> picture;
+    explicit ComparedFile(const std::string& p) : path(p) {
+        if (p.find("{file}") != std::string::npos) return;  // one file per buffer: via a profile
+        if (isExr(p)) exr.emplace(p);
+        else picture = readPicture(p);
+    }
+};
+
+Image oneChannel(const Image& img, int c, const std::string& name) {
+    Image out(img.width(), img.height(), {name});
+    for (int y = 0; y < img.height(); ++y)
+        std::copy_n(img.plane(c).row(y), img.width(), out.plane(0).row(y));
+    return out;
+}
+
+// What users compare, spelled as oiiotool and Nuke users would: a layer ("Truth.AO",
+// "ViewLayer.DiffInd"), one channel of it ("ViewLayer.AO.R", or "R" of a picture), or a product
+// of such ("ViewLayer.GlossInd*ViewLayer.GlossCol": Blender splits light into light × colour).
+Image readSpec(ComparedFile& file, const std::string& spec, const io::CaptureProfile& profile) {
+    if (const auto star = spec.find('*'); star != std::string::npos) {
+        Image product = readSpec(file, spec.substr(0, star), profile);
+        const Image factor = readSpec(file, spec.substr(star + 1), profile);
+        FP_CHECK(factor.width() == product.width() && factor.height() == product.height(),
+                 "{}: the factors of '{}' differ in size", file.path, spec);
+        const bool broadcast = factor.channelCount() == 1;
+        if (!broadcast && factor.channelCount() != product.channelCount())
+            throw UsageError(fmt::format("{}: '{}' multiplies {} channels by {}", file.path, spec,
+                                         product.channelCount(), factor.channelCount()));
+        for (int c = 0; c < product.channelCount(); ++c)
+            for (int y = 0; y < product.height(); ++y) {
+                float* p = product.plane(c).row(y);
+                const float* f = factor.plane(broadcast ? 0 : c).row(y);
+                for (int x = 0; x < product.width(); ++x) p[x] *= f[x];
+            }
+        return product;
+    }
+    if (file.picture) {
+        if (spec.empty()) return *file.picture;
+        for (int c = 0; c < file.picture->channelCount(); ++c)
+            if (file.picture->channels()[std::size_t(c)] == spec)
+                return oneChannel(*file.picture, c, spec);
+        throw UsageError(fmt::format("{}: a picture has channels, not layers; '{}' is none of "
+                                     "them",
+                                     file.path, spec));
+    }
+    if (!file.exr) {
+        io::CaptureFiles files(file.path, profile);
+        if (!files.mappingFor(spec))
+            throw UsageError(fmt::format("{}: profile {} maps no buffer '{}'", file.path,
+                                         profile.name(), spec));
+        const SemanticBuffer* sem = findSemanticBuffer(spec);
+        std::vector<std::string> notes;
+        return files.read(spec, sem ? int(sem->channels.size()) : 3, notes);
+    }
+    io::ExrReader& exr = *file.exr;
+    const auto layers = io::listLayers(exr);
+    const bool isLayer = std::any_of(layers.begin(), layers.end(),
+                                     [&](const io::ExrLayerInfo& l) { return l.name == spec; });
+    // LAYER.CHANNEL: one channel of a layer.
+    if (const auto dot = spec.rfind('.'); !isLayer && !profile.mappings(spec) &&
+                                          dot != std::string::npos) {
+        const std::string layer = spec.substr(0, dot), channel = spec.substr(dot + 1);
+        for (const auto& l : layers)
+            if (l.name == layer)
+                for (std::size_t c = 0; c < l.suffixes.size(); ++c)
+                    if (l.suffixes[c] == channel)
+                        return oneChannel(io::readLayer(exr, l), int(c), channel);
+    }
+    return readImage(exr, spec, profile);
+}
+
+// --mask: which pixels count. "sky" leaves out the sky (where the profile finds SceneDepth);
+// "shading-model=N" and "id=N" keep one shading model or one object (ShadingModel, InstanceId
+// through the profile); any other word is a picture whose first channel > 0 marks the kept
+// pixels. Several masks multiply.
+struct MaskSources {
+    const std::string& a;
+    const std::string& b;
+    const io::CaptureProfile& profileA;
+    const io::CaptureProfile& profileB;
+};
+
+std::optional<Image> readBuffer(const std::string& path, const io::CaptureProfile& profile,
+                                const std::string& buffer) {
+    if (!isExr(path) && path.find("{file}") == std::string::npos) return std::nullopt;
+    std::optional<io::CaptureFiles> files;
+    try {
+        files.emplace(path, profile);
+    } catch (const Error&) {
+        return std::nullopt;
+    }
+    if (!files->mappingFor(buffer)) return std::nullopt;
+    std::vector<std::string> notes;
+    return files->read(buffer, 1, notes);
+}
+
+Image maskOf(const std::string& spec, const MaskSources& src, float skyDistance, Extent size,
+             std::string& note) {
+    auto keepEqual = [&](const std::string& buffer, const std::string& value) {
+        int wanted = 0;
+        try {
+            std::size_t used = 0;
+            wanted = std::stoi(value, &used);
+            if (used != value.size()) throw std::invalid_argument(value);
+        } catch (const std::exception&) {
+            throw UsageError(fmt::format("--mask {}: expected a whole number after '='", spec));
+        }
+        std::optional<Image> ids = readBuffer(src.b, src.profileB, buffer);
+        if (!ids) ids = readBuffer(src.a, src.profileA, buffer);
+        if (!ids)
+            throw UsageError(fmt::format("--mask {}: neither file has {} (profiles {}, {})", spec,
+                                         buffer, src.profileA.name(), src.profileB.name()));
+        Image m(ids->width(), ids->height(), {"Y"});
+        for (int y = 0; y < m.height(); ++y)
+            for (int x = 0; x < m.width(); ++x)
+                m.plane(0).at(x, y) = std::lround(ids->plane(0).at(x, y)) == wanted ? 1.0f : 0.0f;
+        note = fmt::format("only {} {}", buffer, wanted);
+        return m;
+    };
+    if (spec.rfind("shading-model=", 0) == 0) return keepEqual("ShadingModel", spec.substr(14));
+    if (spec.rfind("id=", 0) == 0) return keepEqual("InstanceId", spec.substr(3));
+    if (spec == "sky") {
+        std::optional<Image> depth = readBuffer(src.b, src.profileB, "SceneDepth");
+        if (!depth) depth = readBuffer(src.a, src.profileA, "SceneDepth");
+        if (!depth) {
+            note = fmt::format("no SceneDepth in either file (profile {}): nothing masked",
+                               src.profileB.name());
+            logWarning(note);
+            Image all(size.width, size.height, {"Y"});
+            for (int y = 0; y < size.height; ++y) std::fill_n(all.plane(0).row(y), size.width, 1.0f);
+            return all;
+        }
+        note = "sky masked by SceneDepth";
+        return notSkyMask(*depth, skyDistance);
+    }
+    ComparedFile file(spec);
+    const Image picture = readSpec(file, "", io::CaptureProfile::load("canonical"));
+    Image m(picture.width(), picture.height(), {"Y"});
+    for (int y = 0; y < m.height(); ++y)
+        for (int x = 0; x < m.width(); ++x)
+            m.plane(0).at(x, y) = picture.plane(0).at(x, y) > 0.0f ? 1.0f : 0.0f;
+    note = "mask " + spec;
+    return m;
+}
+
+std::string pngPathFor(const std::string& exr) {
+    std::filesystem::path p(exr);
+    return p.replace_extension(".png").string();
+}
+
+}  // namespace
+
+std::string heatmapPngPath(const std::string& exr) { return pngPathFor(exr); }
+
+nlohmann::json CompareResult::toJson(const CompareOptions& opt) const {
+    nlohmann::json j = stats.toJson();
+    j["a"] = {{"file", opt.a}, {"layer", layerA}};
+    j["b"] = {{"file", opt.b}, {"layer", layerB}};
+    j["mask"] = maskNote;
+    if (!opt.heatmap.empty())
+        j["heatmap"] = {{"exr", opt.heatmap}, {"png", pngPathFor(opt.heatmap)}, {"scale", heatScale}};
+    return j;
+}
+
+CompareResult compareFiles(const CompareOptions& opt) {
+    if (!opt.heatmap.empty())
+        for (const auto& out : {opt.heatmap, pngPathFor(opt.heatmap)}) {
+            io::refuseToOverwriteInputs(out, {opt.a, opt.b}, "--heatmap");
+            io::checkWritable(out, "--heatmap");
+        }
+    CompareResult result;
+    ComparedFile a(opt.a), b(opt.b);
+    const std::string layerA = result.layerA = opt.layer.empty() && opt.refLayer.empty() && a.exr && b.exr
+                                   ? commonLayer(*a.exr, *b.exr)
+                                   : opt.layer;
+    const std::string layerB = result.layerB = opt.refLayer.empty() ? layerA : opt.refLayer;
+    const io::CaptureProfile profileA = io::CaptureProfile::load(opt.profile);
+    const io::CaptureProfile profileB =
+        opt.refProfile.empty() ? profileA : io::CaptureProfile::load(opt.refProfile);
+    const Image imgA = readSpec(a, layerA, profileA);
+    const Image imgB = readSpec(b, layerB, profileB);
+    if (imgA.channelCount() != imgB.channelCount())
+        throw UsageError(fmt::format("{}[{}] has {} channels but {}[{}] has {}", opt.a,
+                                     displayName(layerA), imgA.channelCount(), opt.b,
+                                     displayName(layerB), imgB.channelCount()));
+    if (imgA.width() != imgB.width() || imgA.height() != imgB.height())
+        throw UsageError(fmt::format("{} is {}×{} but {} is {}×{}", opt.a, imgA.width(),
+                                     imgA.height(), opt.b, imgB.width(), imgB.height()));
+    std::optional<Image> stdErr;
+    if (b.exr)
+        for (const auto& l : io::listLayers(*b.exr))
+            if (l.name == layerB + ".StdErr" && int(l.channels.size()) == imgB.channelCount())
+                stdErr = io::readLayer(*b.exr, l);
+
+    std::optional<Image> mask;
+    std::vector<std::string> maskNotes;
+    const MaskSources sources{opt.a, opt.b, profileA, profileB};
+    for (const auto& m : opt.masks) {
+        if (m == "none") continue;
+        std::string note;
+        Image one = maskOf(m, sources, float(opt.skyDistance),
+                           {imgA.width(), imgA.height()}, note);
+        if (one.width() != imgA.width() || one.height() != imgA.height())
+            throw UsageError(fmt::format("--mask {}: is {}×{}, the images are {}×{}", m,
+                                         one.width(), one.height(), imgA.width(),
+                                         imgA.height()));
+        if (mask)
+            for (int y = 0; y < one.height(); ++y)
+                for (int x = 0; x < one.width(); ++x)
+                    mask->plane(0).at(x, y) *= one.plane(0).at(x, y);
+        else
+            mask = std::move(one);
+        maskNotes.push_back(note);
+    }
+    result.maskNote = maskNotes.empty() ? "no mask" : fmt::format("{}", fmt::join(maskNotes, "; "));
+    Image absError(imgA.width(), imgA.height(), {"Y"});
+    ErrorInputs in;
+    in.result = &imgA;
+    in.reference = &imgB;
+    in.referenceStdErr = stdErr ? &*stdErr : nullptr;
+    in.mask = mask ? &*mask : nullptr;
+    in.tolerance = opt.tolerance;
+    result.stats = measureError(in, &absError);
+
+    float& scale = result.heatScale;
+    if (!opt.heatmap.empty()) {
+        scale = opt.heatMax > 0 ? float(opt.heatMax) : heatScale(absError, in.mask);
+        const Image heat = heatmap(absError, in.mask, scale);
+        io::ExrMetadata meta;
+        meta.strings["framepass:heatScale"] = fmt::format("{}", scale);
+        meta.strings["framepass:compare"] = fmt::format("{}[{}] vs {}[{}]", opt.a,
+                                                        displayName(layerA), opt.b,
+                                                        displayName(layerB));
+        io::writeExr(opt.heatmap, {{"heat", {{"Heat", &heat, true}, {"AbsError", &absError, false}}}},
+                     meta);
+        const DisplayTransform display(io::loadColorConfig(opt.ocioConfig), "scene_linear", "",
+                                       "", 0.0f, true);
+        // The PNG carries its scale: the colour map from 0 to `scale` under the image.
+        io::writePng(pngPathFor(opt.heatmap),
+                     io::withColorBar(display.apply(heat), display.apply(heatmapRamp()), "0",
+                                      fmt::format("{:.4g}", scale), "|error|"));
+    }
+
+    return result;
+}
+
+}  // namespace fp::app

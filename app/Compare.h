@@ -1,0 +1,46 @@
+#pragma once
+// compare's work: the error of image A against reference B (an EXR layer, one channel of it, a
+// product of layers, a buffer a capture profile maps, or a picture), over the pixels the masks
+// keep, with the reference's own noise where B carries a .StdErr layer, and a heat map.
+#include "passes/metrics/ErrorMetrics.h"
+
+#include <nlohmann/json.hpp>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace fp::app {
+
+struct CompareOptions {
+    std::string a, b;          //!< the result and the reference (files)
+    std::string layer;         //!< what to compare in A (and B); "" = the layer both have
+    std::string refLayer;      //!< in B, when named differently
+    std::string heatmap;       //!< write |A−B| here (EXR, plus a .png preview); "" = none
+    std::string ocioConfig;    //!< for the preview ("" = $OCIO, then framepass's own)
+    std::string profile = "canonical", refProfile;  //!< capture profiles of A and B
+    std::vector<std::string> masks = {"sky"};        //!< sky, none, shading-model=N, id=N, picture
+    double tolerance = 0.1;
+    double skyDistance = std::numeric_limits<double>::infinity();
+    double heatMax = 0;  //!< the colour map's top (0 = the 99th percentile)
+    double maxRmse = -1;  //!< the CLI's --max-rmse (not used here)
+    bool json = false;    //!< the CLI's --json (not used here)
+};
+
+struct CompareResult {
+    ErrorStats stats;
+    std::string layerA, layerB;  //!< as resolved
+    std::string maskNote;        //!< which pixels counted, in words
+    float heatScale = 0;         //!< top of the heat map's colour map (with a heat map)
+    /// What `compare --json` prints.
+    nlohmann::json toJson(const CompareOptions& options) const;
+};
+
+/// Reads both, measures, writes the heat map if asked. Throws fp::UsageError for what cannot be
+/// compared (channels, sizes, a missing layer), naming it.
+CompareResult compareFiles(const CompareOptions& options);
+
+/// The heat map's PNG preview beside its EXR.
+std::string heatmapPngPath(const std::string& exr);
+
+}  // namespace fp::app

@@ -1,0 +1,22 @@
+#pragma once
+// The pass catalogue: every pass type's ports, parameters and cvars as JSON, made from the same
+// specs that validate configs (`framepass passes --json`, the Python module's passes()), and the
+// pass reference docs/passes.md is (`framepass passes --markdown`).
+#include "passes/core/PassRegistry.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace fp::app {
+
+/// One pass type: {"type", "doc", "inputs", "outputs", "params", "cvars", "needsScene", ...}.
+nlohmann::json describePassType(const PassType& type);
+/// The same by id; fp::UsageError (with a suggestion) for an unknown one.
+nlohmann::json describePassType(const std::string& id);
+/// Every built-in pass type, in registration order.
+nlohmann::json passCatalogue();
+/// The catalogue (or part of it) as the Markdown pass reference.
+std::string passReferenceMarkdown(const nlohmann::json& types);
+
+}  // namespace fp::app

@@ -1,0 +1,390 @@
+#include "app/RunFrames.h"
+
+#include "app/BenchResult.h"
+#include "app/ErrorBreakdown.h"
+#include "app/Invocation.h"
+#include "app/MemoryLimit.h"
+#include "io/CaptureSource.h"
+#include "io/OutputLock.h"
+#include "io/OutputWriter.h"
+#include "io/SafeFiles.h"
+#include "passes/core/Error.h"
+#include "passes/core/Executor.h"
+
+#include <fmt/chrono.h>
+
+#include <chrono>
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <set>
+
+namespace fp::app {
+
+namespace {
+// Warm-up frames produce history only.
+class DiscardSink final : public FrameSink {
+public:
+    void write(const OutputDesc&, const std::vector<OutputLayer>&, const FrameInfo&) override {}
+};
+
+// --decompose-rays: keeps the images of the error sources a decomposition reads, and hands
+// every output on to `inner` except the dumps planned only to reach those sources.
+class DecompositionSink final : public FrameSink {
+public:
+    DecompositionSink(FrameSink& inner, const std::set<std::string>& sources,
+                      const std::set<std::string>& extraDumps)
+        : mInner(inner), mSources(sources), mExtraDumps(extraDumps) {}
+    void write(const OutputDesc& output, const std::vector<OutputLayer>& layers,
+               const FrameInfo& frame) override {
+        for (const auto& l : layers)
+            if (mSources.count(l.name))
+                images[l.name] = l.texture->image();
+        if (!(output.isDump && output.sources.size() == 1 &&
+              mExtraDumps.count(output.sources.front())))
+            mInner.write(output, layers, frame);
+    }
+    std::map<std::string, Image> images;
+
+private:
+    FrameSink& mInner;
+    const std::set<std::string>& mSources;
+    const std::set<std::string>& mExtraDumps;
+};
+
+// The frame's error_measure results, as bench has them, for the decomposition.
+std::vector<ErrorNodeResult> frameErrors(const Plan& plan, const FrameReport& fr) {
+    std::vector<ErrorNodeResult> errors;
+    for (std::size_t s = 0; s < plan.steps.size() && s < fr.passes.size(); ++s)
+        if (plan.steps[s].io.roles.measuresError)
+            errors.push_back(errorNodeResult(plan.steps[s], fr.passes[s]));
+    return errors;
+}
+
+// The `count` frames before the first, spaced like the sequence (its first step, else 1), that
+// have a capture on disk (a sequence's start cuts the warm-up short).
+std::vector<int> warmupFrames(const RunSetup& session, int count) {
+    const auto& frames = session.frames();
+    if (count <= 0 || frames.empty())
+        return {};
+    const int step = frames.size() > 1 ? std::max(1, frames[1] - frames[0]) : 1;
+    std::vector<int> out;
+    for (int k = count; k >= 1; --k) {
+        const int f = frames.front() - k * step;
+        if (std::filesystem::exists(session.capturePath(f)))
+            out.push_back(f);
+    }
+    return out;
+}
+
+// One input file of the report: what it was, where, how big and when it was last changed, so a
+// report says exactly which bytes produced the outputs.
+nlohmann::json inputFile(const std::string& role, const std::string& path) {
+    namespace fs = std::filesystem;
+    nlohmann::json j = {{"role", role}, {"path", path}};
+    std::error_code ec;
+    const auto bytes = fs::file_size(path, ec);
+    if (ec) {
+        j["missing"] = true;
+        return j;
+    }
+    j["bytes"] = bytes;
+    const auto written = fs::last_write_time(path, ec);
+    if (!ec) {
+        const auto sys = std::chrono::file_clock::to_sys(written);
+        const auto seconds = std::chrono::floor<std::chrono::seconds>(sys);
+        j["mtime"] = fmt::format("{:%Y-%m-%dT%H:%M:%S}Z",
+                                 fmt::gmtime(std::chrono::system_clock::to_time_t(seconds)));
+        j["mtimeNs"] =
+            std::chrono::duration_cast<std::chrono::nanoseconds>(sys.time_since_epoch()).count();
+    }
+    return j;
+}
+
+// The console lines of one finished frame: its passes' times, work and metrics, its files.
+void printFrame(std::ostream& out, const FrameReport& fr, const std::vector<std::string>& written) {
+    out << fmt::format("frame {}: {} passes in {:.3f} s, peak {:.1f} MiB\n", fr.frame,
+                             fr.passes.size(), fr.seconds, fr.peakBytes / 1048576.0);
+    for (const auto& p : fr.passes) {
+        std::string work;
+        for (const auto& [k, v] : p.work)
+            work += fmt::format(" {}={}", k, v);
+        out << fmt::format("  {:<24} {:>9.2f} ms{}\n", p.name, p.seconds * 1e3, work);
+        if (!p.metrics.empty()) {
+            std::string m;
+            for (const auto& [k, v] : p.metrics)
+                m += fmt::format(" {}={:.5g}", k, v);
+            out << fmt::format("  {:<24} {}\n", "", m);
+        }
+    }
+    for (const auto& w : written)
+        out << "  wrote " << w << "\n";
+}
+
+bool hasTemporalPass(const Plan& plan) {
+    return std::any_of(plan.steps.begin(), plan.steps.end(),
+                       [](const PlanStep& s) { return s.io.temporal; });
+}
+
+}  // namespace
+
+RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err) {
+    // With --decompose-rays the chain is planned again with the error sources as dumps
+    // that DecompositionSink keeps in memory instead of writing.
+    const RunSetup planned(opt.setup);
+    std::vector<DecompositionTarget> targets;
+    std::set<std::string> sources, extraDumps;
+    SetupOptions sessionOptions = opt.setup;
+    if (opt.decomposeRays > 0) {
+        const auto capture = planned.openCapture(planned.capturePath(planned.frames().front()));
+        targets = decompositionTargets(
+            planned.plan(), capture ? capture->availableBuffers() : std::set<std::string>{});
+        if (targets.empty())
+            logWarning("--decompose-rays: no error_measure of this chain measures a "
+                       "screen-space pass against a diffuse-indirect or AO truth of the "
+                       "capture: nothing to take apart");
+        for (const auto& t : targets) {
+            sources.insert(t.source);
+            if (std::find(sessionOptions.dumps.begin(), sessionOptions.dumps.end(),
+                          t.source) == sessionOptions.dumps.end() &&
+                extraDumps.insert(t.source).second)
+                sessionOptions.dumps.push_back(t.source);
+        }
+    }
+    std::optional<RunSetup> replanned;
+    if (!extraDumps.empty())
+        replanned.emplace(planned, sessionOptions);
+    const RunSetup& session = replanned ? *replanned : planned;
+    const Plan& plan = session.plan();
+    for (const auto& w : plan.warnings)
+        logWarning(fmt::format("{}: {}", w.pointer, w.message));
+    const auto& frames = session.frames();
+
+    // Nothing this run writes may be one of its inputs.
+    std::vector<std::string> inputs = {opt.setup.config, session.config().scene};
+    for (int f : frames) {
+        inputs.push_back(session.capturePath(f));
+        inputs.push_back(session.cameraPath(f));
+    }
+    // "--report -": the report is the only thing on stdout; the frame lines go to stderr.
+    const bool reportToStdout = opt.report == "-";
+    std::ostream& console = reportToStdout ? err : out;
+    if (!opt.report.empty() && !reportToStdout) {
+        io::refuseToOverwriteInputs(opt.report, inputs, "--report");
+        io::checkWritable(opt.report, "--report");
+    }
+    io::OutputWriter::Options wo;
+    wo.outputDir = opt.outputDir;
+    wo.compression = io::parseCompression(session.config().compression);
+    wo.halfColor = session.config().colorPrecision == "half";
+    wo.protectedPaths.insert(inputs.begin(), inputs.end());
+    wo.protectedPaths.erase("");
+    io::checkFolderWritable(opt.outputDir, "-o");
+    if (session.extent().width > 0)
+        checkMemory(plan.estimatePeakBytes(session.extent()), opt.maxMemory,
+                    int(opt.setup.dumps.size()));
+    const io::OutputLock lock(opt.outputDir, frames);
+    io::OutputWriter writer(wo);
+    // What a killed run left half-written: its temporaries (the final names are always whole).
+    int stale = 0;
+    for (const auto& dir : {opt.outputDir, writer.dumpDir()})
+        stale += io::removeStaleTemporaries(dir);
+    if (!opt.report.empty() && !reportToStdout)
+        stale += io::removeStaleTemporaries(
+            std::filesystem::path(opt.report).parent_path().empty()
+                ? "."
+                : std::filesystem::path(opt.report).parent_path().string());
+    if (stale > 0)
+        logInfo(fmt::format("removed {} temporary file(s) a killed run left", stale));
+
+    const Invocation& inv = invocation();
+    nlohmann::json report = {
+        {"framepass", {{"version", inv.version}}},
+        {"commandLine", inv.commandLine()},
+        {"arguments", inv.arguments},
+        {"threads", {{"requested", inv.threadsRequested}, {"used", inv.threads}}},
+        {"config", opt.setup.config},
+        {"frames", nlohmann::json::array()}};
+    // Every file read, once, in the order first read.
+    nlohmann::json inputFiles = nlohmann::json::array();
+    std::set<std::string> listed;
+    auto addInput = [&](const std::string& role, const std::string& path) {
+        if (!path.empty() && listed.insert(role + "\n" + path).second)
+            inputFiles.push_back(inputFile(role, path));
+    };
+    addInput("config", opt.setup.config);
+    addInput("preset", session.config().preset);
+    auto writeReport = [&]() {
+        if (opt.report.empty())
+            return;
+        for (const auto& [role, path] : session.inputs().filesRead())
+            addInput(role, path);
+        report["inputs"] = inputFiles;
+        report["plan"] = plan.toJson(session.extent());
+        if (!reportToStdout) io::writeTextAtomically(opt.report, report.dump(2) + "\n");
+        if (reportToStdout)
+            out << report.dump(2) << "\n";
+        else
+            console << "  wrote " << opt.report << "\n";
+    };
+
+    HistoryStore history;
+    std::set<std::string> notesShown;  // each assumption once, not once per frame
+    auto verbosePass = [](int, int, const PassReport& p) {
+        throwIfStopped();  // between passes: the safe point
+        std::string work;
+        for (const auto& [k, v] : p.work)
+            work += fmt::format(" {}={}", k, v);
+        logVerbose(fmt::format("  {:<24} {:>9.2f} ms{}", p.name, p.seconds * 1e3, work));
+    };
+    // One frame into `sink`: its capture opened, its notes said, its files recorded.
+    auto runFrame = [&](int frame, bool firstInSequence, FrameSink& sink,
+                        const ProgressFn& progress) {
+        io::CaptureSource::Options so = session.captureOptions(frame);
+        so.strict = opt.strict;
+        so.firstInSequence = firstInSequence;
+        io::CaptureSource source(so, session.profile());
+        FP_CHECK(!plan.needsCamera || source.frameInfo().hasCamera,
+                 "{}: frame {}: no camera in the header and no sidecar ({}.camera.json)",
+                 so.path, frame, so.path);
+        const FrameReport fr = executePlan(plan, source, sink, progress, &history);
+        for (const auto& [role, path] : source.filesRead())
+            addInput(role, path);
+        const auto& s = source.sanitized();
+        if (s.total() > 0)
+            logWarning(fmt::format("{}: sanitized {} non-finite, {} negative colour and {} "
+                                   "non-unit normal values",
+                                   so.path, s.nonFinite, s.negative, s.nonUnitNormals));
+        for (const auto& n : source.notes())
+            if (notesShown.insert(n).second) logWarning(n);
+        for (const auto& w : source.files().warnings())
+            if (notesShown.insert(w).second) logWarning(w);
+        nlohmann::json fj = fr.toJson();
+        fj["capture"] = so.path;
+        fj["channelsRead"] = source.readLog();
+        return std::make_pair(fr, fj);
+    };
+
+    // Warm-up: the frames before the first, at the sequence's step, that exist on disk.
+    const std::vector<int> warmup = warmupFrames(session, opt.warmupFrames);
+    for (std::size_t i = 0; i < warmup.size(); ++i) {
+        try {
+            throwIfStopped();
+            logVerbose(fmt::format("warm-up frame {}:", warmup[i]));
+            DiscardSink discard;
+            const auto [fr, fj] = runFrame(warmup[i], i == 0, discard, verbosePass);
+            console << fmt::format("warm-up frame {}: {} passes in {:.3f} s\n", warmup[i],
+                                     fr.passes.size(), fr.seconds);
+        } catch (const Interrupted& e) {
+            report["interrupted"] = {{"warmupFrame", warmup[i]}, {"signal", e.signal()}};
+            writeReport();
+            throw;
+        }
+    }
+
+    // --skip-existing: frames whose every output is on disk. With temporal passes, those
+    // before a frame that is computed still run (writing nothing) so its history is the one
+    // a sequential run gives it.
+    std::vector<bool> skip(frames.size(), false);
+    if (opt.skipExisting)
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            bool all = !plan.outputs.empty();
+            for (const auto& o : plan.outputs)
+                all = all && std::filesystem::exists(writer.pathFor(o, frames[i]));
+            skip[i] = all;
+        }
+    const auto lastComputed = std::find(skip.rbegin(), skip.rend(), false);
+    const std::size_t computeUntil =
+        lastComputed == skip.rend() ? 0 : std::size_t(skip.rend() - lastComputed);
+    const bool temporal = hasTemporalPass(plan);
+
+    std::vector<int> failed;
+    bool cut = warmup.empty();  // the next frame starts a sequence: no history
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        nlohmann::json status = {{"frame", frames[i]}};
+        if (skip[i] && !(temporal && i < computeUntil)) {
+            status["status"] = "skipped";
+            report["frames"].push_back(status);
+            cut = true;
+            logInfo(fmt::format("frame {}: every output exists, skipped", frames[i]));
+            continue;
+        }
+        try {
+            throwIfStopped();
+            const std::size_t before = writer.written().size();
+            logVerbose(fmt::format("frame {}:", frames[i]));
+            DiscardSink discard;
+            DecompositionSink kept(skip[i] ? static_cast<FrameSink&>(discard) : writer,
+                                   sources, extraDumps);
+            const ProgressFn frameProgress = [&](int done, int total,
+                                                 const PassReport& pass) {
+                verbosePass(done, total, pass);
+                const double progress =
+                    (double(i) + double(done) / std::max(total, 1)) / frames.size();
+                logProgress(int(progress * 100.0));
+            };
+            auto [fr, fj] = runFrame(frames[i], cut, kept, frameProgress);
+            cut = false;
+            const std::vector<std::string> written(writer.written().begin() + before,
+                                                   writer.written().end());
+            fj["status"] = skip[i] ? "skipped (run for the history of later frames)" : "ok";
+            fj["written"] = written;
+            // The frame's screen-space errors taken apart: the oracle and the converged
+            // chain on this frame's capture, the result as this run made it (with history).
+            std::vector<ErrorNodeResult> errors;
+            if (!targets.empty() && !skip[i]) {
+                ErrorBreakdown decomposer(session, targets, opt.decomposeRays, frames[i]);
+                errors = frameErrors(plan, fr);
+                decomposer.decompose(opt.setup, kept.images,
+                                     fmt::format("frame {}", frames[i]), errors);
+                for (const auto& e : errors)
+                    if (e.decomposition)
+                        fj["errorDecomposition"][e.name] = e.decomposition->toJson();
+            }
+            report["frames"].push_back(fj);
+            if (skip[i]) {
+                logInfo(fmt::format("frame {}: every output exists, run for history only",
+                                    frames[i]));
+            } else {
+                printFrame(console, fr, written);
+                for (const auto& e : errors)
+                    if (e.decomposition)
+                        console << fmt::format("  {} ({} against {}):\n", e.name, e.source,
+                                                 e.reference)
+                                  << decompositionText(*e.decomposition);
+            }
+        } catch (const Interrupted& e) {
+            // Stopped between passes: nothing is half-written (outputs go through
+            // temporaries renamed into place), the report says where the run stopped.
+            status["status"] = "interrupted";
+            status["error"] = e.what();
+            report["frames"].push_back(status);
+            report["interrupted"] = {{"frame", frames[i]}, {"signal", e.signal()}};
+            writeReport();
+            throw;
+        } catch (const Error& e) {
+            status["status"] = "failed";
+            status["error"] = e.what();
+            report["frames"].push_back(status);
+            if (!opt.continueOnError) {
+                try {
+                    writeReport();
+                } catch (const Error& reportError) {
+                    // Both are said: the frame's error is the one that ends the run.
+                    err << "framepass error: " << reportError.what() << "\n";
+                }
+                throw;
+            }
+            err << fmt::format("framepass error: frame {}: {}\n", frames[i], e.what());
+            failed.push_back(frames[i]);
+            history.clear();  // the next frame has no history: as after a camera cut
+            cut = true;
+        }
+    }
+    report["failedFrames"] = failed;
+    writeReport();
+    return {std::move(report), std::move(failed), int(frames.size())};
+}
+
+}  // namespace fp::app

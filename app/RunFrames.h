@@ -1,0 +1,39 @@
+#pragma once
+// framepass run's work: the chain over every frame of the config (warm-up frames first when
+// asked), outputs and dumps written through io::OutputWriter, a report of every frame, pass and
+// input file, each screen-space error taken apart when asked. The CLI's `run` is this and its
+// flags; anything else that writes a sequence to disk calls it too.
+#include "app/RunSetup.h"
+
+#include <nlohmann/json.hpp>
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace fp::app {
+
+struct RunOptions {
+    SetupOptions setup;
+    std::string outputDir = "out";
+    std::string report;  //!< JSON report path; "-" = `out` (the frame lines then go to `err`)
+    bool strict = false;           //!< fail on bad pixels and assumed camera values
+    bool continueOnError = false;  //!< attempt every frame, list the failed ones
+    bool skipExisting = false;     //!< skip frames whose outputs all exist
+    int warmupFrames = 0;          //!< frames before the first, run for history only
+    int decomposeRays = 0;         //!< 0: no error breakdown
+    std::string maxMemory;         //!< "8G", ""= the default limit (MemoryLimit.h)
+};
+
+struct RunOutcome {
+    nlohmann::json report;          //!< what --report writes
+    std::vector<int> failedFrames;  //!< with continueOnError
+    int frames = 0;
+};
+
+/// Runs every frame. Frame lines go to `out` (to `err` when the report goes to `out`); a failed
+/// frame with continueOnError is said on `err`. Throws fp::Error for the first failed frame
+/// otherwise, and fp::Interrupted when a stop is requested (the report is written first).
+RunOutcome runFrames(const RunOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace fp::app

@@ -1,0 +1,131 @@
+#include "app/Session.h"
+
+#include "passes/core/Error.h"
+
+#include <algorithm>
+
+namespace fp::app {
+
+namespace {
+// Keeps every image it is handed, by layer name.
+class ImageSink final : public FrameSink {
+public:
+    std::map<std::string, Image> images;
+    void write(const OutputDesc&, const std::vector<OutputLayer>& layers,
+               const FrameInfo&) override {
+        for (const auto& l : layers)
+            images[l.name] = l.texture->image();
+    }
+};
+}  // namespace
+
+Session::Session(SetupOptions options)
+    : mOptions([&] {
+          options.dumps.clear();
+          return options;
+      }()),
+      mBase(mOptions) {}
+
+Session::~Session() = default;
+
+void Session::replace(std::vector<std::string>& list, const std::string& name,
+                      const std::string& value) {
+    // The last setting of a name is the one that counts; earlier ones are dropped, so the
+    // list stays as short as the settings changed.
+    std::erase_if(list, [&](const std::string& s) { return s.substr(0, s.find('=')) == name; });
+    list.push_back(name + "=" + value);
+}
+
+void Session::setCvar(const std::string& name, const std::string& value) {
+    replace(mOptions.cvars, name, value);
+    mDirty = true;
+}
+
+void Session::setParam(const std::string& passParam, const std::string& value) {
+    replace(mOptions.sets, passParam, value);
+    mDirty = true;
+}
+
+const RunSetup& Session::setup(const std::vector<std::string>& outputs) {
+    if (mDirty || !mPlanned || outputs != mPlannedOutputs) {
+        SetupOptions o = mOptions;
+        o.dumps = outputs;
+        mPlanned.reset();
+        mPlanned.emplace(mBase, o);
+        mPlannedOutputs = outputs;
+        mDirty = false;
+    }
+    return *mPlanned;
+}
+
+Session::FrameInput& Session::frameInput(int frame, bool firstInSequence) {
+    // Only this frame and the one before it stay open.
+    std::erase_if(mInputs, [&](const auto& entry) {
+        return entry.first.first != frame && entry.first.first != frame - 1;
+    });
+    FrameInput& in = mInputs[{frame, firstInSequence}];
+    if (!in.capture) {
+        io::CaptureSource::Options o = mBase.captureOptions(frame);
+        o.firstInSequence = firstInSequence;
+        in.capture = std::make_unique<io::CaptureSource>(o, mBase.profile());
+        in.cached = std::make_unique<CachedSource>(*in.capture);
+    }
+    return in;
+}
+
+FrameResult Session::run(int frame, const std::vector<std::string>& outputs) {
+    std::lock_guard<std::mutex> lock(mRunMutex);
+    mCancel = false;
+    const RunSetup& planned = setup(outputs);
+    const Plan& plan = planned.plan();
+
+    // The history this frame starts from: the one it had when it ran before, the last frame's
+    // when it follows it, none otherwise.
+    bool first = true;
+    if (mLastFrame && frame == *mLastFrame) {
+        mHistory = mHistoryBefore;
+        first = mInputs.count({frame, true}) > 0;
+    } else if (mLastFrame && frame == *mLastFrame + 1) {
+        mHistoryBefore = mHistory;
+        first = false;
+    } else {
+        mHistory.clear();
+        mHistoryBefore.clear();
+    }
+    mLastFrame = frame;
+    FrameInput& in = frameInput(frame, first);
+    mCache.sourceId = planned.capturePath(frame);
+
+    ImageSink sink;
+    const ProgressFn stopBetweenPasses = [this](int done, int total, const PassReport& pass) {
+        if (onPass)
+            onPass(done, total, pass);
+        if (mCancel.load())
+            throw Cancelled("cancelled: a newer request replaced this run");
+    };
+    FrameResult result;
+    try {
+        FP_CHECK(!plan.needsCamera || in.capture->frameInfo().hasCamera,
+                 "{}: frame {}: no camera in the header and no sidecar", mCache.sourceId, frame);
+        result.report = executePlan(plan, *in.cached, sink, stopBetweenPasses, &mHistory, &mCache);
+    } catch (...) {
+        mHistory = mHistoryBefore;  // a run that did not finish leaves no history behind
+        throw;
+    }
+    if (outputs.empty() ||
+        std::find(outputs.begin(), outputs.end(), "all") != outputs.end()) {
+        result.images = std::move(sink.images);
+    } else {
+        for (const auto& name : outputs) {
+            auto it = sink.images.find(name);
+            FP_CHECK(it != sink.images.end(), "'{}' was not produced by this run", name);
+            result.images[name] = std::move(it->second);
+        }
+    }
+    mLastReport = result.report;
+    return result;
+}
+
+void Session::cancel() { mCancel = true; }
+
+}  // namespace fp::app

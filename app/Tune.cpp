@@ -1,0 +1,365 @@
+// tune: the cheapest setting of a chain whose error meets a target. It benches a grid
+// (the --sweep axes, or by default every small-domain cvar of the passes the measured result
+// depends on), then refines along the Pareto front: where the cheapest setting that meets the
+// target and the next faster one on the front differ in one integer axis with values between
+// them, it bisects that axis. It prints the choice as an Unreal [SystemSettings] snippet and as
+// JSON; when nothing meets the target it takes the most accurate setting's error apart to say
+// what stands in the way.
+#include "app/Tune.h"
+
+#include "app/Invocation.h"
+#include "io/ConfigLoader.h"
+#include "passes/core/CvarTable.h"
+#include "passes/core/Error.h"
+#include "passes/core/PassRegistry.h"
+#include "passes/core/Suggest.h"
+
+#include <fmt/ranges.h>
+
+#include <cmath>
+#include <optional>
+#include <set>
+
+namespace fp::app {
+
+namespace {
+
+
+
+// The figures a target may bound: those where smaller is better.
+const std::vector<std::string> kTargetMetrics = {"rmse", "relMse", "smape", "mae", "maxError",
+                                                 "overTolerance"};
+
+TuneTarget parseTarget(const std::string& text) {
+    const auto le = text.find("<=");
+    if (le == std::string::npos || le == 0)
+        throw UsageError(fmt::format(
+            "--target {}: expected ERROR_PASS<=VALUE or ERROR_PASS.METRIC<=VALUE", text));
+    TuneTarget t;
+    t.error = text.substr(0, le);
+    if (const auto dot = t.error.find('.'); dot != std::string::npos) {
+        t.metric = t.error.substr(dot + 1);
+        t.error = t.error.substr(0, dot);
+        if (std::find(kTargetMetrics.begin(), kTargetMetrics.end(), t.metric) ==
+            kTargetMetrics.end())
+            throw UsageError(fmt::format("--target {}: '{}' is not a metric a target can bound "
+                                         "({}){}",
+                                         text, t.metric, fmt::join(kTargetMetrics, ", "),
+                                         didYouMean(t.metric, kTargetMetrics)));
+    }
+    try {
+        std::size_t end = 0;
+        const std::string value = text.substr(le + 2);
+        t.max = std::stod(value, &end);
+        if (end != value.size() || !std::isfinite(t.max) || t.max < 0)
+            throw std::invalid_argument("");
+    } catch (const std::exception&) {
+        throw UsageError(fmt::format("--target {}: the bound is a number ≥ 0", text));
+    }
+    return t;
+}
+
+// The target's error_measure in the config, or a usage error naming those it has.
+const NodeDesc& targetNode(const io::RunConfig& config, const TuneTarget& t) {
+    std::vector<std::string> names;
+    for (const auto& n : config.graph.nodes) {
+        const PassType* type = builtinPasses().find(n.type);
+        if (!type || !type->roles.measuresError)
+            continue;
+        if (n.name == t.error)
+            return n;
+        names.push_back(n.name);
+    }
+    throw UsageError(fmt::format("--target: {} has no error_measure pass '{}'{}", config.path,
+                                 t.error,
+                                 names.empty() ? std::string(" (it has none)")
+                                               : didYouMean(t.error, names)));
+}
+
+// The parameter a sweep axis sets (a cvar, or PASS.PARAM), as the probe's chain resolves it.
+std::optional<ParamInfo> sweptParam(const Bencher& bencher, const std::string& name) {
+    const Plan& plan = bencher.probe().plan();
+    const CvarTable cvars(builtinPasses());
+    for (const PlanStep& step : plan.steps) {
+        const PassType* type = builtinPasses().find(step.type);
+        if (!type) continue;
+        for (const ParamInfo& p : type->params) {
+            const bool byCvar =
+                std::find(p.cvars.begin(), p.cvars.end(), cvars.spelling(name)) != p.cvars.end();
+            if (byCvar || name == step.name + "." + p.name) return p;
+        }
+    }
+    return std::nullopt;
+}
+
+// A parameter that acts only across frames does nothing on one frame: every value gives the
+// same pixels, and its timings differ only by noise. Said once, the axis dropped.
+bool actsOnThisBench(const Bencher& bencher, const std::string& name) {
+    if (bencher.probe().frames().size() > 1) return true;
+    const auto p = sweptParam(bencher, name);
+    if (!p || !p->needsHistory) return true;
+    logInfo(fmt::format("tune: {} is not searched: it acts only across frames, and this bench "
+                        "runs one frame (give --frames for a sequence)",
+                        name));
+    return false;
+}
+
+// Every small-domain cvar (a bool, or an int range of at most 8 values) of the passes the
+// target's source depends on, one axis per cvar.
+std::vector<std::string> defaultSweeps(const Bencher& bencher, const TuneTarget& t) {
+    SetupOptions options = bencher.options().session;
+    options.dumps = {t.error + ".heat"};
+    const RunSetup session(bencher.probe(), options);
+    const Plan& plan = session.plan();
+    std::vector<std::string> sweeps;
+    std::set<std::string> seenCvars;
+    for (const PlanStep& step : plan.steps) {
+        const PassType* type = builtinPasses().find(step.type);
+        if (!type || step.io.roles.measuresError)
+            continue;
+        for (const ParamInfo& p : type->params) {
+            if (p.cvars.empty() || seenCvars.count(p.cvars.front()))
+                continue;
+            std::string values;
+            if (p.type == "bool")
+                values = "0,1";
+            else if (p.type == "int" && p.min && p.max && *p.max - *p.min <= 7)
+                values = fmt::format("{}..{}", int(*p.min), int(*p.max));
+            else
+                continue;
+            for (const auto& c : p.cvars)
+                seenCvars.insert(c);
+            if (actsOnThisBench(bencher, p.cvars.front()))
+                sweeps.push_back(p.cvars.front() + "=" + values);
+        }
+    }
+    return sweeps;
+}
+
+
+
+// How far apart two measurements of one setting may lie: the spread of its runs, and with one
+// run (no spread of its own) a tenth of its time.
+double noiseMs(const TunedSetting& t) {
+    const double spread = (t.setting.frame.max - t.setting.frame.min) * 1e3;
+    return spread > 0 ? spread : 0.1 * t.frameMs();
+}
+
+// How many times tied settings are measured again before they are called equal.
+constexpr int kTieRounds = 2;
+
+// The work a chain does (rays, samples, texels… each pass's throughput counter, summed): what
+// separates settings whose times cannot.
+double chainWork(const BenchSetting& s) {
+    double work = 0;
+    for (const auto& p : s.passes)
+        if (!p.measuresError && p.type != kBareLoopType) work += double(p.work);
+    return work;
+}
+
+double metricOf(const BenchSetting& s, const TuneTarget& t) {
+    for (const auto& e : s.errors)
+        if (e.name == t.error) {
+            if (auto it = e.metrics.find(t.metric); it != e.metrics.end())
+                return it->second;
+        }
+    throw Error(fmt::format("{} did not report {}", t.error, t.metric));
+}
+
+// A sweep value as --set and --cvar read it, when that is an integer.
+std::optional<int> integerValue(const std::string& v) {
+    const nlohmann::json j = io::parseCliValue(v);
+    return j.is_number_integer() ? std::optional<int>(j.get<int>()) : std::nullopt;
+}
+
+// The one axis where `a` and `b` differ, when it is the only one and both values are integers.
+std::optional<std::size_t> singleIntegerAxis(const SweepPoint& a, const SweepPoint& b) {
+    std::optional<std::size_t> axis;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (a[i].second == b[i].second)
+            continue;
+        if (axis || !integerValue(a[i].second) || !integerValue(b[i].second))
+            return std::nullopt;
+        axis = i;
+    }
+    return axis;
+}
+
+
+
+}  // namespace
+
+std::string systemSettings(const SweepPoint& point) {
+    std::string s = "[SystemSettings]\n";
+    for (const auto& [name, value] : point)
+        if (name.rfind("r.", 0) == 0)
+            s += name + "=" + value + "\n";
+    return s;
+}
+
+nlohmann::json TuneResult::pointJson(const SweepPoint& point) {
+    nlohmann::json cvars = nlohmann::json::object(), params = nlohmann::json::object();
+    for (const auto& [name, value] : point)
+        (name.rfind("r.", 0) == 0 ? cvars : params)[name] = io::parseCliValue(value);
+    return {{"cvars", cvars}, {"params", params}};
+}
+
+std::string TuneResult::bound() const {
+    return fmt::format("{} {} ≤ {:g}", target.error, target.metric, target.max);
+}
+
+nlohmann::json TuneResult::toJson(const std::string& config) const {
+    nlohmann::json j = {{"config", config},
+                        {"target",
+                         {{"error", target.error}, {"metric", target.metric}, {"max", target.max}}},
+                        {"met", choice.has_value()}};
+    auto settingJson = [](const TunedSetting& t) {
+        return nlohmann::json{{"label", t.setting.label},
+                              {"setting", pointJson(t.point)},
+                              {"frameMs", t.frameMs()},
+                              {"value", t.value}};
+    };
+    j["settings"] = nlohmann::json::array();
+    for (const TunedSetting& t : tried) {
+        nlohmann::json s = settingJson(t);
+        s["meets"] = t.value <= target.max;
+        s["refined"] = t.refined;
+        j["settings"].push_back(s);
+    }
+    if (choice) {
+        j["choice"] = settingJson(tried[*choice]);
+        j["systemSettings"] = systemSettings(tried[*choice].point);
+        if (!tieNote.empty()) j["tie"] = tieNote;
+    } else {
+        j["mostAccurate"] = settingJson(tried[mostAccurate]);
+        if (inTheWay) j["inTheWay"] = inTheWay->toJson();
+    }
+    return j;
+}
+
+TuneResult tune(const TuneOptions& opt) {
+    TuneResult result;
+    result.target = parseTarget(opt.target);
+    const TuneTarget& target = result.target;
+    Bencher bencher(opt.bench);
+    targetNode(bencher.probe().config(), target);
+    std::vector<std::string> sweeps;
+    for (const auto& s : opt.bench.sweeps)
+        if (actsOnThisBench(bencher, s.substr(0, s.find('='))))
+            sweeps.push_back(s);
+    if (opt.bench.sweeps.empty()) {
+        sweeps = defaultSweeps(bencher, target);
+        if (sweeps.empty())
+            throw UsageError(fmt::format(
+                "tune: no cvar of the chain behind {} has a small domain to search; give "
+                "--sweep",
+                target.error));
+        logInfo(fmt::format("tune: searching {}", fmt::join(sweeps, " × ")));
+    }
+    const std::vector<SweepPoint> grid = sweepGrid(sweeps);
+    const int perSetting = opt.bench.warmup + opt.bench.runs;
+    bencher.expectRuns(int(grid.size() + std::size_t(opt.refine)) * perSetting);
+
+    std::vector<TunedSetting>& tried = result.tried;
+    auto measure = [&](const SweepPoint& p, bool refined) {
+        for (TunedSetting& t : tried)
+            if (t.point == p)
+                return;
+        TunedSetting t{bencher.measure(p, false), p, 0, refined};
+        t.value = metricOf(t.setting, target);
+        tried.push_back(std::move(t));
+    };
+    for (const auto& p : grid)
+        measure(p, false);
+
+    // Refine: bisect the one integer axis between the cheapest setting that meets the target
+    // and the next faster setting of the Pareto front, while values lie between them.
+    auto cheapestMeeting = [&]() -> TunedSetting* {
+        TunedSetting* best = nullptr;
+        for (TunedSetting& t : tried)
+            if (t.value <= target.max && (!best || t.frameMs() < best->frameMs()))
+                best = &t;
+        return best;
+    };
+    for (int round = 0; round < opt.refine; ++round) {
+        TunedSetting* meets = cheapestMeeting();
+        if (!meets)
+            break;
+        // The fastest setting that is cheaper and more accurate than every other cheaper one:
+        // the front's point just below the choice.
+        TunedSetting* below = nullptr;
+        for (TunedSetting& t : tried) {
+            if (t.frameMs() >= meets->frameMs())
+                continue;
+            if (!below || t.value < below->value)
+                below = &t;
+        }
+        if (!below)
+            break;
+        const auto axis = singleIntegerAxis(meets->point, below->point);
+        if (!axis)
+            break;
+        const int a = *integerValue(below->point[*axis].second);
+        const int b = *integerValue(meets->point[*axis].second);
+        if (std::abs(a - b) < 2)
+            break;
+        // Midpoint; geometric where the values span a factor of 4 or more (ray counts).
+        const int lo = std::min(a, b), hi = std::max(a, b);
+        int mid = lo > 0 && hi >= 4 * lo ? int(std::lround(std::sqrt(double(lo) * hi)))
+                                         : (lo + hi) / 2;
+        mid = std::clamp(mid, lo + 1, hi - 1);
+        SweepPoint p = meets->point;
+        p[*axis].second = std::to_string(mid);
+        const std::size_t before = tried.size();
+        measure(p, true);
+        if (tried.size() == before)
+            break;
+    }
+
+    // Times closer than their noise do not order two settings: measure both again, and
+    // if they stay that close, call them equal and take the one that does less work.
+    TunedSetting* choice = cheapestMeeting();
+    std::string& tieNote = result.tieNote;
+    for (int round = 0; choice && round <= kTieRounds; ++round) {
+        std::vector<TunedSetting*> ties;
+        for (TunedSetting& t : tried)
+            if (&t != choice && t.value <= target.max &&
+                std::fabs(t.frameMs() - choice->frameMs()) <= noiseMs(t) + noiseMs(*choice))
+                ties.push_back(&t);
+        if (ties.empty()) break;
+        if (round == kTieRounds) {
+            TunedSetting* least = choice;
+            for (TunedSetting* t : ties)
+                if (chainWork(t->setting) < chainWork(least->setting)) least = t;
+            tieNote = fmt::format(
+                "{} setting(s) within the timing noise of {} after {} more measurement(s): "
+                "taken as equal, the one with the least work chosen",
+                ties.size(), choice->setting.label, kTieRounds);
+            choice = least;
+            break;
+        }
+        ties.push_back(choice);
+        for (TunedSetting* t : ties) {
+            t->setting = bencher.measure(t->point, false);
+            t->value = metricOf(t->setting, target);
+        }
+        choice = cheapestMeeting();
+    }
+    TunedSetting* mostAccurate = &tried.front();
+    for (TunedSetting& t : tried)
+        if (t.value < mostAccurate->value)
+            mostAccurate = &t;
+        if (!choice && opt.bench.decomposeRays > 0) {
+        BenchSetting again = bencher.measure(mostAccurate->point, true);
+        for (const auto& e : again.errors)
+            if (e.name == target.error && e.decomposition)
+                result.inTheWay = e.decomposition;
+    }
+
+    if (choice)
+        result.choice = std::size_t(choice - tried.data());
+    result.mostAccurate = std::size_t(mostAccurate - tried.data());
+    return result;
+}
+
+}  // namespace fp::app

@@ -1,0 +1,58 @@
+#pragma once
+// tune: the cheapest setting of a chain whose error meets a target (a grid benched, then refined
+// along the Pareto front; app/Tune.cpp says how). The CLI's `tune` prints what this returns.
+#include "app/BenchSweep.h"
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace fp::app {
+
+struct TuneOptions {
+    BenchOptions bench;  //!< the config, its settings, runs; the sweeps (empty: a default grid)
+    std::string target;  //!< ERROR_PASS<=VALUE or ERROR_PASS.METRIC<=VALUE
+    int refine = 4;      //!< settings at most to try between grid values
+};
+
+struct TuneTarget {
+    std::string error;            //!< an error measure of the config
+    std::string metric = "rmse";  //!< one of its figures
+    double max = 0;
+};
+
+struct TunedSetting {
+    BenchSetting setting;
+    SweepPoint point;
+    double value = 0;  //!< the target's metric
+    bool refined = false;
+    /// The setting's cost: the chain's time per frame.
+    double frameMs() const { return setting.chainSeconds() * 1e3; }
+};
+
+struct TuneResult {
+    TuneTarget target;
+    std::vector<TunedSetting> tried;  //!< in the order measured
+    std::optional<std::size_t> choice;  //!< the cheapest that meets the target
+    std::size_t mostAccurate = 0;
+    std::string tieNote;  //!< settings whose times could not be told apart, and how one was chosen
+    /// Nothing met the target: the most accurate setting's error taken apart.
+    std::optional<ErrorDecompositionResult> inTheWay;
+
+    /// "ssgi_error rmse ≤ 0.05"
+    std::string bound() const;
+    /// What `tune --json` prints.
+    nlohmann::json toJson(const std::string& config) const;
+    /// A point as {"cvars": {...}, "params": {...}}.
+    static nlohmann::json pointJson(const SweepPoint& point);
+};
+
+/// Runs the search; throws fp::UsageError for a bad target or when there is nothing to search.
+TuneResult tune(const TuneOptions& options);
+
+/// The point's cvars as an Unreal .ini section.
+std::string systemSettings(const SweepPoint& point);
+
+}  // namespace fp::app

@@ -1,0 +1,23 @@
+#pragma once
+// Flags that several subcommands share. Each fills an option struct of the application library
+// (app/), which does the work; only their spelling and help text live here.
+#include "app/BenchSweep.h"
+#include "app/RunSetup.h"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace fp::cli {
+
+/// The config argument, --cvar, --cvars, --set, --dump, --frames, --capture, --previous,
+/// --profile, --device and --allow-unknown-cvars.
+void addSetupOptions(CLI::App& sub, app::SetupOptions& options);
+/// --runs and --warmup (their help names the current defaults) on bench or tune.
+void addTimingOptions(CLI::App& sub, app::BenchOptions& options);
+/// --decompose-rays, bounded by what the converged tracer can trace (bench, tune, run).
+void addDecomposeRaysOption(CLI::App& sub, int& rays, const std::string& help);
+/// --max-memory (text kept in `value`; app/MemoryLimit.h reads it).
+void addMaxMemoryOption(CLI::App& sub, std::string& value);
+
+}  // namespace fp::cli
