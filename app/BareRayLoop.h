@@ -3,7 +3,7 @@
 // parallel loop with nothing else per ray. bench records the rays of one run of the chain
 // (RayScene::setOcclusionLog) and times them here, so "pass rays/s ÷ bare rays/s" is how much of
 // Embree's speed the pass keeps.
-#include "passes/core/RayScene.h"
+#include "foundation/RayScene.h"
 
 #include <vector>
 

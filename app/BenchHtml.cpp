@@ -1,7 +1,7 @@
 // The HTML bench report: one self-contained page (inline CSS, SVG and base64 PNGs) that opens
 // anywhere, including a farm's artefact browser with no network.
 #include "app/BenchResult.h"
-#include "passes/metrics/Heatmap.h"
+#include "metrics/Heatmap.h"
 
 #include <fmt/format.h>
 

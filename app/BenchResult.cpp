@@ -62,6 +62,14 @@ std::string decompositionText(const ErrorDecompositionResult& d) {
     return out;
 }
 
+nlohmann::json IncrementalTiming::toJson() const {
+    auto stats = [](const TimingStats& t) {
+        return nlohmann::json{{"median", t.median}, {"min", t.min}, {"max", t.max}};
+    };
+    return {{"setting", setting},   {"values", values},     {"frameSeconds", stats(frame)},
+            {"rerunSeconds", stats(rerun)}, {"executed", executed}, {"passes", passes}};
+}
+
 nlohmann::json BenchResult::toJson() const {
     nlohmann::json j = {{"config", config}, {"capture", capture}, {"frame", frame},
                         {"frames", frames},
@@ -101,6 +109,7 @@ nlohmann::json BenchResult::toJson() const {
         if (s.hasError()) sj["pareto"] = s.pareto;
         j["settings"].push_back(sj);
     }
+    if (incremental) j["incremental"] = incremental->toJson();
     return j;
 }
 

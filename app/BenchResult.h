@@ -2,7 +2,7 @@
 // What `framepass bench` measured: per setting of the sweep grid, each pass's wall times over the
 // runs (median, min, max, throughput in the pass's own unit), the frame's, and what every
 // error_measure pass reported. Printed as a table, written as JSON or as an HTML report.
-#include "passes/core/Image.h"
+#include "foundation/Image.h"
 
 #include <nlohmann/json.hpp>
 
@@ -74,6 +74,18 @@ struct BenchSetting {
     double error() const { return errors.front().metrics.at("rmse"); }
 };
 
+/// A look-dev session's incremental re-run (bench --incremental): after a change of one setting
+/// only the passes downstream of it execute; its time beside the whole frame's.
+struct IncrementalTiming {
+    std::string setting;                  //!< "ssgi_denoise.denoiser"
+    std::vector<std::string> values;      //!< the values it alternates between
+    TimingStats frame;                    //!< a whole frame, nothing reused
+    TimingStats rerun;                    //!< a re-run after the change
+    std::vector<std::string> executed;    //!< the passes a re-run executes
+    int passes = 0;                       //!< passes in the chain
+    nlohmann::json toJson() const;
+};
+
 struct BenchResult {
     std::string config, capture;
     int64_t frame = 0;        //!< the frame whose errors are reported (a sequence's last)
@@ -82,6 +94,7 @@ struct BenchResult {
     int runs = 0, warmup = 0, threads = 0;
     std::vector<std::string> sweeps;  //!< as given: NAME=V1,V2
     std::vector<BenchSetting> settings;
+    std::optional<IncrementalTiming> incremental;
 
     /// Marks the settings on the Pareto front of (frame median time, error).
     void markPareto();

@@ -1,7 +1,7 @@
 #pragma once
 // The frame source and sink bench runs its chains with: buffers read from the capture once, and
 // images kept only from the run that makes the report.
-#include "passes/core/Executor.h"
+#include "framework/Executor.h"
 
 #include <map>
 #include <string>

@@ -3,13 +3,14 @@
 #include "app/BareRayLoop.h"
 #include "app/BenchSources.h"
 #include "app/Invocation.h"
+#include "app/Session.h"
 #include "io/CaptureSource.h"
 #include "io/ContactSheet.h"
 #include "io/PngWriter.h"
-#include "passes/core/Error.h"
-#include "passes/core/Executor.h"
-#include "passes/display/DisplayTransform.h"
-#include "passes/metrics/Heatmap.h"
+#include "foundation/Error.h"
+#include "framework/Executor.h"
+#include "color/DisplayTransform.h"
+#include "metrics/Heatmap.h"
 
 #include <tbb/global_control.h>
 
@@ -231,6 +232,50 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
 }
 
 
+
+IncrementalTiming Bencher::measureIncremental(const std::string& change) {
+    const SweepAxis axis = parseSweep(change);
+    if (axis.values.size() < 2)
+        throw UsageError(fmt::format("--incremental {}: give two values or more to alternate "
+                                     "between",
+                                     change));
+    IncrementalTiming t;
+    t.setting = axis.name;
+    t.values = axis.values;
+    SetupOptions options = mOptions.session;
+    options.frames = std::to_string(mProbe.frames().back());
+    Session session(options);
+    auto set = [&](const std::string& value) {
+        if (axis.name.rfind("r.", 0) == 0)
+            session.setCvar(axis.name, value);
+        else
+            session.setParam(axis.name, value);
+    };
+    const int frame = mProbe.frames().back();
+    std::vector<double> whole, rerun;
+    std::size_t next = 0;
+    set(axis.values[next]);
+    session.run(frame);  // reads the capture's buffers once
+    for (int r = 0; r < mOptions.warmup + mOptions.runs; ++r) {
+        // A whole frame (the buffers in memory, as bench times every setting), then a change.
+        session.forgetOutputs();
+        const double full = session.run(frame).report.seconds;
+        next = (next + 1) % axis.values.size();
+        set(axis.values[next]);
+        const FrameResult again = session.run(frame);
+        if (r >= mOptions.warmup) {
+            whole.push_back(full);
+            rerun.push_back(again.report.seconds);
+        }
+        t.passes = int(again.report.passes.size());
+        t.executed.clear();
+        for (const auto& p : again.report.passes)
+            if (!p.reused) t.executed.push_back(p.name);
+    }
+    t.frame = TimingStats::of(whole);
+    t.rerun = TimingStats::of(rerun);
+    return t;
+}
 
 SweepAxis parseSweep(const std::string& text) {
     const auto eq = text.find('=');

@@ -47,6 +47,10 @@ public:
     /// Times one setting (options.warmup + options.runs runs). `decompose`: also take its
     /// screen-space errors apart (options.decomposeRays > 0).
     BenchSetting measure(const SweepPoint& point, bool decompose);
+    /// Times a look-dev session's re-run after `change` ("PASS.PARAM=A,B" or "r.Cvar=A,B"):
+    /// one whole frame, then the setting alternated between its values, each re-run executing
+    /// only the passes downstream of it (options.warmup + options.runs of each).
+    IncrementalTiming measureIncremental(const std::string& change);
     /// Runs done and to do, for the progress line (set the total before measuring).
     void expectRuns(int total) { mTotalRuns = total; }
 

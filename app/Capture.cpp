@@ -5,12 +5,12 @@
 #include "io/ExrWriter.h"
 #include "io/FramePattern.h"
 #include "io/SafeFiles.h"
-#include "io/SceneLoader.h"
-#include "passes/capture/GBufferRenderer.h"
-#include "passes/core/Error.h"
-#include "passes/core/SemanticBuffers.h"
-#include "passes/metrics/ErrorMetrics.h"
-#include "passes/reference/TruthRenderer.h"
+#include "io/scene/SceneLoader.h"
+#include "reference/GBufferRenderer.h"
+#include "foundation/Error.h"
+#include "framework/SemanticBuffers.h"
+#include "metrics/ErrorMetrics.h"
+#include "reference/TruthRenderer.h"
 
 #include <chrono>
 #include <filesystem>

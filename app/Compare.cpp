@@ -11,11 +11,11 @@
 #include "io/ExrWriter.h"
 #include "io/PngWriter.h"
 #include "io/SafeFiles.h"
-#include "passes/core/Error.h"
-#include "passes/core/SemanticBuffers.h"
-#include "passes/display/DisplayTransform.h"
-#include "passes/metrics/ErrorMetrics.h"
-#include "passes/metrics/Heatmap.h"
+#include "foundation/Error.h"
+#include "framework/SemanticBuffers.h"
+#include "color/DisplayTransform.h"
+#include "metrics/ErrorMetrics.h"
+#include "metrics/Heatmap.h"
 
 #include <OpenImageIO/imageio.h>
 #include <fmt/ranges.h>
@@ -55,22 +55,25 @@ std::string commonLayer(const io::ExrReader& a, const io::ExrReader& b) {
                                  a.path(), b.path(), common.size(), a.path(), fmt::join(namesA, ", ")));
 }
 
+// A buffer a profile maps, read through it. A semantic buffer has its width; any other layer the
+// profile maps (a Truth.* layer from a renderer's own pass) is as wide as its mapping.
+Image readMapped(io::CaptureFiles& files, const io::BufferMapping& m, const std::string& layer) {
+    const SemanticBuffer* sem = findSemanticBuffer(layer);
+    const int channels = sem                 ? int(sem->channels.size())
+                         : !m.groups.empty() ? int(m.groups.front().size())
+                                             : int(m.constant.size());
+    std::vector<std::string> notes;
+    return files.read(layer, channels, notes);
+}
+
 // `layer` of the file: through the profile when it maps a buffer of that name (so a Blender
 // capture's SceneDepth is in scene units, with its sky), else the file's own layer.
 Image readImage(io::ExrReader& file, const std::string& layer,
                 const io::CaptureProfile& profile) {
     if (profile.mappings(layer)) {
         io::CaptureFiles files(file.path(), profile);
-        if (const io::BufferMapping* m = files.mappingFor(layer)) {
-            // A semantic buffer has its width; any other layer the profile maps (a Truth.*
-            // layer from a renderer's own pass) is as wide as its mapping.
-            const SemanticBuffer* sem = findSemanticBuffer(layer);
-            const int channels = sem                  ? int(sem->channels.size())
-                                 : !m->groups.empty() ? int(m->groups.front().size())
-                                                      : int(m->constant.size());
-            std::vector<std::string> notes;
-            return files.read(layer, channels, notes);
-        }
+        if (const io::BufferMapping* m = files.mappingFor(layer))
+            return readMapped(files, *m, layer);
     }
     return io::readLayer(file, io::findLayer(file, layer));
 }
@@ -156,12 +159,11 @@ Image readSpec(ComparedFile& file, const std::string& spec, const io::CapturePro
     }
     if (!file.exr) {
         io::CaptureFiles files(file.path, profile);
-        if (!files.mappingFor(spec))
+        const io::BufferMapping* m = files.mappingFor(spec);
+        if (!m)
             throw UsageError(fmt::format("{}: profile {} maps no buffer '{}'", file.path,
                                          profile.name(), spec));
-        const SemanticBuffer* sem = findSemanticBuffer(spec);
-        std::vector<std::string> notes;
-        return files.read(spec, sem ? int(sem->channels.size()) : 3, notes);
+        return readMapped(files, *m, spec);
     }
     io::ExrReader& exr = *file.exr;
     const auto layers = io::listLayers(exr);

@@ -2,7 +2,7 @@
 // compare's work: the error of image A against reference B (an EXR layer, one channel of it, a
 // product of layers, a buffer a capture profile maps, or a picture), over the pixels the masks
 // keep, with the reference's own noise where B carries a .StdErr layer, and a heat map.
-#include "passes/metrics/ErrorMetrics.h"
+#include "metrics/ErrorMetrics.h"
 
 #include <nlohmann/json.hpp>
 

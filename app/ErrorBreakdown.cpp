@@ -1,10 +1,10 @@
 #include "app/ErrorBreakdown.h"
 
 #include "app/Invocation.h"
-#include "passes/common/GBuffer.h"
-#include "passes/core/Error.h"
-#include "passes/metrics/ErrorDecomposition.h"
-#include "passes/metrics/ErrorMetrics.h"
+#include "screenspace/GBuffer.h"
+#include "foundation/Error.h"
+#include "metrics/ErrorDecomposition.h"
+#include "metrics/ErrorMetrics.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

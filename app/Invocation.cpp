@@ -1,6 +1,6 @@
 #include "app/Invocation.h"
 
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <atomic>
 #include <csignal>

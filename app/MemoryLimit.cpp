@@ -1,6 +1,6 @@
 #include "app/MemoryLimit.h"
 
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,8 +1,8 @@
 #include "app/PassCatalogue.h"
 
-#include "passes/core/CvarTable.h"
-#include "passes/core/Error.h"
-#include "passes/core/Suggest.h"
+#include "framework/CvarTable.h"
+#include "foundation/Error.h"
+#include "foundation/Suggest.h"
 
 #include <fmt/ranges.h>
 

@@ -2,7 +2,7 @@
 // The pass catalogue: every pass type's ports, parameters and cvars as JSON, made from the same
 // specs that validate configs (`framepass passes --json`, the Python module's passes()), and the
 // pass reference docs/passes.md is (`framepass passes --markdown`).
-#include "passes/core/PassRegistry.h"
+#include "framework/PassRegistry.h"
 
 #include <nlohmann/json.hpp>
 

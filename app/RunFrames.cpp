@@ -8,8 +8,8 @@
 #include "io/OutputLock.h"
 #include "io/OutputWriter.h"
 #include "io/SafeFiles.h"
-#include "passes/core/Error.h"
-#include "passes/core/Executor.h"
+#include "foundation/Error.h"
+#include "framework/Executor.h"
 
 #include <fmt/chrono.h>
 
@@ -222,11 +222,12 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
             addInput(role, path);
         report["inputs"] = inputFiles;
         report["plan"] = plan.toJson(session.extent());
-        if (!reportToStdout) io::writeTextAtomically(opt.report, report.dump(2) + "\n");
-        if (reportToStdout)
+        if (reportToStdout) {
             out << report.dump(2) << "\n";
-        else
+        } else {
+            io::writeTextAtomically(opt.report, report.dump(2) + "\n");
             console << "  wrote " << opt.report << "\n";
+        }
     };
 
     HistoryStore history;

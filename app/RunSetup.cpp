@@ -3,7 +3,7 @@
 #include "app/Invocation.h"
 #include "io/ExrReader.h"
 #include "io/FramePattern.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <OpenEXR/ImfIntAttribute.h>
 

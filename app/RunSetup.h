@@ -6,7 +6,7 @@
 #include "io/CaptureProfile.h"
 #include "io/CaptureSource.h"
 #include "io/ConfigLoader.h"
-#include "passes/core/Planner.h"
+#include "framework/Planner.h"
 
 #include <memory>
 #include <optional>

@@ -1,6 +1,6 @@
 #include "app/Session.h"
 
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <algorithm>
 

@@ -11,7 +11,7 @@
 // cancel() stops a run in flight from another thread at its next safe point (between passes).
 #include "app/BenchSources.h"
 #include "app/RunSetup.h"
-#include "passes/core/Executor.h"
+#include "framework/Executor.h"
 
 #include <atomic>
 #include <map>
@@ -55,6 +55,9 @@ public:
     /// Runs `frame` and returns `outputs` ("pass.port", a capture buffer, or "all": every pass
     /// output), with the config's own outputs too. Throws fp::Cancelled when cancel() stopped it.
     FrameResult run(int frame, const std::vector<std::string>& outputs = {});
+    /// Forgets the kept outputs: the next run executes every pass (the capture's buffers stay
+    /// read).
+    void forgetOutputs() { mCache.clear(); }
     /// Stops the run in flight at its next safe point; a run that starts later is not affected.
     void cancel();
     /// Called on the running thread after each pass with (passes done, passes in all, its

@@ -1,11 +1,11 @@
 #include "app/SessionInputs.h"
 
 #include "io/CaptureSource.h"
-#include "passes/capture/ReflectionCaptureRenderer.h"
-#include "passes/core/RayScene.h"
+#include "reference/ReflectionCaptureRenderer.h"
+#include "foundation/RayScene.h"
 
 #include <algorithm>
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 namespace fp::app {
 

@@ -4,7 +4,7 @@
 // (which the light templates and the lighting passes read) come without its meshes; the meshes
 // are read only when a live pass traces rays.
 #include "io/ConfigLoader.h"
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 
 #include <OpenColorIO/OpenColorIO.h>
 

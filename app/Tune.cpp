@@ -9,10 +9,10 @@
 
 #include "app/Invocation.h"
 #include "io/ConfigLoader.h"
-#include "passes/core/CvarTable.h"
-#include "passes/core/Error.h"
-#include "passes/core/PassRegistry.h"
-#include "passes/core/Suggest.h"
+#include "framework/CvarTable.h"
+#include "foundation/Error.h"
+#include "framework/PassRegistry.h"
+#include "foundation/Suggest.h"
 
 #include <fmt/ranges.h>
 

@@ -67,6 +67,15 @@ void printBench(const BenchResult& result) {
     }
 }
 
+void printIncremental(const IncrementalTiming& t) {
+    std::cout << fmt::format("incremental re-run after {} changes ({}): {:.2f} ms (min {:.2f}, "
+                             "max {:.2f}) against {:.2f} ms for the whole frame; {} of {} "
+                             "passes executed: {}\n",
+                             t.setting, fmt::join(t.values, " ↔ "), t.rerun.median * 1e3,
+                             t.rerun.min * 1e3, t.rerun.max * 1e3, t.frame.median * 1e3,
+                             t.executed.size(), t.passes, fmt::join(t.executed, ", "));
+}
+
 void writeHtml(const BenchResult& result, const std::string& path) {
     io::writeTextAtomically(path, benchHtml(result));
 }
@@ -75,6 +84,7 @@ void writeHtml(const BenchResult& result, const std::string& path) {
 
 Command addBenchCommand(CLI::App& app) {
     auto opt = std::make_shared<BenchOptions>();
+    auto incremental = std::make_shared<std::string>();
     CLI::App* sub = app.add_subcommand(
         "bench",
         "time the chain over several runs (median, min, max, throughput per pass); "
@@ -88,8 +98,12 @@ Command addBenchCommand(CLI::App& app) {
     addDecomposeRaysOption(*sub, opt->decomposeRays,
                            "rays per pixel of the error decomposition's oracle and converged "
                            "tracer (default 256); 0 leaves the decomposition out");
+    sub->add_option("--incremental", *incremental,
+                    "NAME=A,B: also time a look-dev session's re-run after NAME (a cvar or "
+                    "PASS.PARAM) changes between A and B, which executes only the passes "
+                    "downstream of it, beside a whole frame");
 
-    return [opt]() {
+    return [opt, incremental]() {
         if (!opt->html.empty()) io::checkWritable(opt->html, "--html");
         const std::vector<SweepPoint> grid = sweepGrid(opt->sweeps);
         Bencher bencher(*opt);
@@ -98,11 +112,15 @@ Command addBenchCommand(CLI::App& app) {
         for (const auto& point : grid)
             result.settings.push_back(bencher.measure(point, true));
         result.markPareto();
+        if (!incremental->empty())
+            result.incremental = bencher.measureIncremental(*incremental);
 
         if (opt->json)
             std::cout << result.toJson().dump(2) << "\n";
         else
             printBench(result);
+        if (!opt->json && result.incremental)
+            printIncremental(*result.incremental);
         if (!opt->html.empty()) {
             writeHtml(result, opt->html);
             if (!opt->json)

@@ -23,6 +23,7 @@ Command addInspectCommand(CLI::App& app);
 Command addPassesCommand(CLI::App& app);
 Command addPlanCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
+Command addSchemaCommand(CLI::App& app);
 Command addSheetCommand(CLI::App& app);
 Command addTuneCommand(CLI::App& app);
 

@@ -1,7 +1,7 @@
 // framepass compare: error of one image against a reference (app/Compare.h does the work).
 #include "app/Compare.h"
 #include "cli/Commands.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <algorithm>
 #include <iostream>

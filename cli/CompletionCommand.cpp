@@ -4,9 +4,9 @@
 // writes it to framepass.bash and `cmake --install` puts it where bash-completion looks.
 #include "cli/Commands.h"
 #include "io/CaptureProfile.h"
-#include "passes/core/CvarTable.h"
-#include "passes/core/Diagnostics.h"
-#include "passes/core/PassRegistry.h"
+#include "framework/CvarTable.h"
+#include "framework/Diagnostics.h"
+#include "framework/PassRegistry.h"
 
 #include <fmt/ranges.h>
 

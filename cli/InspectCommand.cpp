@@ -4,7 +4,7 @@
 #include "io/CaptureFiles.h"
 #include "io/CaptureProfile.h"
 #include "io/ExrReader.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <OpenEXR/ImfHeader.h>
 

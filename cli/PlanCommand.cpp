@@ -4,7 +4,7 @@
 #include "app/Invocation.h"
 #include "app/RunSetup.h"
 #include "io/SafeFiles.h"
-#include "passes/core/Cuda.h"
+#include "foundation/Cuda.h"
 
 #include <fmt/ranges.h>
 

@@ -3,7 +3,7 @@
 #include "app/RunFrames.h"
 #include "cli/Commands.h"
 #include "cli/Flags.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <fmt/ranges.h>
 

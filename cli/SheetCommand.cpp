@@ -1,7 +1,7 @@
 // framepass sheet: every buffer of a capture (or every layer of every EXR in a folder, such as a
 // run's dumps) as one labelled tile of a PNG contact sheet, like `oiiotool --mosaic` or Nuke's
 // ContactSheet. Colour goes through the OCIO display transform the display pass uses; data is
-// mapped over its own range, printed on the tile (passes/metrics/BufferPreview.h).
+// mapped over its own range, printed on the tile (metrics/BufferPreview.h).
 #include "cli/Commands.h"
 #include "io/CaptureFiles.h"
 #include "io/CaptureProfile.h"
@@ -10,10 +10,10 @@
 #include "io/ExrLayers.h"
 #include "io/PngWriter.h"
 #include "io/SafeFiles.h"
-#include "passes/core/Error.h"
-#include "passes/core/SemanticBuffers.h"
-#include "passes/display/DisplayTransform.h"
-#include "passes/metrics/BufferPreview.h"
+#include "foundation/Error.h"
+#include "framework/SemanticBuffers.h"
+#include "color/DisplayTransform.h"
+#include "metrics/BufferPreview.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,8 +1,8 @@
 // framepass: re-runs Unreal's deferred lighting passes on captured GBuffers.
 #include "cli/Commands.h"
-#include "passes/core/Error.h"
-#include "passes/core/Limits.h"
-#include "passes/core/Suggest.h"
+#include "foundation/Error.h"
+#include "foundation/Limits.h"
+#include "foundation/Suggest.h"
 
 #include <fmt/ranges.h>
 
@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
     add(fp::cli::addPassesCommand);
     add(fp::cli::addBenchCommand);
     add(fp::cli::addSheetCommand);
+    add(fp::cli::addSchemaCommand);
     add(fp::cli::addTuneCommand);
     // `framepass version`, as git, docker and kubectl users type it.
     CLI::App* versionCommand = app.add_subcommand("version", "print framepass's version");

@@ -3,7 +3,7 @@
 #include "fuzz/FuzzSupport.h"
 #include "io/CaptureProfile.h"
 #include "io/CaptureSource.h"
-#include "passes/core/SemanticBuffers.h"
+#include "framework/SemanticBuffers.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     static const fp::io::CaptureProfile profile = fp::io::CaptureProfile::load("canonical");

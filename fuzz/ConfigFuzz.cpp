@@ -2,9 +2,9 @@
 // path of `framepass plan`), with the capture's buffers given so binding is exercised too.
 #include "fuzz/FuzzSupport.h"
 #include "io/ConfigLoader.h"
-#include "passes/core/PassRegistry.h"
-#include "passes/core/Planner.h"
-#include "passes/core/SemanticBuffers.h"
+#include "framework/PassRegistry.h"
+#include "framework/Planner.h"
+#include "framework/SemanticBuffers.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return fp::fuzz::expectCleanErrors([&] {

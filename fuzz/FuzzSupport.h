@@ -3,7 +3,7 @@
 // rule that decides what a finding is. A clean fp::Error (a message naming the file or JSON
 // pointer, exit 1 or 2) is the expected answer to bad input; any other exception would reach
 // the user as "internal error", so it aborts the run like a crash or a sanitizer report does.
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <unistd.h>
 

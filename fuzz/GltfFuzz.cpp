@@ -1,7 +1,7 @@
 // Fuzz target: a glTF 2.0 scene (.gltf JSON with embedded buffers; seeds from examples/hard),
 // loaded whole through a fixed scene JSON: meshes, nodes, cameras and KHR_lights_punctual.
 #include "fuzz/FuzzSupport.h"
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return fp::fuzz::expectCleanErrors([&] {

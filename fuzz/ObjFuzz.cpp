@@ -1,7 +1,7 @@
 // Fuzz target: an OBJ scene — the bytes are the .obj a fixed scene JSON names — loaded whole,
 // meshes included, as `capture` and rt_shadows load it.
 #include "fuzz/FuzzSupport.h"
-#include "io/SceneLoader.h"
+#include "io/scene/SceneLoader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return fp::fuzz::expectCleanErrors([&] {

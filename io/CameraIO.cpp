@@ -2,7 +2,7 @@
 
 #include "io/JsonFile.h"
 
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <OpenEXR/ImfDoubleAttribute.h>
 #include <OpenEXR/ImfFloatAttribute.h>

@@ -7,8 +7,8 @@
 //   framepass:prevWorldToView, framepass:prevViewToClip    M44d, previous frame (optional)
 //   framepass:sceneUnitsPerMeter                           double
 //   worldToCamera, worldToNDC                              M44f, standard (float: lossy far away)
-#include "passes/core/Camera.h"
-#include "passes/core/Image.h"
+#include "foundation/Camera.h"
+#include "foundation/Image.h"
 
 #include <OpenEXR/ImfHeader.h>
 #include <nlohmann/json.hpp>

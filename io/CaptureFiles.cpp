@@ -1,7 +1,7 @@
 #include "io/CaptureFiles.h"
 
-#include "passes/core/Error.h"
-#include "passes/core/SemanticBuffers.h"
+#include "foundation/Error.h"
+#include "framework/SemanticBuffers.h"
 
 #include <cmath>
 #include <filesystem>

@@ -3,9 +3,9 @@
 #include "io/JsonFile.h"
 
 #include "io/ConfigLoader.h"
-#include "passes/core/Error.h"
-#include "passes/core/SemanticBuffers.h"
-#include "passes/core/Suggest.h"
+#include "foundation/Error.h"
+#include "framework/SemanticBuffers.h"
+#include "foundation/Suggest.h"
 
 #include <algorithm>
 #include <cmath>

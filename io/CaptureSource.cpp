@@ -2,8 +2,8 @@
 
 #include "io/CameraIO.h"
 #include "io/ConfigLoader.h"
-#include "passes/core/Error.h"
-#include "passes/core/SemanticBuffers.h"
+#include "foundation/Error.h"
+#include "framework/SemanticBuffers.h"
 
 #include <fmt/ranges.h>
 

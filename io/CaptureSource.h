@@ -5,9 +5,9 @@
 // them. Input pixels pass through the sanitize policy of docs/design.md, Numerics and determinism on the way in.
 #include "io/CaptureFiles.h"
 #include "io/CaptureProfile.h"
-#include "io/SceneLoader.h"
-#include "passes/core/Executor.h"
-#include "passes/core/RayScene.h"
+#include "io/scene/SceneLoader.h"
+#include "framework/Executor.h"
+#include "foundation/RayScene.h"
 
 #include <functional>
 #include <map>

@@ -1,10 +1,11 @@
 #include "io/ConfigLoader.h"
 
 #include "io/JsonFile.h"
+#include "io/JsonShape.h"
 
-#include "passes/core/Diagnostics.h"
-#include "passes/core/Error.h"
-#include "passes/core/Suggest.h"
+#include "framework/Diagnostics.h"
+#include "foundation/Error.h"
+#include "foundation/Suggest.h"
 
 #include <cstdlib>
 #include <filesystem>
@@ -18,13 +19,39 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::string> kTopKeys = {"version", "engine", "capture", "profile",    "camera",
-                                           "scene",   "frames", "cvars",   "passes",     "outputs",
-                                           "color",   "exr",    "$schema", "description", "device",
-                                           "previous"};
-const std::vector<std::string> kPassKeys = {"name", "type", "params", "inputs", "description"};
-const std::vector<std::string> kLightTemplateKeys = {"passes", "colorIn", "colorOut",
-                                                     "rewire", "outputs", "description"};
+// The shape of a config (JsonShape.h): the keys each object may hold, with their docs. Unknown
+// keys are checked against it; `framepass schema config` writes it as a JSON Schema.
+using K = JsonKind;
+const JsonObjectShape kPassShape = {
+    "pass", "a pass of the chain",
+    {{"name", K::String, "its name in the chain (default: its type); ports are NAME.port"},
+     {"type", K::String, "its pass type (framepass passes lists them)", {}, {}, {}, nullptr, nullptr, true},
+     {"params", K::ValueMap, "parameters by name (framepass passes TYPE lists them)"},
+     {"inputs", K::StringMap, "port → source: 'capture:Buffer' or 'pass.port'"},
+     {"description", K::String, "ignored"}}};
+const JsonObjectShape kLightTemplateShape = {
+    "forEachLight", "passes repeated for each light of the scene, named <pass>_<light>",
+    {{"passes", K::ObjectArray, "the passes of one light; {light} in a value is the light's name",
+      {}, {}, {}, &kPassShape, nullptr, true},
+     {"colorIn", K::String, "the input port that receives the previous light's colour"},
+     {"colorOut", K::String, "the output port that carries this light's colour on"},
+     {"rewire", K::StringMap, "pass.port → source, rebound to the last light's output"},
+     {"outputs", K::ValueMap, "per-light outputs: file → source(s), {light} in names"},
+     {"description", K::String, "ignored"}}};
+const JsonObjectShape kTemplateEntryShape = {
+    "template entry", "a light template in the chain",
+    {{"forEachLight", K::Object, "the template", {}, {}, {}, &kLightTemplateShape, nullptr, true},
+     {"description", K::String, "ignored"}}};
+const JsonObjectShape kColorShape = {
+    "color", "colour management of previews",
+    {{"ocioConfig", K::String, "OCIO config for previews; default $OCIO, then configs/ocio/config.ocio"}}};
+const JsonObjectShape kExrShape = {
+    "exr", "how EXR outputs are written",
+    {{"compression", K::String, "lossless codecs only: lossy ones damage data layers", {}, {},
+      {"zip", "zips", "piz", "none"}},
+     {"colorPrecision", K::String, "how colour layers of outputs and dumps are stored (data layers are always float32)",
+      {}, {}, {"half", "float"}}}};
+
 const std::vector<std::string> kEngines = {"ue4.27", "ue5"};
 
 nlohmann::json readJsonFile(const std::string& path) {
@@ -38,14 +65,13 @@ std::string resolvePath(const std::string& baseDir, const std::string& p) {
 }
 
 void checkKeys(const nlohmann::json& obj,
-               const std::vector<std::string>& allowed,
+               const JsonObjectShape& shape,
                const std::string& pointer,
                const std::string& what,
                Diagnostics& diag) {
-    for (const auto& [k, v] : obj.items())
-        if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
-            diag.error(pointer + "/" + jsonPointerEscape(k),
-                       fmt::format("unknown {} key '{}'{}", what, k, didYouMean(k, allowed)));
+    for (const auto& [k, suggestion] : shape.unknownKeys(obj))
+        diag.error(pointer + "/" + jsonPointerEscape(k),
+                   fmt::format("unknown {} key '{}'{}", what, k, suggestion));
 }
 
 std::string stringAt(const nlohmann::json& j,
@@ -62,7 +88,7 @@ std::string stringAt(const nlohmann::json& j,
 }
 
 NodeDesc parsePass(const nlohmann::json& p, const std::string& ptr, Diagnostics& diag) {
-    checkKeys(p, kPassKeys, ptr, "pass", diag);
+    checkKeys(p, kPassShape, ptr, "pass", diag);
     NodeDesc n;
     n.pointer = ptr;
     n.type = stringAt(p, "type", ptr, diag);
@@ -138,7 +164,7 @@ LightTemplate parseLightTemplate(const nlohmann::json& t,
         diag.error(ptr, "'forEachLight' must be an object");
         return lt;
     }
-    checkKeys(t, kLightTemplateKeys, ptr, "forEachLight", diag);
+    checkKeys(t, kLightTemplateShape, ptr, "forEachLight", diag);
     if (!t.contains("passes") || !t["passes"].is_array())
         diag.error(ptr + "/passes", "'passes' must be an array of passes");
     else
@@ -181,7 +207,7 @@ void parsePasses(const nlohmann::json& passes,
         if (!p.is_object()) {
             diag.error(ptr, "a pass must be an object with at least 'type'");
         } else if (p.contains("forEachLight")) {
-            checkKeys(p, {"forEachLight", "description"}, ptr, "template", diag);
+            checkKeys(p, kTemplateEntryShape, ptr, "template", diag);
             g.lightTemplates.push_back(
                 parseLightTemplate(p["forEachLight"], ptr + "/forEachLight", g.nodes.size(), diag));
         } else {
@@ -191,6 +217,31 @@ void parsePasses(const nlohmann::json& passes,
 }
 
 }  // namespace
+
+const JsonObjectShape& configShape() {
+    static const JsonObjectShape shape = {
+        "framepass config",
+        "A chain of Unreal's lighting passes on a capture (docs/config.md).",
+        {{"version", K::Integer, "1", 1, 1, {}, nullptr, nullptr, true},
+         {"engine", K::String, "a config without passes runs configs/<engine>.json", {}, {},
+          {"ue4.27", "ue5"}},
+         {"device", K::String, "where the passes with a CUDA kernel run (--device)", {}, {},
+          {"cpu", "cuda"}},
+         {"capture", K::String, "capture EXR or frame pattern (####, %04d, @@@, shot.1-10#.exr)"},
+         {"frames", K::IntegerOrString, "frame spec, oiiotool syntax: 1001, 1-10, 1-10x2, 3,4,10-20x2"},
+         {"profile", K::StringOrObject, "capture profile: a built-in name, a FILE.json, or inline {\"base\": ...}"},
+         {"previous", K::String, "the previous frame's capture, for one capture that is not a sequence"},
+         {"camera", K::String, "camera sidecar JSON (pattern allowed)"},
+         {"scene", K::String, "scene JSON: its lights expand the light templates, its meshes are read when a pass traces rays"},
+         {"cvars", K::ValueMap, "Unreal console variables by their exact names"},
+         {"passes", K::ObjectArray, "the chain", {}, {}, {}, &kPassShape, &kTemplateEntryShape},
+         {"outputs", K::ValueMap, "file → 'pass.port' or a list of them (.exr), or one source (.png)"},
+         {"color", K::Object, "colour management of previews", {}, {}, {}, &kColorShape},
+         {"exr", K::Object, "how EXR outputs are written", {}, {}, {}, &kExrShape},
+         {"description", K::String, "ignored"},
+         {"$schema", K::String, "ignored: the JSON Schema an editor validates with"}}};
+    return shape;
+}
 
 std::string configDirectory() {
     if (const char* env = std::getenv("FRAMEPASS_CONFIG_DIR"); env && *env)
@@ -224,7 +275,7 @@ RunConfig parseRunConfig(const nlohmann::json& j,
     rc.baseDir = baseDir;
     if (!j.is_object())
         throw UsageError(fmt::format("{}: the config must be a JSON object", source));
-    checkKeys(j, kTopKeys, "", "config", diag);
+    checkKeys(j, configShape(), "", "config", diag);
     if (!j.contains("version"))
         diag.error("/version", "missing 'version' (use 1)");
     else if (j["version"] != 1)
@@ -267,7 +318,7 @@ RunConfig parseRunConfig(const nlohmann::json& j,
         if (!j["color"].is_object())
             diag.error("/color", "'color' must be an object");
         else {
-            checkKeys(j["color"], {"ocioConfig"}, "/color", "color", diag);
+            checkKeys(j["color"], kColorShape, "/color", "color", diag);
             rc.ocioConfig =
                 resolvePath(baseDir, stringAt(j["color"], "ocioConfig", "/color", diag));
         }
@@ -276,7 +327,7 @@ RunConfig parseRunConfig(const nlohmann::json& j,
         if (!j["exr"].is_object())
             diag.error("/exr", "'exr' must be an object");
         else {
-            checkKeys(j["exr"], {"compression", "colorPrecision"}, "/exr", "exr", diag);
+            checkKeys(j["exr"], kExrShape, "/exr", "exr", diag);
             if (j["exr"].contains("compression"))
                 rc.compression = stringAt(j["exr"], "compression", "/exr", diag);
             if (j["exr"].contains("colorPrecision")) {

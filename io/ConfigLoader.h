@@ -2,8 +2,8 @@
 // Loads a run config (docs/config.md): JSON with comments, versioned, every key checked, every problem
 // reported at once with its JSON pointer. A config without "passes" takes the whole chain of its
 // engine's preset (configs/<engine>.json), so a user's config can be three lines.
-#include "passes/core/Diagnostics.h"
-#include "passes/core/GraphDesc.h"
+#include "framework/Diagnostics.h"
+#include "framework/GraphDesc.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,6 +1,6 @@
 #include "io/ContactSheet.h"
 
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <OpenImageIO/imagebufalgo.h>
 

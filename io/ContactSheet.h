@@ -3,7 +3,7 @@
 // label (`framepass sheet`), and a colour bar with its end values under a heat map (`compare
 // --heatmap`, the bench report). Composited with OpenImageIO; text is drawn by its render_text
 // with the DejaVu Sans font of Debian's fonts-dejavu-core.
-#include "passes/core/Image.h"
+#include "foundation/Image.h"
 
 #include <string>
 #include <vector>

@@ -1,7 +1,7 @@
 #include "io/ExrLayers.h"
 
-#include "passes/core/Error.h"
-#include "passes/core/Suggest.h"
+#include "foundation/Error.h"
+#include "foundation/Suggest.h"
 
 #include <algorithm>
 

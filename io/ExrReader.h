@@ -1,7 +1,7 @@
 #pragma once
 // Reads multi-layer (and multi-part) OpenEXR files channel by channel: the header is read when
 // the file is opened, pixels only for the channels asked for (docs/captures.md, lazy reads).
-#include "passes/core/Image.h"
+#include "foundation/Image.h"
 
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfPixelType.h>

@@ -3,7 +3,7 @@
 #include "io/SafeFiles.h"
 
 #include "io/CameraIO.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>

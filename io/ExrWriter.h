@@ -3,8 +3,8 @@
 // beyond half's range saturate instead of becoming Inf), no timestamp in the header so reruns are
 // byte-identical, and always through a temporary file renamed into place so a killed job never
 // leaves a complete-looking file.
-#include "passes/core/Camera.h"
-#include "passes/core/Image.h"
+#include "foundation/Camera.h"
+#include "foundation/Image.h"
 
 #include <cstdint>
 #include <map>

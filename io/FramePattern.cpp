@@ -1,7 +1,7 @@
 #include "io/FramePattern.h"
 
-#include "passes/core/Error.h"
-#include "passes/core/Limits.h"
+#include "foundation/Error.h"
+#include "foundation/Limits.h"
 
 #include <OpenImageIO/filesystem.h>
 

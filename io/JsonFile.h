@@ -3,8 +3,8 @@
 // here: a folder or unreadable path, broken JSON and nesting deeper than limits::kMaxJsonDepth are
 // usage errors that name the file. The depth limit stops a few hundred kilobytes of brackets from
 // overflowing the stack in the recursive code that copies and walks the document.
-#include "passes/core/Error.h"
-#include "passes/core/Limits.h"
+#include "foundation/Error.h"
+#include "foundation/Limits.h"
 
 #include <nlohmann/json.hpp>
 

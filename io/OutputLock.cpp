@@ -1,7 +1,7 @@
 #include "io/OutputLock.h"
 
 #include "io/SafeFiles.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -2,7 +2,7 @@
 
 #include "io/FramePattern.h"
 #include "io/PngWriter.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <cmath>
 #include <filesystem>

@@ -2,7 +2,7 @@
 // Writes a frame's outputs: EXR (one part; or one part per mip for mip chains) or PNG previews,
 // named by the output's file pattern under the output folder, never over an input.
 #include "io/ExrWriter.h"
-#include "passes/core/Executor.h"
+#include "framework/Executor.h"
 
 #include <set>
 #include <string>

@@ -3,7 +3,7 @@
 #include "io/SafeFiles.h"
 
 #include "io/ExrWriter.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <OpenImageIO/imageio.h>
 

@@ -1,5 +1,5 @@
 #pragma once
-#include "passes/core/Image.h"
+#include "foundation/Image.h"
 
 #include <string>
 

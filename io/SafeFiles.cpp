@@ -1,7 +1,7 @@
 #include "io/SafeFiles.h"
 
 #include "io/ExrWriter.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <fcntl.h>
 #include <unistd.h>

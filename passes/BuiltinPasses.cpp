@@ -1,6 +1,6 @@
 // The explicit list of built-in pass types (architecture anchors B3): one line per pass.
 #include "passes/camera_velocity/CameraVelocityPass.h"
-#include "passes/core/PassRegistry.h"
+#include "framework/PassRegistry.h"
 #include "passes/deferred_lighting/DeferredLightingPass.h"
 #include "passes/diffuse_indirect_composite/DiffuseIndirectCompositePass.h"
 #include "passes/display/DisplayPass.h"

@@ -1,9 +1,9 @@
 #include "passes/camera_velocity/CameraVelocityPass.h"
 
-#include "passes/common/GBuffer.h"
-#include "passes/common/Reprojection.h"
-#include "passes/core/Error.h"
-#include "passes/core/Tiles.h"
+#include "screenspace/GBuffer.h"
+#include "screenspace/Reprojection.h"
+#include "foundation/Error.h"
+#include "foundation/Tiles.h"
 
 #include <cmath>
 #include <limits>

@@ -3,8 +3,8 @@
 // camera moved (Unreal's velocity pass writes these for static geometry; moving objects add their
 // own motion). For captures without a Velocity buffer, so the reduction and the SSGI denoiser can
 // reproject through motion vectors as they do with Unreal's.
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
 
 namespace fp {
 
@@ -13,17 +13,13 @@ struct CameraVelocityParams {
         0.0f;  //!< depths at or beyond this move as sky (rotation only); 0 = +inf only
 };
 
-class CameraVelocityPass final : public Pass {
+class CameraVelocityPass final : public PassWithParams<CameraVelocityParams> {
 public:
-    using Params = CameraVelocityParams;
     static ParamSpec<Params> paramSpec();
-    explicit CameraVelocityPass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
-
-private:
-    Params mParams;
 };
 
 }  // namespace fp

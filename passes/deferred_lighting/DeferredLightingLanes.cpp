@@ -11,9 +11,9 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
-#include "passes/common/LaneMath.h"
+#include "screenspace/LaneMath.h"
 #include "passes/deferred_lighting/DeferredLightingLanes.h"
-#include "passes/lighting/BRDF.h"
+#include "shading/BRDF.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace fp::deferred::HWY_NAMESPACE {

@@ -6,7 +6,7 @@
 // scalar code's IEEE operations in the same order (no fused multiply-add: the build sets
 // -ffp-contract=off), so the sums are the same bits (DeferredLightingTests checks it on every
 // instruction set the CPU runs).
-#include "passes/core/Math.h"
+#include "foundation/Math.h"
 
 #include <vector>
 

@@ -1,13 +1,13 @@
 #include "passes/deferred_lighting/DeferredLightingPass.h"
 
-#include "passes/common/GBuffer.h"
-#include "passes/core/ShadingModel.h"
-#include "passes/core/Tiles.h"
+#include "screenspace/GBuffer.h"
+#include "foundation/ShadingModel.h"
+#include "foundation/Tiles.h"
 #include "passes/deferred_lighting/DeferredLightingLanes.h"
-#include "passes/lighting/BRDF.h"
-#include "passes/lighting/LightAttenuation.h"
-#include "passes/lighting/NamedLight.h"
-#include "passes/lighting/ShadingModelBxDF.h"
+#include "shading/BRDF.h"
+#include "shading/LightAttenuation.h"
+#include "shading/NamedLight.h"
+#include "shading/ShadingModelBxDF.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,11 +2,11 @@
 // Deferred direct lighting of one light (Unreal's RenderLights, algorithms §9.5–9.6): per pixel the
 // GBuffer is decoded, the light's unshadowed falloff computed (E for directional lights, I/r² with
 // the spot cone for point and spot lights, the area integral for rect lights), the shading model's
-// BxDF evaluated (passes/lighting/ShadingModelBxDF.h), and surface and transmission terms shadowed
+// BxDF evaluated (shading/ShadingModelBxDF.h), and surface and transmission terms shadowed
 // by the light-attenuation buffer's surface and transmission shadows. The result is added to the
 // incoming scene colour, as Unreal's additive light accumulation does (algorithms §7.5).
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
 
 #include <string>
 
@@ -18,17 +18,13 @@ struct DeferredLightingParams {
     bool lanes = true;    //!< rect lights: default-lit pixels in SIMD lanes (false: scalar reference)
 };
 
-class DeferredLightingPass final : public Pass {
+class DeferredLightingPass final : public PassWithParams<DeferredLightingParams> {
 public:
-    using Params = DeferredLightingParams;
     static ParamSpec<Params> paramSpec();
-    explicit DeferredLightingPass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
-
-private:
-    Params mParams;
 };
 
 }  // namespace fp

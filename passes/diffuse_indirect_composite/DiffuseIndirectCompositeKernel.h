@@ -1,14 +1,14 @@
 #pragma once
 // The diffuse-indirect composite's per-pixel work (algorithms §7), for
 // DiffuseIndirectCompositePass::execute and DiffuseIndirectCompositePass.cu alike.
-#include "passes/common/GBuffer.h"
-#include "passes/core/Camera.h"
-#include "passes/core/Error.h"
-#include "passes/core/FloatToInt.h"
-#include "passes/core/HostDevice.h"
-#include "passes/core/PerPixel.h"
-#include "passes/core/PlaneView.h"
-#include "passes/core/ShadingModel.h"
+#include "screenspace/GBuffer.h"
+#include "foundation/Camera.h"
+#include "foundation/Error.h"
+#include "foundation/FloatToInt.h"
+#include "foundation/HostDevice.h"
+#include "foundation/PerPixel.h"
+#include "foundation/PlaneView.h"
+#include "foundation/ShadingModel.h"
 #include "passes/diffuse_indirect_composite/DiffuseIndirectCompositePass.h"
 
 #include <algorithm>

@@ -1,8 +1,8 @@
 #include "passes/diffuse_indirect_composite/DiffuseIndirectCompositePass.h"
 
-#include "passes/common/GBuffer.h"
-#include "passes/core/PassPorts.h"
-#include "passes/core/PerPixel.h"
+#include "screenspace/GBuffer.h"
+#include "framework/PassPorts.h"
+#include "foundation/PerPixel.h"
 #include "passes/diffuse_indirect_composite/DiffuseIndirectCompositeKernel.h"
 
 namespace fp {

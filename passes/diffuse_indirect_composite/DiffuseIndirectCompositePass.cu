@@ -1,6 +1,6 @@
 // DiffuseIndirectCompositePass on the GPU: composite::run with device images.
-#include "passes/core/CudaLaunch.cuh"
-#include "passes/core/PassPorts.h"
+#include "foundation/CudaLaunch.cuh"
+#include "framework/PassPorts.h"
 #include "passes/diffuse_indirect_composite/DiffuseIndirectCompositeKernel.h"
 
 namespace fp {

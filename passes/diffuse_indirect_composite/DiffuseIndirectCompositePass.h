@@ -3,8 +3,8 @@
 // SceneColor × FinalAO + diffuse albedo × SSGI. Unreal 4.27 multiplies DiffuseColor and point-
 // upsamples a half-resolution trace; UE5 adds per-shading-model terms (subsurface, skin, foliage,
 // cloth, hair) and a depth-tested 2×2 bilinear upsample.
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
 
 #include <string>
 
@@ -15,11 +15,10 @@ struct DiffuseIndirectCompositeParams {
     float aoStaticFraction = 1.0f;        //!< PP AmbientOcclusionStaticFraction
 };
 
-class DiffuseIndirectCompositePass final : public Pass {
+class DiffuseIndirectCompositePass final : public PassWithParams<DiffuseIndirectCompositeParams> {
 public:
-    using Params = DiffuseIndirectCompositeParams;
     static ParamSpec<Params> paramSpec();
-    explicit DiffuseIndirectCompositePass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
@@ -28,14 +27,10 @@ public:
     /// than 16 × 2√2 pixel radii from the pixel's (algorithms §7.3).
     static constexpr double kUpsampleRejection = 16.0 * 2.0 * 1.4142135623730951;
 
-#if FP_HAVE_CUDA
-    bool hasCudaKernel() const override { return true; }
-    void executeCuda(PassContext& ctx) override;  // DiffuseIndirectCompositePass.cu
-#endif
+    FP_PASS_HAS_CUDA_KERNEL  // DiffuseIndirectCompositePass.cu
 
 private:
     bool ue5() const { return mParams.engine == "ue5"; }
-    Params mParams;
 };
 
 }  // namespace fp

@@ -5,8 +5,8 @@
 // per channel, into a table over every half-float value and interpolated linearly between
 // neighbouring halves (a relative step of 2⁻¹⁰). That is possible only for a transform without
 // channel crosstalk (the shipped sRGB view is one); a view that mixes channels runs on the CPU.
-#include "passes/core/HostDevice.h"
-#include "passes/core/PlaneView.h"
+#include "foundation/HostDevice.h"
+#include "foundation/PlaneView.h"
 
 #include <bit>
 #include <cmath>

@@ -1,6 +1,6 @@
 #include "passes/display/DisplayPass.h"
 
-#include "passes/display/DisplayTransform.h"
+#include "color/DisplayTransform.h"
 
 namespace fp {
 

@@ -1,10 +1,10 @@
 // DisplayPass on the GPU: the same exposure, channel mapping and clamp as the CPU, the OCIO
 // transform through its half-float table (DisplayKernel.h), baked and uploaded on the first frame.
-#include "passes/core/Cuda.h"
-#include "passes/core/CudaLaunch.cuh"
+#include "foundation/Cuda.h"
+#include "foundation/CudaLaunch.cuh"
 #include "passes/display/DisplayKernel.h"
 #include "passes/display/DisplayPass.h"
-#include "passes/display/DisplayTransform.h"
+#include "color/DisplayTransform.h"
 
 namespace fp {
 

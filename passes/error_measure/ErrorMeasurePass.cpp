@@ -1,9 +1,9 @@
 #include "passes/error_measure/ErrorMeasurePass.h"
 
-#include "passes/common/GBuffer.h"
-#include "passes/core/Error.h"
-#include "passes/metrics/ErrorMetrics.h"
-#include "passes/metrics/Heatmap.h"
+#include "screenspace/GBuffer.h"
+#include "foundation/Error.h"
+#include "metrics/ErrorMetrics.h"
+#include "metrics/Heatmap.h"
 
 #include <limits>
 #include <optional>

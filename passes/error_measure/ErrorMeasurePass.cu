@@ -4,13 +4,13 @@
 // in row order — deterministic from run to run, and within a few double roundings of the CPU's
 // tile-order sums. The heat map's 99th percentile is selected exactly, by radix selection over the
 // float bits of |error| (4 rounds of 256-bin histograms).
-#include "passes/common/GBuffer.h"
-#include "passes/core/Cuda.h"
-#include "passes/core/CudaLaunch.cuh"
-#include "passes/core/Error.h"
+#include "screenspace/GBuffer.h"
+#include "foundation/Cuda.h"
+#include "foundation/CudaLaunch.cuh"
+#include "foundation/Error.h"
 #include "passes/error_measure/ErrorMeasurePass.h"
-#include "passes/metrics/ErrorMetrics.h"
-#include "passes/metrics/Heatmap.h"
+#include "metrics/ErrorMetrics.h"
+#include "metrics/Heatmap.h"
 
 #include <cuda_runtime.h>
 

@@ -3,9 +3,9 @@
 // the chain — typically a Truth.* layer of the capture — so `framepass run` and `framepass bench`
 // report error next to time. The statistics (ErrorMetrics.h) go into the run report as metrics;
 // the outputs are a heat map for people and the per-pixel |error| for tools.
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
-#include "passes/metrics/ErrorMetrics.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
+#include "metrics/ErrorMetrics.h"
 
 #include <limits>
 
@@ -20,19 +20,15 @@ struct ErrorMeasureParams {
 
 struct ErrorStats;
 
-class ErrorMeasurePass final : public Pass {
+class ErrorMeasurePass final : public PassWithParams<ErrorMeasureParams> {
 public:
-    using Params = ErrorMeasureParams;
     static ParamSpec<Params> paramSpec();
-    explicit ErrorMeasurePass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
 
-#if FP_HAVE_CUDA
-    bool hasCudaKernel() const override { return true; }
-    void executeCuda(PassContext& ctx) override;  // ErrorMeasurePass.cu
-#endif
+    FP_PASS_HAS_CUDA_KERNEL  // ErrorMeasurePass.cu
 
     static constexpr const char* kSource = "source";
     static constexpr const char* kReference = "reference";
@@ -47,7 +43,6 @@ private:
     /// The figures and work counts into the run report.
     void reportStats(PassContext& ctx, const ErrorStats& s) const;
 
-    Params mParams;
 };
 
 }  // namespace fp

@@ -1,11 +1,11 @@
 #pragma once
 // The HZB's per-texel work (algorithms §2), for HZBPass::execute and HZBPass.cu alike.
-#include "passes/common/GBuffer.h"
-#include "passes/core/Camera.h"
-#include "passes/core/HalfFloat.h"
-#include "passes/core/HostDevice.h"
-#include "passes/core/PerPixel.h"
-#include "passes/core/PlaneView.h"
+#include "screenspace/GBuffer.h"
+#include "foundation/Camera.h"
+#include "foundation/HalfFloat.h"
+#include "foundation/HostDevice.h"
+#include "foundation/PerPixel.h"
+#include "foundation/PlaneView.h"
 
 #include <algorithm>
 #include <cstdint>

@@ -1,7 +1,7 @@
 // HZBPass on the GPU: hzb::run with device images and one thread per texel.
-#include "passes/common/GBuffer.h"
-#include "passes/core/CudaLaunch.cuh"
-#include "passes/core/PassPorts.h"
+#include "screenspace/GBuffer.h"
+#include "foundation/CudaLaunch.cuh"
+#include "framework/PassPorts.h"
 #include "passes/hzb/HZBKernel.h"
 #include "passes/hzb/HZBPass.h"
 

@@ -2,8 +2,8 @@
 // Hierarchical Z (algorithms §2): mip chains of device Z holding, per texel, the furthest (min,
 // reversed Z) and closest (max) depth of the pixels beneath it. SSR and SSGI march against the
 // furthest chain; the reduced previous colour uses it as its reference depth.
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
 
 namespace fp {
 
@@ -11,11 +11,10 @@ struct HZBParams {
     bool halfPrecision = true;  //!< round texels to half as Unreal's PF_R16F target does
 };
 
-class HZBPass final : public Pass {
+class HZBPass final : public PassWithParams<HZBParams> {
 public:
-    using Params = HZBParams;
     static ParamSpec<Params> paramSpec();
-    explicit HZBPass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
@@ -25,13 +24,7 @@ public:
     /// as the larger exponent (1920×1080 → 1024×1024, 10 mips).
     static std::vector<Extent> mipExtents(Extent frame);
 
-#if FP_HAVE_CUDA
-    bool hasCudaKernel() const override { return true; }
-    void executeCuda(PassContext& ctx) override;  // HZBPass.cu
-#endif
-
-private:
-    Params mParams;
+    FP_PASS_HAS_CUDA_KERNEL  // HZBPass.cu
 };
 
 }  // namespace fp

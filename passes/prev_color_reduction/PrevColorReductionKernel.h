@@ -1,14 +1,14 @@
 #pragma once
 // The previous-colour reduction's per-pixel work (algorithms §3.2–3.3), written once for
 // PrevColorReductionPass::execute and PrevColorReductionPass.cu.
-#include "passes/common/GBuffer.h"
-#include "passes/common/Reprojection.h"
-#include "passes/core/Camera.h"
-#include "passes/core/Error.h"
-#include "passes/core/FloatToInt.h"
-#include "passes/core/HostDevice.h"
-#include "passes/core/PerPixel.h"
-#include "passes/core/PlaneView.h"
+#include "screenspace/GBuffer.h"
+#include "screenspace/Reprojection.h"
+#include "foundation/Camera.h"
+#include "foundation/Error.h"
+#include "foundation/FloatToInt.h"
+#include "foundation/HostDevice.h"
+#include "foundation/PerPixel.h"
+#include "foundation/PlaneView.h"
 #include "passes/prev_color_reduction/PrevColorReductionPass.h"
 
 #include <algorithm>

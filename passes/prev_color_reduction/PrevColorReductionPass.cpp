@@ -1,8 +1,8 @@
 #include "passes/prev_color_reduction/PrevColorReductionPass.h"
 
-#include "passes/common/GBuffer.h"
-#include "passes/core/PassPorts.h"
-#include "passes/core/PerPixel.h"
+#include "screenspace/GBuffer.h"
+#include "framework/PassPorts.h"
+#include "foundation/PerPixel.h"
 #include "passes/prev_color_reduction/PrevColorReductionKernel.h"
 
 namespace fp {

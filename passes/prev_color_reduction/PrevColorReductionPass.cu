@@ -1,6 +1,6 @@
 // PrevColorReductionPass on the GPU: prev_color::run with device images, a thread per texel.
-#include "passes/core/CudaLaunch.cuh"
-#include "passes/core/PassPorts.h"
+#include "foundation/CudaLaunch.cuh"
+#include "framework/PassPorts.h"
 #include "passes/prev_color_reduction/PrevColorReductionKernel.h"
 
 namespace fp {

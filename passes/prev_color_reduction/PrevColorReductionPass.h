@@ -2,8 +2,8 @@
 // The previous-frame colour mip chain that SSGI samples at its hits (algorithms §3,
 // "SSRTPrevFrameReduction"): last frame's colour reprojected into this frame's pixel grid, with
 // leak-free weighting that drops colour whose previous surface is not this pixel's surface.
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
 
 namespace fp {
 
@@ -14,12 +14,11 @@ struct PrevColorReductionParams {
     float skyDistance = 1e7f;  //!< sky distance in scene units (UE5)
 };
 
-class PrevColorReductionPass final : public Pass {
+class PrevColorReductionPass final : public PassWithParams<PrevColorReductionParams> {
 public:
-    using Params = PrevColorReductionParams;
     static constexpr int kMipCount = 5;
     static ParamSpec<Params> paramSpec();
-    explicit PrevColorReductionPass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
@@ -27,13 +26,7 @@ public:
 
     /// Mip 0 is half resolution rounded up to a multiple of 16; five mips (algorithms §3.1).
     static std::vector<Extent> mipExtents(Extent frame);
-#if FP_HAVE_CUDA
-    bool hasCudaKernel() const override { return true; }
-    void executeCuda(PassContext& ctx) override;  // PrevColorReductionPass.cu
-#endif
-
-private:
-    Params mParams;
+    FP_PASS_HAS_CUDA_KERNEL  // PrevColorReductionPass.cu
 };
 
 }  // namespace fp

@@ -1,14 +1,14 @@
 #include "passes/reflection_environment/ReflectionEnvironmentPass.h"
 
-#include "passes/common/GBuffer.h"
-#include "passes/core/Environment.h"
-#include "passes/core/Error.h"
-#include "passes/core/FloatToInt.h"
-#include "passes/core/Sampling.h"
-#include "passes/core/ShadingModel.h"
-#include "passes/core/Tiles.h"
-#include "passes/lighting/BRDF.h"
-#include "passes/lighting/EnvBRDF.h"
+#include "screenspace/GBuffer.h"
+#include "foundation/Environment.h"
+#include "foundation/Error.h"
+#include "foundation/FloatToInt.h"
+#include "foundation/Sampling.h"
+#include "foundation/ShadingModel.h"
+#include "foundation/Tiles.h"
+#include "shading/BRDF.h"
+#include "shading/EnvBRDF.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,10 +6,10 @@
 // composited under each other in ascending radius) and the sky, each prefiltered at the
 // roughness's mip, all × the preintegrated EnvBRDF; clear coat as two layers. Unlit pixels and
 // the sky are untouched; hair gets no reflections.
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
-#include "passes/lighting/Cubemap.h"
-#include "passes/lighting/ReflectionCaptures.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
+#include "shading/Cubemap.h"
+#include "shading/ReflectionCaptures.h"
 
 #include <memory>
 
@@ -24,11 +24,10 @@ struct ReflectionEnvironmentParams {
     bool specularOcclusion = true;  //!< Lagarde's AO on the reflection weight (§8.2 step 5)
 };
 
-class ReflectionEnvironmentPass final : public Pass {
+class ReflectionEnvironmentPass final : public PassWithParams<ReflectionEnvironmentParams> {
 public:
-    using Params = ReflectionEnvironmentParams;
     static ParamSpec<Params> paramSpec();
-    explicit ReflectionEnvironmentPass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
@@ -52,7 +51,6 @@ private:
     /// the same one.
     const std::vector<Cubemap>& captureCubes(const Environment& env);
 
-    Params mParams;
     std::shared_ptr<SkyLighting> mSky;
     const Environment* mCubesOf = nullptr;
     std::vector<Cubemap> mCaptureCubes;

@@ -6,8 +6,8 @@
 // hair pixels whose ray is blocked trace the inverted ray through their own object: the thickness
 // gives a transmission exp(−density·thickness). Outputs visibility, transmission, the closest
 // occluder distance (for the denoiser) and the light-attenuation encoding (algorithms §9.5).
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
 
 #include <string>
 
@@ -24,11 +24,10 @@ struct RTShadowsParams {
     bool lanes = true;           //!< set-up and rays in SIMD lanes; false: the scalar reference
 };
 
-class RTShadowsPass final : public Pass {
+class RTShadowsPass final : public PassWithParams<RTShadowsParams> {
 public:
-    using Params = RTShadowsParams;
     static ParamSpec<Params> paramSpec();
-    explicit RTShadowsPass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
@@ -39,9 +38,6 @@ public:
     /// Unreal's subsurface-profile thickness encoding: 1 − thickness/5 cm, saturated.
     static float encodeThickness(float thicknessCm);
     static constexpr float kMaxProfileDistanceCm = 5.0f;  // SSSS_MAX_TRANSMISSION_PROFILE_DISTANCE
-
-private:
-    Params mParams;
 };
 
 }  // namespace fp

@@ -10,9 +10,9 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
-#include "passes/common/LaneMath.h"
-#include "passes/core/Random.h"
-#include "passes/core/ShadingModel.h"
+#include "screenspace/LaneMath.h"
+#include "foundation/Random.h"
+#include "foundation/ShadingModel.h"
 #include "passes/rt_shadows/ShadowLanes.h"
 
 #include <algorithm>

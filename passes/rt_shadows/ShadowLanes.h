@@ -9,8 +9,8 @@
 // a time. Every lane does its IEEE operations in the same order (no fused multiply-add: the build
 // sets -ffp-contract=off; the sample angles' sine and cosine are SinCos.h's, in double lanes), so
 // both give the same bits (ShadowTests checks it on every instruction set the CPU runs).
-#include "passes/core/Camera.h"
-#include "passes/core/Tiles.h"
+#include "foundation/Camera.h"
+#include "foundation/Tiles.h"
 #include "passes/rt_shadows/ShadowRayGenerator.h"
 
 #include <cstdint>

@@ -1,8 +1,8 @@
 #include "passes/rt_shadows/ShadowRayGenerator.h"
 
-#include "passes/core/Sampling.h"
-#include "passes/core/SinCos.h"
-#include "passes/core/UnrealRandom.h"
+#include "foundation/Sampling.h"
+#include "foundation/SinCos.h"
+#include "foundation/UnrealRandom.h"
 
 #include <algorithm>
 #include <cmath>

@@ -3,8 +3,8 @@
 // (algorithms §9.2): a concentric-disk sample of the directional light's cone (SourceRadius =
 // sin(½·LightSourceAngle)), a uniform sample of the solid angle of a sphere light, a uniform point
 // of a rect light. Positions are relative to the RayScene origin (camera-relative).
-#include "passes/core/Math.h"
-#include "passes/core/Scene.h"
+#include "foundation/Math.h"
+#include "foundation/Scene.h"
 
 namespace fp {
 

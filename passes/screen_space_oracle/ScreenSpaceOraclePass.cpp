@@ -1,13 +1,13 @@
 #include "passes/screen_space_oracle/ScreenSpaceOraclePass.h"
 
-#include "passes/common/GBuffer.h"
-#include "passes/common/Reprojection.h"
-#include "passes/core/Error.h"
-#include "passes/core/PassPorts.h"
-#include "passes/core/Random.h"
-#include "passes/core/ShadingModel.h"
-#include "passes/core/Tiles.h"
-#include "passes/reference/ScatterLobe.h"
+#include "screenspace/GBuffer.h"
+#include "screenspace/Reprojection.h"
+#include "foundation/Error.h"
+#include "framework/PassPorts.h"
+#include "foundation/Random.h"
+#include "foundation/ShadingModel.h"
+#include "foundation/Tiles.h"
+#include "reference/ScatterLobe.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,8 +7,8 @@
 // pixel's surface was, at full resolution: no HZB mips, no reduced colour, no Karis weighting, no
 // step schedule. What it misses (off-screen and hidden surfaces) is the screen-space limit; what
 // Unreal's passes miss beyond it is their approximation (the error decomposition of `bench`).
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
 
 namespace fp {
 
@@ -18,17 +18,13 @@ struct ScreenSpaceOracleParams {
     float aoRadius = 1.0f;    //!< metres: the radius of aoWithinRadius (capture's Truth.AO radius)
 };
 
-class ScreenSpaceOraclePass final : public Pass {
+class ScreenSpaceOraclePass final : public PassWithParams<ScreenSpaceOracleParams> {
 public:
-    using Params = ScreenSpaceOracleParams;
     static ParamSpec<Params> paramSpec();
-    explicit ScreenSpaceOraclePass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
-
-private:
-    Params mParams;
 };
 
 }  // namespace fp

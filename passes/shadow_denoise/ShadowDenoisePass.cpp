@@ -1,14 +1,14 @@
 #include "passes/shadow_denoise/ShadowDenoisePass.h"
 
-#include "passes/common/Bilateral.h"
-#include "passes/common/GBuffer.h"
-#include "passes/common/Surface.h"
-#include "passes/core/Error.h"
-#include "passes/core/FloatToInt.h"
-#include "passes/core/Tiles.h"
-#include "passes/core/UnrealRandom.h"
-#include "passes/lighting/LightAttenuation.h"
-#include "passes/lighting/NamedLight.h"
+#include "screenspace/Bilateral.h"
+#include "screenspace/GBuffer.h"
+#include "screenspace/Surface.h"
+#include "foundation/Error.h"
+#include "foundation/FloatToInt.h"
+#include "foundation/Tiles.h"
+#include "foundation/UnrealRandom.h"
+#include "shading/LightAttenuation.h"
+#include "shading/NamedLight.h"
 
 #include <algorithm>
 #include <array>

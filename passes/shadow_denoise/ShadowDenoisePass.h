@@ -5,8 +5,8 @@
 // distance; local: radius × d/(D − d)). Golden-angle taps inside that radius are weighted by the
 // receiver's plane and normal, so contact shadows stay sharp and shadows do not bleed across
 // creases. Writes the light-attenuation encoding (algorithms §9.5) of the filtered result.
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
 
 #include <string>
 
@@ -23,11 +23,10 @@ struct ShadowDenoiseParams {
     float maxRadius = 32.0f;        //!< largest blur radius, pixels
 };
 
-class ShadowDenoisePass final : public Pass {
+class ShadowDenoisePass final : public PassWithParams<ShadowDenoiseParams> {
 public:
-    using Params = ShadowDenoiseParams;
     static ParamSpec<Params> paramSpec();
-    explicit ShadowDenoisePass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
@@ -38,7 +37,6 @@ private:
     /// The pre-convolution passes and the reconstruction over (shadow, transmission).
     Image filter(const SurfaceGrid& surfaces, const Plane& radius, Image signal) const;
 
-    Params mParams;
 };
 
 }  // namespace fp

@@ -2,20 +2,20 @@
 // SSGI's per-pixel work (algorithms §4.3–4.8), written once for both backends: SSGIPass::execute
 // calls ssgiPixel from its tile loop, SSGIPass.cu from one CUDA thread per traced pixel. Everything
 // a pixel reads is in SSGIFrame, plain views passed by value.
-#include "passes/common/GBuffer.h"
-#include "passes/common/HzbMarch.h"
-#include "passes/common/Surface.h"
-#include "passes/common/TraceResolution.h"
-#include "passes/core/Camera.h"
-#include "passes/core/Error.h"
-#include "passes/core/HostDevice.h"
-#include "passes/core/Math.h"
-#include "passes/core/Pass.h"
-#include "passes/core/PerPixel.h"
-#include "passes/core/PlaneView.h"
-#include "passes/core/Sampling.h"
-#include "passes/core/ShadingModel.h"
-#include "passes/core/UnrealRandom.h"
+#include "screenspace/GBuffer.h"
+#include "screenspace/HzbMarch.h"
+#include "screenspace/Surface.h"
+#include "screenspace/TraceResolution.h"
+#include "foundation/Camera.h"
+#include "foundation/Error.h"
+#include "foundation/HostDevice.h"
+#include "foundation/Math.h"
+#include "framework/Pass.h"
+#include "foundation/PerPixel.h"
+#include "foundation/PlaneView.h"
+#include "foundation/Sampling.h"
+#include "foundation/ShadingModel.h"
+#include "foundation/UnrealRandom.h"
 
 #include <array>
 #include <cmath>

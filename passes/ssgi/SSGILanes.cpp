@@ -13,8 +13,8 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
-#include "passes/common/LaneMath.h"
-#include "passes/core/PerPixel.h"
+#include "screenspace/LaneMath.h"
+#include "foundation/PerPixel.h"
 #include "passes/ssgi/SSGILanes.h"
 #include "passes/ssgi/SSGIPass.h"
 

@@ -1,8 +1,8 @@
 #include "passes/ssgi/SSGIPass.h"
 
-#include "passes/common/GBuffer.h"
-#include "passes/core/PassPorts.h"
-#include "passes/core/PerPixel.h"
+#include "screenspace/GBuffer.h"
+#include "framework/PassPorts.h"
+#include "foundation/PerPixel.h"
 #include "passes/ssgi/SSGIKernel.h"
 #include "passes/ssgi/SSGILanes.h"
 

@@ -1,6 +1,6 @@
 // SSGIPass on the GPU: ssgi::run with device images, one thread per trace pixel.
-#include "passes/core/CudaLaunch.cuh"
-#include "passes/core/PassPorts.h"
+#include "foundation/CudaLaunch.cuh"
+#include "framework/PassPorts.h"
 #include "passes/ssgi/SSGIKernel.h"
 #include "passes/ssgi/SSGIPass.h"
 

@@ -4,9 +4,9 @@
 // a hit gathers last frame's reduced colour (prev_color_reduction) at the HZB level the ray
 // reached. The result is the mean incoming radiance of the rays (irradiance/π) and an AO term,
 // 1 − the fraction of rays that found an occluder on screen.
-#include "passes/core/Math.h"
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
+#include "foundation/Math.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
 
 namespace fp {
 
@@ -24,11 +24,10 @@ struct SSGIQuality {
     int steps;  //!< HZB samples per ray, in batches of 4
 };
 
-class SSGIPass final : public Pass {
+class SSGIPass final : public PassWithParams<SSGIParams> {
 public:
-    using Params = SSGIParams;
     static ParamSpec<Params> paramSpec();
-    explicit SSGIPass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
@@ -45,13 +44,7 @@ public:
     static Vec3f rayDirection(const Vec3f& n, int x, int y, uint32_t frameMod8, int index,
                               int count);
 
-#if FP_HAVE_CUDA
-    bool hasCudaKernel() const override { return true; }
-    void executeCuda(PassContext& ctx) override;  // SSGIPass.cu
-#endif
-
-private:
-    Params mParams;
+    FP_PASS_HAS_CUDA_KERNEL  // SSGIPass.cu
 };
 
 }  // namespace fp

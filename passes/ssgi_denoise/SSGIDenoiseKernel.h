@@ -3,18 +3,18 @@
 // runs it with CpuPixels from execute(), SSGIDenoisePass.cu with CudaPixels. Three sweeps over
 // the trace grid — surfaces, the spatial reconstruction, the temporal accumulation — each
 // reading only what the sweep before it wrote.
-#include "passes/common/Bilateral.h"
-#include "passes/common/GBuffer.h"
-#include "passes/common/Reprojection.h"
-#include "passes/common/Surface.h"
-#include "passes/common/TraceResolution.h"
-#include "passes/core/Error.h"
-#include "passes/core/FloatToInt.h"
-#include "passes/core/HostDevice.h"
-#include "passes/core/Pass.h"
-#include "passes/core/PerPixel.h"
-#include "passes/core/PlaneView.h"
-#include "passes/core/UnrealRandom.h"
+#include "screenspace/Bilateral.h"
+#include "screenspace/GBuffer.h"
+#include "screenspace/Reprojection.h"
+#include "screenspace/Surface.h"
+#include "screenspace/TraceResolution.h"
+#include "foundation/Error.h"
+#include "foundation/FloatToInt.h"
+#include "foundation/HostDevice.h"
+#include "framework/Pass.h"
+#include "foundation/PerPixel.h"
+#include "foundation/PlaneView.h"
+#include "foundation/UnrealRandom.h"
 
 #include <algorithm>
 #include <array>

@@ -1,9 +1,9 @@
 #include "passes/ssgi_denoise/SSGIDenoisePass.h"
 
-#include "passes/common/GBuffer.h"
-#include "passes/common/TraceResolution.h"
-#include "passes/core/PassPorts.h"
-#include "passes/core/PerPixel.h"
+#include "screenspace/GBuffer.h"
+#include "screenspace/TraceResolution.h"
+#include "framework/PassPorts.h"
+#include "foundation/PerPixel.h"
 #include "passes/ssgi_denoise/SSGIDenoiseKernel.h"
 
 namespace fp {

@@ -1,6 +1,6 @@
 // SSGIDenoisePass on the GPU: ssgi_denoise::run with device images; the history stays on the GPU.
-#include "passes/core/CudaLaunch.cuh"
-#include "passes/core/PassPorts.h"
+#include "foundation/CudaLaunch.cuh"
+#include "framework/PassPorts.h"
 #include "passes/ssgi_denoise/SSGIDenoiseKernel.h"
 #include "passes/ssgi_denoise/SSGIDenoisePass.h"
 

@@ -4,8 +4,8 @@
 // with the frames before — reprojection through the history's camera (or velocity), a stochastic
 // 2×2 history tap validated bilaterally, a 1.25σ neighbourhood clamp, AO-driven rejection and a
 // sample-count-weighted running mean whose history is capped at 64 samples.
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
 
 namespace fp {
 
@@ -15,23 +15,16 @@ struct SSGIDenoiseParams {
     bool halfRes = false;             //!< the trace ran at half resolution
 };
 
-class SSGIDenoisePass final : public Pass {
+class SSGIDenoisePass final : public PassWithParams<SSGIDenoiseParams> {
 public:
-    using Params = SSGIDenoiseParams;
     static ParamSpec<Params> paramSpec();
-    explicit SSGIDenoisePass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
     std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
 
-#if FP_HAVE_CUDA
-    bool hasCudaKernel() const override { return true; }
-    void executeCuda(PassContext& ctx) override;  // SSGIDenoisePass.cu
-#endif
-
-private:
-    Params mParams;
+    FP_PASS_HAS_CUDA_KERNEL  // SSGIDenoisePass.cu
 };
 
 }  // namespace fp

@@ -1,14 +1,14 @@
 #include "passes/ssr/SSRPass.h"
 
-#include "passes/common/GBuffer.h"
-#include "passes/common/HzbMarch.h"
-#include "passes/common/Reprojection.h"
-#include "passes/core/Error.h"
-#include "passes/core/FloatToInt.h"
-#include "passes/core/Sampling.h"
-#include "passes/core/ShadingModel.h"
-#include "passes/core/Tiles.h"
-#include "passes/core/UnrealRandom.h"
+#include "screenspace/GBuffer.h"
+#include "screenspace/HzbMarch.h"
+#include "screenspace/Reprojection.h"
+#include "foundation/Error.h"
+#include "foundation/FloatToInt.h"
+#include "foundation/Sampling.h"
+#include "foundation/ShadingModel.h"
+#include "foundation/Tiles.h"
+#include "foundation/UnrealRandom.h"
 
 #include <algorithm>
 #include <array>

@@ -8,8 +8,8 @@
 // coverage in alpha; the EnvBRDF is applied later, in reflection_environment. With r.SSR.Temporal
 // the reflection is smoothed across frames: last frame's result, reprojected through the pixel's
 // surface and clamped to the 3×3 neighbourhood of this frame's, moves 1/8 of the way to it.
-#include "passes/core/Params.h"
-#include "passes/core/Pass.h"
+#include "framework/Params.h"
+#include "framework/Pass.h"
 
 namespace fp {
 
@@ -28,11 +28,10 @@ struct SSRQuality {
     bool glossy;  //!< VNDF-sampled rays (High, Epic) rather than a mirror ray
 };
 
-class SSRPass final : public Pass {
+class SSRPass final : public PassWithParams<SSRParams> {
 public:
-    using Params = SSRParams;
     static ParamSpec<Params> paramSpec();
-    explicit SSRPass(const Params& params) : mParams(params) {}
+    using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
@@ -50,9 +49,6 @@ public:
     /// history 1/8 of the way to the new reflection [inferred: the reference names a TAA-style
     /// pass with its own history, not its weights].
     static constexpr float kTemporalWeight = 0.125f;
-
-private:
-    Params mParams;
 };
 
 }  // namespace fp

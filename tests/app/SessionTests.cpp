@@ -8,14 +8,14 @@
 #include "app/Session.h"
 #include "app/Tune.h"
 #include "io/CaptureSource.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 #include "tests/support/Scratch.h"
+#include "tests/support/TestScenes.h"
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -87,13 +87,9 @@ const std::vector<std::string> kOutputs = {"ssgi_denoise.diffuse",
                                            "diffuse_indirect_composite.color"};
 
 bool sameBits(const Image& a, const Image& b) {
-    if (a.width() != b.width() || a.height() != b.height() ||
-        a.channelCount() != b.channelCount())
-        return false;
+    if (a.channelCount() != b.channelCount()) return false;
     for (int c = 0; c < a.channelCount(); ++c)
-        for (int y = 0; y < a.height(); ++y)
-            if (std::memcmp(a.plane(c).row(y), b.plane(c).row(y), sizeof(float) * a.width()))
-                return false;
+        if (!test::sameBits(a.plane(c), b.plane(c))) return false;
     return true;
 }
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The documentation against the code: docs/passes.md is what `framepass passes --markdown`
-prints; every option of every command appears in docs/commands.md; the README stays under 20 KB;
+prints, docs/schema/*.schema.json what `framepass schema` prints; every option of every command appears in docs/commands.md; the README stays under 20 KB;
 every relative link in README.md and docs/ names a file that exists; every section the code
 cites (`algorithms §N.M`, or a bare `§N.M`) is a heading of docs/algorithms.md, and no file
 cites a document outside the repository.
@@ -25,6 +25,47 @@ committed = open(os.path.join(src, "docs/passes.md")).read()
 if run("passes", "--markdown") != committed:
     failures.append("docs/passes.md differs from `framepass passes --markdown` "
                     "(regenerate: framepass passes --markdown > docs/passes.md)")
+
+# 1b. The JSON Schemas of configs and scenes are generated too.
+for document in ("config", "scene"):
+    path = os.path.join(src, f"docs/schema/{document}.schema.json")
+    if not os.path.exists(path) or run("schema", document) != open(path).read():
+        failures.append(f"docs/schema/{document}.schema.json differs from `framepass schema {document}` "
+                        f"(regenerate: framepass schema {document} > docs/schema/{document}.schema.json)")
+
+# 1c. Every config and scene the repository ships is valid under those schemas (checked by an
+# independent validator, Debian's python3-jsonschema), so the schemas say what the readers accept.
+import glob
+import json
+
+import jsonschema
+
+
+def load_json_with_comments(path):
+    # framepass reads JSON with // comments (the presets have them); none of their strings
+    # contains "//" after a comma or brace, so whole-line comments are all there is to drop.
+    text = "\n".join(line for line in open(path).read().split("\n")
+                     if not line.lstrip().startswith("//"))
+    return json.loads(text)
+
+
+schemas = {d: json.load(open(os.path.join(src, f"docs/schema/{d}.schema.json")))
+           for d in ("config", "scene")
+           if os.path.exists(os.path.join(src, f"docs/schema/{d}.schema.json"))}
+shipped = [f for f in glob.glob(os.path.join(src, "configs/*.json")) +
+           glob.glob(os.path.join(src, "examples/**/*.json"), recursive=True)]
+checked = 0
+for path in sorted(shipped):
+    doc = load_json_with_comments(path)
+    kind = "scene" if "geometry" in doc else "config" if "version" in doc or "passes" in doc else None
+    if kind not in schemas:
+        continue
+    checked += 1
+    for e in jsonschema.Draft202012Validator(schemas[kind]).iter_errors(doc):
+        failures.append(f"{os.path.relpath(path, src)}: not valid under docs/schema/{kind}.schema.json "
+                        f"at /{'/'.join(map(str, e.path))}: {e.message}")
+if len(schemas) == 2 and checked < 10:
+    failures.append(f"only {checked} shipped configs and scenes were checked against the schemas")
 
 # 2. Every option a user can type is documented.
 commands_md = open(os.path.join(src, "docs/commands.md")).read()

@@ -5,11 +5,11 @@
 // runs on a GPU machine without OpenImageIO's dependency tree (docs/gpu.md).
 #define DOCTEST_CONFIG_IMPLEMENT
 #include "io/ConfigLoader.h"
-#include "io/SceneLoader.h"
-#include "passes/core/Cuda.h"
-#include "passes/core/Executor.h"
-#include "passes/core/PassRegistry.h"
-#include "passes/core/Planner.h"
+#include "io/scene/SceneLoader.h"
+#include "foundation/Cuda.h"
+#include "framework/Executor.h"
+#include "framework/PassRegistry.h"
+#include "framework/Planner.h"
 #include "tests/support/TestScenes.h"
 
 #include <doctest/doctest.h>

@@ -1,7 +1,7 @@
 // The contact sheet's layout and compositing, and the colour bar under heat maps: sizes worked
 // out by hand, tiles where the layout puts them, labels drawn, bar ends in the ramp's colours.
 #include "io/ContactSheet.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 
 #include <doctest/doctest.h>
 

@@ -2,7 +2,7 @@
 #include "io/ExrReader.h"
 #include "io/ExrWriter.h"
 #include "io/FramePattern.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 #include "tests/support/Scratch.h"
 
 #include <OpenEXR/ImfHeader.h>

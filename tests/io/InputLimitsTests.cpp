@@ -1,8 +1,8 @@
 #include "io/FramePattern.h"
 #include "io/JsonFile.h"
-#include "passes/core/FloatToInt.h"
-#include "passes/core/Limits.h"
-#include "passes/core/Random.h"
+#include "foundation/FloatToInt.h"
+#include "foundation/Limits.h"
+#include "foundation/Random.h"
 
 #include <doctest/doctest.h>
 

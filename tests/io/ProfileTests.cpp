@@ -6,7 +6,7 @@
 #include "io/CaptureProfile.h"
 #include "io/CaptureSource.h"
 #include "io/ExrWriter.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 #include "tests/support/Scratch.h"
 
 #include <OpenEXR/ImfHeader.h>

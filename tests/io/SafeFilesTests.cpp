@@ -3,7 +3,7 @@
 #include "io/ExrWriter.h"
 #include "io/OutputWriter.h"
 #include "io/SafeFiles.h"
-#include "passes/core/Error.h"
+#include "foundation/Error.h"
 #include "tests/support/Scratch.h"
 
 #include <doctest/doctest.h>

@@ -1,6 +1,6 @@
 #include "io/CameraIO.h"
-#include "io/SceneLoader.h"
-#include "passes/core/Error.h"
+#include "io/scene/SceneLoader.h"
+#include "foundation/Error.h"
 
 #include <doctest/doctest.h>
 

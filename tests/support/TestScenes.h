@@ -1,10 +1,10 @@
 #pragma once
 // Small scenes and in-memory frame sources for tests: no files, exact geometry.
-#include "passes/capture/GBufferRenderer.h"
-#include "passes/core/Executor.h"
-#include "passes/core/Planner.h"
-#include "passes/core/RayScene.h"
-#include "passes/core/Scene.h"
+#include "reference/GBufferRenderer.h"
+#include "framework/Executor.h"
+#include "framework/Planner.h"
+#include "foundation/RayScene.h"
+#include "foundation/Scene.h"
 
 #include <cmath>
 #include <cstring>
@@ -175,6 +175,44 @@ inline NodeDesc node(std::string type, nlohmann::json params = nlohmann::json::o
     return {type, type, params, inputs, ""};
 }
 
+/// Runs the built-in passes `nodes` on `src` and keeps `outputs` ("pass.port"); with `history`,
+/// as a frame of a sequence.
+inline std::map<std::string, Texture> runChain(MemorySource& src, const std::vector<NodeDesc>& nodes,
+                                               const std::vector<std::string>& outputs,
+                                               HistoryStore* history = nullptr) {
+    MemorySink sink;
+    executePlan(planFor(nodes, outputs), src, sink, {}, history);
+    return sink.layers;
+}
+
+// A floor (y = 0) under a sphere of radius 10 centred at height 30, seen from straight above, so
+// floor pixels map linearly to floor positions.
+inline constexpr double kSphereRadius = 10.0;
+inline Scene sphereOverFloor(const Vec3d& offset, Light light) {
+    Scene s = floorScene(offset);
+    s.sceneUnitsPerMeter = 100.0;
+    s.meshes.push_back(sphere(offset + Vec3d{0, 30, 0}, kSphereRadius, 256, 0, 2));
+    light.position += offset;
+    s.lights.push_back(light);
+    return s;
+}
+
+inline FrameCamera topCamera(const Vec3d& offset, int size) {
+    FrameCamera cam;
+    cam.current =
+        CameraView::lookAt(offset + Vec3d{0, 200, 0}, offset, {0, 0, 1}, 20.0, size, size, 10.0);
+    cam.previous = cam.current;
+    return cam;
+}
+
+inline Light sun(const Vec3d& direction, float angleDegrees = 0.0f) {
+    Light l;
+    l.name = "sun";
+    l.type = LightType::Directional;
+    l.direction = normalize(direction);
+    l.sourceAngleDegrees = angleDegrees;
+    return l;
+}
 /// True when two planes hold the same bits in every pixel.
 inline bool sameBits(const Plane& a, const Plane& b) {
     if (a.width() != b.width() || a.height() != b.height()) return false;

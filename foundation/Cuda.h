@@ -1,0 +1,60 @@
+#pragma once
+// The CUDA backend's runtime, as the executor and the CLI see it: whether the backend exists and
+// can run here, device memory, transfers and event timing. Cuda.cu implements it where CMake found
+// nvcc; CudaUnavailable.cpp elsewhere, saying so. Kernels themselves live beside their passes
+// (passes/<id>/<Pass>.cu) and launch through CudaLaunch.cuh.
+#include "foundation/DeviceImage.h"
+#include "foundation/Image.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fp::cuda {
+
+/// True when this build compiled the CUDA kernels (nvcc was found at configure time).
+bool built();
+/// Empty when a CUDA device can run the kernels; otherwise why not, in words for the user.
+std::string unavailableReason();
+/// The GPU's name, e.g. "NVIDIA H100 80GB HBM3" (empty without one).
+std::string deviceName();
+
+/// Zero-filled device images, one per extent, with the given channels.
+DeviceTexture allocate(const std::vector<Extent>& mips, const std::vector<std::string>& channels);
+/// Uninitialised device memory of `bytes` bytes (scratch arrays of a pass).
+std::shared_ptr<void> allocateBytes(std::size_t bytes);
+DeviceTexture upload(const Texture& texture);
+Texture download(const DeviceTexture& texture);
+/// Waits for the GPU; a failed kernel becomes an fp::Error naming `what`.
+void synchronize(const char* what);
+/// Device memory for `count` work counters, kept for the process (one launch uses it at a time:
+/// kernels run in order on the default stream).
+unsigned long long* counterBuffer(int count);
+/// Throws an fp::Error naming `what` unless `cudaStatus` (a cudaError_t) is cudaSuccess.
+void checkStatus(int cudaStatus, const char* what);
+
+/// Bytes moved between host and device since the process started (for the run report).
+struct TransferTotals {
+    std::size_t uploadBytes = 0, downloadBytes = 0;
+    double uploadSeconds = 0, downloadSeconds = 0;
+};
+TransferTotals transferTotals();
+
+/// Elapsed GPU time between two CUDA events on the default stream.
+class EventTimer {
+public:
+    EventTimer();
+    ~EventTimer();
+    EventTimer(const EventTimer&) = delete;
+    EventTimer& operator=(const EventTimer&) = delete;
+    void start();
+    void stop();
+    /// Seconds between start() and stop(); waits for the stop event.
+    double seconds();
+
+private:
+    struct Events;
+    std::unique_ptr<Events> mEvents;
+};
+
+}  // namespace fp::cuda

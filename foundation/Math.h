@@ -1,0 +1,89 @@
+#pragma once
+// Small vector and matrix types. Doubles where precision matters (camera, world positions far
+// from the origin); floats in per-pixel kernels, which work camera-relative (algorithms §1.2–1.3).
+#include "foundation/HostDevice.h"
+
+#include <array>
+#include <cmath>
+
+namespace fp {
+
+template <class T>
+struct Vec3T {
+    T x = 0, y = 0, z = 0;
+    constexpr Vec3T() = default;
+    FP_HD constexpr Vec3T(T a, T b, T c) : x(a), y(b), z(c) {}
+    template <class U>
+    FP_HD constexpr explicit Vec3T(const Vec3T<U>& o) : x(T(o.x)), y(T(o.y)), z(T(o.z)) {}
+    FP_HD constexpr T operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+    FP_HD constexpr Vec3T operator+(const Vec3T& o) const { return {x + o.x, y + o.y, z + o.z}; }
+    FP_HD constexpr Vec3T operator-(const Vec3T& o) const { return {x - o.x, y - o.y, z - o.z}; }
+    FP_HD constexpr Vec3T operator-() const { return {-x, -y, -z}; }
+    FP_HD constexpr Vec3T operator*(T s) const { return {x * s, y * s, z * s}; }
+    FP_HD constexpr Vec3T operator*(const Vec3T& o) const { return {x * o.x, y * o.y, z * o.z}; }
+    FP_HD constexpr Vec3T operator/(T s) const { return {x / s, y / s, z / s}; }
+    FP_HD Vec3T& operator+=(const Vec3T& o) { x += o.x; y += o.y; z += o.z; return *this; }
+    FP_HD Vec3T& operator*=(T s) { x *= s; y *= s; z *= s; return *this; }
+};
+using Vec3f = Vec3T<float>;
+using Vec3d = Vec3T<double>;
+
+template <class T>
+FP_HD constexpr T dot(const Vec3T<T>& a, const Vec3T<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <class T>
+FP_HD constexpr Vec3T<T> cross(const Vec3T<T>& a, const Vec3T<T>& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+template <class T>
+FP_HD T length(const Vec3T<T>& a) { return std::sqrt(dot(a, a)); }
+template <class T>
+FP_HD Vec3T<T> normalize(const Vec3T<T>& a) {
+    T l = length(a);
+    return l > T(0) ? a / l : Vec3T<T>{};
+}
+
+/// Clamp to [0, 1] (HLSL saturate).
+FP_HD inline float saturate(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
+
+/// Row-major 4×4 double matrix acting on column vectors: p' = M·p.
+struct Mat4d {
+    std::array<double, 16> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    double& operator()(int r, int c) { return m[r * 4 + c]; }
+    double operator()(int r, int c) const { return m[r * 4 + c]; }
+    Mat4d operator*(const Mat4d& o) const {
+        Mat4d r;
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) {
+                double s = 0;
+                for (int k = 0; k < 4; ++k) s += (*this)(i, k) * o(k, j);
+                r(i, j) = s;
+            }
+        return r;
+    }
+    /// Transforms a point (w = 1) and returns the homogeneous result.
+    std::array<double, 4> apply(const Vec3d& p) const {
+        std::array<double, 4> r{};
+        for (int i = 0; i < 4; ++i)
+            r[i] = (*this)(i, 0) * p.x + (*this)(i, 1) * p.y + (*this)(i, 2) * p.z + (*this)(i, 3);
+        return r;
+    }
+    Mat4d transposed() const {
+        Mat4d r;
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) r(i, j) = (*this)(j, i);
+        return r;
+    }
+    static Mat4d zero() {
+        Mat4d r;
+        r.m.fill(0.0);
+        return r;
+    }
+};
+
+/// General 4×4 inverse (cofactors). Throws nothing: a singular matrix returns all zeros.
+Mat4d inverse(const Mat4d& a);
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr float kPiF = 3.14159265358979323846f;
+
+}  // namespace fp

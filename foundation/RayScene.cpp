@@ -1,0 +1,255 @@
+#include "foundation/RayScene.h"
+
+#include "foundation/Error.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace fp {
+
+namespace {
+void embreeError(void* userPtr, RTCError code, const char* message) {
+    // Called on Embree's thread; recorded and raised after the call that failed returns.
+    *static_cast<std::string*>(userPtr) = fmt::format("Embree error {}: {}", int(code),
+                                                      message ? message : "");
+}
+thread_local std::string tEmbreeError;
+}  // namespace
+
+RayScene::RayScene(const Scene& scene, const Vec3d& origin) : mScene(scene), mOrigin(origin) {
+    RTCDevice device = rtcNewDevice(nullptr);
+    FP_CHECK(device, "could not create an Embree device (error {})", int(rtcGetDeviceError(nullptr)));
+    tEmbreeError.clear();
+    rtcSetDeviceErrorFunction(device, embreeError, &tEmbreeError);
+    RTCScene rtc = rtcNewScene(device);
+    rtcSetSceneBuildQuality(rtc, RTC_BUILD_QUALITY_HIGH);
+    // ROBUST keeps rays that graze shared edges from slipping through (hard-case scenes).
+    rtcSetSceneFlags(rtc, RTC_SCENE_FLAG_ROBUST);
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* verts = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+            mesh.positions.size()));
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+            const Vec3d p = mesh.positions[i] - origin;  // in double, then rounded once
+            verts[3 * i + 0] = float(p.x);
+            verts[3 * i + 1] = float(p.y);
+            verts[3 * i + 2] = float(p.z);
+        }
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+            mesh.indices.size() / 3));
+        for (std::size_t i = 0; i < mesh.indices.size(); ++i) idx[i] = mesh.indices[i];
+        rtcCommitGeometry(geom);
+        rtcAttachGeometryByID(rtc, geom, unsigned(m));
+        rtcReleaseGeometry(geom);
+    }
+    rtcCommitScene(rtc);
+    mPacketWidth = rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) ? 16 : 8;
+    RTCBounds bounds;
+    rtcGetSceneBounds(rtc, &bounds);
+    mBoundsLo = {bounds.lower_x, bounds.lower_y, bounds.lower_z};
+    mBoundsHi = {bounds.upper_x, bounds.upper_y, bounds.upper_z};
+    mDevice = device;
+    mRtcScene = rtc;
+    if (!tEmbreeError.empty()) throw Error(tEmbreeError);
+}
+
+RayScene::~RayScene() {
+    if (mRtcScene) rtcReleaseScene(static_cast<RTCScene>(mRtcScene));
+    if (mDevice) rtcReleaseDevice(static_cast<RTCDevice>(mDevice));
+}
+
+RayHit RayScene::intersect(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh{};
+    rh.ray.org_x = org.x;
+    rh.ray.org_y = org.y;
+    rh.ray.org_z = org.z;
+    rh.ray.dir_x = dir.x;
+    rh.ray.dir_y = dir.y;
+    rh.ray.dir_z = dir.z;
+    rh.ray.tnear = tnear;
+    rh.ray.tfar = tfar;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(static_cast<RTCScene>(mRtcScene), &context, &rh);
+    RayHit h;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
+    h.hit = true;
+    h.t = rh.ray.tfar;
+    h.mesh = rh.hit.geomID;
+    h.triangle = rh.hit.primID;
+    h.u = rh.hit.u;
+    h.v = rh.hit.v;
+    h.geometricNormal = normalize(Vec3f{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z});
+    return h;
+}
+
+bool RayScene::occluded(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const {
+    if (mLog) {
+        FP_ASSERT(tnear == 0.0f);  // the log's rays start at their origin, as RayArrays' do
+        const RayArrays r{&org.x, &org.y, &org.z, &dir.x, &dir.y, &dir.z, &tfar};
+        log(r, 1, false);
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray{};
+    ray.org_x = org.x;
+    ray.org_y = org.y;
+    ray.org_z = org.z;
+    ray.dir_x = dir.x;
+    ray.dir_y = dir.y;
+    ray.dir_z = dir.z;
+    ray.tnear = tnear;
+    ray.tfar = tfar;
+    ray.mask = 0xFFFFFFFFu;
+    rtcOccluded1(static_cast<RTCScene>(mRtcScene), &context, &ray);
+    // Embree marks an occluded ray by setting tfar to −∞.
+    return ray.tfar == -std::numeric_limits<float>::infinity();
+}
+
+namespace {
+// Embree's packets (RTCRay8, RTCRay16) need their width's alignment; a lane is valid when its mask
+// is −1. Lanes past `count` repeat ray 0, so every lane Embree might look at holds a finite ray.
+template <int W, class Packet>
+void fillPacket(Packet& r, int* valid, const RayArrays& rays, int count, const bool* use) {
+    for (int i = 0; i < W; ++i) {
+        const bool on = i < count && (!use || use[i]);
+        valid[i] = on ? -1 : 0;
+        const int k = i < count ? i : 0;
+        r.org_x[i] = rays.orgX[k];
+        r.org_y[i] = rays.orgY[k];
+        r.org_z[i] = rays.orgZ[k];
+        r.dir_x[i] = rays.dirX[k];
+        r.dir_y[i] = rays.dirY[k];
+        r.dir_z[i] = rays.dirZ[k];
+        r.tnear[i] = 0.0f;
+        r.tfar[i] = rays.tfar[k];
+        r.mask[i] = 0xFFFFFFFFu;
+        r.time[i] = 0.0f;
+        r.flags[i] = 0;
+        r.id[i] = unsigned(i);
+    }
+}
+
+template <int W> struct Packet;
+template <> struct Packet<8> {
+    using Ray = RTCRay8;
+    using RayHit = RTCRayHit8;
+    static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) {
+        rtcOccluded8(v, s, c, r);
+    }
+    static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+        rtcIntersect8(v, s, c, r);
+    }
+};
+template <> struct Packet<16> {
+    using Ray = RTCRay16;
+    using RayHit = RTCRayHit16;
+    static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) {
+        rtcOccluded16(v, s, c, r);
+    }
+    static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+        rtcIntersect16(v, s, c, r);
+    }
+};
+
+// Occlusion of rays [0, count) in one packet of width W, and with `t` the closest hit of the
+// blocked ones: any-hit first (most shadow rays of a lit frame are unblocked, and the occlusion
+// query stops at the first occluder), then the nearest occluder on the blocked lanes only.
+template <int W>
+void tracePacket(RTCScene scene, const RayArrays& rays, int count, bool* occluded, float* t) {
+    alignas(4 * W) int valid[W];
+    alignas(4 * W) typename Packet<W>::Ray r;
+    fillPacket<W>(r, valid, rays, count, nullptr);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    Packet<W>::occluded(valid, scene, &context, &r);
+    bool anyBlocked = false;
+    for (int i = 0; i < count; ++i) {
+        occluded[i] = r.tfar[i] == -std::numeric_limits<float>::infinity();
+        anyBlocked |= occluded[i];
+    }
+    if (!t)
+        return;
+    std::fill(t, t + count, -1.0f);
+    if (!anyBlocked)
+        return;
+    alignas(4 * W) typename Packet<W>::RayHit rh;
+    fillPacket<W>(rh.ray, valid, rays, count, occluded);
+    for (int i = 0; i < W; ++i) rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    Packet<W>::intersect(valid, scene, &context, &rh);
+    for (int i = 0; i < count; ++i)
+        if (occluded[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID)
+            t[i] = rh.ray.tfar[i];
+}
+}  // namespace
+
+void RayScene::occludedPacket(const RayArrays& rays, int count, int width, bool* occluded) const {
+    occludedWithDistancePacket(rays, count, width, occluded, nullptr);
+}
+
+void RayScene::occludedWithDistancePacket(const RayArrays& rays, int count, int width,
+                                          bool* occluded, float* t) const {
+    FP_ASSERT((width == 8 || width == 16) && count >= 1 && count <= width);
+    if (mLog) log(rays, count, t != nullptr);
+    const auto scene = static_cast<RTCScene>(mRtcScene);
+    if (width == 16)
+        tracePacket<16>(scene, rays, count, occluded, t);
+    else
+        tracePacket<8>(scene, rays, count, occluded, t);
+}
+
+RayHit RayScene::intersectInstance(const Vec3f& org, const Vec3f& dir, float tnear, float tfar,
+                                   uint32_t instanceId) const {
+    // Step past other objects' surfaces; a bounded number of layers keeps a pathological scene
+    // (thousands of coplanar sheets) from stalling a pixel.
+    for (int layer = 0; layer < 64 && tnear <= tfar; ++layer) {
+        const RayHit h = intersect(org, dir, tnear, tfar);
+        if (!h.hit || mScene.meshes[h.mesh].instanceId == instanceId) return h;
+        tnear = std::nextafter(h.t, std::numeric_limits<float>::infinity());
+    }
+    return {};
+}
+
+float RayScene::farthestDistance(const Vec3f& p) const {
+    const Vec3f d{std::max(std::fabs(p.x - mBoundsLo.x), std::fabs(mBoundsHi.x - p.x)),
+                  std::max(std::fabs(p.y - mBoundsLo.y), std::fabs(mBoundsHi.y - p.y)),
+                  std::max(std::fabs(p.z - mBoundsLo.z), std::fabs(mBoundsHi.z - p.z))};
+    return length(d);
+}
+
+void RayScene::setOcclusionLog(OcclusionLog* log) const {
+    std::lock_guard<std::mutex> lock(mLogMutex);
+    mLog = log;
+}
+
+void RayScene::log(const RayArrays& rays, int count, bool closestHits) const {
+    std::lock_guard<std::mutex> lock(mLogMutex);
+    if (!mLog) return;
+    for (int i = 0; i < count; ++i) mLog->rays.push_back(rays.at(i));
+    mLog->closestHits |= closestHits;
+}
+
+Vec3f RayScene::shadingNormal(const RayHit& hit) const {
+    const Mesh& m = mScene.meshes[hit.mesh];
+    if (m.normals.empty()) return hit.geometricNormal;
+    const uint32_t* tri = &m.indices[3 * hit.triangle];
+    const float w = 1.0f - hit.u - hit.v;
+    Vec3f n = m.normals[tri[0]] * w + m.normals[tri[1]] * hit.u + m.normals[tri[2]] * hit.v;
+    n = normalize(n);
+    return length(n) > 0.5f ? n : hit.geometricNormal;
+}
+
+const Material& RayScene::material(const RayHit& hit) const {
+    return mScene.materials[mScene.meshes[hit.mesh].material];
+}
+
+}  // namespace fp

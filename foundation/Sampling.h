@@ -1,0 +1,94 @@
+#pragma once
+// Sampling primitives shared by the ray-traced passes and the reference tracer (algorithms §1.9):
+// the branchless orthonormal basis, cosine-weighted hemisphere directions from the concentric
+// disk, and GGX visible-normal sampling with its pdf.
+#include "foundation/HostDevice.h"
+#include "foundation/Math.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace fp {
+
+/// Orthonormal basis (t, b) around unit n (Duff et al. 2017, branchless; algorithms §1.9).
+FP_HD inline void orthonormalBasis(const Vec3f& n, Vec3f& t, Vec3f& b) {
+    const float s = n.z >= 0.0f ? 1.0f : -1.0f;
+    const float a = -1.0f / (s + n.z);
+    const float c = n.x * n.y * a;
+    t = {1.0f + s * a * n.x * n.x, s * c, -s * n.x};
+    b = {c, s + a * n.y * n.y, -n.y};
+}
+
+/// Van der Corput radical inverse of i in base 2 (the bits of i mirrored behind the binary point):
+/// the second coordinate of the Hammersley set that Unreal's preintegration loops use.
+inline double radicalInverse2(uint32_t i) {
+    i = (i << 16) | (i >> 16);
+    i = ((i & 0x55555555u) << 1) | ((i & 0xAAAAAAAAu) >> 1);
+    i = ((i & 0x33333333u) << 2) | ((i & 0xCCCCCCCCu) >> 2);
+    i = ((i & 0x0F0F0F0Fu) << 4) | ((i & 0xF0F0F0F0u) >> 4);
+    i = ((i & 0x00FF00FFu) << 8) | ((i & 0xFF00FF00u) >> 8);
+    return double(i) / 4294967296.0;
+}
+
+/// Shirley–Chiu concentric map of the unit square onto the unit disk (area-preserving).
+inline void concentricDisk(float u, float v, float& x, float& y) {
+    const float a = 2.0f * u - 1.0f, b = 2.0f * v - 1.0f;
+    if (a == 0.0f && b == 0.0f) {
+        x = y = 0.0f;
+        return;
+    }
+    float r, phi;
+    if (std::abs(a) > std::abs(b)) {
+        r = a;
+        phi = (kPiF / 4.0f) * (b / a);
+    } else {
+        r = b;
+        phi = (kPiF / 2.0f) - (kPiF / 4.0f) * (a / b);
+    }
+    x = r * std::cos(phi);
+    y = r * std::sin(phi);
+}
+
+/// Cosine-weighted direction around unit n: a concentric-disk point lifted to the hemisphere
+/// (pdf = cosθ/π), as Unreal's SSGI builds its rays (algorithms §4.4).
+inline Vec3f cosineHemisphere(const Vec3f& n, float u, float v) {
+    float x, y;
+    concentricDisk(u, v, x, y);
+    const float z = std::sqrt(std::max(0.0f, 1.0f - x * x - y * y));
+    Vec3f t, b;
+    orthonormalBasis(n, t, b);
+    return normalize(t * x + b * y + n * z);
+}
+
+/// Smith's masking term G1 for GGX with α² = a2, at cosine NoX.
+inline float smithG1(float a2, float NoX) {
+    return 2.0f * NoX / (NoX + std::sqrt(a2 + (1.0f - a2) * NoX * NoX));
+}
+
+/// A GGX half vector distributed as the normals visible from V (Heitz 2018), for unit n and
+/// unit V above it, roughness α. The pdf of the reflected direction is D·G1(V)/(4·NoV).
+inline Vec3f sampleGgxVisibleNormal(const Vec3f& n, const Vec3f& V, float alpha, float u, float v) {
+    Vec3f t, b;
+    orthonormalBasis(n, t, b);
+    // V in the tangent frame, stretched to the hemisphere configuration.
+    const Vec3f vl{dot(V, t), dot(V, b), dot(V, n)};
+    const Vec3f vh = normalize(Vec3f{alpha * vl.x, alpha * vl.y, vl.z});
+    const float lensq = vh.x * vh.x + vh.y * vh.y;
+    const Vec3f t1 = lensq > 0.0f ? Vec3f{-vh.y, vh.x, 0.0f} / std::sqrt(lensq) : Vec3f{1, 0, 0};
+    const Vec3f t2 = cross(vh, t1);
+    const float r = std::sqrt(u), phi = 2.0f * kPiF * v;
+    const float p1 = r * std::cos(phi);
+    const float s = 0.5f * (1.0f + vh.z);
+    const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * std::sin(phi);
+    const Vec3f nh = t1 * p1 + t2 * p2 + vh * std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2));
+    // Unstretch back to the ellipsoid configuration, then to world space.
+    const Vec3f hl = normalize(Vec3f{alpha * nh.x, alpha * nh.y, std::max(0.0f, nh.z)});
+    return normalize(t * hl.x + b * hl.y + n * hl.z);
+}
+
+inline Vec3f reflect(const Vec3f& v, const Vec3f& n) { return n * (2.0f * dot(v, n)) - v; }
+
+inline float luminance(const Vec3f& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+}  // namespace fp

@@ -1,0 +1,482 @@
+#include "framework/Executor.h"
+
+#include "foundation/Scene.h"
+#include "framework/SemanticBuffers.h"
+
+#include "foundation/Cuda.h"
+#include "foundation/Error.h"
+
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <optional>
+
+namespace fp {
+
+namespace {
+
+// The store of images alive during one frame, keyed "pass.port" or "capture:Buffer". An image
+// may live on the host, on the GPU or both: it is copied across only when a step on the other
+// side (or the sink) reads it, so a chain of GPU passes keeps its images resident.
+class ImageStore {
+public:
+    explicit ImageStore(FrameSource& source) : mSource(source) {}
+
+    void load(const std::string& buffer, int channels) {
+        put("capture:" + buffer, mSource.loadBuffer(buffer, channels));
+    }
+    Texture& put(const std::string& key, Texture t) {
+        Slot& slot = mSlots[key] = Slot{};
+        slot.host = std::make_shared<Texture>(std::move(t));
+        track();
+        return *slot.host;
+    }
+    DeviceTexture& putDevice(const std::string& key, DeviceTexture t) {
+        Slot& slot = mSlots[key] = Slot{};
+        slot.device = std::make_shared<DeviceTexture>(std::move(t));
+        track();
+        return *slot.device;
+    }
+    /// Puts images a StepCache kept (shared, not copied).
+    void adopt(const std::string& key, std::shared_ptr<Texture> host,
+               std::shared_ptr<DeviceTexture> device) {
+        mSlots[key] = Slot{std::move(host), std::move(device)};
+        track();
+    }
+    /// The images under `key`, shared (for a StepCache).
+    std::pair<std::shared_ptr<Texture>, std::shared_ptr<DeviceTexture>> shared(
+        const std::string& key) const {
+        auto it = mSlots.find(key);
+        if (it == mSlots.end()) return {};
+        return {it->second.host, it->second.device};
+    }
+    bool contains(const std::string& key) const { return mSlots.count(key) > 0; }
+    /// The host copy (downloaded from the GPU on first use); nullptr if the key is unknown.
+    const Texture* find(const std::string& key) {
+        auto it = mSlots.find(key);
+        if (it == mSlots.end())
+            return nullptr;
+        Slot& slot = it->second;
+        if (!slot.host) {
+            slot.host = std::make_shared<Texture>(cuda::download(*slot.device));
+            track();
+        }
+        return slot.host.get();
+    }
+    /// The device copy (uploaded on first use); nullptr if the key is unknown.
+    const DeviceTexture* findDevice(const std::string& key) {
+        auto it = mSlots.find(key);
+        if (it == mSlots.end())
+            return nullptr;
+        Slot& slot = it->second;
+        if (!slot.device) {
+            slot.device = std::make_shared<DeviceTexture>(cuda::upload(*slot.host));
+            track();
+        }
+        return slot.device.get();
+    }
+    void release(const std::string& key) { mSlots.erase(key); }
+    std::size_t peak() const { return mPeak; }
+    std::size_t peakDevice() const { return mPeakDevice; }
+
+private:
+    // An image on the host, on the GPU or both (null where it is not). Shared with a StepCache
+    // when there is one, so a kept output is never copied.
+    struct Slot {
+        std::shared_ptr<Texture> host;
+        std::shared_ptr<DeviceTexture> device;
+    };
+    void track() {
+        std::size_t host = 0, device = 0;
+        for (const auto& [k, slot] : mSlots) {
+            host += slot.host ? slot.host->bytes() : 0;
+            device += slot.device ? slot.device->bytes() : 0;
+        }
+        mPeak = std::max(mPeak, host);
+        mPeakDevice = std::max(mPeakDevice, device);
+    }
+    FrameSource& mSource;
+    std::map<std::string, Slot> mSlots;
+    std::size_t mPeak = 0, mPeakDevice = 0;
+};
+
+class StepContext final : public PassContext {
+public:
+    StepContext(const PlanStep& step,
+                ImageStore& store,
+                FrameSource& source,
+                const FrameInfo& frame,
+                PassReport& report,
+                const PassHistory* history)
+        : mStep(step),
+          mStore(store),
+          mSource(source),
+          mFrame(frame),
+          mReport(report),
+          mHistory(history) {}
+
+    const PassHistory* history() const override {
+        requireTemporal("reads");
+        return mHistory;
+    }
+    void keepHistory(Texture state) override {
+        requireTemporal("keeps");
+        mKept = PassHistory{std::move(state), {}, mFrame.camera.current};
+    }
+    void keepHistory(DeviceTexture state) override {
+        requireTemporal("keeps");
+        mKept = PassHistory{{}, std::move(state), mFrame.camera.current};
+    }
+    /// The state the pass kept this frame, if any.
+    std::optional<PassHistory>& kept() { return mKept; }
+
+    const Texture* input(std::string_view port) const override {
+        const std::string key = storeKey(port);
+        if (key.empty())
+            return nullptr;  // unbound optional input
+        const Texture* t = mStore.find(key);
+        FP_CHECK(t, "internal: input '{}' of pass '{}' is not in the store", port, mStep.name);
+        return t;
+    }
+    const DeviceTexture* deviceInput(std::string_view port) override {
+        const std::string key = storeKey(port);
+        if (key.empty())
+            return nullptr;
+        const DeviceTexture* t = mStore.findDevice(key);
+        FP_CHECK(t, "internal: input '{}' of pass '{}' is not in the store", port, mStep.name);
+        return t;
+    }
+    PortKind inputKind(std::string_view port) const override {
+        auto it = mStep.inputs.find(std::string(port));
+        return it == mStep.inputs.end() ? PortKind::Data : it->second.kind;
+    }
+    bool isRequested(std::string_view port) const override {
+        return mStep.requestedOutputs.count(std::string(port)) > 0;
+    }
+    Texture& output(std::string_view port, const std::vector<Extent>& mips) override {
+        const PortSpec& spec = checkDeclared(mStep.io.outputs, port, "output");
+        std::vector<Image> levels;
+        for (const Extent& e : mips)
+            levels.emplace_back(e.width, e.height, spec.channels);
+        return mStore.put(mStep.name + "." + std::string(port), Texture(std::move(levels)));
+    }
+    DeviceTexture& deviceOutput(std::string_view port, const std::vector<Extent>& mips) override {
+        const PortSpec& spec = checkDeclared(mStep.io.outputs, port, "output");
+        return mStore.putDevice(mStep.name + "." + std::string(port),
+                                cuda::allocate(mips, spec.channels));
+    }
+    const FrameInfo& frame() const override { return mFrame; }
+    const RayScene& scene() override {
+        FP_CHECK(mStep.io.needsScene, "pass '{}' uses the scene without declaring needsScene",
+                 mStep.name);
+        return mSource.scene();
+    }
+    const std::vector<Light>& lights() override {
+        FP_CHECK(mStep.io.needsLights || mStep.io.needsScene,
+                 "pass '{}' reads the lights without declaring needsLights", mStep.name);
+        return mSource.lights();
+    }
+    const Environment& environment() override {
+        FP_CHECK(mStep.io.needsEnvironment,
+                 "pass '{}' reads the environment without declaring needsEnvironment", mStep.name);
+        return mSource.environment();
+    }
+    OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mSource.colorConfig(); }
+    void addWork(std::string_view counter, uint64_t amount) override {
+        std::lock_guard<std::mutex> lock(mMutex);
+        mReport.work[std::string(counter)] += amount;
+    }
+    void addMetric(std::string_view name, double value) override {
+        std::lock_guard<std::mutex> lock(mMutex);
+        mReport.metrics[std::string(name)] = value;
+    }
+
+private:
+    // Filament's rule again: only a pass that declared itself temporal has a history.
+    void requireTemporal(const char* verb) const {
+        FP_CHECK(mStep.io.temporal, "pass '{}' {} history without declaring temporal", mStep.name,
+                 verb);
+    }
+    // The store key of an input port: the one bound to it or, for an unbound port the plan fills
+    // from the capture on a frame with no previous camera (PortSpec::captureWhenNoPreviousCamera),
+    // that buffer's (loaded on first use); "" for an unbound optional input.
+    std::string storeKey(std::string_view port) const {
+        if (auto it = mStep.inputs.find(std::string(port)); it != mStep.inputs.end())
+            return it->second.key;
+        checkDeclared(mStep.io.inputs, port, "input");
+        if (mFrame.camera.previous) return "";
+        auto it = mStep.noPreviousCameraInputs.find(std::string(port));
+        if (it == mStep.noPreviousCameraInputs.end()) return "";
+        const std::string key = "capture:" + it->second;
+        if (!mStore.contains(key)) {
+            const SemanticBuffer* sem = findSemanticBuffer(it->second);
+            mStore.load(it->second, sem ? int(sem->channels.size()) : 1);
+        }
+        return key;
+    }
+    // Filament's rule: a pass may only touch what it declared.
+    const PortSpec& checkDeclared(const std::vector<PortSpec>& ports,
+                                  std::string_view port,
+                                  const char* what) const {
+        for (const auto& p : ports)
+            if (p.name == port)
+                return p;
+        throw Error(fmt::format("pass '{}' used undeclared {} '{}'", mStep.name, what, port));
+    }
+
+    const PlanStep& mStep;
+    ImageStore& mStore;
+    FrameSource& mSource;
+    const FrameInfo& mFrame;
+    PassReport& mReport;
+    const PassHistory* mHistory;
+    std::optional<PassHistory> mKept;
+    std::mutex mMutex;
+};
+
+// A step's StepCache key: what it is, how it is set, which outputs are asked of it, the frame,
+// and the keys of what it reads (StepCache says why each is there).
+std::string stepKey(const PlanStep& step, const std::vector<std::string>& stepKeys,
+                    const FrameInfo& frame, const std::string& sourceId,
+                    const std::string& historyKey) {
+    std::string key = fmt::format("{}|{}|{}|{}|{}#{}", step.type, int(step.device),
+                                  step.params.dump(), fmt::join(step.requestedOutputs, ","),
+                                  sourceId, frame.number);
+    for (const auto& [port, ref] : step.inputs)
+        key += "|" + port + "=" +
+               (ref.fromCapture ? ref.key : ref.port + "@" + stepKeys[std::size_t(ref.step)]);
+    if (step.io.temporal)
+        key += "|history=" + (frame.firstInSequence ? std::string("none") : historyKey);
+    // Long chains nest keys: keep each to a fixed size.
+    return fmt::format("{:016x}", std::hash<std::string>{}(key));
+}
+
+}  // namespace
+
+const PassHistory* HistoryStore::placeOn(const std::string& pass, Device device) {
+    auto it = mHistories.find(pass);
+    if (it == mHistories.end())
+        return nullptr;
+    // The copy across is added beside the state (copies of the store share it, and see it too).
+    PassHistory& h = *it->second.state;
+    if (device == Device::Cuda && h.deviceState.empty() && !h.state.empty())
+        h.deviceState = cuda::upload(h.state);
+    if (device == Device::Cpu && h.state.empty() && !h.deviceState.empty())
+        h.state = cuda::download(h.deviceState);
+    return &h;
+}
+
+bool isCameraCut(const CameraView& h, const FrameCamera& frame) {
+    if (!frame.previous)
+        return false;
+    const CameraView& p = *frame.previous;
+    // Cameras read back from files carry rounding: allow a relative 1e-5 of the distance from the
+    // origin (plus 1e-5 units), and direction cosines within 1e-6.
+    const Vec3d d = h.position - p.position;
+    const double scale = 1e-5 * (1.0 + std::sqrt(dot(p.position, p.position)));
+    return dot(d, d) > scale * scale || dot(h.forward, p.forward) < 1.0 - 1e-6 ||
+           dot(h.up, p.up) < 1.0 - 1e-6 || std::fabs(h.fx - p.fx) > 1e-6 * std::fabs(p.fx) ||
+           h.width != p.width || h.height != p.height;
+}
+
+FrameReport executePlan(const Plan& plan,
+                        FrameSource& source,
+                        FrameSink& sink,
+                        const ProgressFn& progress,
+                        HistoryStore* history,
+                        StepCache* cache) {
+    using Clock = std::chrono::steady_clock;
+    const auto frameStart = Clock::now();
+    if (plan.device == Device::Cuda)
+        if (const std::string why = cuda::unavailableReason(); !why.empty())
+            throw UsageError(fmt::format("--device cuda: {}", why));
+    const cuda::TransferTotals transfersBefore = cuda::transferTotals();
+    const FrameInfo frame = source.frameInfo();
+    FrameReport report;
+    report.frame = frame.number;
+    ImageStore store(source);
+    if (history && frame.firstInSequence)
+        history->clear();
+
+    auto channelsOf = [&](const std::string& buffer) {
+        for (const auto& r : plan.captureReads)
+            if (r.buffer == buffer)
+                return r.channels;
+        return 0;
+    };
+    auto writeOutputs = [&](int step) {
+        auto it = plan.writesAfter.find(step);
+        if (it == plan.writesAfter.end())
+            return;
+        for (int o : it->second) {
+            const OutputDesc& out = plan.outputs[o];
+            std::vector<OutputLayer> layers;
+            for (const auto& src : out.sources) {
+                const bool capture = src.rfind("capture:", 0) == 0;
+                if (capture && !store.contains(src))
+                    store.load(src.substr(8), channelsOf(src.substr(8)));
+                const Texture* t = store.find(src);
+                FP_CHECK(t && !t->empty(), "frame {}: '{}' was not produced by its pass",
+                         frame.number, src);
+                layers.push_back({capture ? src.substr(8) : src, t, plan.outputKinds.at(src)});
+            }
+            sink.write(out, layers, frame);
+        }
+    };
+    auto releaseAfter = [&](int step) {
+        for (const auto& [key, last] : plan.releaseAfter)
+            if (last == step)
+                store.release(key);
+    };
+
+    const int total = int(plan.steps.size());
+    std::vector<std::string> stepKeys(plan.steps.size());
+    if (cache)  // steps the plan no longer has are forgotten
+        std::erase_if(cache->mEntries, [&](const auto& entry) {
+            return std::none_of(plan.steps.begin(), plan.steps.end(),
+                                [&](const PlanStep& st) { return st.name == entry.first; });
+        });
+    for (int s = 0; s < total; ++s) {
+        const PlanStep& step = plan.steps[s];
+        if (auto it = plan.loadsBefore.find(s); it != plan.loadsBefore.end())
+            for (const auto& b : it->second)
+                if (!store.contains("capture:" + b))
+                    store.load(b, channelsOf(b));
+        PassReport pr{.name = step.name, .type = step.type};
+        if (cache) {
+            stepKeys[std::size_t(s)] = stepKey(step, stepKeys, frame, cache->sourceId,
+                                               history ? history->signature(step.name) : "");
+            auto hit = cache->mEntries.find(step.name);
+            if (hit != cache->mEntries.end() && hit->second.key == stepKeys[std::size_t(s)]) {
+                // Unchanged since the cache's run: its outputs (and the history it kept then)
+                // stand, nothing is executed.
+                const StepCache::Entry& e = hit->second;
+                for (const auto& port : step.io.outputs) {
+                    const std::string key = step.name + "." + port.name;
+                    auto h = e.host.find(key);
+                    auto d = e.device.find(key);
+                    if (h != e.host.end() || d != e.device.end())
+                        store.adopt(key, h != e.host.end() ? h->second : nullptr,
+                                    d != e.device.end() ? d->second : nullptr);
+                }
+                if (history && e.kept)
+                    history->keepShared(step.name, e.kept, e.key);
+                pr = e.report;
+                pr.seconds = 0;
+                pr.gpuSeconds.reset();
+                pr.reused = true;
+                ++report.reusedSteps;
+                report.passes.push_back(std::move(pr));
+                writeOutputs(s);
+                releaseAfter(s);
+                if (progress)
+                    progress(s + 1, total, report.passes.back());
+                continue;
+            }
+        }
+        const PassHistory* past = nullptr;
+        if (history && step.io.temporal && !frame.firstInSequence) {
+            past = history->find(step.name);
+            if (past && isCameraCut(past->camera, frame.camera))
+                past = nullptr;
+            if (past)
+                past = history->placeOn(step.name, step.device);
+        }
+        StepContext ctx(step, store, source, frame, pr, past);
+        std::optional<cuda::EventTimer> gpuTimer;
+        try {
+            if (step.device == Device::Cuda) {
+                // Inputs cross before the clock starts: the GPU time is the kernels' alone.
+                for (const auto& [port, ref] : step.inputs)
+                    store.findDevice(ref.key);
+                gpuTimer.emplace();
+                gpuTimer->start();
+            }
+        } catch (const Error& e) {
+            throw Error(fmt::format("frame {}: pass '{}' ({}): {}", frame.number, step.name,
+                                    step.type, e.what()),
+                        e.code());
+        }
+        const auto t0 = Clock::now();
+        try {
+            if (step.device == Device::Cuda) {
+                step.pass->executeCuda(ctx);
+                gpuTimer->stop();
+                pr.gpuSeconds = gpuTimer->seconds();
+            } else {
+                step.pass->execute(ctx);
+            }
+        } catch (const Error& e) {
+            throw Error(fmt::format("frame {}: pass '{}' ({}): {}", frame.number, step.name,
+                                    step.type, e.what()),
+                        e.code());
+        }
+        pr.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        std::shared_ptr<PassHistory> kept;
+        if (history && ctx.kept()) {
+            kept = std::make_shared<PassHistory>(std::move(*ctx.kept()));
+            history->keepShared(step.name, kept, cache ? stepKeys[std::size_t(s)] : "");
+        }
+        for (const auto& port : step.requestedOutputs)
+            FP_CHECK(store.contains(step.name + "." + port),
+                     "frame {}: pass '{}' did not write its "
+                     "requested output '{}'",
+                     frame.number, step.name, port);
+        ++report.executedSteps;
+        if (cache) {
+            StepCache::Entry& e = cache->mEntries[step.name];
+            e = {stepKeys[std::size_t(s)], {}, {}, pr, kept};
+            for (const auto& port : step.io.outputs) {
+                const std::string key = step.name + "." + port.name;
+                auto [host, device] = store.shared(key);
+                if (host) e.host[key] = host;
+                if (device) e.device[key] = device;
+            }
+        }
+        report.passes.push_back(std::move(pr));
+        writeOutputs(s);
+        releaseAfter(s);
+        if (progress)
+            progress(s + 1, total, report.passes.back());
+    }
+    writeOutputs(-1);  // outputs that only copy capture buffers, in a plan with no steps
+    report.peakBytes = store.peak();
+    report.peakDeviceBytes = store.peakDevice();
+    const cuda::TransferTotals transfersAfter = cuda::transferTotals();
+    report.uploadBytes = transfersAfter.uploadBytes - transfersBefore.uploadBytes;
+    report.downloadBytes = transfersAfter.downloadBytes - transfersBefore.downloadBytes;
+    report.transferSeconds = (transfersAfter.uploadSeconds - transfersBefore.uploadSeconds) +
+                             (transfersAfter.downloadSeconds - transfersBefore.downloadSeconds);
+    report.seconds = std::chrono::duration<double>(Clock::now() - frameStart).count();
+    return report;
+}
+
+nlohmann::json FrameReport::toJson() const {
+    nlohmann::json j = {{"frame", frame}, {"seconds", seconds}, {"peakBytes", peakBytes}};
+    if (peakDeviceBytes > 0 || uploadBytes > 0) {
+        j["peakDeviceBytes"] = peakDeviceBytes;
+        j["transfers"] = {{"uploadBytes", uploadBytes},
+                          {"downloadBytes", downloadBytes},
+                          {"seconds", transferSeconds}};
+    }
+    j["passes"] = nlohmann::json::array();
+    for (const auto& p : passes) {
+        nlohmann::json pj = {
+            {"name", p.name}, {"type", p.type}, {"seconds", p.seconds}, {"work", p.work}};
+        if (p.gpuSeconds) {
+            pj["device"] = "cuda";
+            pj["gpuSeconds"] = *p.gpuSeconds;
+        }
+        if (p.reused)
+            pj["reused"] = true;
+        if (!p.metrics.empty())
+            pj["metrics"] = p.metrics;
+        j["passes"].push_back(pj);
+    }
+    return j;
+}
+
+}  // namespace fp

@@ -1,0 +1,67 @@
+#pragma once
+// A PassContext's ports seen from one backend, so a pass binds its inputs and outputs in one
+// template for both: HostPorts hands out Textures (execute), DevicePorts DeviceTextures
+// (executeCuda). Absent optional inputs are nullptr either way.
+#include "foundation/Cuda.h"
+#include "framework/Pass.h"
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace fp {
+
+struct HostPorts {
+    PassContext& ctx;
+    const Texture* input(std::string_view port) const { return ctx.input(port); }
+    Texture& output(std::string_view port, const std::vector<Extent>& mips) const {
+        return ctx.output(port, mips);
+    }
+    Texture* outputIfRequested(std::string_view port, const std::vector<Extent>& mips) const {
+        return ctx.isRequested(port) ? &ctx.output(port, mips) : nullptr;
+    }
+    /// Zero-filled working images of the pass's own, freed with it.
+    Texture scratch(const std::vector<Extent>& mips, const std::vector<std::string>& channels) const {
+        std::vector<Image> levels;
+        for (const Extent& e : mips)
+            levels.emplace_back(e.width, e.height, channels);
+        return Texture(std::move(levels));
+    }
+    /// Last frame's state of a temporal pass; nullptr without a usable history.
+    const Texture* historyState() const {
+        return ctx.history() ? &ctx.history()->state : nullptr;
+    }
+    void keepHistory(Texture state) const { ctx.keepHistory(std::move(state)); }
+    /// Uninitialised scratch memory for `count` values of a plain type, freed with the pass.
+    template <class T>
+    std::shared_ptr<T> scratchArray(std::size_t count) const {
+        return std::shared_ptr<T>(new T[count], std::default_delete<T[]>());
+    }
+};
+
+struct DevicePorts {
+    PassContext& ctx;
+    const DeviceTexture* input(std::string_view port) const { return ctx.deviceInput(port); }
+    DeviceTexture& output(std::string_view port, const std::vector<Extent>& mips) const {
+        return ctx.deviceOutput(port, mips);
+    }
+    DeviceTexture* outputIfRequested(std::string_view port, const std::vector<Extent>& mips) const {
+        return ctx.isRequested(port) ? &ctx.deviceOutput(port, mips) : nullptr;
+    }
+    DeviceTexture scratch(const std::vector<Extent>& mips,
+                          const std::vector<std::string>& channels) const {
+        return cuda::allocate(mips, channels);
+    }
+    const DeviceTexture* historyState() const {
+        return ctx.history() ? &ctx.history()->deviceState : nullptr;
+    }
+    void keepHistory(DeviceTexture state) const { ctx.keepHistory(std::move(state)); }
+    template <class T>
+    std::shared_ptr<T> scratchArray(std::size_t count) const {
+        return std::static_pointer_cast<T>(cuda::allocateBytes(count * sizeof(T)));
+    }
+};
+
+}  // namespace fp

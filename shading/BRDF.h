@@ -1,0 +1,75 @@
+#pragma once
+// Unreal's default-lit BRDF terms (algorithms §7/§9 and Unreal's BRDF.ush as described there):
+// Lambert diffuse, GGX distribution, Smith joint visibility approximation, Schlick Fresnel with
+// Unreal's 2% cut-off. Shared by the capture renderer and the lighting passes.
+#include "foundation/Math.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fp {
+
+/// Roughness is clamped away from 0 for analytic lights: a perfect mirror lit by a point has a
+/// Dirac lobe, which a finite BRDF value cannot represent (and would turn into NaN).
+constexpr float kMinLightRoughness = 0.02f;
+
+/// Unreal's Pow4 and Pow5 (Common.ush): products, not pow().
+inline float pow4(float x) {
+    const float x2 = x * x;
+    return x2 * x2;
+}
+
+inline float pow5(float x) {
+    return pow4(x) * x;
+}
+
+inline float ggxD(float a2, float NoH) {
+    const float d = (NoH * a2 - NoH) * NoH + 1.0f;
+    return a2 / (kPiF * d * d);
+}
+
+/// Vis = G/(4·NoL·NoV), Heitz's joint Smith approximation as Unreal writes it.
+inline float smithJointApproxVis(float a2, float NoV, float NoL) {
+    const float a = std::sqrt(a2);
+    const float visV = NoL * (NoV * (1.0f - a) + a);
+    const float visL = NoV * (NoL * (1.0f - a) + a);
+    return 0.5f / std::max(visV + visL, 1e-8f);
+}
+
+/// Schlick with Unreal's rule that F0 below 2% means "no specular at all" (saturate(50·F0.g)).
+/// Fc = Pow5(1 − VoH) as Unreal's F_Schlick writes it (inferred from memory of BRDF.ush): three
+/// multiplies, which SIMD lanes repeat exactly where std::pow has no exact vector twin.
+inline Vec3f schlickF(const Vec3f& F0, float VoH) {
+    const float fc = pow5(1.0f - std::clamp(VoH, 0.0f, 1.0f));
+    const float cut = std::clamp(50.0f * F0.y, 0.0f, 1.0f);
+    return Vec3f{cut * fc, cut * fc, cut * fc} + F0 * (1.0f - fc);
+}
+
+struct SurfaceBRDF {
+    Vec3f diffuseColor;   //!< BaseColor·(1 − Metallic)
+    Vec3f specularColor;  //!< F0 = lerp(0.08·Specular, BaseColor, Metallic)
+    float roughness;
+
+    static SurfaceBRDF fromMaterial(const Vec3f& baseColor, float metallic, float specular,
+                                    float roughness) {
+        const float dielectric = 0.08f * specular;
+        const Vec3f f0 = Vec3f{dielectric, dielectric, dielectric} * (1.0f - metallic) +
+                         baseColor * metallic;
+        return {baseColor * (1.0f - metallic), f0, roughness};
+    }
+
+    /// f(V, L) for unit N, V, L on the same side (NoL, NoV > 0), per steradian.
+    Vec3f evaluate(const Vec3f& N, const Vec3f& V, const Vec3f& L) const {
+        const float NoL = dot(N, L), NoV = std::max(dot(N, V), 1e-4f);
+        if (NoL <= 0.0f) return {};
+        const Vec3f H = normalize(V + L);
+        const float NoH = std::clamp(dot(N, H), 0.0f, 1.0f), VoH = dot(V, H);
+        const float r = std::max(roughness, kMinLightRoughness);
+        const float a2 = r * r * r * r;  // α = roughness², a2 = α²
+        const Vec3f spec = schlickF(specularColor, VoH) * (ggxD(a2, NoH) *
+                                                           smithJointApproxVis(a2, NoV, NoL));
+        return diffuseColor * (1.0f / kPiF) + spec;
+    }
+};
+
+}  // namespace fp
