@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 DEBIAN_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimageio-tools \
     libopenexr-dev libopencolorio-dev libembree-dev libtbb-dev libcli11-dev nlohmann-json3-dev \
     doctest-dev libfmt-dev libhwy-dev libtinygltf-dev libtinyobjloader-dev fonts-dejavu-core chromium python3 \
-    python3-jsonschema help2man graphviz
+    python3-jsonschema help2man graphviz pybind11-dev python3-dev python3-numpy python3-pytest
 FRAMEPASS = $(BUILD_DIR)/cli/framepass
 # make fuzz: the libFuzzer targets of fuzz/ under ASan + UBSan, each run FUZZ_SECONDS from its
 # seed corpus with a fixed seed (so CI's short run is the start of a long local one).

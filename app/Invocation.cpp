@@ -31,11 +31,18 @@ void log(LogKind kind, const std::string& text) {
     const Verbosity v = gInvocation.verbosity;
     if (v == Verbosity::Quiet || (kind == LogKind::Verbose && v != Verbosity::Verbose))
         return;
-    std::lock_guard<std::mutex> lock(gLogMutex);
-    if (gLogHandler) {
-        gLogHandler(kind, text);
+    // The handler is called outside the lock: a door's handler may wait for something (Python's
+    // GIL) that a thread waiting for this lock holds.
+    LogHandler handler;
+    {
+        std::lock_guard<std::mutex> lock(gLogMutex);
+        handler = gLogHandler;
+    }
+    if (handler) {
+        handler(kind, text);
         return;
     }
+    std::lock_guard<std::mutex> lock(gLogMutex);
     switch (kind) {
     case LogKind::Progress: std::cerr << "Progress: " << text << "%\n"; break;
     case LogKind::Warning: std::cerr << "warning: " << text << "\n"; break;

@@ -110,7 +110,8 @@ RunSetup::RunSetup(const RunSetup& base, const SetupOptions& o)
     : mConfig(base.mConfig),
       mInputs(base.mInputs),
       mProfile(base.mProfile),
-      mFileCvars(base.mFileCvars) {
+      mFileCvars(base.mFileCvars),
+      mHeader(base.mHeader) {
     plan(o);
 }
 
@@ -118,7 +119,8 @@ RunSetup::RunSetup(const RunSetup& base, io::RunConfig config, const SetupOption
     : mConfig(std::move(config)),
       mInputs(base.mInputs),
       mProfile(base.mProfile),
-      mFileCvars(base.mFileCvars) {
+      mFileCvars(base.mFileCvars),
+      mHeader(base.mHeader) {
     plan(o);
 }
 
@@ -155,16 +157,29 @@ void RunSetup::plan(const SetupOptions& o) {
                         o.config, mConfig.capture));
     }
     const std::string first = mFrames.empty() ? mConfig.capture : pattern.path(mFrames.front());
-    if (auto files = openCapture(first)) {
-        mExtent = files->extent();
-        inputs.availableBuffers = files->availableBuffers();
-        inputs.truthChannels = files->truthChannels();
-        if (mFrames.empty()) {
+    // What the planner needs of the first capture's header, read once and shared with the setups
+    // made from this one (a session re-plans after every change; a sweep once per setting).
+    if (!mHeader || mHeader->path != first) {
+        auto header = std::make_shared<CaptureHeader>();
+        header->path = first;
+        if (auto files = openCapture(first)) {
+            header->exists = true;
+            header->extent = files->extent();
+            header->availableBuffers = files->availableBuffers();
+            header->truthChannels = files->truthChannels();
             // A single capture keeps the frame number it was captured at.
             const auto* f =
                 files->primary().header().findTypedAttribute<Imf::IntAttribute>("framepass:frame");
-            mFrames = {f ? f->value() : 1};
+            header->frame = f ? f->value() : 1;
         }
+        mHeader = std::move(header);
+    }
+    if (mHeader->exists) {
+        mExtent = mHeader->extent;
+        inputs.availableBuffers = mHeader->availableBuffers;
+        inputs.truthChannels = mHeader->truthChannels;
+        if (mFrames.empty())
+            mFrames = {mHeader->frame};
     } else if (mFrames.empty()) {
         mFrames = {1};
     }

@@ -8,7 +8,9 @@
 #include "io/ConfigLoader.h"
 #include "framework/Planner.h"
 
+#include <map>
 #include <memory>
+#include <set>
 #include <optional>
 #include <string>
 #include <vector>
@@ -70,6 +72,16 @@ private:
     std::shared_ptr<SessionInputs> mInputs;
     io::CaptureProfile mProfile;
     std::vector<std::string> mFileCvars;  //!< --cvars files, read once by the first setup
+    // The first capture's header as the planner reads it.
+    struct CaptureHeader {
+        std::string path;
+        bool exists = false;
+        Extent extent;
+        std::set<std::string> availableBuffers;
+        std::map<std::string, int> truthChannels;
+        int frame = 1;
+    };
+    std::shared_ptr<const CaptureHeader> mHeader;
     std::vector<int> mFrames;
     Extent mExtent;
     Plan mPlan;
