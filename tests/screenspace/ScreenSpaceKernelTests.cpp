@@ -1,4 +1,4 @@
-// The screen-space kernels that several passes share (passes/common): the denoisers' bilateral
+// The screen-space kernels that several passes share (screenspace/): the denoisers' bilateral
 // weight, last frame's pixel position, the per-pixel surface and the GBuffer port helpers, each
 // against values worked out by hand or through the camera's own definitions.
 #include "screenspace/Bilateral.h"
