@@ -138,7 +138,7 @@ void addBareRayLoops(const Plan& plan,
 BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     SetupOptions sessionOptions = mBase;
     for (const auto& [name, value] : point)
-        (name.rfind("r.", 0) == 0 ? sessionOptions.cvars : sessionOptions.sets)
+        (isCvarName(name) ? sessionOptions.cvars : sessionOptions.sets)
             .push_back(name + "=" + value);
     const RunSetup session(mProbe, sessionOptions);
     // A setting's own warnings (a swept cvar that the config's params shadow), each said once.
@@ -246,7 +246,7 @@ IncrementalTiming Bencher::measureIncremental(const std::string& change) {
     options.frames = std::to_string(mProbe.frames().back());
     Session session(options);
     auto set = [&](const std::string& value) {
-        if (axis.name.rfind("r.", 0) == 0)
+        if (isCvarName(axis.name))
             session.setCvar(axis.name, value);
         else
             session.setParam(axis.name, value);

@@ -23,6 +23,10 @@ struct BenchOptions {
     int decomposeRays = 256;  //!< 0: no error decomposition
 };
 
+/// A sweep axis or setting names an Unreal cvar ("r.SSGI.Quality") or a pass parameter
+/// ("ssgi.halfRes"): cvars are the names that start with "r.".
+inline bool isCvarName(const std::string& name) { return name.rfind("r.", 0) == 0; }
+
 /// One point of the grid: (cvar or PASS.PARAM, value) per axis.
 using SweepPoint = std::vector<std::pair<std::string, std::string>>;
 

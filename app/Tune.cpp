@@ -192,7 +192,7 @@ std::optional<std::size_t> singleIntegerAxis(const SweepPoint& a, const SweepPoi
 std::string systemSettings(const SweepPoint& point) {
     std::string s = "[SystemSettings]\n";
     for (const auto& [name, value] : point)
-        if (name.rfind("r.", 0) == 0)
+        if (isCvarName(name))
             s += name + "=" + value + "\n";
     return s;
 }
@@ -200,7 +200,7 @@ std::string systemSettings(const SweepPoint& point) {
 nlohmann::json TuneResult::pointJson(const SweepPoint& point) {
     nlohmann::json cvars = nlohmann::json::object(), params = nlohmann::json::object();
     for (const auto& [name, value] : point)
-        (name.rfind("r.", 0) == 0 ? cvars : params)[name] = io::parseCliValue(value);
+        (isCvarName(name) ? cvars : params)[name] = io::parseCliValue(value);
     return {{"cvars", cvars}, {"params", params}};
 }
 

@@ -57,7 +57,7 @@ Command addTuneCommand(CLI::App& app) {
                                      c.value)
                       << app::systemSettings(c.point);
             for (const auto& [name, value] : c.point)
-                if (name.rfind("r.", 0) != 0)
+                if (!app::isCvarName(name))
                     std::cout << fmt::format("; framepass only (no Unreal cvar): --set {}={}\n",
                                              name, value);
             return 0;
