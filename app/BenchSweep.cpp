@@ -360,4 +360,15 @@ BenchResult Bencher::emptyResult() const {
     return result;
 }
 
+BenchResult runBench(const BenchOptions& options, const std::string& incremental) {
+    const std::vector<SweepPoint> grid = sweepGrid(options.sweeps);
+    Bencher bencher(options);
+    bencher.expectRuns(int(grid.size()) * (options.warmup + options.runs));
+    BenchResult result = bencher.emptyResult();
+    for (const auto& point : grid) result.settings.push_back(bencher.measure(point, true));
+    result.markPareto();
+    if (!incremental.empty()) result.incremental = bencher.measureIncremental(incremental);
+    return result;
+}
+
 }  // namespace fp::app

@@ -73,4 +73,10 @@ private:
     std::set<std::string> mWarned;  //!< plan warnings already said
 };
 
+/// What `bench` does: every point of the sweep grid timed (with its error figures and, where
+/// they can be taken apart, their decomposition), the Pareto front marked, and the incremental
+/// re-run after `incremental` ("NAME=A,B"; "" = none) timed. The CLI prints it, the Python
+/// module returns it.
+BenchResult runBench(const BenchOptions& options, const std::string& incremental = "");
+
 }  // namespace fp::app

@@ -256,6 +256,16 @@ Image maskOf(const std::string& spec, const MaskSources& src, float skyDistance,
     return m;
 }
 
+void checkSameShape(const Image& a, const Image& b, const std::string& nameA,
+                    const std::string& nameB) {
+    if (a.channelCount() != b.channelCount())
+        throw UsageError(fmt::format("{} has {} channels but {} has {}", nameA, a.channelCount(),
+                                     nameB, b.channelCount()));
+    if (a.width() != b.width() || a.height() != b.height())
+        throw UsageError(fmt::format("{} is {}×{} but {} is {}×{}", nameA, a.width(), a.height(),
+                                     nameB, b.width(), b.height()));
+}
+
 std::string pngPathFor(const std::string& exr) {
     std::filesystem::path p(exr);
     return p.replace_extension(".png").string();
@@ -275,6 +285,26 @@ nlohmann::json CompareResult::toJson(const CompareOptions& opt) const {
     return j;
 }
 
+ErrorStats compareImages(const Image& a, const Image& b, const Image* mask,
+                         const Image* referenceStdErr, double tolerance, const std::string& nameA,
+                         const std::string& nameB, Image* absError) {
+    checkSameShape(a, b, nameA, nameB);
+    if (mask && (mask->width() != a.width() || mask->height() != a.height()))
+        throw UsageError(fmt::format("the mask is {}×{}, the images are {}×{}", mask->width(),
+                                     mask->height(), a.width(), a.height()));
+    if (referenceStdErr && (referenceStdErr->width() != b.width() ||
+                            referenceStdErr->height() != b.height() ||
+                            referenceStdErr->channelCount() != b.channelCount()))
+        throw UsageError(fmt::format("the standard error of {} is not shaped as it", nameB));
+    ErrorInputs in;
+    in.result = &a;
+    in.reference = &b;
+    in.referenceStdErr = referenceStdErr;
+    in.mask = mask;
+    in.tolerance = tolerance;
+    return measureError(in, absError);
+}
+
 CompareResult compareFiles(const CompareOptions& opt) {
     if (!opt.heatmap.empty())
         for (const auto& out : {opt.heatmap, pngPathFor(opt.heatmap)}) {
@@ -292,13 +322,9 @@ CompareResult compareFiles(const CompareOptions& opt) {
         opt.refProfile.empty() ? profileA : io::CaptureProfile::load(opt.refProfile);
     const Image imgA = readSpec(a, layerA, profileA);
     const Image imgB = readSpec(b, layerB, profileB);
-    if (imgA.channelCount() != imgB.channelCount())
-        throw UsageError(fmt::format("{}[{}] has {} channels but {}[{}] has {}", opt.a,
-                                     displayName(layerA), imgA.channelCount(), opt.b,
-                                     displayName(layerB), imgB.channelCount()));
-    if (imgA.width() != imgB.width() || imgA.height() != imgB.height())
-        throw UsageError(fmt::format("{} is {}×{} but {} is {}×{}", opt.a, imgA.width(),
-                                     imgA.height(), opt.b, imgB.width(), imgB.height()));
+    const std::string nameA = fmt::format("{}[{}]", opt.a, displayName(layerA));
+    const std::string nameB = fmt::format("{}[{}]", opt.b, displayName(layerB));
+    checkSameShape(imgA, imgB, nameA, nameB);
     std::optional<Image> stdErr;
     if (b.exr)
         for (const auto& l : io::listLayers(*b.exr))
@@ -327,18 +353,14 @@ CompareResult compareFiles(const CompareOptions& opt) {
     }
     result.maskNote = maskNotes.empty() ? "no mask" : fmt::format("{}", fmt::join(maskNotes, "; "));
     Image absError(imgA.width(), imgA.height(), {"Y"});
-    ErrorInputs in;
-    in.result = &imgA;
-    in.reference = &imgB;
-    in.referenceStdErr = stdErr ? &*stdErr : nullptr;
-    in.mask = mask ? &*mask : nullptr;
-    in.tolerance = opt.tolerance;
-    result.stats = measureError(in, &absError);
+    const Image* kept = mask ? &*mask : nullptr;
+    result.stats = compareImages(imgA, imgB, kept, stdErr ? &*stdErr : nullptr, opt.tolerance,
+                                 nameA, nameB, &absError);
 
     float& scale = result.heatScale;
     if (!opt.heatmap.empty()) {
-        scale = opt.heatMax > 0 ? float(opt.heatMax) : heatScale(absError, in.mask);
-        const Image heat = heatmap(absError, in.mask, scale);
+        scale = opt.heatMax > 0 ? float(opt.heatMax) : heatScale(absError, kept);
+        const Image heat = heatmap(absError, kept, scale);
         io::ExrMetadata meta;
         meta.strings["framepass:heatScale"] = fmt::format("{}", scale);
         meta.strings["framepass:compare"] = fmt::format("{}[{}] vs {}[{}]", opt.a,

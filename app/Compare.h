@@ -40,6 +40,15 @@ struct CompareResult {
 /// compared (channels, sizes, a missing layer), naming it.
 CompareResult compareFiles(const CompareOptions& options);
 
+/// compare's measurement on images already in memory (the Python module's arrays): the figures
+/// of `a` against reference `b` over the pixels `mask` keeps (first channel > 0; null = all),
+/// with the reference's noise where `referenceStdErr` is given, and |a − b| into `absError` when
+/// not null. Throws fp::UsageError naming `nameA` and `nameB` when the channels or sizes differ.
+ErrorStats compareImages(const Image& a, const Image& b, const Image* mask,
+                         const Image* referenceStdErr, double tolerance,
+                         const std::string& nameA = "a", const std::string& nameB = "b",
+                         Image* absError = nullptr);
+
 /// The heat map's PNG preview beside its EXR.
 std::string heatmapPngPath(const std::string& exr);
 

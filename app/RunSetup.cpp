@@ -85,6 +85,12 @@ RunSetup::RunSetup(const SetupOptions& o)
         for (auto& c : readCvarsFile(file)) mFileCvars.push_back(std::move(c));
     if (!o.capture.empty())
         mConfig.capture = o.capture;
+    if (o.memoryCapture) {
+        mMemory = o.memoryCapture;
+        mConfig.capture = mMemory->name();
+        mConfig.previous.clear();
+        mConfig.camera.clear();
+    }
     if (!o.previous.empty())
         mConfig.previous = o.previous;
     plan(o);
@@ -111,6 +117,7 @@ RunSetup::RunSetup(const RunSetup& base, const SetupOptions& o)
       mInputs(base.mInputs),
       mProfile(base.mProfile),
       mFileCvars(base.mFileCvars),
+      mMemory(base.mMemory),
       mHeader(base.mHeader) {
     plan(o);
 }
@@ -120,6 +127,7 @@ RunSetup::RunSetup(const RunSetup& base, io::RunConfig config, const SetupOption
       mInputs(base.mInputs),
       mProfile(base.mProfile),
       mFileCvars(base.mFileCvars),
+      mMemory(base.mMemory),
       mHeader(base.mHeader) {
     plan(o);
 }
@@ -145,7 +153,9 @@ void RunSetup::plan(const SetupOptions& o) {
     inputs.overrides.device = o.device;
 
     const io::FramePattern pattern(mConfig.capture);
-    const std::string spec = !o.frames.empty()         ? o.frames
+    // A capture in memory is one frame, numbered as it was made.
+    const std::string spec = mMemory                   ? std::to_string(mMemory->frame())
+                             : !o.frames.empty()       ? o.frames
                              : !mConfig.frames.empty() ? mConfig.frames
                                                        : pattern.inlineFrames();
     if (!spec.empty()) {
@@ -162,7 +172,13 @@ void RunSetup::plan(const SetupOptions& o) {
     if (!mHeader || mHeader->path != first) {
         auto header = std::make_shared<CaptureHeader>();
         header->path = first;
-        if (auto files = openCapture(first)) {
+        if (mMemory) {
+            header->exists = !mMemory->buffers().empty();
+            header->extent = mMemory->extent();
+            header->availableBuffers = mMemory->availableBuffers();
+            header->truthChannels = mMemory->truthChannels();
+            header->frame = int(mMemory->frame());
+        } else if (auto files = openCapture(first)) {
             header->exists = true;
             header->extent = files->extent();
             header->availableBuffers = files->availableBuffers();
@@ -189,7 +205,7 @@ void RunSetup::plan(const SetupOptions& o) {
     try {
         mPlan = makePlan(mConfig.graph, builtinPasses(), inputs);
     } catch (const UsageError& e) {
-        throw UsageError(fmt::format("{}: {}", o.config, e.what()));
+        throw UsageError(fmt::format("{}: {}", o.config, e.what()), o.config, e.problems());
     }
     // A bad $OCIO, display or view fails now, before the first frame, not once per frame after
     // the chain ran.

@@ -6,6 +6,7 @@
 #include "io/CaptureProfile.h"
 #include "io/CaptureSource.h"
 #include "io/ConfigLoader.h"
+#include "io/MemoryCapture.h"
 #include "framework/Planner.h"
 
 #include <map>
@@ -29,7 +30,8 @@ struct SetupOptions {
     std::string previous;  //!< the previous frame's capture; overrides the config's "previous"
     bool allowUnknownCvars = false;  //!< an unknown cvar is a warning, not an error
     std::string device;              //!< cpu or cuda; "" = the config's "device"
-
+    /// A capture in memory instead of the config's file: one frame, its own number.
+    std::shared_ptr<const io::MemoryCapture> memoryCapture;
 };
 
 /// The cvars of an Unreal .ini file as NAME=VALUE (its [SystemSettings] and [ConsoleVariables]).
@@ -63,6 +65,9 @@ public:
     /// Size of the first frame (0×0 when its capture does not exist yet).
     Extent extent() const { return mExtent; }
 
+    /// The capture in memory the session runs on instead of files, or null.
+    const std::shared_ptr<const io::MemoryCapture>& memoryCapture() const { return mMemory; }
+
     /// The capture's files at `path` through the profile, or nothing when none exists yet.
     std::optional<io::CaptureFiles> openCapture(const std::string& path) const;
 
@@ -72,6 +77,7 @@ private:
     std::shared_ptr<SessionInputs> mInputs;
     io::CaptureProfile mProfile;
     std::vector<std::string> mFileCvars;  //!< --cvars files, read once by the first setup
+    std::shared_ptr<const io::MemoryCapture> mMemory;
     // The first capture's header as the planner reads it.
     struct CaptureHeader {
         std::string path;

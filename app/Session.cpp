@@ -1,6 +1,9 @@
 #include "app/Session.h"
 
 #include "foundation/Error.h"
+#include "foundation/Suggest.h"
+#include "framework/CvarTable.h"
+#include "io/ConfigLoader.h"
 
 #include <algorithm>
 
@@ -46,6 +49,30 @@ void Session::setParam(const std::string& passParam, const std::string& value) {
     mDirty = true;
 }
 
+nlohmann::json Session::cvarValue(const std::string& name) const {
+    const CvarTable table(builtinPasses());
+    const std::string spelled = table.spelling(name);
+    const CvarMapping* mapping = table.find(spelled);
+    if (!mapping) {
+        const std::vector<std::string> known = table.names();
+        throw UsageError(fmt::format("unknown cvar '{}'{}", name, didYouMean(name, known)));
+    }
+    // The last setting wins: the session's, then the config's.
+    for (auto it = mOptions.cvars.rbegin(); it != mOptions.cvars.rend(); ++it) {
+        const std::string set = it->substr(0, it->find('='));
+        if (table.spelling(set) == spelled) return io::parseCliValue(it->substr(it->find('=') + 1));
+    }
+    for (const auto& [k, v] : mBase.config().graph.cvars.items())
+        if (table.spelling(k) == spelled) return v;
+    if (mapping->passType.empty()) return mapping->emulatedValue;
+    if (const PassType* type = builtinPasses().find(mapping->passType))
+        for (const auto& p : type->params)
+            if (p.name == mapping->param) return p.defaultValue;
+    return nullptr;
+}
+
+std::vector<std::string> Session::cvarNames() const { return CvarTable(builtinPasses()).names(); }
+
 const RunSetup& Session::setup(const std::vector<std::string>& outputs) {
     if (mDirty || !mPlanned || outputs != mPlannedOutputs) {
         SetupOptions o = mOptions;
@@ -67,7 +94,10 @@ Session::FrameInput& Session::frameInput(int frame, bool firstInSequence) {
     if (!in.capture) {
         io::CaptureSource::Options o = mBase.captureOptions(frame);
         o.firstInSequence = firstInSequence;
-        in.capture = std::make_unique<io::CaptureSource>(o, mBase.profile());
+        if (mBase.memoryCapture())
+            in.capture = std::make_unique<io::MemoryCaptureSource>(mBase.memoryCapture(), o);
+        else
+            in.capture = std::make_unique<io::CaptureSource>(o, mBase.profile());
         in.cached = std::make_unique<CachedSource>(*in.capture);
     }
     return in;

@@ -28,7 +28,7 @@ namespace fp::app {
 /// reused) and the images asked for, by name ("pass.port" or a capture buffer).
 struct FrameResult {
     FrameReport report;
-    std::map<std::string, Image> images;
+    std::map<std::string, Image> images;  //!< sharing the executor's pixels: no copies
 };
 
 class Session {
@@ -45,6 +45,14 @@ public:
     void setParam(const std::string& passParam, const std::string& value);
     /// The cvars and parameters set so far, in order, as NAME=VALUE.
     const SetupOptions& options() const { return mOptions; }
+    /// The value of cvar `name` in this session: as set on it, else as the config's "cvars" give
+    /// it, else the default of the parameter it sets (or, for a cvar framepass recognises but
+    /// does not emulate, the value its chain behaves as; null when there is none). Names match
+    /// without regard to case, as in Unreal's console. Throws fp::UsageError for a cvar
+    /// framepass does not know.
+    nlohmann::json cvarValue(const std::string& name) const;
+    /// Every cvar framepass knows, in its spelling.
+    std::vector<std::string> cvarNames() const;
 
     /// The chain as the current settings plan it (re-planned after a change); `outputs` are
     /// planned as dumps so that they are computed.
@@ -70,7 +78,7 @@ public:
 private:
     // A frame's capture, read once and kept while the session runs that frame or its neighbour.
     struct FrameInput {
-        std::unique_ptr<io::CaptureSource> capture;
+        std::unique_ptr<FrameSource> capture;  // the frame's files, or the capture in memory
         std::unique_ptr<CachedSource> cached;
     };
     FrameInput& frameInput(int frame, bool firstInSequence);

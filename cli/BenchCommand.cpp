@@ -105,15 +105,7 @@ Command addBenchCommand(CLI::App& app) {
 
     return [opt, incremental]() {
         if (!opt->html.empty()) io::checkWritable(opt->html, "--html");
-        const std::vector<SweepPoint> grid = sweepGrid(opt->sweeps);
-        Bencher bencher(*opt);
-        bencher.expectRuns(int(grid.size()) * (opt->warmup + opt->runs));
-        BenchResult result = bencher.emptyResult();
-        for (const auto& point : grid)
-            result.settings.push_back(bencher.measure(point, true));
-        result.markPareto();
-        if (!incremental->empty())
-            result.incremental = bencher.measureIncremental(*incremental);
+        const BenchResult result = runBench(*opt, *incremental);
 
         if (opt->json)
             std::cout << result.toJson().dump(2) << "\n";

@@ -5,6 +5,7 @@
 #include <cassert>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace fp {
 
@@ -28,10 +29,29 @@ private:
     ExitCode mCode;
 };
 
-/// A usage or configuration error (exit code 2).
+/// One problem of a config: where it is (a JSON pointer such as /passes/2/params/rays, or the
+/// command-line option that set the value, such as "--cvar r.SSGI.Quality") and what is wrong.
+struct ConfigProblem {
+    std::string pointer;
+    std::string message;
+};
+
+/// A usage or configuration error (exit code 2). One about a config's contents also says which
+/// file (`path`) and lists each problem with its JSON pointer, for doors that show them apart
+/// (the Python module's ConfigError.pointer and .path).
 class UsageError : public Error {
 public:
-    explicit UsageError(const std::string& message) : Error(message, ExitCode::Usage) {}
+    explicit UsageError(const std::string& message, std::string path = {},
+                        std::vector<ConfigProblem> problems = {})
+        : Error(message, ExitCode::Usage),
+          mPath(std::move(path)),
+          mProblems(std::move(problems)) {}
+    const std::string& path() const { return mPath; }
+    const std::vector<ConfigProblem>& problems() const { return mProblems; }
+
+private:
+    std::string mPath;
+    std::vector<ConfigProblem> mProblems;
 };
 
 /// A run stopped by a signal at a safe point (exit 128 + the signal).

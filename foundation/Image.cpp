@@ -10,24 +10,30 @@ namespace fp {
 
 namespace {
 constexpr std::ptrdiff_t kRowAlignFloats = 16;  // 64 bytes
+
+std::ptrdiff_t rowStride(int width) {
+    return (std::ptrdiff_t(width) + kRowAlignFloats - 1) / kRowAlignFloats * kRowAlignFloats;
 }
 
-void Plane::AlignedDelete::operator()(float* p) const {
-    ::operator delete[](p, std::align_val_t{64});
-}
-
-Plane::Plane(int width, int height, float fill) : mWidth(width), mHeight(height) {
-    mStride = (std::ptrdiff_t(width) + kRowAlignFloats - 1) / kRowAlignFloats * kRowAlignFloats;
-    std::size_t count = std::max<std::size_t>(1, std::size_t(mStride) * std::size_t(height));
+// `count` floats, 64-byte aligned, set to `fill` by row blocks on all threads: a frame's plane is
+// megabytes, and the first write of each fresh page also faults it in, which one thread would do
+// serially.
+std::shared_ptr<float> allocateFilled(std::size_t count, float fill) {
+    count = std::max<std::size_t>(1, count);
     float* p = static_cast<float*>(::operator new[](count * sizeof(float), std::align_val_t{64}));
-    // Filled by row blocks on all threads: a frame's plane is megabytes, and the first write of
-    // each fresh page also faults it in, which one thread would do serially.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, std::size_t(1) << 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           std::fill(p + r.begin(), p + r.end(), fill);
                       });
-    mData = std::shared_ptr<float>(p, AlignedDelete{});
+    return std::shared_ptr<float>(p, [](float* q) { ::operator delete[](q, std::align_val_t{64}); });
 }
+}  // namespace
+
+Plane::Plane(int width, int height, float fill)
+    : mData(allocateFilled(std::size_t(rowStride(width)) * std::size_t(height), fill)),
+      mWidth(width),
+      mHeight(height),
+      mStride(rowStride(width)) {}
 
 float Plane::clampedAt(int x, int y) const {
     x = std::clamp(x, 0, mWidth - 1);
@@ -37,7 +43,22 @@ float Plane::clampedAt(int x, int y) const {
 
 Image::Image(int width, int height, std::vector<std::string> channels, float fill)
     : mWidth(width), mHeight(height), mChannels(std::move(channels)) {
-    for (std::size_t i = 0; i < mChannels.size(); ++i) mPlanes.emplace_back(width, height, fill);
+    const std::ptrdiff_t stride = rowStride(width);
+    const std::size_t planeFloats = std::size_t(stride) * std::size_t(std::max(height, 0));
+    if (mChannels.empty()) return;
+    const std::shared_ptr<float> block = allocateFilled(planeFloats * mChannels.size(), fill);
+    for (std::size_t c = 0; c < mChannels.size(); ++c)
+        mPlanes.push_back(Plane(block, block.get() + c * planeFloats, width, height, stride));
+}
+
+const float* Image::planarData() const {
+    if (mPlanes.empty() || mPlanes[0].empty()) return nullptr;
+    const float* first = mPlanes[0].row(0);
+    for (std::size_t c = 1; c < mPlanes.size(); ++c)
+        if (mPlanes[c].row(0) != first + std::ptrdiff_t(c) * mPlanes[0].stride() * mHeight ||
+            mPlanes[c].stride() != mPlanes[0].stride())
+            return nullptr;
+    return first;
 }
 
 void copyPixels(const Image& from, Image& to) {

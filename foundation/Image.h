@@ -1,6 +1,8 @@
 #pragma once
 // Planar float32 images (architecture anchors B6): one 64-byte-aligned plane per channel, rows
-// padded to 16 floats so every row starts on a cache line and inner loops vectorize.
+// padded to 16 floats so every row starts on a cache line and inner loops vectorize. An image's
+// planes are allocated as one block, one after the other, so its pixels can be handed out as a
+// single (channel, row, column) array without a copy (the Python module's planar view).
 #include <cstddef>
 #include <memory>
 #include <string>
@@ -27,9 +29,11 @@ public:
     std::size_t bytes() const { return std::size_t(mStride) * mHeight * sizeof(float); }
 
 private:
-    struct AlignedDelete {
-        void operator()(float* p) const;
-    };
+    friend class Image;
+    /// A plane inside `block` (shared with the image's other planes), starting at `data`.
+    Plane(const std::shared_ptr<float>& block, float* data, int width, int height,
+          std::ptrdiff_t stride)
+        : mData(block, data), mWidth(width), mHeight(height), mStride(stride) {}
     std::shared_ptr<float> mData;
     int mWidth = 0, mHeight = 0;
     std::ptrdiff_t mStride = 0;
@@ -48,6 +52,10 @@ public:
     Plane& plane(int c) { return mPlanes[c]; }
     const Plane& plane(int c) const { return mPlanes[c]; }
     std::size_t bytes() const;
+    /// The first plane's pixels when every plane follows the one before it in memory (plane c
+    /// starts c × height × stride floats after plane 0, as the constructor lays them out), else
+    /// nullptr (planes put together from other images).
+    const float* planarData() const;
 
 private:
     int mWidth = 0, mHeight = 0;

@@ -23,8 +23,11 @@ std::string Diagnostics::format(const std::vector<Diagnostic>& list, const std::
 
 void Diagnostics::throwIfErrors(const std::string& source) const {
     if (mErrors.empty()) return;
+    std::vector<ConfigProblem> problems;
+    for (const auto& d : mErrors) problems.push_back({d.pointer, d.message});
     throw UsageError(fmt::format("{} error{} in the configuration:\n{}", mErrors.size(),
-                                 mErrors.size() == 1 ? "" : "s", format(mErrors, source)));
+                                 mErrors.size() == 1 ? "" : "s", format(mErrors, source)),
+                     source, std::move(problems));
 }
 
 std::string jsonPointerEscape(const std::string& key) {

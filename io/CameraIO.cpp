@@ -415,6 +415,12 @@ FrameCamera readCameraSidecar(const std::string& path, Extent extent,
     FP_CHECK(std::ifstream(path) && !std::filesystem::is_directory(path),
              "{}: cannot open the camera sidecar", path);
     const nlohmann::json j = readJsonFile(path, "camera sidecar");
+    return cameraFromSidecarJson(j, extent, path, assumptions, profileUnits);
+}
+
+FrameCamera cameraFromSidecarJson(const nlohmann::json& j, Extent extent, const std::string& path,
+                                  std::vector<std::string>& assumptions,
+                                  std::optional<double> profileUnits) {
     FrameCamera cam;
     if (!j.is_object()) throw UsageError(fmt::format("{}: a camera sidecar is a JSON object", path));
     if (j.contains("sceneUnitsPerMeter")) {
@@ -533,6 +539,13 @@ std::optional<FoundCamera> findCamera(const CameraLookup& in) {
                    : Imf::hasWorldToCamera(*in.header) ? "header (worldToCamera, worldToNDC)"
                                                        : "header (Unreal unreal/camera/*)";
     return found;
+}
+
+nlohmann::json frameCameraToJson(const FrameCamera& camera) {
+    nlohmann::json j = cameraViewToJson(camera.current);
+    j["sceneUnitsPerMeter"] = camera.sceneUnitsPerMeter;
+    if (camera.previous) j["previous"] = cameraViewToJson(*camera.previous);
+    return j;
 }
 
 nlohmann::json cameraViewToJson(const CameraView& c) {

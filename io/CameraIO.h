@@ -44,6 +44,14 @@ CameraView cameraViewFromJson(const nlohmann::json& j, Extent extent, const std:
 FrameCamera readCameraSidecar(const std::string& path, Extent extent,
                               std::vector<std::string>& assumptions,
                               std::optional<double> profileUnits = {});
+/// The camera of a sidecar's JSON object, without the file (a camera handed over in memory);
+/// `where` names it in errors and assumptions.
+FrameCamera cameraFromSidecarJson(const nlohmann::json& j, Extent extent, const std::string& where,
+                                  std::vector<std::string>& assumptions,
+                                  std::optional<double> profileUnits = {});
+/// A frame's camera as sidecar JSON (cameraViewToJson, "sceneUnitsPerMeter", "previous"), which
+/// cameraFromSidecarJson reads back (off-centre projections are not written).
+nlohmann::json frameCameraToJson(const FrameCamera& camera);
 
 /// Where a frame's camera comes from, in the order `run` uses: the given sidecar, else
 /// <capturePath>.camera.json beside the capture, else the header.

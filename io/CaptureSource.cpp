@@ -35,6 +35,49 @@ OCIO::ConstConfigRcPtr loadColorConfig(const std::string& explicitPath) {
     }
 }
 
+SanitizeCounts sanitizeBuffer(const std::string& buffer, Image& img) {
+    // No NaN ever reaches an output. Colour: non-finite or negative → 0. Depth: NaN, zero or
+    // negative → sky (a view depth lies beyond the near plane, so never ≤ 0, and 1/depth would be
+    // infinite). Normals: renormalised when off unit length by more than half precision; zero is
+    // what sky pixels hold (the passes' normalize keeps it 0, never NaN), so a zero normal is bad
+    // only on a surface — checked against the depth under --strict.
+    const SemanticBuffer* sem = findSemanticBuffer(buffer);
+    const bool isColor = sem ? sem->kind == PortKind::Color : true;
+    const bool isDepth = isDepthBuffer(buffer);
+    SanitizeCounts counts;
+    for (int c = 0; c < img.channelCount(); ++c)
+        for (int y = 0; y < img.height(); ++y) {
+            float* row = img.plane(c).row(y);
+            for (int x = 0; x < img.width(); ++x) {
+                float& v = row[x];
+                if (isDepth) {
+                    if (std::isnan(v) || v <= 0.0f) {
+                        ++counts.nonFinite;
+                        v = std::numeric_limits<float>::infinity();
+                    }
+                } else if (!std::isfinite(v)) {
+                    ++counts.nonFinite;
+                    v = 0.0f;
+                } else if (isColor && v < 0.0f) {
+                    ++counts.negative;
+                    v = 0.0f;
+                }
+            }
+        }
+    if (buffer == "WorldNormal" && img.channelCount() == 3)
+        for (int y = 0; y < img.height(); ++y)
+            for (int x = 0; x < img.width(); ++x) {
+                Vec3f n{img.plane(0).at(x, y), img.plane(1).at(x, y), img.plane(2).at(x, y)};
+                const float len = length(n);
+                if (len == 0.0f || std::fabs(len - 1.0f) < 1e-3f)
+                    continue;
+                ++counts.nonUnitNormals;
+                for (int c = 0; c < 3; ++c)
+                    img.plane(c).at(x, y) = n[c] / len;
+            }
+    return counts;
+}
+
 CaptureSource::CaptureSource(Options options, CaptureProfile profile)
     : mOptions(std::move(options)), mFiles(mOptions.path, profile) {}
 
@@ -150,7 +193,6 @@ Image CaptureSource::readPreviousFrame(const std::string& buffer, const BufferMa
 }
 
 Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
-    const SemanticBuffer* sem = findSemanticBuffer(buffer);
     const BufferMapping* m = mFiles.mappingFor(buffer);
     Image img;
     if (m && !m->previousFrame.empty()) {
@@ -165,44 +207,7 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
              mOptions.frame, buffer, img.width(), img.height(), mFiles.extent().width,
              mFiles.extent().height);
 
-    // docs/design.md, Numerics and determinism: no NaN ever reaches an output. Colour: non-finite or negative → 0. Depth: NaN,
-    // zero or negative → sky (a view depth lies beyond the near plane, so never ≤ 0, and
-    // 1/depth would be infinite). Normals: renormalised when off unit length by more than half precision; zero is
-    // what sky pixels hold (the passes' normalize keeps it 0, never NaN), so a zero normal is bad
-    // only on a surface — checked against the depth under --strict.
-    const bool isColor = sem ? sem->kind == PortKind::Color : true;
-    const bool isDepth = isDepthBuffer(buffer);
-    SanitizeCounts counts;
-    for (int c = 0; c < img.channelCount(); ++c)
-        for (int y = 0; y < img.height(); ++y) {
-            float* row = img.plane(c).row(y);
-            for (int x = 0; x < img.width(); ++x) {
-                float& v = row[x];
-                if (isDepth) {
-                    if (std::isnan(v) || v <= 0.0f) {
-                        ++counts.nonFinite;
-                        v = std::numeric_limits<float>::infinity();
-                    }
-                } else if (!std::isfinite(v)) {
-                    ++counts.nonFinite;
-                    v = 0.0f;
-                } else if (isColor && v < 0.0f) {
-                    ++counts.negative;
-                    v = 0.0f;
-                }
-            }
-        }
-    if (buffer == "WorldNormal")
-        for (int y = 0; y < img.height(); ++y)
-            for (int x = 0; x < img.width(); ++x) {
-                Vec3f n{img.plane(0).at(x, y), img.plane(1).at(x, y), img.plane(2).at(x, y)};
-                const float len = length(n);
-                if (len == 0.0f || std::fabs(len - 1.0f) < 1e-3f)
-                    continue;
-                ++counts.nonUnitNormals;
-                for (int c = 0; c < 3; ++c)
-                    img.plane(c).at(x, y) = n[c] / len;
-            }
+    SanitizeCounts counts = sanitizeBuffer(buffer, img);
     // A normal buffer that is zero everywhere is a mapping to the wrong channels or a pass the
     // renderer did not write; with surfaces in the depth it would shade every pixel as sky.
     if (buffer == "WorldNormal" && mFiles.mappingFor("SceneDepth")) {
@@ -248,9 +253,7 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
                         "negative and {} non-unit values (--strict)",
                         mFiles.capturePath(), mOptions.frame, buffer, counts.nonFinite,
                         counts.negative, counts.nonUnitNormals));
-    mSanitized.nonFinite += counts.nonFinite;
-    mSanitized.negative += counts.negative;
-    mSanitized.nonUnitNormals += counts.nonUnitNormals;
+    mSanitized += counts;
     return Texture(std::move(img));
 }
 

@@ -19,7 +19,19 @@ namespace fp::io {
 struct SanitizeCounts {
     uint64_t nonFinite = 0, negative = 0, nonUnitNormals = 0;
     uint64_t total() const { return nonFinite + negative + nonUnitNormals; }
+    SanitizeCounts& operator+=(const SanitizeCounts& o) {
+        nonFinite += o.nonFinite;
+        negative += o.negative;
+        nonUnitNormals += o.nonUnitNormals;
+        return *this;
+    }
 };
+
+/// The input policy of docs/design.md (Numerics and determinism), applied in place to capture
+/// buffer `buffer`: colour that is not finite or is negative becomes 0; depth that is NaN or ≤ 0
+/// becomes sky (+inf); normals off unit length are renormalised (zero, the sky's, stays zero).
+/// Returns what it changed. Every capture, on disk or in memory, goes through it.
+SanitizeCounts sanitizeBuffer(const std::string& buffer, Image& image);
 
 class CaptureSource final : public FrameSource {
 public:

@@ -1,19 +1,33 @@
 // framepass's Python module (docs/python.md): a thin door onto the application library. Every
-// call goes to app/ (Session, PassCatalogue, Compare) or io/; nothing here runs a chain itself.
-// Images cross as float32 numpy arrays of shape (height, width, channels), row 0 the top: the
-// library keeps channels in planes, so each crossing is one copy. The GIL is released while a
-// frame runs, so sessions in Python threads run side by side.
+// call goes to app/ (Session, runBench, PassCatalogue, compareFiles, compareImages) or io/
+// (readCapture, MemoryCapture); nothing here runs a chain, a sweep or an error figure itself.
+//
+// Images cross as float32 numpy arrays, row 0 the top. The library keeps an image's channels as
+// planes laid out one after the other, so the planar layout (channels, height, width) is a view
+// over the library's pixels with no copy, kept alive by the array; the interleaved layout
+// (height, width, channels) that most Python imaging code expects costs one copy. The GIL is
+// released while a frame runs and while pixels are copied, so sessions in Python threads run side
+// by side.
+#include "app/BenchSweep.h"
 #include "app/Compare.h"
 #include "app/Invocation.h"
 #include "app/PassCatalogue.h"
 #include "app/Session.h"
 #include "foundation/Error.h"
+#include "framework/SemanticBuffers.h"
+#include "io/CameraIO.h"
 #include "io/ExrLayers.h"
 #include "io/ExrReader.h"
+#include "io/MemoryCapture.h"
+#include "io/SafeFiles.h"
 
+#include <fmt/ranges.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <cstring>
 
@@ -22,27 +36,152 @@ using namespace fp;
 
 namespace {
 
-// nlohmann::json → Python objects, through the json module (exactly what --json prints).
+// nlohmann::json ↔ Python objects, through the json module (exactly what --json prints).
 py::object toPython(const nlohmann::json& j) {
     return py::module_::import("json").attr("loads")(j.dump());
 }
+nlohmann::json fromPython(const py::handle& o) {
+    return nlohmann::json::parse(py::module_::import("json").attr("dumps")(o).cast<std::string>());
+}
 
-py::array_t<float> toArray(const Image& image) {
+enum class Layout { Interleaved, Planar };
+
+Layout layoutOf(const std::string& name) {
+    if (name == "hwc") return Layout::Interleaved;
+    if (name == "chw") return Layout::Planar;
+    throw py::value_error("layout is 'hwc' (height, width, channels: one copy) or 'chw' "
+                          "(channels, height, width: no copy), not '" + name + "'");
+}
+
+// (H, W, C): one copy, rows spread over the cores with the GIL released.
+py::array_t<float> interleaved(const Image& image) {
     const py::ssize_t h = image.height(), w = image.width(), c = image.channelCount();
     py::array_t<float> a({h, w, c});
-    auto out = a.mutable_unchecked<3>();
-    for (py::ssize_t k = 0; k < c; ++k)
-        for (py::ssize_t y = 0; y < h; ++y) {
-            const float* row = image.plane(int(k)).row(int(y));
-            for (py::ssize_t x = 0; x < w; ++x) out(y, x, k) = row[x];
+    float* out = a.mutable_data();
+    py::gil_scoped_release release;
+    tbb::parallel_for(tbb::blocked_range<int>(0, int(h)), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<const float*> in(static_cast<std::size_t>(c));
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+            for (py::ssize_t k = 0; k < c; ++k) in[std::size_t(k)] = image.plane(int(k)).row(y);
+            float* o = out + std::size_t(y) * std::size_t(w * c);
+            for (py::ssize_t x = 0; x < w; ++x)
+                for (py::ssize_t k = 0; k < c; ++k) *o++ = in[std::size_t(k)][x];
         }
+    });
     return a;
 }
 
-py::dict toArrays(std::map<std::string, Image>& images) {
+// (C, H, W): a read-only view over the image's planes when they lie one after the other (every
+// image the library makes), owning a share of them; a copy otherwise.
+py::array_t<float> planar(const Image& image) {
+    const py::ssize_t h = image.height(), w = image.width(), c = image.channelCount();
+    if (const float* data = image.planarData()) {
+        const py::ssize_t stride = image.plane(0).stride() * py::ssize_t(sizeof(float));
+        auto* owner = new Image(image);  // shares the planes; freed with the last array over it
+        py::capsule keepAlive(owner, [](void* p) { delete static_cast<Image*>(p); });
+        py::array_t<float> a({c, h, w}, {stride * h, stride, py::ssize_t(sizeof(float))}, data,
+                             keepAlive);
+        // The library's images are never written after they are made, and a view must not
+        // be the way one is: the array is read-only (np.array(a) gives a writable copy).
+        a.attr("setflags")(py::arg("write") = false);
+        return a;
+    }
+    py::array_t<float> a({c, h, w});
+    auto out = a.mutable_unchecked<3>();
+    for (py::ssize_t k = 0; k < c; ++k)
+        for (py::ssize_t y = 0; y < h; ++y)
+            std::memcpy(out.mutable_data(k, y, 0), image.plane(int(k)).row(int(y)),
+                        std::size_t(w) * sizeof(float));
+    return a;
+}
+
+py::array_t<float> toArray(const Image& image, Layout layout) {
+    return layout == Layout::Planar ? planar(image) : interleaved(image);
+}
+
+py::dict toArrays(const std::map<std::string, Image>& images, Layout layout) {
     py::dict d;
-    for (auto& [name, image] : images) d[py::str(name)] = toArray(image);
+    for (const auto& [name, image] : images) d[py::str(name)] = toArray(image, layout);
     return d;
+}
+
+// A numpy array as a capture buffer: (H, W) is one channel, (H, W, C) C channels; floating
+// dtypes (and integers for the id buffers) are read as float32. ValueError names the buffer.
+Image toImage(const std::string& buffer, const py::handle& value) {
+    if (!py::isinstance<py::array>(value) && !py::isinstance<py::buffer>(value) &&
+        !py::isinstance<py::list>(value))
+        throw py::value_error(fmt::format("buffer '{}': expected a numpy array, got {}", buffer,
+                                          py::str(py::type::of(value)).cast<std::string>()));
+    const py::array raw = py::array::ensure(value);
+    if (!raw) throw py::value_error(fmt::format("buffer '{}': not an array", buffer));
+    const char kind = raw.dtype().kind();
+    const bool idBuffer = buffer == "ShadingModel" || buffer == "InstanceId";
+    if (!(kind == 'f' || (idBuffer && (kind == 'i' || kind == 'u'))))
+        throw py::value_error(fmt::format(
+            "buffer '{}': dtype {} is not a floating type (float16, float32 or float64{})",
+            buffer, py::str(raw.dtype()).cast<std::string>(),
+            idBuffer ? ", or an integer type for an id buffer" : ""));
+    if (raw.ndim() != 2 && raw.ndim() != 3)
+        throw py::value_error(fmt::format("buffer '{}': shape {} is not (height, width) or "
+                                          "(height, width, channels)",
+                                          buffer, py::str(py::tuple(raw.attr("shape")))
+                                                      .cast<std::string>()));
+    const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(raw);
+    const int h = int(a.shape(0)), w = int(a.shape(1)), c = a.ndim() == 3 ? int(a.shape(2)) : 1;
+    if (h <= 0 || w <= 0 || c <= 0)
+        throw py::value_error(fmt::format("buffer '{}': {}×{} with {} channels is empty", buffer,
+                                          w, h, c));
+    std::vector<std::string> names;
+    if (const SemanticBuffer* sem = findSemanticBuffer(buffer)) {
+        if (c != int(sem->channels.size()))
+            throw py::value_error(fmt::format("buffer '{}': {} channel{}, but it has {} ({})",
+                                              buffer, c, c == 1 ? "" : "s", sem->channels.size(),
+                                              fmt::join(sem->channels, " ")));
+        names = sem->channels;
+    } else if (isTruthBuffer(buffer)) {
+        if (c != 1 && c != 3 && c != 4)
+            throw py::value_error(fmt::format("buffer '{}': {} channels; a truth layer has 1, 3 "
+                                              "or 4",
+                                              buffer, c));
+        names = c == 1 ? std::vector<std::string>{"Y"}
+                : c == 3 ? std::vector<std::string>{"R", "G", "B"}
+                         : std::vector<std::string>{"R", "G", "B", "A"};
+    } else {
+        std::vector<std::string> known;
+        for (const auto& b : semanticBuffers()) known.push_back(b.name);
+        throw py::value_error(fmt::format("buffer '{}' is not a capture buffer: give one of {} "
+                                          "or a Truth.* layer",
+                                          buffer, fmt::join(known, ", ")));
+    }
+    Image image(w, h, names);
+    const float* in = a.data();
+    for (int y = 0; y < h; ++y)
+        for (int k = 0; k < c; ++k) {
+            float* row = image.plane(k).row(y);
+            const float* p = in + std::size_t(y) * std::size_t(w) * c + k;
+            for (int x = 0; x < w; ++x) row[x] = p[std::size_t(x) * c];
+        }
+    return image;
+}
+
+// A plain image (compare's arrays): (H, W) or (H, W, C), any real dtype.
+Image plainImage(const char* what, const py::handle& value) {
+    const py::array raw = py::array::ensure(value);
+    if (!raw || raw.dtype().kind() == 'c' || raw.dtype().kind() == 'O' ||
+        (raw.ndim() != 2 && raw.ndim() != 3))
+        throw py::value_error(fmt::format("{}: expected a real array of shape (height, width) or "
+                                          "(height, width, channels)",
+                                          what));
+    const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(raw);
+    const int h = int(a.shape(0)), w = int(a.shape(1)), c = a.ndim() == 3 ? int(a.shape(2)) : 1;
+    std::vector<std::string> names;
+    for (int k = 0; k < c; ++k) names.push_back(fmt::format("C{}", k));
+    Image image(w, h, names);
+    for (int y = 0; y < h; ++y)
+        for (int k = 0; k < c; ++k)
+            for (int x = 0; x < w; ++x)
+                image.plane(k).at(x, y) = a.data()[(std::size_t(y) * w + x) * c + k];
+    return image;
 }
 
 // A value as --cvar and --set read it: Python's bool, int and float spelled as JSON.
@@ -53,16 +192,68 @@ std::string valueText(const py::handle& v) {
     throw py::type_error("a setting is a bool, an int, a float or a str");
 }
 
+// The camera of a capture: exact as the library holds it (what read_capture found), or made
+// from a sidecar's JSON (a dict) for a capture's size.
+struct PyCamera {
+    FrameCamera camera;
+    py::object toDict() const { return toPython(io::frameCameraToJson(camera)); }
+};
+
+struct PyCapture {
+    std::shared_ptr<io::MemoryCapture> capture;
+
+    static PyCapture fromArrays(const py::dict& buffers, const py::object& camera, int64_t frame,
+                                const std::string& name) {
+        auto c = std::make_shared<io::MemoryCapture>(name, frame);
+        for (const auto& [key, value] : buffers) {
+            const std::string buffer = py::str(key).cast<std::string>();
+            Image image = toImage(buffer, value);
+            try {
+                c->add(buffer, std::move(image));
+            } catch (const UsageError& e) {
+                throw py::value_error(e.what());
+            }
+        }
+        if (c->buffers().empty()) throw py::value_error("from_arrays: no buffers given");
+        if (py::isinstance<PyCamera>(camera)) {
+            c->setCamera(camera.cast<const PyCamera&>().camera);
+        } else if (py::isinstance<py::dict>(camera)) {
+            std::vector<std::string> assumptions;
+            c->setCamera(io::cameraFromSidecarJson(fromPython(camera), c->extent(), "camera",
+                                                   assumptions));
+            for (const auto& a : assumptions) c->note(a);
+        } else if (!camera.is_none()) {
+            throw py::type_error("camera is a framepass.Camera, a dict as a camera sidecar "
+                                 "holds it, or None");
+        }
+        return PyCapture{std::move(c)};
+    }
+    py::dict buffers(Layout layout) const { return toArrays(capture->buffers(), layout); }
+    py::array_t<float> buffer(const std::string& name, Layout layout) const {
+        auto it = capture->buffers().find(name);
+        if (it == capture->buffers().end())
+            throw py::key_error(fmt::format("{} has no buffer '{}'", capture->name(), name));
+        return toArray(it->second, layout);
+    }
+};
+
 class PySession {
 public:
-    PySession(const std::string& config, const std::string& capture, const std::string& profile,
-              const std::string& device, const std::string& frames) {
+    PySession(const std::string& config, const py::object& capture, const std::string& profile,
+              const std::string& device, const std::string& frames, int threads) {
         app::SetupOptions o;
         o.config = config;
-        o.capture = capture;
+        if (py::isinstance<PyCapture>(capture))
+            o.memoryCapture = capture.cast<const PyCapture&>().capture;
+        else if (py::isinstance<py::str>(capture))
+            o.capture = capture.cast<std::string>();
+        else if (!capture.is_none())
+            throw py::type_error("capture is a path (str), a framepass.Capture or None");
         o.profile = profile;
         o.device = device;
         o.frames = frames;
+        if (threads < 0) throw py::value_error("threads is 0 (every core) or more");
+        if (threads > 0) mArena = std::make_unique<tbb::task_arena>(threads);
         mSession = std::make_unique<app::Session>(o);
     }
     void setCvar(const std::string& name, const py::handle& value) {
@@ -71,14 +262,18 @@ public:
     void set(const std::string& passParam, const py::handle& value) {
         mSession->setParam(passParam, valueText(value));
     }
-    py::dict run(std::optional<int> frame, const std::vector<std::string>& outputs) {
+    py::dict run(std::optional<int> frame, const std::vector<std::string>& outputs,
+                 const std::string& layout) {
+        const Layout l = layoutOf(layout);
         const int f = frame ? *frame : mSession->frames().front();
         app::FrameResult r;
         {
             py::gil_scoped_release release;
-            r = mSession->run(f, outputs);
+            auto once = [&] { r = mSession->run(f, outputs); };
+            if (mArena) mArena->execute(once);
+            else once();
         }
-        return toArrays(r.images);
+        return toArrays(r.images, l);
     }
     py::object plan(const std::vector<std::string>& outputs) {
         const app::RunSetup& setup = mSession->setup(outputs);
@@ -88,14 +283,21 @@ public:
         const auto& r = mSession->lastReport();
         return r ? toPython(r->toJson()) : py::object(py::none());
     }
+    py::object cvarValue(const std::string& name) const {
+        return toPython(mSession->cvarValue(name));
+    }
+    std::vector<std::string> cvarNames() const { return mSession->cvarNames(); }
     std::vector<int> frames() const { return mSession->frames(); }
     void cancel() { mSession->cancel(); }
 
 private:
+    std::unique_ptr<tbb::task_arena> mArena;
     std::unique_ptr<app::Session> mSession;
 };
 
-py::dict readExr(const std::string& path, const std::vector<std::string>& layers) {
+py::dict readExr(const std::string& path, const std::vector<std::string>& layers,
+                 const std::string& layout) {
+    const Layout l = layoutOf(layout);
     io::ExrReader file(path);
     std::map<std::string, Image> images;
     for (const auto& info : io::listLayers(file))
@@ -104,7 +306,119 @@ py::dict readExr(const std::string& path, const std::vector<std::string>& layers
     for (const auto& name : layers)
         if (!images.count(name))
             throw UsageError(fmt::format("{} has no layer '{}'", path, name));
-    return toArrays(images);
+    return toArrays(images, l);
+}
+
+py::object compare(const py::object& a, const py::object& b, const std::string& layer,
+                   const std::string& refLayer, const std::optional<std::string>& metric,
+                   const std::vector<std::string>& masks, const py::object& mask,
+                   double tolerance, const std::string& profile, const std::string& refProfile,
+                   const std::string& heatmap) {
+    nlohmann::json figures;
+    if (py::isinstance<py::str>(a) && py::isinstance<py::str>(b)) {
+        if (!mask.is_none())
+            throw py::type_error("mask= (an array) is for arrays; files take masks=[...]");
+        app::CompareOptions o;
+        o.a = a.cast<std::string>();
+        o.b = b.cast<std::string>();
+        o.layer = layer;
+        o.refLayer = refLayer;
+        o.masks = masks;
+        o.tolerance = tolerance;
+        o.profile = profile;
+        o.refProfile = refProfile;
+        o.heatmap = heatmap;
+        app::CompareResult r;
+        {
+            py::gil_scoped_release release;
+            r = app::compareFiles(o);
+        }
+        figures = r.toJson(o);
+    } else if (!py::isinstance<py::str>(a) && !py::isinstance<py::str>(b)) {
+        if (!layer.empty() || !refLayer.empty() || !heatmap.empty())
+            throw py::type_error("layer, ref_layer and heatmap are for files; arrays are "
+                                 "compared as they are");
+        const Image imgA = plainImage("a", a), imgB = plainImage("b", b);
+        std::optional<Image> kept;
+        if (!mask.is_none()) kept = plainImage("mask", mask);
+        if (imgA.channelCount() != imgB.channelCount() || imgA.width() != imgB.width() ||
+            imgA.height() != imgB.height() ||
+            (kept && (kept->width() != imgA.width() || kept->height() != imgA.height())))
+            throw py::value_error(fmt::format(
+                "a is {}×{}×{}, b is {}×{}×{}{}: they must have one shape (and the mask its "
+                "height and width)",
+                imgA.height(), imgA.width(), imgA.channelCount(), imgB.height(), imgB.width(),
+                imgB.channelCount(),
+                kept ? fmt::format(", the mask {}×{}", kept->height(), kept->width()) : ""));
+        ErrorStats stats;
+        {
+            py::gil_scoped_release release;
+            stats = app::compareImages(imgA, imgB, kept ? &*kept : nullptr, nullptr, tolerance);
+        }
+        figures = stats.toJson();
+    } else {
+        throw py::type_error("compare two files (paths) or two arrays, not one of each");
+    }
+    if (!metric) return toPython(figures);
+    if (!figures.contains(*metric) || !figures[*metric].is_number()) {
+        std::vector<std::string> names;
+        for (const auto& [k, v] : figures.items())
+            if (v.is_number() && k != "pixels" && k != "maskedPixels" && k != "tolerance")
+                names.push_back(k);
+        throw py::value_error(fmt::format("metric '{}' is none of {}", *metric,
+                                          fmt::join(names, ", ")));
+    }
+    return toPython(figures[*metric]);
+}
+
+std::vector<std::string> settings(const py::object& values, const char* what) {
+    std::vector<std::string> out;
+    if (values.is_none()) return out;
+    if (!py::isinstance<py::dict>(values))
+        throw py::type_error(fmt::format("{} is a dict {{name: value}}", what));
+    for (const auto& [k, v] : values.cast<py::dict>())
+        out.push_back(py::str(k).cast<std::string>() + "=" + valueText(v));
+    return out;
+}
+
+py::object bench(const std::string& config, const py::object& sweep, int runs, int warmup,
+                 const std::string& capture, const std::string& profile,
+                 const std::string& device, const std::string& frames, const py::object& cvars,
+                 const py::object& sets, int decomposeRays, const std::string& incremental,
+                 const std::string& html) {
+    app::BenchOptions o;
+    o.session.config = config;
+    o.session.capture = capture;
+    o.session.profile = profile;
+    o.session.device = device;
+    o.session.frames = frames;
+    o.session.cvars = settings(cvars, "cvars");
+    o.session.sets = settings(sets, "set");
+    if (runs < 1 || warmup < 0) throw py::value_error("runs is 1 or more, warmup 0 or more");
+    o.runs = runs;
+    o.warmup = warmup;
+    o.decomposeRays = decomposeRays;
+    if (py::isinstance<py::dict>(sweep)) {
+        for (const auto& [k, v] : sweep.cast<py::dict>()) {
+            std::vector<std::string> values;
+            if (py::isinstance<py::str>(v) || !py::isinstance<py::iterable>(v))
+                throw py::type_error(fmt::format("sweep['{}'] is a list of values",
+                                                 py::str(k).cast<std::string>()));
+            for (const auto& value : v) values.push_back(valueText(value));
+            o.sweeps.push_back(fmt::format("{}={}", py::str(k).cast<std::string>(),
+                                           fmt::join(values, ",")));
+        }
+    } else if (!sweep.is_none()) {
+        for (const auto& s : sweep) o.sweeps.push_back(py::str(s).cast<std::string>());
+    }
+    if (!html.empty()) io::checkWritable(html, "html");
+    app::BenchResult result;
+    {
+        py::gil_scoped_release release;
+        result = app::runBench(o, incremental);
+        if (!html.empty()) io::writeTextAtomically(html, app::benchHtml(result));
+    }
+    return toPython(result.toJson());
 }
 
 }  // namespace
@@ -113,17 +427,28 @@ PYBIND11_MODULE(_framepass, m) {
     m.doc() = "framepass: Unreal Engine's lighting passes re-run on captured GBuffers.";
 
     // Errors: fp::UsageError (a bad config, option or input: exit 2 on the command line) is
-    // ConfigError; a frame that fails (a bad capture, a pass's error) is CaptureError; both
-    // derive from framepass.Error, and carry the command line's message.
+    // ConfigError, with the config's path and each problem's JSON pointer; a frame that fails
+    // (a bad capture, a pass's error) is CaptureError; both derive from framepass.Error and
+    // carry the command line's message.
     static py::exception<Error> error(m, "Error");
     static py::exception<UsageError> configError(m, "ConfigError", error.ptr());
     static py::exception<Error> captureError(m, "CaptureError", error.ptr());
     static py::exception<Cancelled> cancelled(m, "Cancelled", error.ptr());
+    configError.attr("path") = py::none();
+    configError.attr("pointer") = py::none();
+    configError.attr("problems") = py::list();
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
         } catch (const UsageError& e) {
-            configError(e.what());
+            py::object exc = py::reinterpret_borrow<py::object>(configError.ptr())(e.what());
+            if (!e.path().empty()) exc.attr("path") = e.path();
+            py::list problems;
+            for (const auto& problem : e.problems())
+                problems.append(py::make_tuple(problem.pointer, problem.message));
+            exc.attr("problems") = problems;
+            if (!e.problems().empty()) exc.attr("pointer") = e.problems().front().pointer;
+            PyErr_SetObject(configError.ptr(), exc.ptr());
         } catch (const Cancelled& e) {
             cancelled(e.what());
         } catch (const Error& e) {
@@ -139,38 +464,123 @@ PYBIND11_MODULE(_framepass, m) {
         logger.attr(kind == app::LogKind::Warning ? "warning" : "info")(line);
     });
 
+    py::class_<PyCamera>(m, "Camera", R"doc(
+A frame's camera as framepass holds it (double precision; this frame and, when known, the last).
+read_capture gives it exactly; to_dict() spells it as a camera sidecar (<capture>.camera.json)
+does, which Capture.from_arrays(camera=...) also takes.
+)doc")
+        .def("to_dict", &PyCamera::toDict,
+             "The camera as sidecar JSON: position, forward, up, fovYDegrees, near, width, "
+             "height, sceneUnitsPerMeter and, when known, previous.")
+        .def("__repr__", [](const PyCamera& c) {
+            return "framepass.Camera(" + io::frameCameraToJson(c.camera).dump() + ")";
+        });
+
+    py::class_<PyCapture>(m, "Capture", R"doc(
+A capture in memory: its buffers (SceneDepth, WorldNormal, BaseColor, ... and Truth.* layers)
+by their canonical names, its camera and its frame number. A Session runs on it as on a file:
+
+    c = framepass.read_capture("out/demo/cornell.exr")        # or, from arrays:
+    c = framepass.Capture.from_arrays({"SceneDepth": depth, "WorldNormal": normals, ...},
+                                      camera={"position": [0, 100, -300], "target": [0, 100, 0],
+                                              "fovYDegrees": 40})
+    s = framepass.Session("examples/cornell/config.json", capture=c)
+)doc")
+        .def_static("from_arrays", &PyCapture::fromArrays, py::arg("buffers"), py::kw_only(),
+                    py::arg("camera") = py::none(), py::arg("frame") = 1,
+                    py::arg("name") = "<arrays>",
+                    "A capture from {buffer: array}: each (height, width) or (height, width, "
+                    "channels), float16/32/64 (integers for ShadingModel and InstanceId), as "
+                    "wide as the buffer is (docs/captures.md) and all one size. The pixels are "
+                    "copied and pass the input policy a file's do (non-finite colour → 0, depth "
+                    "≤ 0 → sky, normals renormalised; see notes). camera: a Camera, or a dict "
+                    "as a camera sidecar holds it. ValueError names the buffer that is wrong.")
+        .def_property_readonly("name", [](const PyCapture& c) { return c.capture->name(); })
+        .def_property_readonly("frame", [](const PyCapture& c) { return c.capture->frame(); })
+        .def_property_readonly("width",
+                               [](const PyCapture& c) { return c.capture->extent().width; })
+        .def_property_readonly("height",
+                               [](const PyCapture& c) { return c.capture->extent().height; })
+        .def_property_readonly(
+            "camera",
+            [](const PyCapture& c) -> py::object {
+                if (!c.capture->camera()) return py::none();
+                return py::cast(PyCamera{*c.capture->camera()});
+            },
+            "The frame's camera, or None.")
+        .def_property_readonly(
+            "notes", [](const PyCapture& c) { return c.capture->notes(); },
+            "What was assumed or replaced on the way in, as a run would warn.")
+        .def("keys",
+             [](const PyCapture& c) {
+                 std::vector<std::string> names;
+                 for (const auto& [name, image] : c.capture->buffers()) names.push_back(name);
+                 return names;
+             },
+             "The buffers' names.")
+        .def("__contains__",
+             [](const PyCapture& c, const std::string& name) {
+                 return c.capture->buffers().count(name) > 0;
+             })
+        .def("__getitem__",
+             [](const PyCapture& c, const std::string& name) {
+                 return c.buffer(name, Layout::Interleaved);
+             },
+             "A buffer as a float32 array (height, width, channels).")
+        .def(
+            "buffers",
+            [](const PyCapture& c, const std::string& layout) {
+                return c.buffers(layoutOf(layout));
+            },
+            py::arg("layout") = "hwc",
+            "Every buffer as {name: float32 array}; layout 'hwc' (one copy) or 'chw' (a "
+            "read-only view, no copy).")
+        .def("__repr__", [](const PyCapture& c) {
+            return fmt::format("framepass.Capture('{}', frame {}, {}×{}, {} buffers)",
+                               c.capture->name(), c.capture->frame(), c.capture->extent().width,
+                               c.capture->extent().height, c.capture->buffers().size());
+        });
+
     py::class_<PySession>(m, "Session", R"doc(
 A config on its capture, held open while its settings change.
 
     s = framepass.Session("examples/cornell/config.json", capture="out/demo/cornell.exr")
-    s.set_cvar("r.SSGI.Quality", 2)
+    s.set_cvar("r.SSGI.Quality", 2)              # or s.cvars["r.SSGI.Quality"] = 2
     s.set("ssgi_denoise.temporalAccumulation", False)
     out = s.run(frame=1, outputs=["ssgi_denoise.diffuse"])
 
 Runs are incremental: after a change only the passes downstream of it run again (report()
 says which were reused). Frames run in order carry the temporal passes' history.
 )doc")
-        .def(py::init<const std::string&, const std::string&, const std::string&,
-                      const std::string&, const std::string&>(),
-             py::arg("config"), py::kw_only(), py::arg("capture") = "", py::arg("profile") = "",
-             py::arg("device") = "", py::arg("frames") = "",
+        .def(py::init<const std::string&, const py::object&, const std::string&,
+                      const std::string&, const std::string&, int>(),
+             py::arg("config"), py::kw_only(), py::arg("capture") = py::none(),
+             py::arg("profile") = "", py::arg("device") = "", py::arg("frames") = "",
+             py::arg("threads") = 0,
              "Reads the config and the first capture's header and plans; ConfigError lists the "
-             "config's problems. capture, profile, device and frames override the config's.")
+             "config's problems. capture (a path or pattern, or a Capture in memory), profile, "
+             "device and frames override the config's; threads limits this session's runs to "
+             "that many cores (0: all; the bits do not change).")
         .def("set_cvar", &PySession::setCvar, py::arg("name"), py::arg("value"),
              "Sets an Unreal cvar, as --cvar NAME=VALUE.")
         .def("set", &PySession::set, py::arg("param"), py::arg("value"),
              "Sets a pass parameter PASS.PARAM, as --set.")
         .def("run", &PySession::run, py::arg("frame") = py::none(),
-             py::arg("outputs") = std::vector<std::string>{},
-             "Runs a frame (default: the config's first) and returns {name: float32 array of "
-             "shape (height, width, channels)} for each of outputs ('pass.port' or a capture "
-             "buffer; 'all' or none: every output the chain writes and every pass output asked "
-             "for). The GIL is released while it runs.")
+             py::arg("outputs") = std::vector<std::string>{}, py::arg("layout") = "hwc",
+             "Runs a frame (default: the config's first) and returns {name: float32 array} for "
+             "each of outputs ('pass.port' or a capture buffer; 'all' or none: every output the "
+             "chain writes and every pass output asked for). layout 'hwc': (height, width, "
+             "channels), one copy; 'chw': (channels, height, width), a read-only view over the "
+             "library's pixels, no copy. The GIL is released while it runs.")
         .def("plan", &PySession::plan, py::arg("outputs") = std::vector<std::string>{},
              "The resolved chain as a dict (what `framepass plan --json` prints).")
         .def("report", &PySession::report,
              "The last run's report: each pass's seconds, work and metrics, and 'reused' for "
              "the passes a change did not reach; None before the first run.")
+        .def("cvar", &PySession::cvarValue, py::arg("name"),
+             "The value a cvar has in this session: as set, else as the config gives it, else "
+             "the default of the parameter it sets. ConfigError for an unknown cvar.")
+        .def("cvar_names", &PySession::cvarNames, "Every cvar framepass knows.")
         .def_property_readonly("frames", &PySession::frames, "The config's frames.")
         .def("cancel", &PySession::cancel,
              "Stops the run in flight (from another thread) between passes: it raises "
@@ -180,20 +590,37 @@ says which were reused). Frames run in order carry the temporal passes' history.
           "The pass catalogue: every pass type's ports, parameters and cvars "
           "(`framepass passes --json`).");
     m.def("read_exr", &readExr, py::arg("path"), py::arg("layers") = std::vector<std::string>{},
-          "The layers of an EXR (all, or those named) as {layer: float32 array (H, W, C)}.");
+          py::arg("layout") = "hwc",
+          "The layers of an EXR (all, or those named) as {layer: float32 array}, (height, width, "
+          "channels) or, with layout='chw', (channels, height, width).");
     m.def(
-        "compare",
-        [](const std::string& a, const std::string& b, const std::string& layer,
-           const std::string& refLayer) {
-            app::CompareOptions o;
-            o.a = a;
-            o.b = b;
-            o.layer = layer;
-            o.refLayer = refLayer;
-            return toPython(app::compareFiles(o).toJson(o));
+        "read_capture",
+        [](const std::string& path, const std::string& profile) {
+            io::CaptureProfile p = io::CaptureProfile::load(profile);
+            py::gil_scoped_release release;
+            return PyCapture{std::make_shared<io::MemoryCapture>(io::readCapture(path, p))};
         },
-        py::arg("a"), py::arg("b"), py::kw_only(), py::arg("layer") = "",
-        py::arg("ref_layer") = "",
-        "The error of file a against reference b: the figures `framepass compare --json` "
-        "prints.");
+        py::arg("path"), py::arg("profile") = "canonical",
+        "A capture file read through its profile (a name such as 'blender', or a profile "
+        "JSON): every buffer decoded and sanitised as a run reads it, its camera and frame "
+        "number.");
+    m.def("compare", &compare, py::arg("a"), py::arg("b"), py::kw_only(), py::arg("layer") = "",
+          py::arg("ref_layer") = "", py::arg("metric") = py::none(),
+          py::arg("masks") = std::vector<std::string>{"sky"}, py::arg("mask") = py::none(),
+          py::arg("tolerance") = 0.1, py::arg("profile") = "canonical",
+          py::arg("ref_profile") = "", py::arg("heatmap") = "",
+          "The error of a against reference b: two files (paths; layer, ref_layer, masks, "
+          "profiles and heatmap as `framepass compare` takes them) or two arrays of one shape "
+          "(mask: an array, > 0 where a pixel counts). Returns the figures `compare --json` "
+          "prints, or with metric='rmse' (relMse, smape, mae, bias, maxError, overTolerance) "
+          "that one number.");
+    m.def("bench", &bench, py::arg("config"), py::kw_only(), py::arg("sweep") = py::none(),
+          py::arg("runs") = 5, py::arg("warmup") = 1, py::arg("capture") = "",
+          py::arg("profile") = "", py::arg("device") = "", py::arg("frames") = "",
+          py::arg("cvars") = py::none(), py::arg("set") = py::none(),
+          py::arg("decompose_rays") = 256, py::arg("incremental") = "", py::arg("html") = "",
+          "Times the config's chain as `framepass bench` does and returns what `bench --json` "
+          "prints. sweep: {name: [values]} (a cvar or PASS.PARAM per axis; several make a "
+          "grid) or a list of 'NAME=V1,V2' strings; cvars and set: {name: value} for every "
+          "point; incremental: 'NAME=A,B'; html: also write the HTML report there.");
 }

@@ -8,6 +8,7 @@
 #include "app/Session.h"
 #include "app/Tune.h"
 #include "io/CaptureSource.h"
+#include "io/MemoryCapture.h"
 #include "foundation/Error.h"
 #include "tests/support/Scratch.h"
 #include "tests/support/TestScenes.h"
@@ -309,6 +310,85 @@ TEST_SUITE("app") {
         CHECK(std::filesystem::exists(r.outputDir + "/lit.0001.exr"));
         CHECK(std::filesystem::exists(r.outputDir + "/lit.0002.exr"));
         CHECK(std::filesystem::exists(r.report));
+    }
+    TEST_CASE("a session on a capture in memory gives the bits of one on its file") {
+        const app::RunSetup probe(options());
+        auto memory = std::make_shared<io::MemoryCapture>(
+            io::readCapture(probe.capturePath(1), probe.profile()));
+        CHECK(memory->frame() == 1);
+        REQUIRE(memory->camera());
+        CHECK(memory->availableBuffers().count("Truth.DiffuseIndirectFull"));
+        app::SetupOptions o = options();
+        o.memoryCapture = memory;
+        app::Session inMemory(o);
+        CHECK(inMemory.frames() == std::vector<int>{1});
+        const app::FrameResult r = inMemory.run(1, kOutputs);
+        const auto plain = plainRun({options()}, {1});
+        for (const auto& name : kOutputs) {
+            CAPTURE(name);
+            CHECK(sameBits(r.images.at(name), plain.at(name)));
+        }
+        // The executor reads the buffers in place: the capture's own planes, not copies.
+        io::CaptureSource::Options co = probe.captureOptions(1);
+        io::MemoryCaptureSource source(memory, co);
+        const Texture depth = source.loadBuffer("SceneDepth", 1);
+        CHECK(depth.image().plane(0).row(0) == memory->buffers().at("SceneDepth").plane(0).row(0));
+    }
+
+    TEST_CASE("a capture in memory takes only buffers it can run, and replaces bad pixels") {
+        io::MemoryCapture c("<test>", 7);
+        CHECK_THROWS_AS(c.add("Albedo", Image(4, 2, {"R", "G", "B"})), UsageError);
+        CHECK_THROWS_AS(c.add("WorldNormal", Image(4, 2, {"X", "Y"})), UsageError);
+        CHECK_THROWS_AS(c.add("Truth.AO", Image(4, 2, {"A", "B"})), UsageError);
+        Image depth(4, 2, {"Z"}, 5.0f);
+        depth.plane(0).at(1, 0) = -1.0f;
+        depth.plane(0).at(2, 0) = std::nanf("");
+        c.add("SceneDepth", depth);
+        CHECK(std::isinf(c.buffers().at("SceneDepth").plane(0).at(1, 0)));
+        CHECK(std::isinf(c.buffers().at("SceneDepth").plane(0).at(2, 0)));
+        CHECK(c.sanitized().nonFinite == 2);
+        CHECK(c.notes().size() == 1);
+        CHECK_THROWS_WITH_AS(c.add("BaseColor", Image(4, 3, {"R", "G", "B"})),
+                             doctest::Contains("'BaseColor' is 4×3, but 'SceneDepth' is 4×2"),
+                             UsageError);
+        c.add("Truth.AO", Image(4, 2, {"Y"}));
+        CHECK(c.truthChannels() == std::map<std::string, int>{{"Truth.AO", 1}});
+        CHECK(c.availableBuffers() == std::set<std::string>{"SceneDepth", "Truth.AO"});
+    }
+
+    TEST_CASE("a session reads a cvar as set, else as the config gives it, else its default") {
+        app::Session session(options());
+        const auto& params = builtinPasses().find("ssgi")->params;
+        const auto quality = std::find_if(params.begin(), params.end(),
+                                          [](const ParamInfo& p) { return p.name == "quality"; });
+        REQUIRE(quality != params.end());
+        CHECK(session.cvarValue("r.SSGI.Quality") == quality->defaultValue);
+        session.setCvar("r.ssgi.quality", "2");  // Unreal's console ignores case
+        CHECK(session.cvarValue("r.SSGI.Quality") == 2);
+        CHECK_THROWS_WITH_AS(session.cvarValue("r.SSGI.Qualty"),
+                             doctest::Contains("r.SSGI.Quality"), UsageError);
+        const auto names = session.cvarNames();
+        CHECK(std::find(names.begin(), names.end(), "r.SSGI.Quality") != names.end());
+    }
+
+    TEST_CASE("a config's errors carry its path and each problem's JSON pointer") {
+        nlohmann::json j = nlohmann::json::parse(std::ifstream(sessionConfig()));
+        j["cvars"] = {{"r.SSGI.Quality", "high"}};
+        j["passes"][2]["params"] = {{"rays", -3}};
+        const std::string path = scratchPath("app", "bad_config.json");
+        std::ofstream(path) << j.dump();
+        app::SetupOptions o = options();
+        o.config = path;
+        try {
+            app::Session session(o);
+            FAIL("a bad config planned");
+        } catch (const UsageError& e) {
+            CHECK(e.path() == path);
+            std::set<std::string> pointers;
+            for (const auto& p : e.problems()) pointers.insert(p.pointer);
+            CHECK(pointers.count("/cvars/r.SSGI.Quality"));
+            CHECK(pointers.count("/passes/2/params/rays"));
+        }
     }
 }
 

@@ -153,3 +153,153 @@ def test_warnings_go_to_python_logging(config, caplog):
         fp.Session(config, frames="1-2")
     assert any("frame token" in r.getMessage() and r.levelno == logging.WARNING
                for r in caplog.records)
+
+
+def capture_of(config):
+    return json.load(open(config))["capture"]
+
+
+def test_a_capture_in_memory_runs_as_its_file(config):
+    c = fp.read_capture(capture_of(config))
+    assert {"SceneDepth", "WorldNormal", "BaseColor", "SceneColor"} <= set(c.keys())
+    assert (c.width, c.height) == (64, 48) and c.camera is not None
+    assert c["WorldNormal"].shape == (48, 64, 3) and c["SceneDepth"].dtype == np.float32
+    from_file = fp.Session(config).run(outputs=OUTPUTS)
+    # The capture read into memory, and the same pixels handed over as plain numpy arrays.
+    rebuilt = fp.Capture.from_arrays({k: np.array(c[k]) for k in c.keys()}, camera=c.camera,
+                                     frame=c.frame)
+    for capture in (c, rebuilt):
+        images = fp.Session(config, capture=capture).run(outputs=OUTPUTS)
+        for name in OUTPUTS:
+            assert same_bits(images[name], from_file[name]), name
+    # A camera given as its sidecar JSON plans and runs too.
+    from_dict = fp.Capture.from_arrays(c.buffers(), camera=c.camera.to_dict())
+    assert fp.Session(config, capture=from_dict).run(outputs=OUTPUTS)[OUTPUTS[1]].shape == (48, 64, 3)
+
+
+def test_from_arrays_names_the_buffer_that_is_wrong(config):
+    c = fp.read_capture(capture_of(config))
+    good = c.buffers()
+
+    def rejected(change, match, error=ValueError):
+        buffers = dict(good)
+        buffers.update(change)
+        with pytest.raises(error, match=match):
+            fp.Capture.from_arrays(buffers, camera=c.camera)
+
+    rejected({"SceneDepth": np.ones((48, 64), np.int32)}, "SceneDepth.*dtype")
+    rejected({"SceneColor": good["SceneColor"].astype(np.complex64)}, "SceneColor.*dtype")
+    rejected({"WorldNormal": good["WorldNormal"][:, :, :2]}, "WorldNormal.*2 channels")
+    rejected({"BaseColor": good["BaseColor"][:24]}, "'BaseColor' is 64×24|64×24.*'BaseColor'")
+    rejected({"BaseColor": good["BaseColor"][None]}, "BaseColor.*shape")
+    rejected({"Truth.Thing": np.zeros((48, 64, 2), np.float32)}, "Truth.Thing.*2 channels")
+    rejected({"Albedo": good["BaseColor"]}, "'Albedo' is not a capture buffer")
+    rejected({"SceneDepth": "depth.exr"}, "SceneDepth.*numpy array")
+    with pytest.raises(ValueError, match="no buffers"):
+        fp.Capture.from_arrays({})
+    with pytest.raises(TypeError, match="camera"):
+        fp.Capture.from_arrays(good, camera=42)
+    with pytest.raises(fp.ConfigError, match="fovYDegrees"):
+        fp.Capture.from_arrays(good, camera={"position": [0, 0, 0], "target": [0, 0, 1]})
+    # Bad pixels are replaced as a run replaces them read from a file, and said.
+    color = good["SceneColor"].copy()
+    color[0, 0] = [np.nan, -1.0, np.inf]
+    c2 = fp.Capture.from_arrays(dict(good, SceneColor=color), camera=c.camera)
+    assert any("SceneColor" in n and "non-finite" in n for n in c2.notes)
+    assert (c2["SceneColor"][0, 0] == 0).all()
+    out = fp.Session(config, capture=c2).run(outputs=OUTPUTS)
+    assert all(np.isfinite(a).all() for a in out.values())
+    # A capture without a camera plans, and a chain that needs one says so.
+    with pytest.raises(fp.Error, match="camera"):
+        fp.Session(config, capture=fp.Capture.from_arrays(good)).run(outputs=OUTPUTS)
+
+
+def test_the_planar_layout_is_a_view_of_the_librarys_pixels(config):
+    s = fp.Session(config)
+    hwc = s.run(outputs=OUTPUTS)
+    chw = s.run(outputs=OUTPUTS, layout="chw")
+    again = s.run(outputs=OUTPUTS, layout="chw")  # nothing changed: the same kept images
+    for name in OUTPUTS:
+        assert chw[name].shape == (hwc[name].shape[2],) + hwc[name].shape[:2]
+        assert same_bits(np.ascontiguousarray(chw[name].transpose(1, 2, 0)), hwc[name])
+        assert not chw[name].flags.writeable and chw[name].base is not None
+        assert np.shares_memory(chw[name], again[name])  # no copy was made
+    keep = chw[OUTPUTS[1]]
+    expected = keep.copy()
+    del s, chw, again
+    gc.collect()
+    assert same_bits(keep, expected)
+    with pytest.raises(ValueError, match="layout"):
+        fp.Session(config).run(outputs=OUTPUTS, layout="whc")
+
+
+def test_compare_of_arrays_is_compare_of_files(config):
+    capture = capture_of(config)
+    layers = fp.read_exr(capture, ["Truth.DiffuseIndirectOneBounce", "Truth.DiffuseIndirectFull"])
+    files = fp.compare(capture, capture, layer="Truth.DiffuseIndirectOneBounce",
+                       ref_layer="Truth.DiffuseIndirectFull", masks=["none"])
+    arrays = fp.compare(layers["Truth.DiffuseIndirectOneBounce"], layers["Truth.DiffuseIndirectFull"])
+    for key in ("rmse", "relMse", "smape", "mae", "bias", "maxError", "pixels"):
+        assert arrays[key] == files[key], key
+    assert fp.compare(layers["Truth.DiffuseIndirectOneBounce"], layers["Truth.DiffuseIndirectFull"],
+                      metric="rmse") == files["rmse"]
+    # A mask keeps the pixels where it is > 0: all of them is no mask.
+    ones = np.ones((48, 64), np.float32)
+    assert fp.compare(layers["Truth.DiffuseIndirectOneBounce"], layers["Truth.DiffuseIndirectFull"],
+                      mask=ones)["rmse"] == files["rmse"]
+    with pytest.raises(ValueError, match="one shape"):
+        fp.compare(np.zeros((4, 4, 3)), np.zeros((4, 4, 1)))
+    with pytest.raises(TypeError, match="one of each"):
+        fp.compare(capture, np.zeros((4, 4, 3)))
+    with pytest.raises(ValueError, match="metric 'psnr'"):
+        fp.compare(np.zeros((4, 4)), np.zeros((4, 4)), metric="psnr")
+
+
+def test_bench_is_the_commands_sweep(config):
+    result = fp.bench(config, sweep={"r.SSGI.Quality": [1, 2]}, runs=1, warmup=0,
+                      decompose_rays=0)
+    cli = json.loads(subprocess.run([FRAMEPASS, "bench", config, "--sweep", "r.SSGI.Quality=1,2",
+                                     "--runs", "1", "--warmup", "0", "--decompose-rays", "0",
+                                     "--json"], capture_output=True, text=True,
+                                    check=True).stdout)
+    assert set(result) == set(cli)
+    assert [s["label"] for s in result["settings"]] == [s["label"] for s in cli["settings"]]
+    assert len(result["settings"]) == 2
+    with pytest.raises(TypeError, match="list of values"):
+        fp.bench(config, sweep={"r.SSGI.Quality": 2})
+
+
+def test_cvars_read_and_set_like_set_cvar(config):
+    s = fp.Session(config)
+    assert s.cvars["r.SSGI.LeakFreeReprojection"] == 1  # the config's
+    ssgi = {p["name"]: p for p in {t["type"]: t for t in fp.passes()}["ssgi"]["params"]}
+    assert s.cvars["r.ssgi.quality"] == ssgi["quality"]["default"]  # Unreal's console ignores case
+    assert "r.SSGI.Quality" in s.cvars and len(s.cvars) == len(list(s.cvars))
+    s.cvars["r.SSGI.Quality"] = 2
+    assert s.cvars["r.SSGI.Quality"] == 2
+    other = fp.Session(config)
+    other.set_cvar("r.SSGI.Quality", 2)
+    assert same_bits(s.run(outputs=OUTPUTS)[OUTPUTS[0]], other.run(outputs=OUTPUTS)[OUTPUTS[0]])
+    with pytest.raises(KeyError, match="r.SSGI.Qualty"):
+        s.cvars["r.SSGI.Qualty"]
+
+
+def test_a_config_error_says_where(config, tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"version": 1, "capture": capture_of(config),
+                               "cvars": {"r.SSGI.Quality": "high"}}))
+    with pytest.raises(fp.ConfigError) as e:
+        fp.Session(str(bad))
+    assert e.value.path == str(bad)
+    assert e.value.pointer == "/cvars/r.SSGI.Quality"
+    assert ("/cvars/r.SSGI.Quality", e.value.problems[0][1]) in e.value.problems
+    assert "/cvars/r.SSGI.Quality" in str(e.value)
+
+
+def test_threads_limit_a_session_without_changing_its_bits(config):
+    one = fp.Session(config, threads=1).run(outputs=OUTPUTS)
+    every = fp.Session(config).run(outputs=OUTPUTS)
+    for name in OUTPUTS:
+        assert same_bits(one[name], every[name])
+    with pytest.raises(ValueError):
+        fp.Session(config, threads=-1)
