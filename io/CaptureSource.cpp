@@ -79,7 +79,7 @@ SanitizeCounts sanitizeBuffer(const std::string& buffer, Image& img) {
 }
 
 CaptureSource::CaptureSource(Options options, CaptureProfile profile)
-    : mOptions(std::move(options)), mFiles(mOptions.path, profile) {}
+    : SceneBackedSource(std::move(options)), mFiles(mOptions.path, profile) {}
 
 void CaptureSource::note(const std::string& text) {
     if (std::find(mNotes.begin(), mNotes.end(), text) != mNotes.end()) return;
@@ -257,27 +257,26 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
     return Texture(std::move(img));
 }
 
-const RayScene& CaptureSource::scene() {
+const RayScene& SceneBackedSource::scene() {
     if (!mRayScene) {
         FP_CHECK(mOptions.scene, "a pass needs scene geometry but the config names no 'scene'");
-        const FrameInfo info = frameInfo();
-        mRayScene =
-            std::make_unique<RayScene>(mOptions.scene().scene, info.camera.current.position);
+        mRayScene = std::make_unique<RayScene>(mOptions.scene().scene,
+                                               frameInfo().camera.current.position);
     }
     return *mRayScene;
 }
 
-const std::vector<Light>& CaptureSource::lights() {
+const std::vector<Light>& SceneBackedSource::lights() {
     FP_CHECK(mOptions.lights, "a pass needs the scene's lights but the config names no 'scene'");
     return mOptions.lights();
 }
 
-const Environment& CaptureSource::environment() {
+const Environment& SceneBackedSource::environment() {
     static const Environment none;  // no scene: no sky light, nothing to reflect but SSR
     return mOptions.environment ? mOptions.environment() : none;
 }
 
-OCIO::ConstConfigRcPtr CaptureSource::colorConfig() {
+OCIO::ConstConfigRcPtr SceneBackedSource::colorConfig() {
     FP_CHECK(mOptions.colorConfig, "a pass needs an OCIO config but none was provided");
     return mOptions.colorConfig();
 }

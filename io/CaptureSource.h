@@ -33,29 +33,45 @@ struct SanitizeCounts {
 /// Returns what it changed. Every capture, on disk or in memory, goes through it.
 SanitizeCounts sanitizeBuffer(const std::string& buffer, Image& image);
 
-class CaptureSource final : public FrameSource {
-public:
-    struct Options {
-        std::string path;  //!< the capture file of this frame (multi-file profiles: its base)
-        std::string previousPath;  //!< frame N−1's capture ("" = none: a sequence's first)
-        int64_t frame = 1;
-        std::string cameraSidecar;                //!< "" = header, then <path>.camera.json
-        std::string previousCameraSidecar;        //!< frame N−1's camera file, when per frame
-        std::function<const SceneFile&()> scene;  //!< loads the scene, geometry too, on first call
-        std::function<const std::vector<Light>&()> lights;  //!< reads the scene's lights only
-        std::function<const Environment&()> environment;    //!< the scene's sky light (no geometry)
-        std::function<OCIO_NAMESPACE::ConstConfigRcPtr()> colorConfig;  //!< loads on first call
-        bool strict = false;  //!< bad input pixels and assumed values are errors
-        bool firstInSequence = true;
-    };
-    CaptureSource(Options options, CaptureProfile profile);
+/// How to open one frame of a capture, and where its scene and OCIO config come from.
+struct CaptureOptions {
+    std::string path;  //!< the capture file of this frame (multi-file profiles: its base)
+    std::string previousPath;  //!< frame N−1's capture ("" = none: a sequence's first)
+    int64_t frame = 1;
+    std::string cameraSidecar;                //!< "" = header, then <path>.camera.json
+    std::string previousCameraSidecar;        //!< frame N−1's camera file, when per frame
+    std::function<const SceneFile&()> scene;  //!< loads the scene, geometry too, on first call
+    std::function<const std::vector<Light>&()> lights;  //!< reads the scene's lights only
+    std::function<const Environment&()> environment;    //!< the scene's sky light (no geometry)
+    std::function<OCIO_NAMESPACE::ConstConfigRcPtr()> colorConfig;  //!< loads on first call
+    bool strict = false;  //!< bad input pixels and assumed values are errors
+    bool firstInSequence = true;
+};
 
-    FrameInfo frameInfo() override;
-    Texture loadBuffer(const std::string& buffer, int channels) override;
+/// What every capture source shares beyond its pixels: the scene's BVH (built on first use around
+/// the frame's eye), its lights and sky, and the OCIO config, all from CaptureOptions.
+class SceneBackedSource : public FrameSource {
+public:
     const RayScene& scene() override;
     const std::vector<Light>& lights() override;
     const Environment& environment() override;
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override;
+
+protected:
+    explicit SceneBackedSource(CaptureOptions options) : mOptions(std::move(options)) {}
+    CaptureOptions mOptions;
+
+private:
+    std::unique_ptr<RayScene> mRayScene;
+};
+
+class CaptureSource final : public SceneBackedSource {
+public:
+    using Options = CaptureOptions;
+    CaptureSource(Options options, CaptureProfile profile);
+
+    FrameInfo frameInfo() override;
+    Texture loadBuffer(const std::string& buffer, int channels) override;
 
     CaptureFiles& files() { return mFiles; }
     const SanitizeCounts& sanitized() const { return mSanitized; }
@@ -71,13 +87,11 @@ public:
 private:
     void note(const std::string& text);
     Image readPreviousFrame(const std::string& buffer, const BufferMapping& m, int channels);
-    Options mOptions;
     CaptureFiles mFiles;
     std::unique_ptr<CaptureFiles> mPrevious;
     std::vector<std::string> mNotes;
     std::string mCameraSidecar;  // the sidecar frameInfo() read, if any
     std::optional<FrameInfo> mInfo;
-    std::unique_ptr<RayScene> mRayScene;
     SanitizeCounts mSanitized;
 };
 

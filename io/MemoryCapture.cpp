@@ -90,8 +90,8 @@ MemoryCapture readCapture(const std::string& path, const CaptureProfile& profile
 }
 
 MemoryCaptureSource::MemoryCaptureSource(std::shared_ptr<const MemoryCapture> capture,
-                                         CaptureSource::Options options)
-    : mCapture(std::move(capture)), mOptions(std::move(options)) {}
+                                         CaptureOptions options)
+    : SceneBackedSource(std::move(options)), mCapture(std::move(capture)) {}
 
 FrameInfo MemoryCaptureSource::frameInfo() {
     FrameInfo info;
@@ -120,30 +120,6 @@ Texture MemoryCaptureSource::loadBuffer(const std::string& buffer, int channels)
         for (int y = 0; y < image.height(); ++y)
             std::copy_n(image.plane(c).row(y), image.width(), narrower.plane(c).row(y));
     return Texture(std::move(narrower));
-}
-
-const RayScene& MemoryCaptureSource::scene() {
-    if (!mRayScene) {
-        FP_CHECK(mOptions.scene, "a pass needs scene geometry but the config names no 'scene'");
-        mRayScene = std::make_unique<RayScene>(mOptions.scene().scene,
-                                               frameInfo().camera.current.position);
-    }
-    return *mRayScene;
-}
-
-const std::vector<Light>& MemoryCaptureSource::lights() {
-    FP_CHECK(mOptions.lights, "a pass needs the scene's lights but the config names no 'scene'");
-    return mOptions.lights();
-}
-
-const Environment& MemoryCaptureSource::environment() {
-    static const Environment none;
-    return mOptions.environment ? mOptions.environment() : none;
-}
-
-OCIO_NAMESPACE::ConstConfigRcPtr MemoryCaptureSource::colorConfig() {
-    FP_CHECK(mOptions.colorConfig, "a pass needs an OCIO config but none was provided");
-    return mOptions.colorConfig();
 }
 
 }  // namespace fp::io

@@ -57,22 +57,16 @@ private:
 MemoryCapture readCapture(const std::string& path, const CaptureProfile& profile);
 
 /// A MemoryCapture as the executor reads a frame: its buffers shared, not copied. The scene, its
-/// lights and the OCIO config come from `options` as for a CaptureSource.
-class MemoryCaptureSource final : public FrameSource {
+/// lights and the OCIO config come from `options` as for a CaptureSource (only the frame's
+/// first-in-sequence flag of the rest counts).
+class MemoryCaptureSource final : public SceneBackedSource {
 public:
-    MemoryCaptureSource(std::shared_ptr<const MemoryCapture> capture,
-                        CaptureSource::Options options);
+    MemoryCaptureSource(std::shared_ptr<const MemoryCapture> capture, CaptureOptions options);
     FrameInfo frameInfo() override;
     Texture loadBuffer(const std::string& buffer, int channels) override;
-    const RayScene& scene() override;
-    const std::vector<Light>& lights() override;
-    const Environment& environment() override;
-    OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override;
 
 private:
     std::shared_ptr<const MemoryCapture> mCapture;
-    CaptureSource::Options mOptions;
-    std::unique_ptr<RayScene> mRayScene;
 };
 
 }  // namespace fp::io

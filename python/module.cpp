@@ -14,6 +14,7 @@
 #include "app/PassCatalogue.h"
 #include "app/Session.h"
 #include "foundation/Error.h"
+#include "foundation/Limits.h"
 #include "framework/SemanticBuffers.h"
 #include "io/CameraIO.h"
 #include "io/ExrLayers.h"
@@ -105,6 +106,31 @@ py::dict toArrays(const std::map<std::string, Image>& images, Layout layout) {
     return d;
 }
 
+// The input limits of every image framepass reads (foundation/Limits.h), checked on the shape
+// before an array is converted: a broadcast array of 10⁶ × 10⁶ must not become a copy.
+void checkSize(const std::string& what, const py::array& a) {
+    const py::ssize_t h = a.shape(0), w = a.shape(1);
+    if (h > limits::kMaxImageDimension || w > limits::kMaxImageDimension ||
+        int64_t(h) * int64_t(w) > limits::kMaxImagePixels)
+        throw py::value_error(fmt::format("{}: {}×{} is larger than framepass reads (at most {} "
+                                          "pixels a side, {} in all)",
+                                          what, w, h, limits::kMaxImageDimension, limits::kMaxImagePixels));
+    if (a.ndim() == 3 && a.shape(2) > 64)
+        throw py::value_error(fmt::format("{}: {} channels is more than any image has", what,
+                                          a.shape(2)));
+}
+
+// The array as C-ordered float32: itself when it is one, else a copy. ensure() gives a null
+// array when numpy cannot make one (out of memory, say): an error here, never a null read.
+py::array_t<float, py::array::c_style | py::array::forcecast> asFloat32(const std::string& what, const py::array& raw) {
+    auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(raw);
+    if (!a)
+        throw py::value_error(fmt::format("{}: cannot be read as float32 (not enough memory for "
+                                          "the copy?)",
+                                          what));
+    return a;
+}
+
 // A numpy array as a capture buffer: (H, W) is one channel, (H, W, C) C channels; floating
 // dtypes (and integers for the id buffers) are read as float32. ValueError names the buffer.
 Image toImage(const std::string& buffer, const py::handle& value) {
@@ -126,7 +152,8 @@ Image toImage(const std::string& buffer, const py::handle& value) {
                                           "(height, width, channels)",
                                           buffer, py::str(py::tuple(raw.attr("shape")))
                                                       .cast<std::string>()));
-    const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(raw);
+    checkSize(fmt::format("buffer '{}'", buffer), raw);
+    const auto a = asFloat32(fmt::format("buffer '{}'", buffer), raw);
     const int h = int(a.shape(0)), w = int(a.shape(1)), c = a.ndim() == 3 ? int(a.shape(2)) : 1;
     if (h <= 0 || w <= 0 || c <= 0)
         throw py::value_error(fmt::format("buffer '{}': {}×{} with {} channels is empty", buffer,
@@ -167,13 +194,17 @@ Image toImage(const std::string& buffer, const py::handle& value) {
 // A plain image (compare's arrays): (H, W) or (H, W, C), any real dtype.
 Image plainImage(const char* what, const py::handle& value) {
     const py::array raw = py::array::ensure(value);
-    if (!raw || raw.dtype().kind() == 'c' || raw.dtype().kind() == 'O' ||
+    const std::string numeric = "fiub";  // float, int, unsigned, bool
+    if (!raw || numeric.find(raw.dtype().kind()) == std::string::npos ||
         (raw.ndim() != 2 && raw.ndim() != 3))
         throw py::value_error(fmt::format("{}: expected a real array of shape (height, width) or "
                                           "(height, width, channels)",
                                           what));
-    const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(raw);
+    checkSize(what, raw);
+    const auto a = asFloat32(what, raw);
     const int h = int(a.shape(0)), w = int(a.shape(1)), c = a.ndim() == 3 ? int(a.shape(2)) : 1;
+    if (h <= 0 || w <= 0 || c <= 0)
+        throw py::value_error(fmt::format("{}: {}×{} with {} channels is empty", what, w, h, c));
     std::vector<std::string> names;
     for (int k = 0; k < c; ++k) names.push_back(fmt::format("C{}", k));
     Image image(w, h, names);
@@ -204,6 +235,9 @@ struct PyCapture {
 
     static PyCapture fromArrays(const py::dict& buffers, const py::object& camera, int64_t frame,
                                 const std::string& name) {
+        if (frame < -limits::kMaxFrameNumber || frame > limits::kMaxFrameNumber)
+            throw py::value_error(fmt::format("frame {} is not a frame number (at most {} digits)",
+                                              frame, 9));
         auto c = std::make_shared<io::MemoryCapture>(name, frame);
         for (const auto& [key, value] : buffers) {
             const std::string buffer = py::str(key).cast<std::string>();
@@ -252,7 +286,8 @@ public:
         o.profile = profile;
         o.device = device;
         o.frames = frames;
-        if (threads < 0) throw py::value_error("threads is 0 (every core) or more");
+        if (threads < 0 || threads > limits::kMaxThreads)
+            throw py::value_error(fmt::format("threads is 0 (every core) to {}", limits::kMaxThreads));
         if (threads > 0) mArena = std::make_unique<tbb::task_arena>(threads);
         mSession = std::make_unique<app::Session>(o);
     }

@@ -195,6 +195,10 @@ def test_from_arrays_names_the_buffer_that_is_wrong(config):
     rejected({"Truth.Thing": np.zeros((48, 64, 2), np.float32)}, "Truth.Thing.*2 channels")
     rejected({"Albedo": good["BaseColor"]}, "'Albedo' is not a capture buffer")
     rejected({"SceneDepth": "depth.exr"}, "SceneDepth.*numpy array")
+    rejected({"SceneDepth": np.zeros((0, 64), np.float32)}, "SceneDepth.*empty")
+    # A broadcast array of 10^12 pixels is refused from its shape, before any copy.
+    rejected({"SceneDepth": np.broadcast_to(np.float32(1), (1 << 20, 1 << 20))},
+             "SceneDepth.*larger than framepass reads")
     with pytest.raises(ValueError, match="no buffers"):
         fp.Capture.from_arrays({})
     with pytest.raises(TypeError, match="camera"):
