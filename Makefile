@@ -4,14 +4,15 @@ JOBS ?= $(shell nproc)
 DEBIAN_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimageio-tools \
     libopenexr-dev libopencolorio-dev libembree-dev libtbb-dev libcli11-dev nlohmann-json3-dev \
     doctest-dev libfmt-dev libhwy-dev libtinygltf-dev libtinyobjloader-dev fonts-dejavu-core chromium python3 \
-    python3-jsonschema help2man graphviz pybind11-dev python3-dev python3-numpy python3-pytest
+    python3-jsonschema help2man graphviz pybind11-dev python3-dev python3-numpy python3-pytest \
+    libcpp-httplib-dev
 FRAMEPASS = $(BUILD_DIR)/cli/framepass
 # make fuzz: the libFuzzer targets of fuzz/ under ASan + UBSan, each run FUZZ_SECONDS from its
 # seed corpus with a fixed seed (so CI's short run is the start of a long local one).
 FUZZ_PACKAGES = clang libclang-rt-14-dev
 FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS = ConfigFuzz CaptureFuzz SidecarFuzz ObjFuzz GltfFuzz
+FUZZ_TARGETS = ConfigFuzz CaptureFuzz SidecarFuzz ObjFuzz GltfFuzz ServeRequestFuzz
 
 .PHONY: demo test deps build fuzz bench stability
 
@@ -26,6 +27,10 @@ deps:
 	    echo "  sudo apt-get install -y" $$missing; exit 1; \
 	  fi; \
 	fi
+	@# node and npm, for the workbench's browser test (Playwright): Debian's, unless a node is there.
+	@command -v npm >/dev/null || { \
+	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq nodejs npm; \
+	  else echo "framepass's browser test needs node: sudo apt-get install -y nodejs npm"; exit 1; fi; }
 
 build: deps
 	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release
@@ -56,6 +61,8 @@ demo: build
 	$(FRAMEPASS) bench examples/glossy/bench.json --capture out/demo/glossy/glossy.exr --runs 3 \
 	    --sweep r.SSR.Quality=0..4 --set ssr.postProcessQuality=100 --html out/demo/glossy.html | grep -v '^Progress'
 	@echo "framepass wrote:"; find out/demo -type f | sort | sed 's/^/  /'
+	@echo "The look-dev workbench on this capture (docs/serve.md):"
+	@echo "  $(FRAMEPASS) serve examples/cornell/bench.json --open"
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure

@@ -7,6 +7,7 @@
 #include "io/CaptureSource.h"
 #include "io/OutputLock.h"
 #include "io/OutputWriter.h"
+#include "io/TevClient.h"
 #include "io/SafeFiles.h"
 #include "foundation/Error.h"
 #include "framework/Executor.h"
@@ -186,6 +187,14 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
                     int(opt.setup.dumps.size()));
     const io::OutputLock lock(opt.outputDir, frames);
     io::OutputWriter writer(wo);
+    // --tev: every output also goes to the viewer (connected now: a wrong address fails first).
+    std::optional<io::TevClient> tev;
+    std::optional<io::TevSink> tevSink;
+    if (!opt.tev.empty()) {
+        tev.emplace(opt.tev);
+        tevSink.emplace(writer, *tev);
+    }
+    FrameSink& outputs = tevSink ? static_cast<FrameSink&>(*tevSink) : writer;
     // What a killed run left half-written: its temporaries (the final names are always whole).
     int stale = 0;
     for (const auto& dir : {opt.outputDir, writer.dumpDir()})
@@ -316,7 +325,7 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
             const std::size_t before = writer.written().size();
             logVerbose(fmt::format("frame {}:", frames[i]));
             DiscardSink discard;
-            DecompositionSink kept(skip[i] ? static_cast<FrameSink&>(discard) : writer,
+            DecompositionSink kept(skip[i] ? static_cast<FrameSink&>(discard) : outputs,
                                    sources, extraDumps);
             const ProgressFn frameProgress = [&](int done, int total,
                                                  const PassReport& pass) {

@@ -23,6 +23,7 @@ struct RunOptions {
     int warmupFrames = 0;          //!< frames before the first, run for history only
     int decomposeRays = 0;         //!< 0: no error breakdown
     std::string maxMemory;         //!< "8G", ""= the default limit (MemoryLimit.h)
+    std::string tev;               //!< HOST:PORT of a tev viewer to push outputs to; "" = none
 };
 
 struct RunOutcome {

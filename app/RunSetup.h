@@ -64,6 +64,11 @@ public:
     io::CaptureSource::Options captureOptions(int frame) const;
     /// Size of the first frame (0×0 when its capture does not exist yet).
     Extent extent() const { return mExtent; }
+    /// The buffers the first capture gives (Truth.* layers included); empty when it does not
+    /// exist yet.
+    const std::set<std::string>& availableBuffers() const { return mHeader->availableBuffers; }
+    /// The channel count of each Truth.* layer of the first capture.
+    const std::map<std::string, int>& truthChannels() const { return mHeader->truthChannels; }
 
     /// The capture in memory the session runs on instead of files, or null.
     const std::shared_ptr<const io::MemoryCapture>& memoryCapture() const { return mMemory; }

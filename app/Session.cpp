@@ -3,6 +3,7 @@
 #include "foundation/Error.h"
 #include "foundation/Suggest.h"
 #include "framework/CvarTable.h"
+#include "framework/SemanticBuffers.h"
 #include "io/ConfigLoader.h"
 
 #include <algorithm>
@@ -46,6 +47,12 @@ void Session::setCvar(const std::string& name, const std::string& value) {
 
 void Session::setParam(const std::string& passParam, const std::string& value) {
     replace(mOptions.sets, passParam, value);
+    mDirty = true;
+}
+
+void Session::replaceSettings(std::vector<std::string> cvars, std::vector<std::string> sets) {
+    mOptions.cvars = std::move(cvars);
+    mOptions.sets = std::move(sets);
     mDirty = true;
 }
 
@@ -154,6 +161,18 @@ FrameResult Session::run(int frame, const std::vector<std::string>& outputs) {
     }
     mLastReport = result.report;
     return result;
+}
+
+Image Session::captureBuffer(int frame, const std::string& name) {
+    std::lock_guard<std::mutex> lock(mRunMutex);
+    if (!mBase.availableBuffers().count(name))
+        throw UsageError(fmt::format("the capture has no buffer '{}'", name));
+    const SemanticBuffer* sem = findSemanticBuffer(name);
+    const int channels = sem ? int(sem->channels.size()) : mBase.truthChannels().at(name);
+    // The input a run of this frame opened, else one of its own (kept for the next call).
+    auto it = mInputs.find({frame, false});
+    FrameInput& in = it != mInputs.end() ? it->second : frameInput(frame, true);
+    return in.cached->loadBuffer(name, channels).image();
 }
 
 void Session::cancel() { mCancel = true; }

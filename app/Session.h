@@ -43,6 +43,9 @@ public:
     void setCvar(const std::string& name, const std::string& value);
     /// Sets a pass parameter, as --set PASS.PARAM=VALUE.
     void setParam(const std::string& passParam, const std::string& value);
+    /// Replaces every cvar and parameter set so far (each NAME=VALUE): how a door puts back the
+    /// settings it had when a change turned out wrong.
+    void replaceSettings(std::vector<std::string> cvars, std::vector<std::string> sets);
     /// The cvars and parameters set so far, in order, as NAME=VALUE.
     const SetupOptions& options() const { return mOptions; }
     /// The value of cvar `name` in this session: as set on it, else as the config's "cvars" give
@@ -63,6 +66,10 @@ public:
     /// Runs `frame` and returns `outputs` ("pass.port", a capture buffer, or "all": every pass
     /// output), with the config's own outputs too. Throws fp::Cancelled when cancel() stopped it.
     FrameResult run(int frame, const std::vector<std::string>& outputs = {});
+    /// Capture buffer or Truth.* layer `name` of `frame`, as the passes read it (through the
+    /// profile, sanitised), read once and kept with the frame. Throws fp::UsageError for a
+    /// buffer the capture does not have.
+    Image captureBuffer(int frame, const std::string& name);
     /// Forgets the kept outputs: the next run executes every pass (the capture's buffers stay
     /// read).
     void forgetOutputs() { mCache.clear(); }

@@ -24,6 +24,7 @@ Command addPassesCommand(CLI::App& app);
 Command addPlanCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
 Command addSchemaCommand(CLI::App& app);
+Command addServeCommand(CLI::App& app);
 Command addSheetCommand(CLI::App& app);
 Command addTuneCommand(CLI::App& app);
 

@@ -37,6 +37,12 @@ Command addRunCommand(CLI::App& app) {
                   "skip frames whose outputs all exist (a re-queued farm task); with temporal "
                   "passes the skipped frames before a computed one still run, writing nothing");
 
+    sub->add_option("--tev", opt->tev,
+                    "also push every output layer to a running tev viewer as an image of that "
+                    "name (HOST:PORT; default 127.0.0.1:14158)")
+        ->expected(0, 1)
+        ->default_str("127.0.0.1:14158");
+
     return [opt]() {
         catchStopSignals();
         const app::RunOutcome outcome = app::runFrames(*opt, std::cout, std::cerr);

@@ -70,6 +70,7 @@ int main(int argc, char** argv) {
     add(fp::cli::addSheetCommand);
     add(fp::cli::addSchemaCommand);
     add(fp::cli::addTuneCommand);
+    add(fp::cli::addServeCommand);
     // `framepass version`, as git, docker and kubectl users type it.
     CLI::App* versionCommand = app.add_subcommand("version", "print framepass's version");
     add(fp::cli::addCompletionCommand);

@@ -48,6 +48,7 @@ struct GraphDesc {
     std::vector<OutputDesc> outputs;
     std::vector<LightTemplate> lightTemplates;        //!< empty once expanded
     nlohmann::json cvars = nlohmann::json::object();  //!< Unreal cvar name → value
+    nlohmann::json sets = nlohmann::json::object();   //!< PASS.PARAM → value, as --set
     std::string engine = "ue4.27";
     std::string device = "cpu";  //!< "cpu" or "cuda": where the passes with a CUDA kernel run
 };

@@ -163,7 +163,7 @@ public:
                                               "the cvar has no effect on '{}'",
                                               name, n.desc->name, m->param,
                                               byParams ? paramsPtr + "/" + m->param
-                                                       : set->second.where,
+                                                       : set->second.where.at(m->param),
                                               n.desc->name));
             }
             validateLayer(*n.type, n.desc->params, paramsPtr, "", "", mDiag);
@@ -171,7 +171,9 @@ public:
                 for (const auto& [k, v] : n.desc->params.items())
                     merged[k] = v;
             if (auto it = sets.find(int(i)); it != sets.end()) {
-                validateLayer(*n.type, it->second.values, paramsPtr, it->second.where, "", mDiag);
+                // Each value on its own, so that an error names the setting that made it.
+                for (const auto& [k, v] : it->second.values.items())
+                    validateLayer(*n.type, nlohmann::json::object({{k, v}}), paramsPtr, it->second.where.at(k), "", mDiag);
                 for (const auto& [k, v] : it->second.values.items())
                     merged[k] = v;
             }
@@ -423,14 +425,19 @@ private:
     };
     struct SetLayer {
         nlohmann::json values = nlohmann::json::object();
-        std::string where;
+        std::map<std::string, std::string> where;  // parameter → what set it ("--set p.x")
     };
 
-    // --set PASS.PARAM=VALUE, grouped per pass.
+    // The config's "set" and then --set PASS.PARAM=VALUE, grouped per pass (a later value of a
+    // parameter replaces an earlier one).
     std::map<int, SetLayer> setLayers() {
         std::map<int, SetLayer> layers;
-        for (const auto& [target, value] : mIn.overrides.sets) {
-            const std::string where = "--set " + target;
+        std::vector<std::tuple<std::string, nlohmann::json, std::string>> sets;
+        for (const auto& [target, value] : mGraph.sets.items())
+            sets.emplace_back(target, value, "/set/" + jsonPointerEscape(target));
+        for (const auto& [target, value] : mIn.overrides.sets)
+            sets.emplace_back(target, value, "--set " + target);
+        for (const auto& [target, value, where] : sets) {
             const auto dot = target.find('.');
             if (dot == std::string::npos) {
                 mDiag.error(where, "expected PASS.PARAM=VALUE");
@@ -445,8 +452,7 @@ private:
             }
             SetLayer& layer = layers[it->second];
             layer.values[param] = value;
-            if (layer.where.empty())
-                layer.where = where;
+            layer.where[param] = where;
         }
         return layers;
     }

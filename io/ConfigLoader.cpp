@@ -234,6 +234,7 @@ const JsonObjectShape& configShape() {
          {"camera", K::String, "camera sidecar JSON (pattern allowed)"},
          {"scene", K::String, "scene JSON: its lights expand the light templates, its meshes are read when a pass traces rays"},
          {"cvars", K::ValueMap, "Unreal console variables by their exact names"},
+         {"set", K::ValueMap, "pass parameters as PASS.PARAM → value, applied as --set is (after the passes' params)"},
          {"passes", K::ObjectArray, "the chain", {}, {}, {}, &kPassShape, &kTemplateEntryShape},
          {"outputs", K::ValueMap, "file → 'pass.port' or a list of them (.exr), or one source (.png)"},
          {"color", K::Object, "colour management of previews", {}, {}, {}, &kColorShape},
@@ -344,6 +345,12 @@ RunConfig parseRunConfig(const nlohmann::json& j,
             rc.graph.cvars = j["cvars"];
         else
             diag.error("/cvars", "'cvars' must be an object of Unreal console variables");
+    }
+    if (j.contains("set")) {
+        if (j["set"].is_object())
+            rc.graph.sets = j["set"];
+        else
+            diag.error("/set", "'set' must be an object of PASS.PARAM → value");
     }
     if (j.contains("passes")) {
         parsePasses(j["passes"], "/passes", rc.graph, diag);

@@ -1,0 +1,69 @@
+#!/usr/bin/env python3
+"""Slider to updated image in `framepass serve`, measured in the page (docs/results/serve.md).
+
+Starts the workbench on the Cornell box (256x256 and 1920x1080, captured once into out/bench/
+with truth), drives its page in headless Chromium (tests/serve/workbench.mjs) and moves the
+r.SSGI.Quality slider --runs times between 1 and 2. Per move the page records when the change
+was sent, when the server said the run finished (and its run time), when the buffer had arrived
+and when it was drawn. Prints medians as a Markdown table.
+
+    PYTHONPATH=build/python /usr/bin/python3 examples/bench/workbench_latency.py \
+        --framepass build/cli/framepass --node-prefix build/node
+"""
+import argparse
+import json
+import os
+import re
+import signal
+import statistics
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--framepass", default=os.path.join(ROOT, "build/cli/framepass"))
+    ap.add_argument("--node-prefix", default=os.path.join(ROOT, "build/node"),
+                    help="folder with node_modules/playwright-core (the browser test installs it)")
+    ap.add_argument("--out", default=os.path.join(ROOT, "out/bench"))
+    ap.add_argument("--runs", type=int, default=9)
+    a = ap.parse_args()
+    rows = []
+    for width, height in ((256, 256), (1920, 1080)):
+        exr = os.path.join(a.out, f"cornell_truth_{width}x{height}.exr")
+        if not os.path.exists(exr):
+            print(f"capturing the Cornell box at {width}x{height} with truth (once) ...", file=sys.stderr)
+            subprocess.run([a.framepass, "-q", "capture", os.path.join(ROOT, "examples/cornell/scene.json"),
+                            "-o", exr, "--width", str(width), "--height", str(height), "--truth",
+                            "--truth-spp", "16"], check=True)
+        config = os.path.join(a.out, f"workbench_{width}x{height}.json")
+        with open(os.path.join(ROOT, "examples/cornell/bench.json")) as f:
+            j = json.load(f)
+        j["capture"] = exr
+        with open(config, "w") as f:
+            json.dump(j, f)
+        server = subprocess.Popen([a.framepass, "serve", config, "--port", "0"], stdout=subprocess.PIPE, text=True)
+        url = re.search(r"(http://\S+/)", server.stdout.readline()).group(1)
+        out = os.path.join(a.out, f"workbench_{width}x{height}")
+        env = dict(os.environ, FP_NODE_PREFIX=a.node_prefix)
+        subprocess.run(["node", os.path.join(ROOT, "tests/serve/workbench.mjs"), url, out, "--latency",
+                        str(a.runs)], check=True, env=env)
+        server.send_signal(signal.SIGINT)
+        server.wait()
+        with open(os.path.join(out, "results.json")) as f:
+            timings = json.load(f)["timings"][-a.runs:]
+        med = lambda f: statistics.median(f(t) for t in timings)
+        rows.append(f"| {width}×{height} | {med(lambda t: t['drawn'] - t['sent']):.0f} ms | "
+                    f"{med(lambda t: t['run']):.0f} ms | {med(lambda t: t['event'] - t['sent'] - t['run']):.0f} ms | "
+                    f"{med(lambda t: t['fetched'] - t['fetchStart']):.0f} ms ({timings[0]['bytes'] / 1e6:.1f} MB) | "
+                    f"{med(lambda t: t['drawn'] - t['fetched']):.0f} ms |")
+    print("| capture | slider → image drawn | re-run (server) | change + event | buffer fetch | upload + draw |")
+    print("|---|---|---|---|---|---|")
+    print("\n".join(rows))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,271 @@
+#include "serve/HttpServer.h"
+
+#include "color/DisplayTransform.h"
+#include "io/ExrWriter.h"
+#include "io/PngWriter.h"
+#include "io/TevClient.h"
+#include "serve/PageAssets.h"
+#include "serve/Requests.h"
+
+#include <Imath/half.h>
+#include <httplib.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+namespace fp::serve {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string jsonText(const nlohmann::json& j) {
+    return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void sendJson(httplib::Response& res, const nlohmann::json& j) {
+    res.set_header("Cache-Control", "no-store");
+    res.set_content(jsonText(j), "application/json");
+}
+
+void sendError(httplib::Response& res, int status, const std::string& message,
+               const std::string& pointer = "") {
+    res.status = status;
+    res.set_content(errorBody(status, message, pointer), "application/json");
+}
+
+// The pixels as little-endian float32 or float16, interleaved (row 0 the top), the page's and a
+// script's raw form; what they are travels in headers.
+std::string rawPixels(const Image& image, bool half) {
+    const int w = image.width(), h = image.height(), c = image.channelCount();
+    const std::size_t values = std::size_t(w) * h * c;
+    std::string out(values * (half ? 2 : 4), '\0');
+    char* p = out.data();
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int k = 0; k < c; ++k) {
+                const float v = image.plane(k).at(x, y);
+                if (half) {
+                    const uint16_t bits = Imath::half(v).bits();
+                    std::memcpy(p, &bits, 2);
+                    p += 2;
+                } else {
+                    std::memcpy(p, &v, 4);
+                    p += 4;
+                }
+            }
+    return out;
+}
+
+std::string readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// An EXR of one buffer, written where only this server writes and read back.
+std::string exrBytes(const BufferImage& b) {
+    static std::atomic<int> counter{0};
+    const fs::path dir = fs::temp_directory_path() / fmt::format("framepass-serve-{}", ::getpid());
+    fs::create_directories(dir);
+    const std::string path = (dir / fmt::format("buffer{}.exr", counter++)).string();
+    io::ExrMetadata meta;
+    meta.frame = b.frame;
+    io::writeExr(path, {{"", {{b.name, &b.image, false}}}}, meta);
+    std::string bytes = readFile(path);
+    fs::remove(path);
+    return bytes;
+}
+
+}  // namespace
+
+WorkbenchServer::WorkbenchServer(Workbench& workbench, const std::string& host, int port)
+    : mWorkbench(workbench), mServer(std::make_unique<httplib::Server>()), mHost(host) {
+    // Event streams hold a thread each while open: room for several pages and scripts.
+    mServer->new_task_queue = [] { return new httplib::ThreadPool(16); };
+    mServer->set_payload_max_length(kMaxRequestBody);
+    routes();
+    mPort = port == 0 ? mServer->bind_to_any_port(host) : (mServer->bind_to_port(host, port) ? port : -1);
+    if (mPort <= 0)
+        throw UsageError(fmt::format("--host {} --port {}: cannot listen there (in use, or not "
+                                     "an address of this machine)",
+                                     host, port));
+}
+
+WorkbenchServer::~WorkbenchServer() = default;
+
+std::string WorkbenchServer::url() const {
+    return fmt::format("http://{}:{}/", mHost == "0.0.0.0" ? "127.0.0.1" : mHost, mPort);
+}
+
+void WorkbenchServer::run() { mServer->listen_after_bind(); }
+
+void WorkbenchServer::stop() {
+    mWorkbench.stop();
+    mServer->stop();
+}
+
+void WorkbenchServer::routes() {
+    httplib::Server& s = *mServer;
+    Workbench& wb = mWorkbench;
+
+    for (const PageAsset& asset : pageAssets())
+        s.Get(std::string(asset.path), [asset](const httplib::Request&, httplib::Response& res) {
+            res.set_content(std::string(asset.body),
+                            std::string(asset.contentType) + "; charset=utf-8");
+        });
+
+    s.Get("/favicon.ico", [](const httplib::Request&, httplib::Response& res) { res.status = 204; });
+    s.Get("/api/graph", [&wb](const httplib::Request&, httplib::Response& res) {
+        sendJson(res, wb.graph());
+    });
+    s.Get("/api/params", [&wb](const httplib::Request&, httplib::Response& res) {
+        sendJson(res, wb.params());
+    });
+    s.Get("/api/report", [&wb](const httplib::Request&, httplib::Response& res) {
+        sendJson(res, wb.report());
+    });
+    s.Get("/api/export", [&wb](const httplib::Request&, httplib::Response& res) {
+        sendJson(res, wb.exportSettings());
+    });
+    s.Get("/api/buffers", [&wb](const httplib::Request&, httplib::Response& res) {
+        sendJson(res, wb.bufferNames());
+    });
+    s.Get("/api/displays", [&wb](const httplib::Request&, httplib::Response& res) {
+        sendJson(res, wb.displays());
+    });
+    // The display view baked over every half value: 3 planes of 65536 float32 (R, then G, B).
+    s.Get("/api/lut", [&wb](const httplib::Request& req, httplib::Response& res) {
+        const std::string view = req.has_param("view") ? req.get_param_value("view") : "";
+        const std::optional<Image> lut = wb.displayTable(view);
+        if (!lut)
+            return sendError(res, 422, fmt::format("view '{}' mixes channels: it has no "
+                                                   "per-channel table",
+                                                   view));
+        std::string out;
+        for (int c = 0; c < 3; ++c)
+            out.append(reinterpret_cast<const char*>(lut->plane(c).row(0)),
+                       std::size_t(lut->width()) * sizeof(float));
+        res.set_header("X-Entries", std::to_string(lut->width()));
+        res.set_content(out, "application/octet-stream");
+    });
+
+    s.Put("/api/params", [&wb](const httplib::Request& req, httplib::Response& res) {
+        const SettingsChange change = parseSettingsChange(req.body);
+        const bool wait = parseWait(req.params);
+        const uint64_t generation = wb.apply(change);
+        if (!wait) {
+            res.status = 202;
+            return sendJson(res, {{"generation", generation}, {"status", "queued"}});
+        }
+        nlohmann::json outcome = wb.waitFor(generation);
+        outcome["report"] = wb.report();
+        sendJson(res, outcome);
+    });
+
+    s.Get(R"(/api/buffer/(.*))", [&wb](const httplib::Request& req, httplib::Response& res) {
+        const BufferQuery q = parseBufferQuery(req.matches[1].str(), req.params);
+        const BufferImage b = wb.buffer(q.name, q.frame);
+        std::string channels;
+        for (const auto& c : b.image.channels()) channels += (channels.empty() ? "" : ",") + c;
+        res.set_header("X-Width", std::to_string(b.image.width()));
+        res.set_header("X-Height", std::to_string(b.image.height()));
+        res.set_header("X-Channels", channels);
+        res.set_header("X-Frame", std::to_string(b.frame));
+        res.set_header("X-Generation", std::to_string(b.generation));
+        res.set_header("X-Color", b.color ? "1" : "0");
+        res.set_header("Cache-Control", "no-store");
+        switch (q.format) {
+            case BufferFormat::Raw:
+                res.set_header("X-Type", q.half ? "float16" : "float32");
+                res.set_content(rawPixels(b.image, q.half), "application/octet-stream");
+                break;
+            case BufferFormat::Exr:
+                res.set_content(exrBytes(b), "image/x-exr");
+                break;
+            case BufferFormat::Png: {
+                // Colour through the OCIO display's default view, data as it is, clamped.
+                const DisplayTransform display(b.color ? wb.displayConfig() : nullptr,
+                                               "scene_linear", "", "", 0.0f, b.color);
+                res.set_content(io::encodePng(display.apply(b.image)), "image/png");
+                break;
+            }
+        }
+    });
+
+    // The buffers shown, pushed to a tev viewer on this machine.
+    s.Post("/api/tev", [&wb](const httplib::Request& req, httplib::Response& res) {
+        const TevRequest r = parseTevRequest(req.body);
+        std::vector<BufferImage> images;
+        for (const auto& name : r.buffers) images.push_back(wb.buffer(name, std::nullopt));
+        try {
+            io::TevClient tev(r.address);
+            nlohmann::json sent = nlohmann::json::array();
+            for (const auto& b : images) {
+                const std::string name = fmt::format("{} (frame {})", b.name, b.frame);
+                tev.sendImage(name, b.image, &b == &images.front());
+                sent.push_back(name);
+            }
+            sendJson(res, {{"images", sent}, {"host", r.address}});
+        } catch (const Error& e) {
+            sendError(res, 502, e.what());
+        }
+    });
+
+    // Server-sent events: {"seq", "type": pass|frame|cancelled|error, …} as runs progress.
+    s.Get("/api/events", [&wb](const httplib::Request& req, httplib::Response& res) {
+        uint64_t after = 0;
+        if (req.has_header("Last-Event-ID"))
+            after = std::strtoull(req.get_header_value("Last-Event-ID").c_str(), nullptr, 10);
+        auto cursor = std::make_shared<uint64_t>(after);
+        res.set_header("Cache-Control", "no-store");
+        res.set_chunked_content_provider(
+            "text/event-stream", [&wb, cursor](std::size_t, httplib::DataSink& sink) {
+                if (wb.stopped()) {
+                    sink.done();
+                    return true;
+                }
+                const auto events = wb.eventsAfter(*cursor, std::chrono::milliseconds(1000));
+                std::string out;
+                for (const auto& [seq, json] : events) {
+                    out += fmt::format("id: {}\ndata: {}\n\n", seq, json);
+                    *cursor = seq;
+                }
+                if (out.empty()) out = ": keep-alive\n\n";
+                return sink.write(out.data(), out.size());
+            });
+    });
+
+    s.set_exception_handler(
+        [](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+            try {
+                std::rethrow_exception(ep);
+            } catch (const RequestError& e) {
+                sendError(res, e.status(), e.what(), e.pointer());
+            } catch (const UsageError& e) {
+                sendError(res, 400, e.what(),
+                          e.problems().empty() ? "" : e.problems().front().pointer);
+            } catch (const std::exception& e) {
+                sendError(res, 500, e.what());
+            } catch (...) {
+                sendError(res, 500, "unknown error");
+            }
+        });
+    s.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+        if (!res.body.empty()) return;  // an answer with its own JSON error
+        if (res.status == 404)
+            return sendError(res, 404, fmt::format("no {} {}: the API is documented in "
+                                                   "docs/serve.md",
+                                                   req.method, req.path));
+        if (res.status == 413)
+            return sendError(res, 413, fmt::format("the body is larger than {} bytes",
+                                                   kMaxRequestBody));
+        sendError(res, res.status, fmt::format("HTTP {}", res.status));
+    });
+}
+
+}  // namespace fp::serve

@@ -1,0 +1,458 @@
+#include "serve/Workbench.h"
+
+#include "app/BenchSweep.h"
+#include "app/Tune.h"
+#include "color/DisplayTransform.h"
+#include "foundation/Error.h"
+#include "foundation/Suggest.h"
+#include "framework/CvarTable.h"
+#include "framework/SemanticBuffers.h"
+#include "io/ConfigLoader.h"
+#include "io/JsonFile.h"
+
+#include <algorithm>
+#include <filesystem>
+
+namespace fp::serve {
+
+namespace fs = std::filesystem;
+
+namespace {
+// How many events and outcomes are kept for late readers.
+constexpr std::size_t kKeptEvents = 512;
+constexpr std::size_t kKeptOutcomes = 64;
+
+nlohmann::json paramSpec(const ParamInfo& p) {
+    nlohmann::json j = {{"name", p.name}, {"type", p.type}, {"doc", p.doc},
+                        {"default", p.defaultValue}};
+    if (p.min) j["min"] = *p.min;
+    if (p.max) j["max"] = *p.max;
+    if (!p.choices.empty()) j["choices"] = p.choices;
+    if (!p.cvars.empty()) j["cvars"] = p.cvars;
+    if (p.needsHistory) j["needsHistory"] = true;
+    return j;
+}
+
+const ParamInfo* findParam(const std::string& passType, const std::string& param) {
+    const PassType* type = builtinPasses().find(passType);
+    if (!type) return nullptr;
+    for (const auto& p : type->params)
+        if (p.name == param) return &p;
+    return nullptr;
+}
+
+std::string absolute(const std::string& path) {
+    return path.empty() ? path : fs::absolute(path).lexically_normal().string();
+}
+}  // namespace
+
+Workbench::Workbench(app::SetupOptions options)
+    : mOptions(std::move(options)), mSession(mOptions) {
+    mFrame = mSession.frames().front();
+    mSession.setup(outputsToRun());  // a config that does not plan fails here, not on a request
+    mRequested = 1;
+    mWorker = std::thread([this] { workerLoop(); });
+}
+
+Workbench::~Workbench() {
+    stop();
+    if (mWorker.joinable()) mWorker.join();
+}
+
+void Workbench::stop() {
+    {
+        std::lock_guard<std::mutex> lock(mStateMutex);
+        mStop = true;
+    }
+    mSession.cancel();
+    mChanged.notify_all();
+}
+
+bool Workbench::stopped() const {
+    std::lock_guard<std::mutex> lock(mStateMutex);
+    return mStop;
+}
+
+std::vector<std::string> Workbench::outputsToRun() {
+    // Every pass output, so that any port of the graph can be shown (capture buffers are read
+    // from the capture itself).
+    return {"all"};
+}
+
+void Workbench::event(nlohmann::json e) {
+    {
+        std::lock_guard<std::mutex> lock(mStateMutex);
+        e["seq"] = ++mEventSeq;
+        mEvents.emplace_back(mEventSeq, e.dump());
+        while (mEvents.size() > kKeptEvents) mEvents.pop_front();
+    }
+    mChanged.notify_all();
+}
+
+void Workbench::workerLoop() {
+    uint64_t started = 0;
+    for (;;) {
+        uint64_t generation = 0;
+        {
+            std::unique_lock<std::mutex> lock(mStateMutex);
+            mChanged.wait(lock, [&] { return mStop || mRequested > started; });
+            if (mStop) return;
+            generation = started = mRequested;
+        }
+        runOnce(generation);
+    }
+}
+
+void Workbench::runOnce(uint64_t generation) {
+    Outcome outcome;
+    {
+        std::lock_guard<std::mutex> session(mSessionMutex);
+        const int frame = mFrame;
+        mSession.onPass = [&](int done, int total, const PassReport& pass) {
+            event({{"type", "pass"}, {"generation", generation}, {"done", done}, {"total", total},
+                   {"pass", pass.name}, {"ms", pass.seconds * 1e3}, {"reused", pass.reused}});
+            std::lock_guard<std::mutex> lock(mStateMutex);
+            if (mRequested > generation || mStop) mSession.cancel();  // a newer change waits
+        };
+        const auto start = std::chrono::steady_clock::now();
+        try {
+            app::FrameResult r = mSession.run(frame, outputsToRun());
+            outcome.ms = std::chrono::duration<double, std::milli>(
+                             std::chrono::steady_clock::now() - start)
+                             .count();
+            mLast = std::move(r);
+            mLastFrame = frame;
+            mLastGeneration = generation;
+            mLastMs = outcome.ms;
+            outcome.status = "done";
+            event({{"type", "frame"}, {"generation", generation}, {"frame", frame},
+                   {"ms", outcome.ms}, {"executed", mLast->report.executedSteps},
+                   {"reused", mLast->report.reusedSteps}});
+        } catch (const Cancelled&) {
+            outcome.status = "cancelled";
+            event({{"type", "cancelled"}, {"generation", generation}});
+        } catch (const std::exception& e) {
+            outcome.status = "error";
+            outcome.message = e.what();
+            event({{"type", "error"}, {"generation", generation}, {"message", e.what()}});
+        }
+        mSession.onPass = {};
+    }
+    {
+        std::lock_guard<std::mutex> lock(mStateMutex);
+        mFinished = std::max(mFinished, generation);
+        mOutcomes[generation] = outcome;
+        while (mOutcomes.size() > kKeptOutcomes) mOutcomes.erase(mOutcomes.begin());
+    }
+    mChanged.notify_all();
+}
+
+std::vector<std::string> Workbench::merged(
+    const std::vector<std::string>& list,
+    const std::vector<std::pair<std::string, std::string>>& changes) {
+    std::vector<std::string> out = list;
+    for (const auto& [name, value] : changes) {
+        std::erase_if(out, [&](const std::string& s) { return s.substr(0, s.find('=')) == name; });
+        out.push_back(name + "=" + value);
+    }
+    return out;
+}
+
+uint64_t Workbench::apply(const SettingsChange& change) {
+    mSession.cancel();  // the run in flight stops at its next pass; this change replaces it
+    {
+        std::lock_guard<std::mutex> session(mSessionMutex);
+        const std::vector<std::string> cvars = mSession.options().cvars;
+        const std::vector<std::string> sets = mSession.options().sets;
+        if (change.frame) {
+            const auto& frames = mSession.frames();
+            if (std::find(frames.begin(), frames.end(), *change.frame) == frames.end())
+                throw RequestError(400, fmt::format("frame {} is not one of the config's frames "
+                                                    "({} to {})",
+                                                    *change.frame, frames.front(), frames.back()),
+                                   "/frame");
+        }
+        mSession.replaceSettings(merged(cvars, change.cvars), merged(sets, change.sets));
+        try {
+            mSession.setup(outputsToRun());
+        } catch (const UsageError& e) {
+            mSession.replaceSettings(cvars, sets);
+            mSession.setup(outputsToRun());
+            throw RequestError(400, e.what(),
+                               e.problems().empty() ? "" : e.problems().front().pointer);
+        }
+        if (change.frame) mFrame = *change.frame;
+    }
+    uint64_t generation;
+    {
+        std::lock_guard<std::mutex> lock(mStateMutex);
+        generation = ++mRequested;
+    }
+    mChanged.notify_all();
+    return generation;
+}
+
+nlohmann::json Workbench::waitFor(uint64_t generation) {
+    std::unique_lock<std::mutex> lock(mStateMutex);
+    mChanged.wait(lock, [&] { return mStop || mFinished >= generation; });
+    nlohmann::json j = {{"generation", generation}};
+    auto it = mOutcomes.find(generation);
+    if (it == mOutcomes.end()) {
+        // Never run: a newer change came first (or the server stops).
+        j["status"] = mStop ? "stopped" : "cancelled";
+        return j;
+    }
+    j["status"] = it->second.status;
+    if (!it->second.message.empty()) j["message"] = it->second.message;
+    if (it->second.status == "done") j["ms"] = it->second.ms;
+    return j;
+}
+
+std::set<std::string> Workbench::knownBuffers() {
+    std::set<std::string> names;
+    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    for (const auto& step : setup.plan().steps)
+        for (const auto& port : step.io.outputs) names.insert(step.name + "." + port.name);
+    for (const auto& b : setup.availableBuffers()) names.insert(b);
+    return names;
+}
+
+BufferImage Workbench::buffer(const std::string& name, std::optional<int> frame) {
+    {
+        std::lock_guard<std::mutex> session(mSessionMutex);
+        const std::set<std::string> known = knownBuffers();
+        if (!known.count(name))
+            throw RequestError(404, fmt::format("no buffer '{}'{}: a buffer is PASS.PORT, a "
+                                                "capture buffer or a Truth.* layer (GET "
+                                                "/api/buffers lists them)",
+                                                name,
+                                                didYouMean(name, std::vector<std::string>(
+                                                                     known.begin(), known.end()))));
+    }
+    const bool captureBuffer = name.find('.') == std::string::npos || isTruthBuffer(name);
+    uint64_t generation;
+    {
+        std::lock_guard<std::mutex> lock(mStateMutex);
+        generation = mRequested;
+    }
+    bool otherFrame = false;
+    if (frame) {
+        std::lock_guard<std::mutex> session(mSessionMutex);
+        const auto& frames = mSession.frames();
+        if (std::find(frames.begin(), frames.end(), *frame) == frames.end())
+            throw RequestError(400, fmt::format("?frame={}: not one of the config's frames ({} to "
+                                                "{})",
+                                                *frame, frames.front(), frames.back()));
+        otherFrame = *frame != mFrame;
+    }
+    if (otherFrame && !captureBuffer) {
+        // A pass output of another frame: that frame becomes the one shown, and runs.
+        SettingsChange change;
+        change.frame = frame;
+        generation = apply(change);
+    }
+    BufferImage b;
+    b.name = name;
+    if (captureBuffer) {
+        // Read from the capture: no run needed, whatever the settings.
+        std::lock_guard<std::mutex> session(mSessionMutex);
+        b.frame = frame.value_or(mFrame);
+        b.generation = mLastGeneration;
+        b.image = mSession.captureBuffer(b.frame, name);
+        const SemanticBuffer* sem = findSemanticBuffer(name);
+        b.color = sem ? sem->kind == PortKind::Color : true;  // truth layers are light
+        return b;
+    }
+    const nlohmann::json outcome = waitFor(generation);
+    std::lock_guard<std::mutex> session(mSessionMutex);
+    if (!mLast)
+        throw RequestError(409, fmt::format("no run has finished yet ({}: {})",
+                                            outcome.value("status", ""),
+                                            outcome.value("message", "")));
+    auto it = mLast->images.find(name);
+    if (it == mLast->images.end())
+        throw RequestError(409, fmt::format("'{}' is not in the last finished run (generation "
+                                            "{}, {}): it did not finish",
+                                            name, mLastGeneration, outcome.value("status", "")));
+    b.frame = mLastFrame;
+    b.generation = mLastGeneration;
+    b.image = it->second;  // shares the pixels
+    for (const auto& step : mSession.setup(outputsToRun()).plan().steps)
+        for (const auto& port : step.io.outputs)
+            if (step.name + "." + port.name == name) b.color = port.kind == PortKind::Color;
+    return b;
+}
+
+nlohmann::json Workbench::graph() {
+    std::lock_guard<std::mutex> session(mSessionMutex);
+    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    nlohmann::json j = setup.plan().toJson(setup.extent());
+    nlohmann::json times = nlohmann::json::object();
+    if (mLast)
+        for (const auto& p : mLast->report.passes)
+            times[p.name] = {{"ms", p.seconds * 1e3}, {"reused", p.reused}};
+    j["times"] = times;
+    j["generation"] = mLastGeneration;
+    j["frame"] = mFrame;
+    return j;
+}
+
+nlohmann::json Workbench::params() {
+    std::lock_guard<std::mutex> session(mSessionMutex);
+    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    std::set<std::string> typesInChain;
+    nlohmann::json passes = nlohmann::json::array();
+    for (const auto& step : setup.plan().steps) {
+        typesInChain.insert(step.type);
+        const PassType* type = builtinPasses().find(step.type);
+        nlohmann::json list = nlohmann::json::array();
+        if (type)
+            for (const auto& p : type->params) {
+                nlohmann::json spec = paramSpec(p);
+                spec["value"] = step.params.value(p.name, p.defaultValue);
+                list.push_back(spec);
+            }
+        passes.push_back({{"name", step.name}, {"type", step.type}, {"params", list}});
+    }
+    const CvarTable table(builtinPasses());
+    nlohmann::json cvars = nlohmann::json::array();
+    for (const auto& name : mSession.cvarNames()) {
+        const CvarMapping* m = table.find(name);
+        nlohmann::json c = {{"name", name}, {"value", mSession.cvarValue(name)}};
+        if (m && !m->passType.empty()) {
+            c["passType"] = m->passType;
+            c["param"] = m->param;
+            if (const ParamInfo* p = findParam(m->passType, m->param)) {
+                const nlohmann::json spec = paramSpec(*p);
+                for (const char* key : {"type", "doc", "default", "min", "max", "choices"})
+                    if (spec.contains(key)) c[key] = spec[key];
+            }
+        } else {
+            c["emulated"] = false;
+        }
+        if (m && !m->note.empty()) c["note"] = m->note;
+        bool used = false;
+        for (const auto& t : table.targets(name)) used = used || typesInChain.count(t);
+        c["inChain"] = used;
+        cvars.push_back(c);
+    }
+    return {{"cvars", cvars},      {"passes", passes},
+            {"frames", mSession.frames()}, {"frame", mFrame},
+            {"settings", {{"cvars", mSession.options().cvars}, {"set", mSession.options().sets}}}};
+}
+
+nlohmann::json Workbench::report() {
+    std::lock_guard<std::mutex> session(mSessionMutex);
+    if (!mLast) return nullptr;
+    nlohmann::json j = mLast->report.toJson();
+    j["generation"] = mLastGeneration;
+    j["frame"] = mLastFrame;
+    j["wallMs"] = mLastMs;
+    j["executedSteps"] = mLast->report.executedSteps;
+    j["reusedSteps"] = mLast->report.reusedSteps;
+    nlohmann::json errors = nlohmann::json::object();
+    for (const auto& p : mLast->report.passes)
+        if (!p.metrics.empty()) errors[p.name] = p.metrics;
+    j["errors"] = errors;
+    return j;
+}
+
+nlohmann::json Workbench::exportSettings() {
+    std::lock_guard<std::mutex> session(mSessionMutex);
+    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    const io::RunConfig& rc = setup.config();
+    nlohmann::json config = mOptions.config == "-" ? nlohmann::json::object()
+                                                   : io::readJsonFile(mOptions.config, "config");
+    config["version"] = 1;
+    // Paths absolute: the exported file runs from wherever it is saved.
+    if (!rc.capture.empty()) config["capture"] = absolute(rc.capture);
+    for (const auto& [key, path] : {std::pair<const char*, std::string>{"scene", rc.scene},
+                                    {"camera", rc.camera},
+                                    {"previous", rc.previous}})
+        if (!path.empty()) config[key] = absolute(path);
+    if (!rc.ocioConfig.empty()) config["color"]["ocioConfig"] = absolute(rc.ocioConfig);
+    if (config.contains("profile") && config["profile"].is_string() &&
+        config["profile"].get<std::string>().ends_with(".json"))
+        config["profile"] = absolute((fs::path(rc.baseDir) / config["profile"].get<std::string>())
+                                         .string());
+    if (!mOptions.profile.empty()) config["profile"] = mOptions.profile;
+    if (!mOptions.device.empty()) config["device"] = mOptions.device;
+    app::SweepPoint cvarPoint;
+    for (const auto& c : mSession.options().cvars) {
+        const auto eq = c.find('=');
+        config["cvars"][c.substr(0, eq)] = io::parseCliValue(c.substr(eq + 1));
+        cvarPoint.emplace_back(c.substr(0, eq), c.substr(eq + 1));
+    }
+    for (const auto& s : mSession.options().sets) {
+        const auto eq = s.find('=');
+        config["set"][s.substr(0, eq)] = io::parseCliValue(s.substr(eq + 1));
+    }
+    config["frames"] = std::to_string(mFrame);
+    return {{"config", config}, {"ini", app::systemSettings(cvarPoint)}};
+}
+
+nlohmann::json Workbench::bufferNames() {
+    std::lock_guard<std::mutex> session(mSessionMutex);
+    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    nlohmann::json passes = nlohmann::json::array(), capture = nlohmann::json::array(),
+                   truth = nlohmann::json::array();
+    for (const auto& step : setup.plan().steps)
+        for (const auto& port : step.io.outputs) passes.push_back(step.name + "." + port.name);
+    for (const auto& b : setup.availableBuffers())
+        (isTruthBuffer(b) ? truth : capture).push_back(b);
+    return {{"passes", passes}, {"capture", capture}, {"truth", truth}};
+}
+
+nlohmann::json Workbench::displays() {
+    std::lock_guard<std::mutex> session(mSessionMutex);
+    const auto config = mSession.setup(outputsToRun()).inputs().colorConfig();
+    nlohmann::json list = nlohmann::json::array();
+    for (int d = 0; d < config->getNumDisplays(); ++d) {
+        const char* display = config->getDisplay(d);
+        nlohmann::json views = nlohmann::json::array();
+        for (int v = 0; v < config->getNumViews(display); ++v)
+            views.push_back(config->getView(display, v));
+        list.push_back({{"display", display}, {"views", views},
+                        {"defaultView", config->getDefaultView(display)}});
+    }
+    return {{"displays", list}, {"defaultDisplay", config->getDefaultDisplay()}};
+}
+
+OCIO_NAMESPACE::ConstConfigRcPtr Workbench::displayConfig() {
+    std::lock_guard<std::mutex> session(mSessionMutex);
+    return mSession.setup(outputsToRun()).inputs().colorConfig();
+}
+
+std::optional<Image> Workbench::displayTable(const std::string& view) {
+    std::lock_guard<std::mutex> session(mSessionMutex);
+    const auto config = mSession.setup(outputsToRun()).inputs().colorConfig();
+    const std::string display = config->getDefaultDisplay();
+    if (!view.empty()) {
+        bool found = false;
+        std::vector<std::string> views;
+        for (int v = 0; v < config->getNumViews(display.c_str()); ++v) {
+            views.push_back(config->getView(display.c_str(), v));
+            found = found || views.back() == view;
+        }
+        if (!found)
+            throw RequestError(404, fmt::format("no view '{}' of display '{}'{}", view, display,
+                                                didYouMean(view, views)));
+    }
+    try {
+        return DisplayTransform(config, "scene_linear", display, view, 0.0f, true).halfLut();
+    } catch (const Error& e) {
+        throw RequestError(400, e.what());
+    }
+}
+
+std::vector<std::pair<uint64_t, std::string>> Workbench::eventsAfter(
+    uint64_t seq, std::chrono::milliseconds wait) {
+    std::unique_lock<std::mutex> lock(mStateMutex);
+    mChanged.wait_for(lock, wait, [&] { return mStop || mEventSeq > seq; });
+    std::vector<std::pair<uint64_t, std::string>> out;
+    for (const auto& e : mEvents)
+        if (e.first > seq) out.push_back(e);
+    return out;
+}
+
+}  // namespace fp::serve

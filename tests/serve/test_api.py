@@ -1,0 +1,186 @@
+"""framepass serve's HTTP API through a client (docs/serve.md): every endpoint, every 4xx case,
+and the bits against the command line's."""
+import json
+import os
+import subprocess
+import threading
+import time
+import urllib.request
+
+import numpy as np
+
+import framepass as fp
+from conftest import FRAMEPASS, SCRATCH
+
+SOURCE_PORT = "ssgi_denoise.diffuse"
+
+
+def raw_array(headers, data):
+    h, w = int(headers["X-Height"]), int(headers["X-Width"])
+    c = len(headers["X-Channels"].split(","))
+    dtype = np.float16 if headers["X-Type"] == "float16" else np.float32
+    return np.frombuffer(data, dtype=dtype).reshape(h, w, c)
+
+
+def buffer(server, name, query=""):
+    status, headers, data = server.request("GET", f"/api/buffer/{name}?format=raw{query}")
+    assert status == 200, data
+    return raw_array(headers, data)
+
+
+def cli_dump(config, name, *args):
+    """What `framepass run` writes for `name` with `args`, as an array."""
+    out = os.path.join(SCRATCH, "cli_" + str(abs(hash((config, name) + args))))
+    subprocess.run([FRAMEPASS, "-q", "run", config, "-o", out, "--dump", name, *args], check=True)
+    (dump,) = [f for f in os.listdir(os.path.join(out, "dump")) if f.startswith(name + ".")]
+    return fp.read_exr(os.path.join(out, "dump", dump))[name]
+
+
+def cli_now(server, name):
+    """What `framepass run` writes for `name` with the server's current settings."""
+    status, params = server.json("GET", "/api/params")
+    args = []
+    for c in params["settings"]["cvars"]:
+        args += ["--cvar", c]
+    for s in params["settings"]["set"]:
+        args += ["--set", s]
+    return cli_dump(server.config, name, *args)
+
+
+def same_bits(a, b):
+    return a.shape == b.shape and np.array_equal(a.view(np.uint32), b.view(np.uint32))
+
+
+def test_the_page_and_its_files(server):
+    for path, kind in (("/", "text/html"), ("/app.js", "text/javascript"), ("/style.css", "text/css")):
+        status, headers, data = server.request("GET", path)
+        assert status == 200 and headers["Content-Type"].startswith(kind) and len(data) > 500
+
+
+def test_graph_params_report_buffers_displays(server):
+    status, graph = server.json("GET", "/api/graph")
+    assert status == 200
+    assert [s["name"] for s in graph["steps"]][:3] == ["hzb", "prev_color_reduction", "ssgi"]
+    status, params = server.json("GET", "/api/params")
+    cvar = {c["name"]: c for c in params["cvars"]}["r.SSGI.Quality"]
+    assert (cvar["min"], cvar["max"], cvar["inChain"]) == (1, 4, True)
+    ssgi = {p["name"]: p for p in params["passes"]}["ssgi"]
+    assert {"rays", "quality", "halfRes"} <= {p["name"] for p in ssgi["params"]}
+    status, buffers = server.json("GET", "/api/buffers")
+    assert SOURCE_PORT in buffers["passes"] and "SceneColor" in buffers["capture"]
+    assert "Truth.DiffuseIndirectFull" in buffers["truth"]
+    status, displays = server.json("GET", "/api/displays")
+    assert displays["defaultDisplay"] in [d["display"] for d in displays["displays"]]
+    status, headers, lut = server.request("GET", "/api/lut")
+    assert status == 200 and len(lut) == 3 * 65536 * 4
+    buffer(server, SOURCE_PORT)  # waits for the first run
+    status, report = server.json("GET", "/api/report")
+    assert report["generation"] >= 1 and "ssgi_vs_full" in report["errors"]
+    assert report["errors"]["ssgi_vs_full"]["rmse"] > 0
+
+
+def test_a_change_reruns_downstream_and_gives_the_command_lines_bits(server):
+    status, outcome = server.json("PUT", "/api/params", {"cvars": {"r.SSGI.Quality": 2},
+                                                          "set": {"ssgi_denoise.denoiser": 0}})
+    assert status == 200 and outcome["status"] == "done", outcome
+    reused = {p["name"] for p in outcome["report"]["passes"] if p.get("reused")}
+    assert "hzb" in reused and "ssgi" not in reused
+    served = buffer(server, SOURCE_PORT)
+    cli = cli_dump(server.config, SOURCE_PORT, "--cvar", "r.SSGI.Quality=2", "--set",
+                   "ssgi_denoise.denoiser=0")
+    assert same_bits(served, cli)
+    half = buffer(server, SOURCE_PORT, "&type=half")
+    assert half.dtype == np.float16 and np.array_equal(half, served.astype(np.float16))
+    # Export: the settings as a config that `framepass run` turns into the same bits.
+    status, exported = server.json("GET", "/api/export")
+    assert "r.SSGI.Quality=2" in exported["ini"]
+    path = os.path.join(SCRATCH, "exported.json")
+    with open(path, "w") as f:
+        json.dump(exported["config"], f)
+    assert same_bits(cli_dump(path, SOURCE_PORT), served)
+
+
+def test_a_newer_change_replaces_the_run_in_flight(server):
+    first = server.json("PUT", "/api/params?wait=0", {"set": {"ssgi.rays": 16}})
+    second = server.json("PUT", "/api/params?wait=0", {"set": {"ssgi.rays": 0}})
+    assert first[0] == 202 and second[0] == 202
+    assert second[1]["generation"] > first[1]["generation"]
+    served = buffer(server, SOURCE_PORT)  # waits for the newest change
+    assert same_bits(served, cli_now(server, SOURCE_PORT))
+    status, report = server.json("GET", "/api/report")
+    assert report["generation"] == second[1]["generation"]
+
+
+def test_events_stream_progress(server):
+    lines = []
+    opened = threading.Event()
+
+    def read():  # every line of the stream, until the test ends (a daemon thread)
+        with urllib.request.urlopen(server.url + "api/events", timeout=60) as r:
+            opened.set()
+            for raw in r:
+                lines.append(raw.decode())
+
+    threading.Thread(target=read, daemon=True).start()
+    assert opened.wait(10)
+    status, queued = server.json("PUT", "/api/params?wait=0", {"set": {"display.exposure": 0.5}})
+    assert status == 202
+    mine = []
+    for _ in range(600):
+        events = [json.loads(l[6:]) for l in list(lines) if l.startswith("data: ")]
+        mine = [e for e in events if e.get("generation") == queued["generation"]]
+        if mine and mine[-1]["type"] == "frame":
+            break
+        time.sleep(0.05)
+    assert any(e["type"] == "pass" and e["pass"] == "display" for e in mine)
+    assert mine[-1]["type"] == "frame" and mine[-1]["executed"] >= 1
+
+
+def test_capture_and_truth_buffers_in_every_format(server, capture):
+    scene = buffer(server, "SceneColor")
+    assert same_bits(scene, fp.read_capture(capture)["SceneColor"])
+    truth = buffer(server, "Truth.DiffuseIndirectFull")
+    assert same_bits(truth, fp.read_exr(capture, ["Truth.DiffuseIndirectFull"])["Truth.DiffuseIndirectFull"])
+    status, headers, data = server.request("GET", f"/api/buffer/{SOURCE_PORT}?format=exr")
+    assert status == 200 and data[:4] == b"\x76\x2f\x31\x01"
+    path = os.path.join(SCRATCH, "served.exr")
+    with open(path, "wb") as f:
+        f.write(data)
+    assert same_bits(fp.read_exr(path)[SOURCE_PORT], buffer(server, SOURCE_PORT))
+    status, headers, data = server.request("GET", "/api/buffer/display.image?format=png")
+    assert status == 200 and data[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_bad_requests_are_4xx_with_a_json_error(server):
+    def error(method, path, body=None, status=400, match=""):
+        code, headers, data = server.request(method, path, body)
+        assert code == status, (path, code, data)
+        j = json.loads(data)
+        assert j["status"] == status and match in j["error"], j
+        return j
+
+    error("GET", "/api/buffer/ssgi.difuse", status=404, match="did you mean 'ssgi.diffuse'")
+    error("GET", "/api/buffer/..%2F..%2Fetc%2Fpasswd", match="not a buffer name")
+    error("GET", "/api/buffer/%2Fetc%2Fpasswd", match="not a buffer name")
+    error("GET", f"/api/buffer/{SOURCE_PORT}?format=jpeg", match="raw, exr or png")
+    error("GET", f"/api/buffer/{SOURCE_PORT}?frame=7", match="not one of the config's frames")
+    error("GET", f"/api/buffer/{SOURCE_PORT}?frame=x", match="not a frame number")
+    error("GET", "/api/nothing", status=404, match="no GET /api/nothing")
+    error("GET", "/api/lut?view=Filmic", status=404, match="no view 'Filmic'")
+    error("PUT", "/api/params", b"{not json", match="not valid JSON")
+    error("PUT", "/api/params", b"[1, 2]", match="JSON object")
+    error("PUT", "/api/params", {"cvar": {}}, match="unknown key 'cvar'")
+    error("PUT", "/api/params", {"cvars": {"r.SSGI.Quality": [2]}}, match="/cvars/r.SSGI.Quality")
+    j = error("PUT", "/api/params", {"set": {"ssgi.quality": 9}}, match="out of range")
+    assert j["pointer"] == "--set ssgi.quality"
+    error("PUT", "/api/params", {"cvars": {"r.SSGI.Qualty": 2}}, match="r.SSGI.Quality")
+    error("PUT", "/api/params", {"frame": 3}, match="not one of the config's frames")
+    error("PUT", "/api/params?wait=maybe", {}, match="?wait=maybe")
+    error("PUT", "/api/params", b"[" * 100 + b"]" * 100, match="nested more than")
+    error("PUT", "/api/params", b" " * (65 * 1024), status=413)
+    error("POST", "/api/tev", {"buffers": [SOURCE_PORT], "host": "example.com:1"}, match="not this machine")
+    error("POST", "/api/tev", {"buffers": []}, match="buffers")
+    # A rejected change leaves the settings as they were: the server still runs and answers.
+    status, params = server.json("GET", "/api/params")
+    assert status == 200 and not any("quality=9" in s for s in params["settings"]["set"])
+    assert buffer(server, SOURCE_PORT).shape == (64, 96, 3)
