@@ -184,3 +184,64 @@ def test_bad_requests_are_4xx_with_a_json_error(server):
     status, params = server.json("GET", "/api/params")
     assert status == 200 and not any("quality=9" in s for s in params["settings"]["set"])
     assert buffer(server, SOURCE_PORT).shape == (64, 96, 3)
+
+
+class FakeTev:
+    """A socket on 127.0.0.1 that records the images tev's protocol would create."""
+
+    def __init__(self):
+        import socket
+        self.sock = socket.socket()
+        self.sock.bind(("127.0.0.1", 0))
+        self.sock.listen(4)
+        self.address = "127.0.0.1:%d" % self.sock.getsockname()[1]
+        self.created = []
+        self.thread = threading.Thread(target=self.serve, daemon=True)
+        self.thread.start()
+
+    def serve(self):
+        while True:
+            try:
+                conn, _ = self.sock.accept()
+            except OSError:
+                return
+            data = b""
+            while chunk := conn.recv(65536):
+                data += chunk
+            conn.close()
+            at = 0
+            while at < len(data):
+                length, kind = int.from_bytes(data[at:at + 4], "little"), data[at + 4]
+                if kind == 4:  # CreateImage: grab focus, then the name
+                    self.created.append(data[at + 6:data.index(b"\0", at + 6)].decode())
+                at += length
+
+    def close(self):
+        self.sock.close()
+
+
+def test_images_reach_tev_from_the_page_and_from_run(server):
+    tev = FakeTev()
+    try:
+        status, sent = server.json("POST", "/api/tev", {"host": tev.address, "buffers": [SOURCE_PORT, "SceneColor"]})
+        assert status == 200 and len(sent["images"]) == 2
+        out = os.path.join(SCRATCH, "tev_run")
+        subprocess.run([FRAMEPASS, "-q", "run", server.config, "-o", out, "--dump", SOURCE_PORT,
+                        "--tev", tev.address], check=True)
+        for _ in range(100):
+            if len(tev.created) >= 3:
+                break
+            time.sleep(0.05)
+        assert tev.created[:2] == sent["images"]
+        assert SOURCE_PORT in tev.created[2:]  # run's dump, named after its layer
+    finally:
+        tev.close()
+    # Nothing listening: run fails before its first frame, saying so.
+    import socket
+    probe = socket.socket()
+    probe.bind(("127.0.0.1", 0))
+    free = "127.0.0.1:%d" % probe.getsockname()[1]
+    probe.close()
+    r = subprocess.run([FRAMEPASS, "run", server.config, "-o", os.path.join(SCRATCH, "tev_none"),
+                        "--tev", free], capture_output=True, text=True)
+    assert r.returncode == 1 and "is tev running?" in r.stderr
