@@ -120,24 +120,15 @@ void WorkbenchServer::routes() {
         });
 
     s.Get("/favicon.ico", [](const httplib::Request&, httplib::Response& res) { res.status = 204; });
-    s.Get("/api/graph", [&wb](const httplib::Request&, httplib::Response& res) {
-        sendJson(res, wb.graph());
-    });
-    s.Get("/api/params", [&wb](const httplib::Request&, httplib::Response& res) {
-        sendJson(res, wb.params());
-    });
-    s.Get("/api/report", [&wb](const httplib::Request&, httplib::Response& res) {
-        sendJson(res, wb.report());
-    });
-    s.Get("/api/export", [&wb](const httplib::Request&, httplib::Response& res) {
-        sendJson(res, wb.exportSettings());
-    });
-    s.Get("/api/buffers", [&wb](const httplib::Request&, httplib::Response& res) {
-        sendJson(res, wb.bufferNames());
-    });
-    s.Get("/api/displays", [&wb](const httplib::Request&, httplib::Response& res) {
-        sendJson(res, wb.displays());
-    });
+    // The JSON reads, each one Workbench call.
+    const std::pair<const char*, nlohmann::json (Workbench::*)()> reads[] = {
+        {"/api/graph", &Workbench::graph},         {"/api/params", &Workbench::params},
+        {"/api/report", &Workbench::report},       {"/api/export", &Workbench::exportSettings},
+        {"/api/buffers", &Workbench::bufferNames}, {"/api/displays", &Workbench::displays}};
+    for (const auto& [path, read] : reads)
+        s.Get(path, [&wb, read = read](const httplib::Request&, httplib::Response& res) {
+            sendJson(res, (wb.*read)());
+        });
     // The display view baked over every half value: 3 planes of 65536 float32 (R, then G, B).
     s.Get("/api/lut", [&wb](const httplib::Request& req, httplib::Response& res) {
         const std::string view = req.has_param("view") ? req.get_param_value("view") : "";

@@ -13,9 +13,9 @@ prints one Markdown table.
 import argparse
 import os
 import statistics
-import subprocess
-import sys
 import time
+
+from captures import cornell_capture
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -31,14 +31,9 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out/bench"))
     ap.add_argument("--runs", type=int, default=9)
     a = ap.parse_args()
-    os.makedirs(a.out, exist_ok=True)
     rows = []
     for width, height in ((256, 256), (1920, 1080)):
-        exr = os.path.join(a.out, f"cornell_{width}x{height}.exr")
-        if not os.path.exists(exr):
-            print(f"capturing the Cornell box at {width}x{height} (once) ...", file=sys.stderr)
-            subprocess.run([a.framepass, "-q", "capture", os.path.join(ROOT, "examples/cornell/scene.json"),
-                            "-o", exr, "--width", str(width), "--height", str(height)], check=True)
+        exr = cornell_capture(a.framepass, a.out, width, height)
         for layout in ("hwc", "chw"):
             cells = []
             for kind, (param, values) in CHANGES.items():

@@ -17,7 +17,8 @@ import re
 import signal
 import statistics
 import subprocess
-import sys
+
+from captures import cornell_capture
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -33,12 +34,7 @@ def main():
     a = ap.parse_args()
     rows = []
     for width, height in ((256, 256), (1920, 1080)):
-        exr = os.path.join(a.out, f"cornell_truth_{width}x{height}.exr")
-        if not os.path.exists(exr):
-            print(f"capturing the Cornell box at {width}x{height} with truth (once) ...", file=sys.stderr)
-            subprocess.run([a.framepass, "-q", "capture", os.path.join(ROOT, "examples/cornell/scene.json"),
-                            "-o", exr, "--width", str(width), "--height", str(height), "--truth",
-                            "--truth-spp", "16"], check=True)
+        exr = cornell_capture(a.framepass, a.out, width, height, truth_spp=16)
         config = os.path.join(a.out, f"workbench_{width}x{height}.json")
         with open(os.path.join(ROOT, "examples/cornell/bench.json")) as f:
             j = json.load(f)
