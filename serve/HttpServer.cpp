@@ -129,6 +129,10 @@ void WorkbenchServer::routes() {
         s.Get(path, [&wb, read = read](const httplib::Request&, httplib::Response& res) {
             sendJson(res, (wb.*read)());
         });
+    // The last run's errors taken apart (an oracle trace and 8 converged traces: seconds).
+    s.Get("/api/breakdown", [&wb](const httplib::Request& req, httplib::Response& res) {
+        sendJson(res, wb.breakdown(parseRays(req.params)));
+    });
     // The display view baked over every half value: 3 planes of 65536 float32 (R, then G, B).
     s.Get("/api/lut", [&wb](const httplib::Request& req, httplib::Response& res) {
         const std::string view = req.has_param("view") ? req.get_param_value("view") : "";

@@ -150,6 +150,16 @@ TevRequest parseTevRequest(std::string_view body) {
     return r;
 }
 
+int parseRays(const std::multimap<std::string, std::string>& query) {
+    const auto r = single(query, "rays");
+    if (!r) return 32;
+    int rays = 0;
+    const auto [end, ec] = std::from_chars(r->data(), r->data() + r->size(), rays);
+    if (ec != std::errc() || end != r->data() + r->size())
+        throw RequestError(400, fmt::format("?rays={}: a whole number", *r));
+    return rays;
+}
+
 bool parseWait(const std::multimap<std::string, std::string>& query) {
     const auto w = single(query, "wait");
     if (!w || *w == "1" || *w == "true") return true;

@@ -66,6 +66,9 @@ struct TevRequest {
 };
 TevRequest parseTevRequest(std::string_view body);
 
+/// ?rays=N of GET /api/breakdown (default 32); the range is the Workbench's to check.
+int parseRays(const std::multimap<std::string, std::string>& query);
+
 /// ?wait=0|1 (default 1): whether PUT /api/params answers after the run.
 bool parseWait(const std::multimap<std::string, std::string>& query);
 

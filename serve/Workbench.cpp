@@ -1,6 +1,7 @@
 #include "serve/Workbench.h"
 
 #include "app/BenchSweep.h"
+#include "app/ErrorBreakdown.h"
 #include "app/Tune.h"
 #include "color/DisplayTransform.h"
 #include "foundation/Error.h"
@@ -389,6 +390,41 @@ nlohmann::json Workbench::exportSettings() {
     }
     config["frames"] = std::to_string(mFrame);
     return {{"config", config}, {"ini", app::systemSettings(cvarPoint)}};
+}
+
+nlohmann::json Workbench::breakdown(int rays) {
+    if (rays < 1 || rays > app::kMaxBreakdownRays)
+        throw RequestError(400, fmt::format("?rays={}: 1 to {}", rays, app::kMaxBreakdownRays));
+    {
+        std::unique_lock<std::mutex> lock(mStateMutex);  // the newest change first
+        const uint64_t newest = mRequested;
+        mChanged.wait(lock, [&] { return mStop || mFinished >= newest; });
+    }
+    std::lock_guard<std::mutex> session(mSessionMutex);
+    if (!mLast) throw RequestError(409, "no run has finished yet");
+    const auto start = std::chrono::steady_clock::now();
+    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    const Plan& plan = setup.plan();
+    auto targets = app::decompositionTargets(plan, setup.availableBuffers());
+    nlohmann::json out = {{"rays", rays}, {"errors", nlohmann::json::array()}};
+    if (targets.empty()) return out;
+    std::vector<app::ErrorNodeResult> errors;
+    for (std::size_t i = 0; i < plan.steps.size() && i < mLast->report.passes.size(); ++i)
+        if (plan.steps[i].io.roles.measuresError)
+            errors.push_back(app::errorNodeResult(plan.steps[i], mLast->report.passes[i]));
+    app::ErrorBreakdown taker(setup, std::move(targets), rays, mLastFrame);
+    taker.decompose(mSession.options(), mLast->images, "workbench", errors);
+    for (const auto& e : errors) {
+        nlohmann::json j = {{"name", e.name}, {"metrics", e.metrics}};
+        if (e.decomposition) {
+            j["decomposition"] = e.decomposition->toJson();
+            j["text"] = app::decompositionText(*e.decomposition);
+        }
+        out["errors"].push_back(j);
+    }
+    out["ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                    .count();
+    return out;
 }
 
 nlohmann::json Workbench::bufferNames() {

@@ -51,6 +51,11 @@ public:
     /// The current settings as a run config (the config's own keys, paths made absolute, its
     /// cvars and "set" merged with the session's) and as an Unreal [SystemSettings] snippet.
     nlohmann::json exportSettings();
+    /// Why the last run's errors are what they are: each error measure that can be taken apart
+    /// (a screen-space source against a truth layer) as bench takes it apart, with `rays` rays
+    /// per pixel for the oracle and the converged tracer ({"errors": [{name, metrics,
+    /// decomposition, text}], "rays", "ms"}). Costs an oracle trace and 8 converged traces.
+    nlohmann::json breakdown(int rays);
     /// The names /api/buffer serves: pass outputs, capture buffers and truth layers.
     nlohmann::json bufferNames();
     /// The OCIO displays and views the page may bake, with the defaults.

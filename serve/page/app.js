@@ -450,6 +450,20 @@ function buildReport(report) {
   }
 }
 
+// The error taken apart, as bench does it: converged, screen-space limit, one bounce, full.
+async function breakdown() {
+  const out = $('breakdown-text');
+  out.textContent = 'taking the error apart…';
+  try {
+    const r = await getJSON(`/api/breakdown?rays=${+$('breakdown-rays').value}`);
+    out.textContent = r.errors.filter((e) => e.text).map((e) => `${e.name}:\n${e.text}`).join('\n') ||
+      'no error measure here compares a screen-space pass with a truth layer';
+    out.textContent += `\n(${r.rays} rays, ${(r.ms / 1000).toFixed(1)} s)`;
+  } catch (e) {
+    out.textContent = e.message;
+  }
+}
+
 function settingsLabel(settings) {
   const all = [...settings.cvars, ...settings.set];
   return all.length ? all.join(' ') : 'as loaded';
@@ -562,6 +576,7 @@ function listen() {
       if (page.pending && e.generation >= page.pending.generation) { page.pending.run = e.ms; page.pending.event = performance.now(); }
       await refresh();
       setStatus(`change ${e.generation} done in ${e.ms.toFixed(1)} ms`);
+      if ($('breakdown-auto').checked) breakdown();
       document.body.dataset.generation = e.generation;
     } else if (e.type === 'error') {
       setStatus(e.message, true);
@@ -673,6 +688,7 @@ async function main() {
     probe(e);
   });
 
+  $('breakdown').addEventListener('click', breakdown);
   $('frame').addEventListener('change', () => change({ frame: page.params.frames[+$('frame').value] }));
   $('export-config').addEventListener('click', async () => {
     const x = await getJSON('/api/export');

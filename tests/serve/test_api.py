@@ -79,6 +79,15 @@ def test_graph_params_report_buffers_displays(server):
     assert report["errors"]["ssgi_vs_full"]["rmse"] > 0
 
 
+def test_the_error_taken_apart(server):
+    status, b = server.json("GET", "/api/breakdown?rays=4")
+    assert status == 200 and b["rays"] == 4
+    full = {e["name"]: e for e in b["errors"]}["ssgi_vs_full"]
+    assert "taken apart" in full["text"] and len(full["decomposition"]["steps"]) >= 3
+    status, report = server.json("GET", "/api/report")
+    assert full["metrics"]["rmse"] == report["errors"]["ssgi_vs_full"]["rmse"]
+
+
 def test_a_change_reruns_downstream_and_gives_the_command_lines_bits(server):
     status, outcome = server.json("PUT", "/api/params", {"cvars": {"r.SSGI.Quality": 2},
                                                           "set": {"ssgi_denoise.denoiser": 0}})
@@ -167,6 +176,8 @@ def test_bad_requests_are_4xx_with_a_json_error(server):
     error("GET", f"/api/buffer/{SOURCE_PORT}?frame=x", match="not a frame number")
     error("GET", "/api/nothing", status=404, match="no GET /api/nothing")
     error("GET", "/api/lut?view=Filmic", status=404, match="no view 'Filmic'")
+    error("GET", "/api/breakdown?rays=0", match="?rays=0: 1 to 1024")
+    error("GET", "/api/breakdown?rays=many", match="a whole number")
     error("PUT", "/api/params", b"{not json", match="not valid JSON")
     error("PUT", "/api/params", b"[1, 2]", match="JSON object")
     error("PUT", "/api/params", {"cvar": {}}, match="unknown key 'cvar'")
