@@ -61,6 +61,10 @@ def test_a_slider_changes_the_image_and_the_times(browser_run):
     assert r["timingAfter"] != r["timingBefore"] and "reused" in r["timingAfter"]
 
 
+def test_the_error_is_taken_apart_on_the_page(browser_run):
+    assert "ssgi_vs_full:" in browser_run["breakdown"] and "screen-space limit" in browser_run["breakdown"]
+
+
 def test_wipe_shows_a_left_and_b_right(browser_run):
     w = browser_run["wipe"]
     assert w["wipeLeft"] == w["aLeft"]

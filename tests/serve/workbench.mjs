@@ -102,7 +102,15 @@ await page.waitForTimeout(100);
 results.probe = { pixel: probeAt, text: await page.locator('#probe').textContent() };
 await shot('06_probe.png');
 
-// 5. Export the settings as a run config (the download a user gets).
+// 5. Why: the error taken apart (few rays: this is about the page, not the figures).
+await page.locator('#breakdown-rays').fill('4');
+await page.click('#breakdown');
+await page.waitForFunction(() => /rays, .* s\)/.test(document.getElementById('breakdown-text').textContent), null, { timeout: 120000 });
+results.breakdown = await page.locator('#breakdown-text').textContent();
+await page.locator('#breakdown-text').scrollIntoViewIfNeeded();
+await shot('07_breakdown.png');
+
+// 6. Export the settings as a run config (the download a user gets).
 const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export-config')]);
 results.exported = path.join(out, 'exported_config.json');
 await download.saveAs(results.exported);
@@ -112,7 +120,7 @@ const bytes = await page.evaluate(() => Array.from(new Uint8Array(window.workben
 fs.writeFileSync(results.shownA, Buffer.from(bytes));
 results.shownAShape = await page.evaluate(() => { const a = window.workbench.viewer.a; return [a.height, a.width, a.channels.length]; });
 
-// 6. Latency: the quality slider moved back and forth.
+// 7. Latency: the quality slider moved back and forth.
 if (latencyRuns > 0) {
   for (let i = 0; i < latencyRuns; ++i) {
     g = await generation();
