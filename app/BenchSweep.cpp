@@ -44,14 +44,11 @@ std::string base64(const std::string& bytes) {
 // they compare are kept for the report's images and the error decomposition.
 std::vector<std::string> errorDumps(const GraphDesc& graph) {
     std::vector<std::string> dumps;
-    for (const auto& n : graph.nodes) {
-        const PassType* type = builtinPasses().find(n.type);
-        if (!type || !type->roles.measuresError)
-            continue;
-        dumps.push_back(n.name + ".heat");
+    for (const NodeDesc* n : errorMeasureNodes(graph)) {
+        dumps.push_back(n->name + ".heat");
         for (const char* port : {"source", "reference"})
-            if (auto it = n.inputs.find(port);
-                it != n.inputs.end() && it->second.rfind("capture:", 0) != 0)
+            if (auto it = n->inputs.find(port);
+                it != n->inputs.end() && it->second.rfind("capture:", 0) != 0)
                 dumps.push_back(it->second);
     }
     return dumps;
@@ -358,6 +355,14 @@ BenchResult Bencher::emptyResult() const {
     result.threads =
         int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     return result;
+}
+
+std::vector<const NodeDesc*> errorMeasureNodes(const GraphDesc& graph) {
+    std::vector<const NodeDesc*> nodes;
+    for (const auto& n : graph.nodes)
+        if (const PassType* type = builtinPasses().find(n.type); type && type->roles.measuresError)
+            nodes.push_back(&n);
+    return nodes;
 }
 
 BenchResult runBench(const BenchOptions& options, const std::string& incremental) {

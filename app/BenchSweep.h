@@ -27,6 +27,10 @@ struct BenchOptions {
 /// ("ssgi.halfRes"): cvars are the names that start with "r.".
 inline bool isCvarName(const std::string& name) { return name.rfind("r.", 0) == 0; }
 
+/// The config's passes whose type measures an error (PassRoles::measuresError), in order: what
+/// bench keeps images of and tune aims at.
+std::vector<const NodeDesc*> errorMeasureNodes(const GraphDesc& graph);
+
 /// One point of the grid: (cvar or PASS.PARAM, value) per axis.
 using SweepPoint = std::vector<std::pair<std::string, std::string>>;
 

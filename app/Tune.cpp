@@ -62,13 +62,10 @@ TuneTarget parseTarget(const std::string& text) {
 // The target's error_measure in the config, or a usage error naming those it has.
 const NodeDesc& targetNode(const io::RunConfig& config, const TuneTarget& t) {
     std::vector<std::string> names;
-    for (const auto& n : config.graph.nodes) {
-        const PassType* type = builtinPasses().find(n.type);
-        if (!type || !type->roles.measuresError)
-            continue;
-        if (n.name == t.error)
-            return n;
-        names.push_back(n.name);
+    for (const NodeDesc* n : errorMeasureNodes(config.graph)) {
+        if (n->name == t.error)
+            return *n;
+        names.push_back(n->name);
     }
     throw UsageError(fmt::format("--target: {} has no error_measure pass '{}'{}", config.path,
                                  t.error,

@@ -333,6 +333,15 @@ FrameReport executePlan(const Plan& plan,
     };
 
     const int total = int(plan.steps.size());
+    // What every step ends with, executed or reused: its report, the files it completes, the
+    // images no later step reads freed, progress.
+    auto finishStep = [&](int s, PassReport pr) {
+        report.passes.push_back(std::move(pr));
+        writeOutputs(s);
+        releaseAfter(s);
+        if (progress)
+            progress(s + 1, total, report.passes.back());
+    };
     std::vector<std::string> stepKeys(plan.steps.size());
     if (cache)  // steps the plan no longer has are forgotten
         std::erase_if(cache->mEntries, [&](const auto& entry) {
@@ -369,11 +378,7 @@ FrameReport executePlan(const Plan& plan,
                 pr.gpuSeconds.reset();
                 pr.reused = true;
                 ++report.reusedSteps;
-                report.passes.push_back(std::move(pr));
-                writeOutputs(s);
-                releaseAfter(s);
-                if (progress)
-                    progress(s + 1, total, report.passes.back());
+                finishStep(s, std::move(pr));
                 continue;
             }
         }
@@ -436,11 +441,7 @@ FrameReport executePlan(const Plan& plan,
                 if (device) e.device[key] = device;
             }
         }
-        report.passes.push_back(std::move(pr));
-        writeOutputs(s);
-        releaseAfter(s);
-        if (progress)
-            progress(s + 1, total, report.passes.back());
+        finishStep(s, std::move(pr));
     }
     writeOutputs(-1);  // outputs that only copy capture buffers, in a plan with no steps
     report.peakBytes = store.peak();
