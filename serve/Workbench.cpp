@@ -264,7 +264,18 @@ BufferImage Workbench::buffer(const std::string& name, std::optional<int> frame)
         b.color = sem ? sem->kind == PortKind::Color : true;  // truth layers are light
         return b;
     }
-    const nlohmann::json outcome = waitFor(generation);
+    // The newest change's run: one a later change cancelled gives way to that change's.
+    nlohmann::json outcome = waitFor(generation);
+    while (outcome.value("status", "") == "cancelled" && !stopped()) {
+        {
+            std::lock_guard<std::mutex> lock(mStateMutex);
+            generation = mRequested;
+        }
+        outcome = waitFor(generation);
+    }
+    if (outcome.value("status", "") == "error")
+        throw RequestError(409, fmt::format("the run of change {} failed: {}", generation,
+                                            outcome.value("message", "")));
     std::lock_guard<std::mutex> session(mSessionMutex);
     if (!mLast)
         throw RequestError(409, fmt::format("no run has finished yet ({}: {})",
