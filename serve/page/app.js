@@ -652,6 +652,36 @@ async function main() {
   $('false-color').addEventListener('change', () => { state.falseColor = $('false-color').checked ? 1 : 0; scaleBar(); viewer.draw(); });
   $('false-max').addEventListener('input', () => { state.falseMax = +$('false-max').value; scaleBar(); viewer.draw(); });
   $('mode').addEventListener('change', scaleBar);
+  // The scale's top: the 99th percentile of what is shown in false colour (the isolated channel
+  // or luminance, exposed) or of |A − B|, as compare's heat map picks its scale.
+  const autoMax = () => {
+    const a = viewer.a, b = viewer.b;
+    if (!a) return;
+    const n = a.channels.length, values = [];
+    const diff = state.mode === 3 && b && b.width === a.width && b.height === a.height;
+    const step = Math.max(1, Math.floor(a.width * a.height / 65536));  // a sample is enough
+    for (let p = 0; p < a.width * a.height; p += step) {
+      let v = 0;
+      if (diff) {
+        for (let c = 0; c < n; ++c) v += Math.abs(a.data[p * n + c] - b.data[p * b.channels.length + Math.min(c, b.channels.length - 1)]);
+        v /= n;
+      } else if (state.isolate >= 1 && state.isolate <= 4) {
+        v = a.data[p * n + Math.min(state.isolate - 1, n - 1)] * state.gain;
+      } else {
+        v = (n === 1 ? a.data[p] : 0.2126 * a.data[p * n] + 0.7152 * a.data[p * n + 1] + 0.0722 * a.data[p * n + 2]) * state.gain;
+      }
+      if (Number.isFinite(v)) values.push(v);
+    }
+    values.sort((x, y) => x - y);
+    const top = values.length ? values[Math.floor(0.99 * (values.length - 1))] : 1;
+    $('false-max').value = +(top > 0 ? top : 1).toPrecision(3);
+    state.falseMax = +$('false-max').value;
+    scaleBar();
+    viewer.draw();
+  };
+  $('auto-max').addEventListener('click', autoMax);
+  $('mode').addEventListener('change', () => { if (state.mode === 3) autoMax(); });
+  $('false-color').addEventListener('change', () => { if (state.falseColor) autoMax(); });
   $('wipe').addEventListener('input', () => { state.wipe = +$('wipe').value; viewer.draw(); });
   const flip = () => {
     [page.shown.a, page.shown.b] = [page.shown.b || page.shown.a, page.shown.a];
