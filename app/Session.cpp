@@ -56,8 +56,16 @@ void Session::replaceSettings(std::vector<std::string> cvars, std::vector<std::s
     mDirty = true;
 }
 
+namespace {
+// The built-in passes' cvar table, made once: the registry does not change while running.
+const CvarTable& cvarTable() {
+    static const CvarTable table(builtinPasses());
+    return table;
+}
+}  // namespace
+
 nlohmann::json Session::cvarValue(const std::string& name) const {
-    const CvarTable table(builtinPasses());
+    const CvarTable& table = cvarTable();
     const std::string spelled = table.spelling(name);
     const CvarMapping* mapping = table.find(spelled);
     if (!mapping) {
@@ -78,7 +86,7 @@ nlohmann::json Session::cvarValue(const std::string& name) const {
     return nullptr;
 }
 
-std::vector<std::string> Session::cvarNames() const { return CvarTable(builtinPasses()).names(); }
+std::vector<std::string> Session::cvarNames() const { return cvarTable().names(); }
 
 const RunSetup& Session::setup(const std::vector<std::string>& outputs) {
     if (mDirty || !mPlanned || outputs != mPlannedOutputs) {

@@ -172,10 +172,11 @@ public:
                     merged[k] = v;
             if (auto it = sets.find(int(i)); it != sets.end()) {
                 // Each value on its own, so that an error names the setting that made it.
-                for (const auto& [k, v] : it->second.values.items())
-                    validateLayer(*n.type, nlohmann::json::object({{k, v}}), paramsPtr, it->second.where.at(k), "", mDiag);
-                for (const auto& [k, v] : it->second.values.items())
+                for (const auto& [k, v] : it->second.values.items()) {
+                    validateLayer(*n.type, nlohmann::json::object({{k, v}}), paramsPtr,
+                                  it->second.where.at(k), "", mDiag);
                     merged[k] = v;
+                }
             }
             // Every layer was validated above. With errors, the pass is still made from its
             // defaults so that its ports can be checked too: all problems come out in one round.

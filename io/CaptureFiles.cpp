@@ -12,13 +12,6 @@ namespace {
 
 constexpr std::string_view kCameraToken = "{camera}";
 
-// Truth layers carry colour as R G B and scalars as Y (docs/captures.md).
-std::vector<std::string> truthSuffixes(int channels) {
-    if (channels == 1) return {"Y"};
-    if (channels == 4) return {"R", "G", "B", "A"};
-    return {"R", "G", "B"};
-}
-
 std::string replaceAll(std::string s, std::string_view from, const std::string& to) {
     for (auto pos = s.find(from); pos != std::string::npos; pos = s.find(from, pos + to.size()))
         s.replace(pos, from.size(), to);
@@ -216,6 +209,12 @@ std::map<std::string, int> CaptureFiles::truthChannels() const {
                 out[buffer] = !m->groups.empty() ? int(m->groups.front().size())
                                                  : int(m->constant.size());
     return out;
+}
+
+std::vector<std::string> truthSuffixes(int channels) {
+    if (channels == 1) return {"Y"};
+    if (channels == 4) return {"R", "G", "B", "A"};
+    return {"R", "G", "B"};
 }
 
 std::set<std::string> CaptureFiles::availableBuffers() const {

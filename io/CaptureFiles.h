@@ -14,6 +14,10 @@
 
 namespace fp::io {
 
+/// The channel names of a Truth.* layer `channels` wide: colour as R G B (A), a scalar as Y
+/// (docs/captures.md).
+std::vector<std::string> truthSuffixes(int channels);
+
 class CaptureFiles {
 public:
     /// `path`: the capture file, or for a multi-file profile the base or any one of its files.

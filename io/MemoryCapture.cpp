@@ -14,24 +14,32 @@ void MemoryCapture::note(const std::string& text) {
     if (std::find(mNotes.begin(), mNotes.end(), text) == mNotes.end()) mNotes.push_back(text);
 }
 
-void MemoryCapture::add(const std::string& buffer, Image image, bool sanitized) {
+std::vector<std::string> MemoryCapture::channelNames(const std::string& buffer, int channels) {
     const SemanticBuffer* sem = findSemanticBuffer(buffer);
     if (!sem && !isTruthBuffer(buffer)) {
         std::vector<std::string> known;
         for (const auto& b : semanticBuffers()) known.push_back(b.name);
-        throw UsageError(fmt::format("{}: '{}' is not a capture buffer: give one of {} or a "
-                                     "Truth.* layer",
-                                     mName, buffer, fmt::join(known, ", ")));
+        throw UsageError(fmt::format("'{}' is not a capture buffer: give one of {} or a Truth.* "
+                                     "layer",
+                                     buffer, fmt::join(known, ", ")));
     }
-    const int channels = image.channelCount();
     if (sem && channels != int(sem->channels.size()))
-        throw UsageError(fmt::format("{}: buffer '{}' has {} channel{}; it has {} ({})", mName,
-                                     buffer, channels, channels == 1 ? "" : "s",
-                                     sem->channels.size(), fmt::join(sem->channels, " ")));
+        throw UsageError(fmt::format("buffer '{}' has {} channel{}; it has {} ({})", buffer,
+                                     channels, channels == 1 ? "" : "s", sem->channels.size(),
+                                     fmt::join(sem->channels, " ")));
     if (!sem && channels != 1 && channels != 3 && channels != 4)
-        throw UsageError(fmt::format("{}: truth layer '{}' has {} channels; a truth layer has 1, "
-                                     "3 or 4",
-                                     mName, buffer, channels));
+        throw UsageError(fmt::format("truth layer '{}' has {} channels; a truth layer has 1, 3 "
+                                     "or 4",
+                                     buffer, channels));
+    return sem ? sem->channels : truthSuffixes(channels);
+}
+
+void MemoryCapture::add(const std::string& buffer, Image image, bool sanitized) {
+    try {
+        channelNames(buffer, image.channelCount());
+    } catch (const UsageError& e) {
+        throw UsageError(fmt::format("{}: {}", mName, e.what()));
+    }
     if (image.width() <= 0 || image.height() <= 0)
         throw UsageError(fmt::format("{}: buffer '{}' is empty ({}×{})", mName, buffer,
                                      image.width(), image.height()));

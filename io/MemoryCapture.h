@@ -26,6 +26,10 @@ public:
     /// otherwise. The pixels go through the input policy (sanitizeBuffer) unless `sanitized`
     /// says they already have (buffers read through a CaptureSource).
     void add(const std::string& buffer, Image image, bool sanitized = false);
+    /// The channel names buffer `buffer` has when it is `channels` wide: a semantic buffer's own
+    /// (and only at its width), or a Truth.* layer's of 1, 3 or 4. Throws fp::UsageError naming
+    /// the buffer for any other name or width.
+    static std::vector<std::string> channelNames(const std::string& buffer, int channels);
     /// The frame's camera; the passes that reproject or trace rays need one.
     void setCamera(const FrameCamera& camera) { mCamera = camera; }
     /// What was assumed or changed on the way in, each said once.

@@ -15,7 +15,6 @@
 #include "app/Session.h"
 #include "foundation/Error.h"
 #include "foundation/Limits.h"
-#include "framework/SemanticBuffers.h"
 #include "io/CameraIO.h"
 #include "io/ExrLayers.h"
 #include "io/ExrReader.h"
@@ -31,6 +30,7 @@
 #include <tbb/task_arena.h>
 
 #include <cstring>
+#include <functional>
 
 namespace py = pybind11;
 using namespace fp;
@@ -131,6 +131,26 @@ py::array_t<float, py::array::c_style | py::array::forcecast> asFloat32(const st
     return a;
 }
 
+// An array of shape (H, W) or (H, W, C), checked against the input limits, copied into the
+// library's planes with the channel names `names(C)` gives.
+Image planarCopy(const std::string& what, const py::array& raw,
+                 const std::function<std::vector<std::string>(int)>& names) {
+    checkSize(what, raw);
+    const auto a = asFloat32(what, raw);
+    const int h = int(a.shape(0)), w = int(a.shape(1)), c = a.ndim() == 3 ? int(a.shape(2)) : 1;
+    if (h <= 0 || w <= 0 || c <= 0)
+        throw py::value_error(fmt::format("{}: {}×{} with {} channels is empty", what, w, h, c));
+    Image image(w, h, names(c));
+    const float* in = a.data();
+    for (int y = 0; y < h; ++y)
+        for (int k = 0; k < c; ++k) {
+            float* row = image.plane(k).row(y);
+            const float* p = in + std::size_t(y) * std::size_t(w) * c + k;
+            for (int x = 0; x < w; ++x) row[x] = p[std::size_t(x) * c];
+        }
+    return image;
+}
+
 // A numpy array as a capture buffer: (H, W) is one channel, (H, W, C) C channels; floating
 // dtypes (and integers for the id buffers) are read as float32. ValueError names the buffer.
 Image toImage(const std::string& buffer, const py::handle& value) {
@@ -152,43 +172,13 @@ Image toImage(const std::string& buffer, const py::handle& value) {
                                           "(height, width, channels)",
                                           buffer, py::str(py::tuple(raw.attr("shape")))
                                                       .cast<std::string>()));
-    checkSize(fmt::format("buffer '{}'", buffer), raw);
-    const auto a = asFloat32(fmt::format("buffer '{}'", buffer), raw);
-    const int h = int(a.shape(0)), w = int(a.shape(1)), c = a.ndim() == 3 ? int(a.shape(2)) : 1;
-    if (h <= 0 || w <= 0 || c <= 0)
-        throw py::value_error(fmt::format("buffer '{}': {}×{} with {} channels is empty", buffer,
-                                          w, h, c));
-    std::vector<std::string> names;
-    if (const SemanticBuffer* sem = findSemanticBuffer(buffer)) {
-        if (c != int(sem->channels.size()))
-            throw py::value_error(fmt::format("buffer '{}': {} channel{}, but it has {} ({})",
-                                              buffer, c, c == 1 ? "" : "s", sem->channels.size(),
-                                              fmt::join(sem->channels, " ")));
-        names = sem->channels;
-    } else if (isTruthBuffer(buffer)) {
-        if (c != 1 && c != 3 && c != 4)
-            throw py::value_error(fmt::format("buffer '{}': {} channels; a truth layer has 1, 3 "
-                                              "or 4",
-                                              buffer, c));
-        names = c == 1 ? std::vector<std::string>{"Y"}
-                : c == 3 ? std::vector<std::string>{"R", "G", "B"}
-                         : std::vector<std::string>{"R", "G", "B", "A"};
-    } else {
-        std::vector<std::string> known;
-        for (const auto& b : semanticBuffers()) known.push_back(b.name);
-        throw py::value_error(fmt::format("buffer '{}' is not a capture buffer: give one of {} "
-                                          "or a Truth.* layer",
-                                          buffer, fmt::join(known, ", ")));
+    try {
+        return planarCopy(fmt::format("buffer '{}'", buffer), raw, [&](int channels) {
+            return io::MemoryCapture::channelNames(buffer, channels);
+        });
+    } catch (const UsageError& e) {
+        throw py::value_error(e.what());
     }
-    Image image(w, h, names);
-    const float* in = a.data();
-    for (int y = 0; y < h; ++y)
-        for (int k = 0; k < c; ++k) {
-            float* row = image.plane(k).row(y);
-            const float* p = in + std::size_t(y) * std::size_t(w) * c + k;
-            for (int x = 0; x < w; ++x) row[x] = p[std::size_t(x) * c];
-        }
-    return image;
 }
 
 // A plain image (compare's arrays): (H, W) or (H, W, C), any real dtype.
@@ -200,19 +190,11 @@ Image plainImage(const char* what, const py::handle& value) {
         throw py::value_error(fmt::format("{}: expected a real array of shape (height, width) or "
                                           "(height, width, channels)",
                                           what));
-    checkSize(what, raw);
-    const auto a = asFloat32(what, raw);
-    const int h = int(a.shape(0)), w = int(a.shape(1)), c = a.ndim() == 3 ? int(a.shape(2)) : 1;
-    if (h <= 0 || w <= 0 || c <= 0)
-        throw py::value_error(fmt::format("{}: {}×{} with {} channels is empty", what, w, h, c));
-    std::vector<std::string> names;
-    for (int k = 0; k < c; ++k) names.push_back(fmt::format("C{}", k));
-    Image image(w, h, names);
-    for (int y = 0; y < h; ++y)
-        for (int k = 0; k < c; ++k)
-            for (int x = 0; x < w; ++x)
-                image.plane(k).at(x, y) = a.data()[(std::size_t(y) * w + x) * c + k];
-    return image;
+    return planarCopy(what, raw, [](int channels) {
+        std::vector<std::string> names;
+        for (int k = 0; k < channels; ++k) names.push_back(fmt::format("C{}", k));
+        return names;
+    });
 }
 
 // A value as --cvar and --set read it: Python's bool, int and float spelled as JSON.

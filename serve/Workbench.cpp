@@ -19,6 +19,9 @@ namespace fp::serve {
 namespace fs = std::filesystem;
 
 namespace {
+// Every pass output, so that any port of the graph can be shown (capture buffers are read from
+// the capture itself).
+const std::vector<std::string> kOutputs = {"all"};
 // How many events and outcomes are kept for late readers.
 constexpr std::size_t kKeptEvents = 512;
 constexpr std::size_t kKeptOutcomes = 64;
@@ -50,7 +53,7 @@ std::string absolute(const std::string& path) {
 Workbench::Workbench(app::SetupOptions options)
     : mOptions(std::move(options)), mSession(mOptions) {
     mFrame = mSession.frames().front();
-    mSession.setup(outputsToRun());  // a config that does not plan fails here, not on a request
+    planned();  // a config that does not plan fails here, not on a request
     mRequested = 1;
     mWorker = std::thread([this] { workerLoop(); });
 }
@@ -74,11 +77,7 @@ bool Workbench::stopped() const {
     return mStop;
 }
 
-std::vector<std::string> Workbench::outputsToRun() {
-    // Every pass output, so that any port of the graph can be shown (capture buffers are read
-    // from the capture itself).
-    return {"all"};
-}
+const app::RunSetup& Workbench::planned() { return mSession.setup(kOutputs); }
 
 void Workbench::event(nlohmann::json e) {
     {
@@ -117,7 +116,7 @@ void Workbench::runOnce(uint64_t generation) {
         };
         const auto start = std::chrono::steady_clock::now();
         try {
-            app::FrameResult r = mSession.run(frame, outputsToRun());
+            app::FrameResult r = mSession.run(frame, kOutputs);
             outcome.ms = std::chrono::duration<double, std::milli>(
                              std::chrono::steady_clock::now() - start)
                              .count();
@@ -175,10 +174,10 @@ uint64_t Workbench::apply(const SettingsChange& change) {
         }
         mSession.replaceSettings(merged(cvars, change.cvars), merged(sets, change.sets));
         try {
-            mSession.setup(outputsToRun());
+            planned();
         } catch (const UsageError& e) {
             mSession.replaceSettings(cvars, sets);
-            mSession.setup(outputsToRun());
+            planned();
             throw RequestError(400, e.what(),
                                e.problems().empty() ? "" : e.problems().front().pointer);
         }
@@ -211,7 +210,7 @@ nlohmann::json Workbench::waitFor(uint64_t generation) {
 
 std::set<std::string> Workbench::knownBuffers() {
     std::set<std::string> names;
-    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    const app::RunSetup& setup = planned();
     for (const auto& step : setup.plan().steps)
         for (const auto& port : step.io.outputs) names.insert(step.name + "." + port.name);
     for (const auto& b : setup.availableBuffers()) names.insert(b);
@@ -289,7 +288,7 @@ BufferImage Workbench::buffer(const std::string& name, std::optional<int> frame)
     b.frame = mLastFrame;
     b.generation = mLastGeneration;
     b.image = it->second;  // shares the pixels
-    for (const auto& step : mSession.setup(outputsToRun()).plan().steps)
+    for (const auto& step : planned().plan().steps)
         for (const auto& port : step.io.outputs)
             if (step.name + "." + port.name == name) b.color = port.kind == PortKind::Color;
     return b;
@@ -297,7 +296,7 @@ BufferImage Workbench::buffer(const std::string& name, std::optional<int> frame)
 
 nlohmann::json Workbench::graph() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    const app::RunSetup& setup = planned();
     nlohmann::json j = setup.plan().toJson(setup.extent());
     nlohmann::json times = nlohmann::json::object();
     if (mLast)
@@ -311,7 +310,7 @@ nlohmann::json Workbench::graph() {
 
 nlohmann::json Workbench::params() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    const app::RunSetup& setup = planned();
     std::set<std::string> typesInChain;
     nlohmann::json passes = nlohmann::json::array();
     for (const auto& step : setup.plan().steps) {
@@ -371,7 +370,7 @@ nlohmann::json Workbench::report() {
 
 nlohmann::json Workbench::exportSettings() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    const app::RunSetup& setup = planned();
     const io::RunConfig& rc = setup.config();
     nlohmann::json config = mOptions.config == "-" ? nlohmann::json::object()
                                                    : io::readJsonFile(mOptions.config, "config");
@@ -414,7 +413,7 @@ nlohmann::json Workbench::breakdown(int rays) {
     std::lock_guard<std::mutex> session(mSessionMutex);
     if (!mLast) throw RequestError(409, "no run has finished yet");
     const auto start = std::chrono::steady_clock::now();
-    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    const app::RunSetup& setup = planned();
     const Plan& plan = setup.plan();
     auto targets = app::decompositionTargets(plan, setup.availableBuffers());
     nlohmann::json out = {{"rays", rays}, {"errors", nlohmann::json::array()}};
@@ -440,7 +439,7 @@ nlohmann::json Workbench::breakdown(int rays) {
 
 nlohmann::json Workbench::bufferNames() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const app::RunSetup& setup = mSession.setup(outputsToRun());
+    const app::RunSetup& setup = planned();
     nlohmann::json passes = nlohmann::json::array(), capture = nlohmann::json::array(),
                    truth = nlohmann::json::array();
     for (const auto& step : setup.plan().steps)
@@ -452,7 +451,7 @@ nlohmann::json Workbench::bufferNames() {
 
 nlohmann::json Workbench::displays() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const auto config = mSession.setup(outputsToRun()).inputs().colorConfig();
+    const auto config = planned().inputs().colorConfig();
     nlohmann::json list = nlohmann::json::array();
     for (int d = 0; d < config->getNumDisplays(); ++d) {
         const char* display = config->getDisplay(d);
@@ -467,12 +466,12 @@ nlohmann::json Workbench::displays() {
 
 OCIO_NAMESPACE::ConstConfigRcPtr Workbench::displayConfig() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    return mSession.setup(outputsToRun()).inputs().colorConfig();
+    return planned().inputs().colorConfig();
 }
 
 std::optional<Image> Workbench::displayTable(const std::string& view) {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const auto config = mSession.setup(outputsToRun()).inputs().colorConfig();
+    const auto config = planned().inputs().colorConfig();
     const std::string display = config->getDefaultDisplay();
     if (!view.empty()) {
         bool found = false;

@@ -95,7 +95,9 @@ private:
     void workerLoop();
     void runOnce(uint64_t generation);
     void event(nlohmann::json e);
-    static std::vector<std::string> outputsToRun();
+    /// The session's chain as planned now, every pass output asked for (call with the session
+    /// locked).
+    const app::RunSetup& planned();
     std::set<std::string> knownBuffers();
     static std::vector<std::string> merged(const std::vector<std::string>& list,
                                            const std::vector<std::pair<std::string, std::string>>& changes);
