@@ -57,7 +57,8 @@ nlohmann::json describePassType(const PassType& t) {
             {"params", params},
             {"cvars", cvars},
             {"needsScene", io.needsScene},
-            {"needsCamera", io.needsCamera}};
+            {"needsCamera", io.needsCamera},
+            {"cuda", pass->hasCudaKernel()}};
 }
 
 // docs/passes.md: every pass type's ports, parameters and cvars, made from the same specs that

@@ -151,6 +151,8 @@ void RunSetup::plan(const SetupOptions& o) {
     inputs.overrides.dumps = o.dumps;
     inputs.allowUnknownCvars = o.allowUnknownCvars;
     inputs.overrides.device = o.device;
+    inputs.overrides.runEveryPass = o.runEveryPass;
+    inputs.overrides.dumpsOnly = o.dumpsOnly;
 
     const io::FramePattern pattern(mConfig.capture);
     // A capture in memory is one frame, numbered as it was made.

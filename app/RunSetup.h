@@ -30,6 +30,8 @@ struct SetupOptions {
     std::string previous;  //!< the previous frame's capture; overrides the config's "previous"
     bool allowUnknownCvars = false;  //!< an unknown cvar is a warning, not an error
     std::string device;              //!< cpu or cuda; "" = the config's "device"
+    bool runEveryPass = false;       //!< cull no pass (PlanOverrides::runEveryPass)
+    bool dumpsOnly = false;          //!< write only the dumps (PlanOverrides::dumpsOnly)
     /// A capture in memory instead of the config's file: one frame, its own number.
     std::shared_ptr<const io::MemoryCapture> memoryCapture;
 };

@@ -2,7 +2,6 @@
 
 #include "io/CaptureSource.h"
 #include "reference/ReflectionCaptureRenderer.h"
-#include "foundation/RayScene.h"
 
 #include <algorithm>
 #include "foundation/Error.h"
@@ -37,9 +36,7 @@ const Environment& SessionInputs::environment() {
                                       [](const ReflectionCapture& c) { return c.faces.width() == 0; });
     if (toRender) {
         sf.loadGeometry();
-        const RayScene rays(sf.scene, env.captures.front().position);
-        for (ReflectionCapture& c : env.captures)
-            if (c.faces.width() == 0) c.faces = renderReflectionCapture(rays, c.position);
+        renderMissingReflectionCaptures(sf.scene);
     }
     return env;
 }

@@ -4,6 +4,7 @@
 // disk, and GGX visible-normal sampling with its pdf.
 #include "foundation/HostDevice.h"
 #include "foundation/Math.h"
+#include "foundation/SinCos.h"
 
 #include <algorithm>
 #include <cmath>
@@ -67,8 +68,9 @@ inline float smithG1(float a2, float NoX) {
 }
 
 /// A GGX half vector distributed as the normals visible from V (Heitz 2018), for unit n and
-/// unit V above it, roughness α. The pdf of the reflected direction is D·G1(V)/(4·NoV).
-inline Vec3f sampleGgxVisibleNormal(const Vec3f& n, const Vec3f& V, float alpha, float u, float v) {
+/// unit V above it, roughness α. The pdf of the reflected direction is D·G1(V)/(4·NoV). The angle
+/// goes through sinCos, so SSR's rays are the same bits on the CPU and the GPU.
+FP_HD inline Vec3f sampleGgxVisibleNormal(const Vec3f& n, const Vec3f& V, float alpha, float u, float v) {
     Vec3f t, b;
     orthonormalBasis(n, t, b);
     // V in the tangent frame, stretched to the hemisphere configuration.
@@ -78,16 +80,18 @@ inline Vec3f sampleGgxVisibleNormal(const Vec3f& n, const Vec3f& V, float alpha,
     const Vec3f t1 = lensq > 0.0f ? Vec3f{-vh.y, vh.x, 0.0f} / std::sqrt(lensq) : Vec3f{1, 0, 0};
     const Vec3f t2 = cross(vh, t1);
     const float r = std::sqrt(u), phi = 2.0f * kPiF * v;
-    const float p1 = r * std::cos(phi);
+    float sinPhi, cosPhi;
+    sinCos(phi, sinPhi, cosPhi);
+    const float p1 = r * cosPhi;
     const float s = 0.5f * (1.0f + vh.z);
-    const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * std::sin(phi);
+    const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * sinPhi;
     const Vec3f nh = t1 * p1 + t2 * p2 + vh * std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2));
     // Unstretch back to the ellipsoid configuration, then to world space.
     const Vec3f hl = normalize(Vec3f{alpha * nh.x, alpha * nh.y, std::max(0.0f, nh.z)});
     return normalize(t * hl.x + b * hl.y + n * hl.z);
 }
 
-inline Vec3f reflect(const Vec3f& v, const Vec3f& n) { return n * (2.0f * dot(v, n)) - v; }
+FP_HD inline Vec3f reflect(const Vec3f& v, const Vec3f& n) { return n * (2.0f * dot(v, n)) - v; }
 
 inline float luminance(const Vec3f& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 

@@ -23,10 +23,27 @@ namespace {
 // side (or the sink) reads it, so a chain of GPU passes keeps its images resident.
 class ImageStore {
 public:
-    explicit ImageStore(FrameSource& source) : mSource(source) {}
+    using KeptCaptures =
+        std::map<std::string, std::pair<std::shared_ptr<Texture>, std::shared_ptr<DeviceTexture>>>;
+
+    /// `kept`: a StepCache's capture buffers of this frame, used instead of loading (and
+    /// uploading) them again, and given every buffer this run loads or uploads.
+    ImageStore(FrameSource& source, KeptCaptures* kept) : mSource(source), mKept(kept) {}
+    ~ImageStore() {
+        for (const auto& [key, slot] : mSlots)
+            keep(key, slot);
+    }
 
     void load(const std::string& buffer, int channels) {
-        put("capture:" + buffer, mSource.loadBuffer(buffer, channels));
+        const std::string key = "capture:" + buffer;
+        if (mKept)
+            if (auto it = mKept->find(keptName(key, channels)); it != mKept->end()) {
+                adopt(key, it->second.first, it->second.second);
+                mChannels[key] = channels;
+                return;
+            }
+        put(key, mSource.loadBuffer(buffer, channels));
+        mChannels[key] = channels;
     }
     Texture& put(const std::string& key, Texture t) {
         Slot& slot = mSlots[key] = Slot{};
@@ -78,7 +95,12 @@ public:
         }
         return slot.device.get();
     }
-    void release(const std::string& key) { mSlots.erase(key); }
+    void release(const std::string& key) {
+        if (auto it = mSlots.find(key); it != mSlots.end()) {
+            keep(key, it->second);
+            mSlots.erase(it);
+        }
+    }
     std::size_t peak() const { return mPeak; }
     std::size_t peakDevice() const { return mPeakDevice; }
 
@@ -98,8 +120,20 @@ private:
         mPeak = std::max(mPeak, host);
         mPeakDevice = std::max(mPeakDevice, device);
     }
+    static std::string keptName(const std::string& key, int channels) {
+        return fmt::format("{}/{}", key, channels);
+    }
+    // A capture buffer handed to the StepCache as it leaves the store (its device copy included
+    // when a GPU step made one).
+    void keep(const std::string& key, const Slot& slot) {
+        auto channels = mChannels.find(key);
+        if (mKept && channels != mChannels.end())
+            (*mKept)[keptName(key, channels->second)] = {slot.host, slot.device};
+    }
     FrameSource& mSource;
+    KeptCaptures* mKept;
     std::map<std::string, Slot> mSlots;
+    std::map<std::string, int> mChannels;  //!< the capture buffers loaded, with their channels
     std::size_t mPeak = 0, mPeakDevice = 0;
 };
 
@@ -237,14 +271,15 @@ private:
     std::mutex mMutex;
 };
 
-// A step's StepCache key: what it is, how it is set, which outputs are asked of it, the frame,
-// and the keys of what it reads (StepCache says why each is there).
+// A step's StepCache key: what it is, how it is set, the frame, and the keys of what it reads
+// (StepCache says why each is there). Which of its outputs are asked for is not in it: an
+// output's bits do not depend on which others were asked for, so a step that made more than is
+// asked now is reused, and asking for another output re-runs that step alone.
 std::string stepKey(const PlanStep& step, const std::vector<std::string>& stepKeys,
                     const FrameInfo& frame, const std::string& sourceId,
                     const std::string& historyKey) {
-    std::string key = fmt::format("{}|{}|{}|{}|{}#{}", step.type, int(step.device),
-                                  step.params.dump(), fmt::join(step.requestedOutputs, ","),
-                                  sourceId, frame.number);
+    std::string key = fmt::format("{}|{}|{}|{}#{}", step.type, int(step.device),
+                                  step.params.dump(), sourceId, frame.number);
     for (const auto& [port, ref] : step.inputs)
         key += "|" + port + "=" +
                (ref.fromCapture ? ref.key : ref.port + "@" + stepKeys[std::size_t(ref.step)]);
@@ -297,7 +332,16 @@ FrameReport executePlan(const Plan& plan,
     const FrameInfo frame = source.frameInfo();
     FrameReport report;
     report.frame = frame.number;
-    ImageStore store(source);
+    ImageStore::KeptCaptures* keptCaptures = nullptr;
+    if (cache) {
+        const std::string capturesOf = fmt::format("{}#{}", cache->sourceId, frame.number);
+        if (cache->mCapturesOf != capturesOf) {
+            cache->mCaptures.clear();
+            cache->mCapturesOf = capturesOf;
+        }
+        keptCaptures = &cache->mCaptures;
+    }
+    ImageStore store(source, keptCaptures);
     if (history && frame.firstInSequence)
         history->clear();
 
@@ -359,7 +403,12 @@ FrameReport executePlan(const Plan& plan,
             stepKeys[std::size_t(s)] = stepKey(step, stepKeys, frame, cache->sourceId,
                                                history ? history->signature(step.name) : "");
             auto hit = cache->mEntries.find(step.name);
-            if (hit != cache->mEntries.end() && hit->second.key == stepKeys[std::size_t(s)]) {
+            auto made = [&](const std::string& port) {
+                const std::string key = step.name + "." + port;
+                return hit->second.host.count(key) > 0 || hit->second.device.count(key) > 0;
+            };
+            if (hit != cache->mEntries.end() && hit->second.key == stepKeys[std::size_t(s)] &&
+                std::all_of(step.requestedOutputs.begin(), step.requestedOutputs.end(), made)) {
                 // Unchanged since the cache's run: its outputs (and the history it kept then)
                 // stand, nothing is executed.
                 const StepCache::Entry& e = hit->second;

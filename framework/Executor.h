@@ -114,16 +114,20 @@ private:
 };
 
 /// The outputs of a plan's steps kept from one run to the next: the incremental re-run of a
-/// look-dev session. A step whose key matches its last run's is not executed; the outputs it
-/// made then are used again. The key is the pass type, device, parameters, requested outputs,
-/// the frame and, recursively, the keys of everything it reads (capture buffers by `sourceId`
-/// and frame, upstream steps by their keys, a temporal pass's history by what made it), so a
-/// change re-runs exactly the steps downstream of it.
+/// look-dev session. A step whose key matches its last run's, and which made then every output
+/// asked of it now, is not executed; the outputs it made then are used again. The key is the
+/// pass type, device, parameters, the frame and, recursively, the keys of everything it reads
+/// (capture buffers by `sourceId` and frame, upstream steps by their keys, a temporal pass's
+/// history by what made it), so a change re-runs exactly the steps downstream of it, and asking
+/// for one more output re-runs only the step that makes it.
 class StepCache {
 public:
     /// Names the capture the frames come from; a different capture is a different key.
     std::string sourceId;
-    void clear() { mEntries.clear(); }
+    void clear() {
+        mEntries.clear();
+        mCaptures.clear();
+    }
     std::size_t size() const { return mEntries.size(); }
 
 private:
@@ -137,6 +141,12 @@ private:
         std::shared_ptr<PassHistory> kept;
     };
     std::map<std::string, Entry> mEntries;  //!< by step name
+    /// The capture buffers the last run read ("capture:Buffer/channels"), on the host and, once
+    /// a GPU step read them, on the GPU: a re-run of the same frame neither reads nor uploads
+    /// them again. Only the last frame's are kept (`mCapturesOf`: source and frame).
+    std::string mCapturesOf;
+    std::map<std::string, std::pair<std::shared_ptr<Texture>, std::shared_ptr<DeviceTexture>>>
+        mCaptures;
 };
 
 /// A camera cut: this frame's previous camera is not the camera the history was made with.

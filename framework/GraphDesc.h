@@ -59,6 +59,13 @@ struct PlanOverrides {
     std::vector<std::pair<std::string, nlohmann::json>> sets;  //!< --set PASS.PARAM=VALUE
     std::vector<std::string> dumps;                            //!< --dump PASS.PORT, or "all"
     std::string device;  //!< --device cpu|cuda ("" = the config's)
+    /// No pass is culled: each runs whether or not a requested output depends on it (the
+    /// workbench shows every pass, its time and its outputs).
+    bool runEveryPass = false;
+    /// Only the dumps go to the sink. The config's outputs still decide what runs and is made,
+    /// but are not handed over (the workbench serves the buffers it shows, not the config's
+    /// files, and on the GPU each output handed over is a copy to the host).
+    bool dumpsOnly = false;
 };
 
 }  // namespace fp

@@ -265,6 +265,10 @@ public:
 
     /// Reverse reachability from the roots (Falcor resolveExecutionOrder): the rest is culled.
     void cull() {
+        if (mIn.overrides.runEveryPass)
+            for (std::size_t i = 0; i < mNodes.size(); ++i)
+                if (mNodes[i].pass)
+                    mRoots.insert(int(i));
         std::vector<int> stack(mRoots.begin(), mRoots.end());
         while (!stack.empty()) {
             const int i = stack.back();
@@ -405,7 +409,9 @@ public:
             }
             if (onlyCapture)
                 ready = lastStep;
-            mPlan.writesAfter[ready].push_back(o);
+            // dumpsOnly: a config output is made as the config asks, but not handed over.
+            if (!mIn.overrides.dumpsOnly || mPlan.outputs[o].isDump)
+                mPlan.writesAfter[ready].push_back(o);
             for (const auto& src : mPlan.outputs[o].sources) {
                 const SourceRef& ref = mOutputSources.at(src);
                 mPlan.outputKinds[src] = ref.kind;

@@ -4,6 +4,7 @@
 #include "shading/Cubemap.h"
 #include "shading/DirectLighting.h"
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <limits>
@@ -25,6 +26,17 @@ Image renderReflectionCapture(const RayScene& scene, const Vec3d& position, int 
         // deferred lighting adds (its specular highlight included), as the truth counts it once.
         return scene.scene().emissionTowardsSurfaces(hit.mesh) + lighting.shade(s, rng, rays);
     });
+}
+
+bool renderMissingReflectionCaptures(Scene& scene) {
+    std::vector<ReflectionCapture>& captures = scene.environment.captures;
+    if (std::none_of(captures.begin(), captures.end(),
+                     [](const ReflectionCapture& c) { return c.faces.width() == 0; }))
+        return false;
+    const RayScene rays(scene, captures.front().position);
+    for (ReflectionCapture& c : captures)
+        if (c.faces.width() == 0) c.faces = renderReflectionCapture(rays, c.position);
+    return true;
 }
 
 }  // namespace fp

@@ -7,6 +7,7 @@
 #include "foundation/Image.h"
 #include "foundation/Math.h"
 #include "foundation/RayScene.h"
+#include "foundation/Scene.h"
 
 namespace fp {
 
@@ -17,5 +18,9 @@ constexpr int kReflectionCaptureSize = 128;
 /// `scene` may have any origin; `lightSamples` shadow samples per light with extent and texel.
 Image renderReflectionCapture(const RayScene& scene, const Vec3d& position, int size = kReflectionCaptureSize,
                               int lightSamples = 4);
+
+/// Every reflection capture of `scene` that has no cubemap (the scene file named none) rendered
+/// from the scene's geometry, once. Returns whether any was.
+bool renderMissingReflectionCaptures(Scene& scene);
 
 }  // namespace fp

@@ -64,9 +64,9 @@ SettingsChange parseSettingsChange(std::string_view body) {
         throw RequestError(400, "the body is a JSON object: {\"cvars\": {…}, \"set\": {…}, "
                                 "\"frame\": N}");
     for (const auto& [key, value] : j.items())
-        if (key != "cvars" && key != "set" && key != "frame")
+        if (key != "cvars" && key != "set" && key != "frame" && key != "show")
             throw RequestError(400, fmt::format("unknown key '{}': the body has \"cvars\", "
-                                                "\"set\" and \"frame\"",
+                                                "\"set\", \"frame\" and \"show\"",
                                                 key),
                                "/" + key);
     SettingsChange change;
@@ -79,6 +79,25 @@ SettingsChange parseSettingsChange(std::string_view body) {
             throw RequestError(400, fmt::format("/frame: {} is not a frame number", f.dump()),
                                "/frame");
         change.frame = int(f.get<int64_t>());
+    }
+    if (j.contains("show")) {
+        const nlohmann::json& show = j["show"];
+        if (!show.is_array() || show.size() > kMaxShown)
+            throw RequestError(400, fmt::format("/show: a list of at most {} buffer names", kMaxShown),
+                               "/show");
+        change.show.emplace();
+        for (std::size_t i = 0; i < show.size(); ++i) {
+            const std::string where = fmt::format("/show/{}", i);
+            if (!show[i].is_string())
+                throw RequestError(400, fmt::format("{}: {} is not a buffer name", where,
+                                                    show[i].dump().substr(0, 64)),
+                                   where);
+            try {
+                change.show->push_back(parseBufferQuery(show[i].get<std::string>(), {}).name);
+            } catch (const RequestError& e) {
+                throw RequestError(400, fmt::format("{}: {}", where, e.what()), where);
+            }
+        }
     }
     return change;
 }

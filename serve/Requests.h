@@ -33,13 +33,19 @@ private:
 struct SettingsChange {
     std::vector<std::pair<std::string, std::string>> cvars, sets;
     std::optional<int> frame;
+    /// The buffers the page shows (replacing the last list): the pass outputs among them are
+    /// handed back by every run; the others stay where they are made (on the GPU, unread).
+    std::optional<std::vector<std::string>> show;
 };
 
 /// The most a request body may hold: a settings change is a few hundred bytes.
 inline constexpr std::size_t kMaxRequestBody = 64 * 1024;
+/// The most buffers a page may show at once (A, B, and what the probe reads).
+inline constexpr std::size_t kMaxShown = 16;
 
-/// PUT /api/params: {"cvars": {NAME: value}, "set": {"PASS.PARAM": value}, "frame": N}, values
-/// bool, number or string. Throws RequestError 400 (malformed JSON, unknown key, a value that is
+/// PUT /api/params: {"cvars": {NAME: value}, "set": {"PASS.PARAM": value}, "frame": N,
+/// "show": [BUFFER, …]}, values bool, number or string; buffer names as parseBufferQuery takes
+/// them, at most kMaxShown. Throws RequestError 400 (malformed JSON, unknown key, a value that is
 /// an object, array or null) or 413 (over kMaxRequestBody).
 SettingsChange parseSettingsChange(std::string_view body);
 

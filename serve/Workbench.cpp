@@ -19,9 +19,6 @@ namespace fp::serve {
 namespace fs = std::filesystem;
 
 namespace {
-// Every pass output, so that any port of the graph can be shown (capture buffers are read from
-// the capture itself).
-const std::vector<std::string> kOutputs = {"all"};
 // How many events and outcomes are kept for late readers.
 constexpr std::size_t kKeptEvents = 512;
 constexpr std::size_t kKeptOutcomes = 64;
@@ -48,10 +45,23 @@ const ParamInfo* findParam(const std::string& passType, const std::string& param
 std::string absolute(const std::string& path) {
     return path.empty() ? path : fs::absolute(path).lexically_normal().string();
 }
+
+// The workbench's plan: every pass runs (the graph shows each with its time and outputs), and
+// only the shown outputs are handed back, not the config's files: on the GPU every output handed
+// back is a copy to the host.
+app::SetupOptions workbenchOptions(app::SetupOptions options) {
+    options.runEveryPass = true;
+    options.dumpsOnly = true;
+    return options;
+}
+
+bool isPassOutput(const std::string& name) {
+    return name.find('.') != std::string::npos && !isTruthBuffer(name);
+}
 }  // namespace
 
 Workbench::Workbench(app::SetupOptions options)
-    : mOptions(std::move(options)), mSession(mOptions) {
+    : mOptions(workbenchOptions(std::move(options))), mSession(mOptions) {
     mFrame = mSession.frames().front();
     planned();  // a config that does not plan fails here, not on a request
     mRequested = 1;
@@ -77,7 +87,11 @@ bool Workbench::stopped() const {
     return mStop;
 }
 
-const app::RunSetup& Workbench::planned() { return mSession.setup(kOutputs); }
+const app::RunSetup& Workbench::planned() { return mSession.setup(shownOutputs()); }
+
+std::vector<std::string> Workbench::shownOutputs() const {
+    return std::vector<std::string>(mShown.begin(), mShown.end());
+}
 
 void Workbench::event(nlohmann::json e) {
     {
@@ -116,7 +130,7 @@ void Workbench::runOnce(uint64_t generation) {
         };
         const auto start = std::chrono::steady_clock::now();
         try {
-            app::FrameResult r = mSession.run(frame, kOutputs);
+            app::FrameResult r = mSession.run(frame, shownOutputs());
             outcome.ms = std::chrono::duration<double, std::milli>(
                              std::chrono::steady_clock::now() - start)
                              .count();
@@ -172,10 +186,25 @@ uint64_t Workbench::apply(const SettingsChange& change) {
                                                     *change.frame, frames.front(), frames.back()),
                                    "/frame");
         }
+        const std::set<std::string> shownBefore = mShown;
+        if (change.show) {
+            const std::set<std::string> known = knownBuffers();
+            for (std::size_t i = 0; i < change.show->size(); ++i)
+                if (!known.count((*change.show)[i]))
+                    throw RequestError(404,
+                                       fmt::format("/show/{}: no buffer '{}' (GET /api/buffers "
+                                                   "lists them)",
+                                                   i, (*change.show)[i]),
+                                       fmt::format("/show/{}", i));
+            mShown.clear();
+            for (const auto& name : *change.show)
+                if (isPassOutput(name)) mShown.insert(name);  // capture buffers need no run
+        }
         mSession.replaceSettings(merged(cvars, change.cvars), merged(sets, change.sets));
         try {
             planned();
         } catch (const UsageError& e) {
+            mShown = shownBefore;
             mSession.replaceSettings(cvars, sets);
             planned();
             throw RequestError(400, e.what(),
@@ -229,11 +258,28 @@ BufferImage Workbench::buffer(const std::string& name, std::optional<int> frame)
                                                 didYouMean(name, std::vector<std::string>(
                                                                      known.begin(), known.end()))));
     }
-    const bool captureBuffer = name.find('.') == std::string::npos || isTruthBuffer(name);
+    const bool captureBuffer = !isPassOutput(name);
     uint64_t generation;
     {
         std::lock_guard<std::mutex> lock(mStateMutex);
         generation = mRequested;
+    }
+    bool notShown = false;
+    if (!captureBuffer) {
+        std::lock_guard<std::mutex> session(mSessionMutex);
+        notShown = mShown.count(name) == 0;
+    }
+    if (notShown) {
+        // A pass output not shown until now: shown from here on. Its run re-runs only the step
+        // that makes it, if that step did not already make it (the step cache).
+        SettingsChange change;
+        change.frame = frame;
+        {
+            std::lock_guard<std::mutex> session(mSessionMutex);
+            change.show = shownOutputs();
+        }
+        change.show->push_back(name);
+        generation = apply(change);
     }
     bool otherFrame = false;
     if (frame) {
@@ -245,7 +291,7 @@ BufferImage Workbench::buffer(const std::string& name, std::optional<int> frame)
                                                 *frame, frames.front(), frames.back()));
         otherFrame = *frame != mFrame;
     }
-    if (otherFrame && !captureBuffer) {
+    if (otherFrame && !captureBuffer && !notShown) {
         // A pass output of another frame: that frame becomes the one shown, and runs.
         SettingsChange change;
         change.frame = frame;
@@ -413,17 +459,27 @@ nlohmann::json Workbench::breakdown(int rays) {
     std::lock_guard<std::mutex> session(mSessionMutex);
     if (!mLast) throw RequestError(409, "no run has finished yet");
     const auto start = std::chrono::steady_clock::now();
-    const app::RunSetup& setup = planned();
-    const Plan& plan = setup.plan();
-    auto targets = app::decompositionTargets(plan, setup.availableBuffers());
+    auto targets = app::decompositionTargets(planned().plan(), planned().availableBuffers());
     nlohmann::json out = {{"rays", rays}, {"errors", nlohmann::json::array()}};
     if (targets.empty()) return out;
+    // The measured sources, handed back by a run that executes nothing (the step cache has
+    // them) where the page does not show them.
+    std::map<std::string, Image> kept = mLast->images;
+    std::vector<std::string> outputs = shownOutputs();
+    for (const auto& t : targets)
+        if (!kept.count(t.source)) outputs.push_back(t.source);
+    if (outputs.size() > mShown.size()) {
+        app::FrameResult sources = mSession.run(mLastFrame, outputs);
+        for (auto& [name, image] : sources.images) kept.emplace(name, std::move(image));
+    }
+    const app::RunSetup& setup = planned();
+    const Plan& plan = setup.plan();
     std::vector<app::ErrorNodeResult> errors;
     for (std::size_t i = 0; i < plan.steps.size() && i < mLast->report.passes.size(); ++i)
         if (plan.steps[i].io.roles.measuresError)
             errors.push_back(app::errorNodeResult(plan.steps[i], mLast->report.passes[i]));
     app::ErrorBreakdown taker(setup, std::move(targets), rays, mLastFrame);
-    taker.decompose(mSession.options(), mLast->images, "workbench", errors);
+    taker.decompose(mSession.options(), kept, "workbench", errors);
     for (const auto& e : errors) {
         nlohmann::json j = {{"name", e.name}, {"metrics", e.metrics}};
         if (e.decomposition) {

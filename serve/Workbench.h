@@ -95,9 +95,11 @@ private:
     void workerLoop();
     void runOnce(uint64_t generation);
     void event(nlohmann::json e);
-    /// The session's chain as planned now, every pass output asked for (call with the session
-    /// locked).
+    /// The session's chain as planned now, the shown pass outputs asked for (call with the
+    /// session locked).
     const app::RunSetup& planned();
+    /// The pass outputs among the shown buffers, as the session's run asks for them.
+    std::vector<std::string> shownOutputs() const;
     std::set<std::string> knownBuffers();
     static std::vector<std::string> merged(const std::vector<std::string>& list,
                                            const std::vector<std::pair<std::string, std::string>>& changes);
@@ -107,6 +109,7 @@ private:
     std::mutex mSessionMutex;
     app::Session mSession;
     int mFrame = 0;
+    std::set<std::string> mShown;  //!< pass outputs the page shows: each run hands them back
     std::optional<app::FrameResult> mLast;
     int mLastFrame = 0;
     uint64_t mLastGeneration = 0;

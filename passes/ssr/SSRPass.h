@@ -36,19 +36,13 @@ public:
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
 
-    /// Unreal's GetSSRQualityForView: the cvar capped by the post-process quality's bucket
-    /// (≥ 80 Epic, ≥ 60 High, ≥ 40 Medium, else Low); off when the cvar is ≤ 0 or the intensity
-    /// below 1.
+    FP_PASS_HAS_CUDA_KERNEL  // SSRPass.cu
+
+    /// ssr::effectiveQuality (SSRKernel.h): Unreal's GetSSRQualityForView.
     static SSRQuality effectiveQuality(int cvar, int postProcessQuality, float intensity);
 
-    /// The roughness fade (§5.2): min(roughness · scale + 2, 1), scale = −2/maxRoughness, doubled
-    /// below High. A pixel whose fade is ≤ 0 is skipped.
+    /// ssr::roughnessFade (SSRKernel.h): the fade of §5.2; ≤ 0 skips the pixel.
     static float roughnessFade(float roughness, float maxRoughness, int qualityLevel);
-
-    /// The share of this frame in the temporal smoothing (r.SSR.Temporal): each frame moves the
-    /// history 1/8 of the way to the new reflection [inferred: the reference names a TAA-style
-    /// pass with its own history, not its weights].
-    static constexpr float kTemporalWeight = 0.125f;
 };
 
 }  // namespace fp

@@ -296,7 +296,10 @@ function control(key, spec, onChange) {
 async function change(body, key, div) {
   try {
     const sent = performance.now();
-    const res = await api('/api/params?wait=0', { method: 'PUT', body: JSON.stringify(body) });
+    // The shown buffers go with every change: the run hands back only those (on a GPU each
+    // buffer handed back is a copy to the host).
+    const show = [page.shown.a, page.shown.b].filter(Boolean);
+    const res = await api('/api/params?wait=0', { method: 'PUT', body: JSON.stringify({ ...body, show }) });
     const r = await res.json();
     page.pending = { generation: r.generation, sent };
     page.generation = Math.max(page.generation, r.generation);

@@ -181,6 +181,22 @@ TEST_SUITE("app") {
         CHECK_FALSE(executed(quality.report).count("prev_color_reduction"));
     }
 
+    TEST_CASE("asking for another output re-runs only the pass that makes it, with the same bits") {
+        app::Session session(options());
+        const std::vector<std::string> one = {"ssgi_denoise.diffuse"};
+        const std::vector<std::string> more = {"ssgi_denoise.diffuse", "ssgi.hitMask"};
+        const app::FrameResult first = session.run(1, one);
+        const app::FrameResult second = session.run(1, more);
+        CHECK(executed(second.report) == std::set<std::string>{"ssgi"});
+        CHECK(sameBits(second.images.at(more[0]), first.images.at(more[0])));
+        app::SetupOptions withHitMask = options();
+        withHitMask.dumps = more;
+        app::Session fresh(withHitMask);
+        CHECK(sameBits(second.images.at(more[1]), fresh.run(1, more).images.at(more[1])));
+        // The trace made the hit mask: asking for less runs nothing.
+        CHECK(session.run(1, one).report.executedSteps == 0);
+    }
+
     TEST_CASE("a sequence carries history, and a frame run again starts from the history it had") {
         app::Session session(options("1-2"));
         session.run(1, kOutputs);

@@ -82,6 +82,7 @@ check "--set with a bad value exits 2 naming the flag" expect_exit 2 "--set hzb.
 if "$FP" plan "$DIR/config.json" --device cuda > "$DIR/plan_cuda.txt" 2>&1; then
     check "plan --device cuda marks the GPU passes" bash -c "grep -q 'ssgi (ssgi) \[gpu\]' '$DIR/plan_cuda.txt' && grep -q 'display (display) \[gpu\]' '$DIR/plan_cuda.txt'"
     check "plan --json gives each step's device" bash -c "'$FP' plan '$DIR/config.json' --device cuda --json | grep -q '\"device\": \"cuda\"'"
+    check "passes --json says which types have a GPU kernel" bash -c "'$FP' passes --json | python3 -c 'import json,sys; c={p[\"type\"]: p[\"cuda\"] for p in json.load(sys.stdin)}; sys.exit(not (c[\"ssr\"] and c[\"ssgi\"] and not c[\"rt_shadows\"]))'"
     if ! grep -q "not usable here" "$DIR/plan_cuda.txt"; then
         echo "  (a GPU is here: run --device cuda is checked by framepass_gpu_check)"
     else
@@ -90,6 +91,7 @@ if "$FP" plan "$DIR/config.json" --device cuda > "$DIR/plan_cuda.txt" 2>&1; then
     fi
 else
     check "a build without CUDA says so" expect_exit 2 "no GPU backend" "$FP" plan "$DIR/config.json" --device cuda
+    check "passes --json says no type runs on a GPU in this build" bash -c "'$FP' passes --json | python3 -c 'import json,sys; sys.exit(any(p[\"cuda\"] for p in json.load(sys.stdin)))'"
 fi
 check "an unknown device is a usage error" expect_exit 2 "--device: tpu not in {cpu,cuda}" "$FP" plan "$DIR/config.json" --device tpu
 check "passes documents every type" bash -c "'$FP' passes | grep -q prev_color_reduction && '$FP' passes hzb | grep -q halfPrecision"

@@ -171,6 +171,66 @@ TEST_SUITE("planner") {
         CHECK(plan.outputs.back().isDump);
     }
 
+    TEST_CASE("runEveryPass culls nothing; dumpsOnly makes the config's outputs but hands over only the dumps") {
+        const auto g = graph({node("a", "depth_reader"), node("b", "color_reader"),
+                              node("c", "color_reader")},
+                             {"b.out"});
+        PlanInputs in;
+        in.overrides.runEveryPass = true;
+        in.overrides.dumpsOnly = true;
+        in.overrides.dumps = {"c.out"};
+        const Plan plan = makePlan(g, fakeRegistry(), in);
+        CHECK(plan.steps.size() == 3);
+        CHECK(plan.culled.empty());
+        executed().clear();
+        test::MemorySource src;
+        src.info.extent = {4, 4};
+        src.buffers["SceneColor"] = Image(4, 4, {"R", "G", "B"});
+        src.buffers["SceneDepth"] = Image(4, 4, {"Z"});
+        test::MemorySink sink;
+        executePlan(plan, src, sink);
+        CHECK(executed() == std::set<std::string>{"depth_reader", "color_reader"});
+        CHECK(sink.layers.count("c.out") == 1);
+        CHECK(sink.layers.count("b.out") == 0);  // made (requested) but not handed over
+        CHECK(plan.steps[1].requestedOutputs.count("out") == 1);
+    }
+
+    TEST_CASE("a step cache reads and uploads no capture buffer twice for one frame, and keeps what a step made") {
+        const auto g = graph({node("a", "depth_reader"), node("b", "color_reader")}, {});
+        PlanInputs one, both;
+        one.overrides.dumps = {"a.out"};
+        both.overrides.dumps = {"a.out", "b.out"};
+        const Plan planOne = makePlan(g, fakeRegistry(), one);
+        const Plan planBoth = makePlan(g, fakeRegistry(), both);
+        test::MemorySource src;
+        src.info.extent = {4, 4};
+        src.buffers["SceneColor"] = Image(4, 4, {"R", "G", "B"});
+        src.buffers["SceneDepth"] = Image(4, 4, {"Z"});
+        StepCache cache;
+        cache.sourceId = "memory";
+        test::MemorySink sink;
+        executePlan(planOne, src, sink, {}, nullptr, &cache);
+        CHECK(src.loaded == std::vector<std::string>{"SceneDepth"});
+        // One more output asked for: only its step runs, and only its buffer is read.
+        executed().clear();
+        FrameReport r = executePlan(planBoth, src, sink, {}, nullptr, &cache);
+        CHECK(executed() == std::set<std::string>{"color_reader"});
+        CHECK(r.reusedSteps == 1);
+        CHECK(src.loaded == std::vector<std::string>{"SceneDepth", "SceneColor"});
+        // Again, and with fewer outputs: nothing runs, nothing is read.
+        executed().clear();
+        r = executePlan(planBoth, src, sink, {}, nullptr, &cache);
+        CHECK(r.executedSteps == 0);
+        r = executePlan(planOne, src, sink, {}, nullptr, &cache);
+        CHECK(r.executedSteps == 0);
+        CHECK(executed().empty());
+        CHECK(src.loaded.size() == 2);
+        // Another frame of the source: its buffers are read afresh.
+        src.info.number = 2;
+        executePlan(planOne, src, sink, {}, nullptr, &cache);
+        CHECK(src.loaded == std::vector<std::string>{"SceneDepth", "SceneColor", "SceneDepth"});
+    }
+
     TEST_CASE("declaration order breaks ties in the topological order") {
         const auto g = graph({node("z", "color_reader"), node("y", "depth_reader"),
                               node("x", "relay", {{"in", "y.out"}})},

@@ -1,11 +1,13 @@
 // framepass_gpu_check: the CUDA backend checked where a GPU is. Without arguments it runs the
-// doctest cases below (the GPU's outputs against the CPU's on the Cornell and hard captures; each
-// case says why it skipped on a machine without a GPU); with --bench it times the demo chain on
-// the GPU and the CPU. It links only the core, the passes, OpenEXR and the scene loaders, so it
+// doctest cases below (the GPU's outputs against the CPU's on the Cornell, glossy and hard
+// captures; each case says why it skipped on a machine without a GPU); with --bench it times the
+// demo chain with SSR and the reflection environment on the GPU and the CPU, and the workbench's
+// re-run. It links only the core, the passes, OpenEXR and the scene loaders, so it
 // runs on a GPU machine without OpenImageIO's dependency tree (docs/gpu.md).
 #define DOCTEST_CONFIG_IMPLEMENT
 #include "io/ConfigLoader.h"
 #include "io/scene/SceneLoader.h"
+#include "reference/ReflectionCaptureRenderer.h"
 #include "foundation/Cuda.h"
 #include "framework/Executor.h"
 #include "framework/PassRegistry.h"
@@ -38,20 +40,29 @@ std::string sourceDir() {
     return env && *env ? env : FP_SOURCE_DIR;
 }
 
-// A scene's capture rendered in memory, as `framepass capture` renders it (16 light samples).
+// A scene: the examples' name (cornell, glossy, hard, dense) or a scene JSON's path.
+std::string scenePath(const std::string& nameOrPath) {
+    if (nameOrPath.find('/') == std::string::npos && nameOrPath.find(".json") == std::string::npos)
+        return sourceDir() + "/examples/" + nameOrPath + "/scene.json";
+    return nameOrPath;
+}
+
+// A scene's capture rendered in memory, as `framepass capture` renders it (16 light samples),
+// with the reflection captures the scene names rendered from it as a session renders them.
 struct Capture {
     io::SceneFile scene;
     test::MemorySource source;
 };
 
-std::unique_ptr<Capture> captureScene(const std::string& scenePath, Extent extent, int frame) {
+std::unique_ptr<Capture> captureScene(const std::string& scene, Extent extent, int frame) {
     auto c = std::make_unique<Capture>();
-    c->scene = io::loadScene(scenePath);
+    c->scene = io::loadScene(scenePath(scene));
     const Extent size = extent.width > 0 ? extent : c->scene.resolution;
     const FrameCamera camera = c->scene.cameraForFrame(frame, size);
     CaptureSettings settings;
     settings.frame = frame;
     c->source.buffers = GBufferRenderer(c->scene.scene, camera, settings).render().buffers;
+    renderMissingReflectionCaptures(c->scene.scene);
     c->source.info.number = frame;
     c->source.info.extent = size;
     c->source.info.camera = camera;
@@ -60,42 +71,70 @@ std::unique_ptr<Capture> captureScene(const std::string& scenePath, Extent exten
     return c;
 }
 
-// The engine preset's screen-space chain (no lights: the demo chain of `make demo`) on `device`,
-// every intermediate written when `dumpAll`; `withErrors` adds two error_measure steps (the GI
-// against the capture's colour, with a standard error, and the AO against the GBuffer's AO) so
-// every pass with a kernel runs.
-Plan demoPlan(const std::string& device, bool dumpAll, bool withErrors = false, int quality = 4,
-              bool halfRes = false) {
+// Which chain a check or bench runs, and how.
+struct ChainOptions {
+    std::string device = "cpu";
+    std::vector<std::string> dumps;  //!< outputs asked for besides the config's ("all": every one)
+    bool errors = false;       //!< two error_measure steps, so every pass with a kernel runs
+    bool reflections = false;  //!< SSR (Epic, temporal) and the reflection environment
+    int quality = 4;
+    bool halfRes = false;
+    bool workbench = false;    //!< planned as `framepass serve` plans: every pass, only the dumps
+};
+
+// The engine preset's screen-space chain (no lights: the demo chain of `make demo`), with SSR and
+// the reflection environment between the composite and the display where asked. The errors are
+// the GI against the capture's colour, with a standard error, and the AO against the GBuffer's
+// AO. SSR runs at Epic (12 glossy rays, the single mirror ray below roughness 0.1) with its
+// temporal smoothing, and traces every surface up to roughness 1.
+Plan chainPlan(const ChainOptions& o) {
+    nlohmann::json passes = nlohmann::json::parse(R"([
+      { "name": "hzb", "type": "hzb" },
+      { "name": "prev_color_reduction", "type": "prev_color_reduction",
+        "inputs": { "furthestHzb": "hzb.furthest" } },
+      { "name": "ssgi", "type": "ssgi",
+        "inputs": { "furthestHzb": "hzb.furthest", "reducedColor": "prev_color_reduction.color" } },
+      { "name": "ssgi_denoise", "type": "ssgi_denoise",
+        "inputs": { "diffuse": "ssgi.diffuse", "ao": "ssgi.ao" } },
+      { "name": "diffuse_indirect_composite", "type": "diffuse_indirect_composite",
+        "inputs": { "diffuse": "ssgi_denoise.diffuse", "ao": "ssgi_denoise.ao" } }
+    ])");
+    passes[2]["params"] = {{"quality", o.quality}, {"halfRes", o.halfRes}};
+    passes[3]["params"] = {{"halfRes", o.halfRes}};
+    std::string lit = "diffuse_indirect_composite.color";
+    if (o.reflections) {
+        passes.push_back({{"name", "ssr"},
+                          {"type", "ssr"},
+                          {"params", {{"quality", 4}, {"postProcessQuality", 100},
+                                      {"maxRoughness", 1.0}, {"temporal", true}}},
+                          {"inputs", {{"furthestHzb", "hzb.furthest"}}}});
+        passes.push_back({{"name", "reflection_environment"},
+                          {"type", "reflection_environment"},
+                          {"inputs", {{"color", lit}, {"reflection", "ssr.reflection"},
+                                      {"ao", "ssgi_denoise.ao"}}}});
+        lit = "reflection_environment.color";
+    }
+    passes.push_back({{"name", "display"}, {"type", "display"}, {"inputs", {{"color", lit}}}});
     nlohmann::json config = {{"version", 1}, {"capture", "memory.exr"}};
-    if (withErrors) {
-        config["passes"] = nlohmann::json::parse(R"([
-          { "name": "hzb", "type": "hzb" },
-          { "name": "prev_color_reduction", "type": "prev_color_reduction",
-            "inputs": { "furthestHzb": "hzb.furthest" } },
-          { "name": "ssgi", "type": "ssgi",
-            "inputs": { "furthestHzb": "hzb.furthest", "reducedColor": "prev_color_reduction.color" } },
-          { "name": "ssgi_denoise", "type": "ssgi_denoise",
-            "inputs": { "diffuse": "ssgi.diffuse", "ao": "ssgi.ao" } },
-          { "name": "diffuse_indirect_composite", "type": "diffuse_indirect_composite",
-            "inputs": { "diffuse": "ssgi_denoise.diffuse", "ao": "ssgi_denoise.ao" } },
-          { "name": "display", "type": "display",
-            "inputs": { "color": "diffuse_indirect_composite.color" } },
+    config["outputs"] = {{"final.####.exr", "display.image"}};
+    if (o.errors) {
+        passes.push_back(nlohmann::json::parse(R"(
           { "name": "gi_vs_color", "type": "error_measure",
             "inputs": { "source": "ssgi_denoise.diffuse", "reference": "capture:SceneColor",
-                        "referenceStdErr": "capture:BaseColor" } },
+                        "referenceStdErr": "capture:BaseColor" } })"));
+        passes.push_back(nlohmann::json::parse(R"(
           { "name": "ao_vs_gbuffer", "type": "error_measure", "params": { "skyDistance": 1e6 },
-            "inputs": { "source": "ssgi_denoise.ao", "reference": "capture:GBufferAO" } }
-        ])");
-        config["passes"][2]["params"] = {{"quality", quality}, {"halfRes", halfRes}};
-        config["passes"][3]["params"] = {{"halfRes", halfRes}};
+            "inputs": { "source": "ssgi_denoise.ao", "reference": "capture:GBufferAO" } })"));
         config["outputs"] = {{"final.####.exr", {"display.image", "gi_vs_color.heat",
                                                  "gi_vs_color.absError", "ao_vs_gbuffer.heat"}}};
     }
+    config["passes"] = passes;
     io::RunConfig rc = io::parseRunConfig(config, "gpu check", sourceDir());
     PlanInputs inputs;
-    inputs.overrides.device = device;
-    if (dumpAll)
-        inputs.overrides.dumps = {"all"};
+    inputs.overrides.device = o.device;
+    inputs.overrides.dumps = o.dumps;
+    inputs.overrides.runEveryPass = o.workbench;
+    inputs.overrides.dumpsOnly = o.workbench;
     return makePlan(rc.graph, builtinPasses(), inputs);
 }
 
@@ -178,8 +217,11 @@ void printDifferences(const std::string& what, const Comparison& c) {
 Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, bool halfRes = false) {
     Comparison out;
     HistoryStore cpuHistory, gpuHistory;
-    const Plan cpuPlan = demoPlan("cpu", true, true, quality, halfRes);
-    const Plan gpuPlan = demoPlan("cuda", true, true, quality, halfRes);
+    ChainOptions o{.dumps = {"all"}, .errors = true, .reflections = true, .quality = quality,
+                   .halfRes = halfRes};
+    const Plan cpuPlan = chainPlan(o);
+    o.device = "cuda";
+    const Plan gpuPlan = chainPlan(o);
     for (int frame = 1; frame <= 3; ++frame) {
         auto cap = captureScene(scene, extent, frame);
         cap->source.info.firstInSequence = frame == 1;
@@ -241,7 +283,8 @@ double median(std::vector<double> v) {
     return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
-// --bench: medians of `runs` frames of the demo chain on the GPU and on the CPU, per pass.
+// --bench: medians of `runs` frames of the demo chain with reflections on the GPU and on the CPU,
+// per pass.
 int bench(const std::string& scene, Extent extent, int runs, const std::string& jsonPath) {
     if (const std::string why = cuda::unavailableReason(); !why.empty()) {
         std::cerr << "framepass_gpu_check --bench: " << why << "\n";
@@ -255,7 +298,7 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
                              {"gpu", cuda::deviceName()},
                              {"runs", runs}};
     for (const std::string device : {"cuda", "cpu"}) {
-        const Plan plan = demoPlan(device, false);
+        const Plan plan = chainPlan({.device = device, .reflections = true});
         std::map<std::string, std::vector<double>> wall, gpu;
         std::vector<double> frames, transfers;
         double upBytes = 0, downBytes = 0;
@@ -301,14 +344,17 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
         result[device] = dj;
     }
     // The workbench's re-run (framepass serve, docs/results/serve.md): r.SSGI.Quality moved
-    // between 4 and 2 with the session's step cache, every pass output asked for as the
-    // workbench asks for them (on the GPU they come back to the host for the page).
-    // Also with only the config's outputs asked for (the display and the error figures): what a
-    // workbench that fetched just the shown buffer would pay.
+    // between 4 and 2 with the session's step cache, planned as the workbench plans it (every
+    // pass runs, only the shown output comes back to the host: the page's default A, the
+    // measured GI). Also with every pass output brought back, as the workbench did before.
     for (const auto& [device, everyOutput] :
-         {std::pair<std::string, bool>{"cuda", true}, {"cuda", false}, {"cpu", true}}) {
-        const Plan plans[2] = {demoPlan(device, everyOutput, true, 4),
-                               demoPlan(device, everyOutput, true, 2)};
+         {std::pair<std::string, bool>{"cuda", false}, {"cuda", true}, {"cpu", false}}) {
+        ChainOptions o{.device = device, .errors = true, .workbench = true};
+        o.dumps = {everyOutput ? "all" : "ssgi_denoise.diffuse"};
+        o.quality = 4;
+        const Plan four = chainPlan(o);
+        o.quality = 2;
+        const Plan plans[2] = {four, chainPlan(o)};
         StepCache cache;
         cache.sourceId = "bench capture";
         std::vector<double> reruns;
@@ -327,8 +373,8 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
                                  device, median(reruns) * 1e3, runs, executed,
                                  plans[0].steps.size(),
                                  everyOutput ? "every pass output on the host"
-                                             : "only the config's outputs on the host");
-        result[device][everyOutput ? "workbenchRerunSeconds" : "configOutputsRerunSeconds"] =
+                                             : "only the shown output on the host");
+        result[device][everyOutput ? "everyOutputRerunSeconds" : "workbenchRerunSeconds"] =
             median(reruns);
     }
     if (!jsonPath.empty())
@@ -340,11 +386,14 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
 
 TEST_CASE("gpu: the check's chain runs on the CPU, with every figure it compares") {
     // Runs without a GPU too, so a machine without one still checks the chain the GPU cases use.
-    auto cap = captureScene(sourceDir() + "/examples/cornell/scene.json", {64, 48}, 1);
+    auto cap = captureScene("glossy", {64, 48}, 1);
     for (const bool halfRes : {false, true}) {
         test::MemorySink sink;
-        const FrameReport r =
-            executePlan(demoPlan("cpu", true, true, halfRes ? 1 : 4, halfRes), cap->source, sink);
+        const FrameReport r = executePlan(chainPlan({.dumps = {"all"}, .errors = true,
+                                                     .reflections = true,
+                                                     .quality = halfRes ? 1 : 4,
+                                                     .halfRes = halfRes}),
+                                          cap->source, sink);
         int figures = 0;
         for (const auto& p : r.passes)
             figures += int(p.metrics.size());
@@ -352,29 +401,43 @@ TEST_CASE("gpu: the check's chain runs on the CPU, with every figure it compares
         CHECK(sink.layers.count("gi_vs_color.heat") == 1);
         CHECK(sink.layers.count("display.image") == 1);
         CHECK(sink.layers.at("ssgi.diffuse").image().width() == (halfRes ? 32 : 64));
+        // The glossy floor and sphere reflect something on screen.
+        double coverage = 0;
+        const Plane& alpha = sink.layers.at("ssr.reflection").image().plane(3);
+        for (int y = 0; y < alpha.height(); ++y)
+            for (int x = 0; x < alpha.width(); ++x) coverage += alpha.at(x, y);
+        CHECK(coverage > 1.0);
     }
 }
 
-TEST_CASE("gpu: the demo chain on the GPU matches the CPU on the Cornell capture") {
+TEST_CASE("gpu: the chain on the GPU matches the CPU on the Cornell capture") {
     if (skipWithoutGpu())
         return;
-    const auto diffs = runBoth(sourceDir() + "/examples/cornell/scene.json", {256, 256});
+    const auto diffs = runBoth("cornell", {256, 256});
     printDifferences("Cornell 256×256, frames 1–3", diffs);
     checkAgreement(diffs);
 }
 
-TEST_CASE("gpu: the demo chain on the GPU matches the CPU on the hard capture") {
+TEST_CASE("gpu: the chain on the GPU matches the CPU on the hard capture") {
     if (skipWithoutGpu())
         return;
-    const auto diffs = runBoth(sourceDir() + "/examples/hard/scene.json", {256, 192});
+    const auto diffs = runBoth("hard", {256, 192});
     printDifferences("hard 256×192, frames 1–3", diffs);
+    checkAgreement(diffs);
+}
+
+TEST_CASE("gpu: the chain with SSR on the GPU matches the CPU on the glossy capture") {
+    if (skipWithoutGpu())
+        return;
+    const auto diffs = runBoth("glossy", {256, 192});
+    printDifferences("glossy 256×192, frames 1–3", diffs);
     checkAgreement(diffs);
 }
 
 TEST_CASE("gpu: quality 1 at half resolution on the GPU matches the CPU (8 pixels a warp)") {
     if (skipWithoutGpu())
         return;
-    const auto diffs = runBoth(sourceDir() + "/examples/cornell/scene.json", {250, 190}, 1, true);
+    const auto diffs = runBoth("cornell", {250, 190}, 1, true);
     printDifferences("Cornell 250×190, r.SSGI.Quality 1, half resolution, frames 1–3", diffs);
     checkAgreement(diffs);
 }
@@ -382,7 +445,7 @@ TEST_CASE("gpu: quality 1 at half resolution on the GPU matches the CPU (8 pixel
 int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i)
         if (std::strcmp(argv[i], "--bench") == 0) {
-            std::string scene = sourceDir() + "/examples/cornell/scene.json", json;
+            std::string scene = "cornell", json;
             Extent extent{1920, 1080};
             int runs = 10;
             for (int j = 1; j < argc; ++j) {

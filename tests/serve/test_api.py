@@ -109,6 +109,29 @@ def test_a_change_reruns_downstream_and_gives_the_command_lines_bits(server):
     assert same_bits(cli_dump(path, SOURCE_PORT), served)
 
 
+def test_a_run_hands_back_only_the_shown_outputs(server):
+    # Shown: the measured source and a truth layer (which needs no run).
+    status, outcome = server.json("PUT", "/api/params", {"set": {"ssgi.rays": 4},
+                                                          "show": [SOURCE_PORT, "Truth.AO"]})
+    assert status == 200 and outcome["status"] == "done", outcome
+    # Every pass ran or was reused (none culled), and the error figures are there.
+    status, plan = server.json("GET", "/api/graph")
+    assert plan["culled"] == [] and len(outcome["report"]["passes"]) == len(plan["steps"])
+    status, report = server.json("GET", "/api/report")
+    assert "ssgi_vs_full" in report["errors"]
+    # A pass output not shown is fetched by a run that executes only what had not made it:
+    # the debug hit mask re-runs the trace alone.
+    served = buffer(server, "ssgi.hitMask")
+    assert same_bits(served, cli_now(server, "ssgi.hitMask"))
+    status, report = server.json("GET", "/api/report")
+    executed = [p["name"] for p in report["passes"] if not p.get("reused")]
+    assert executed == ["ssgi"], executed
+    # … and a pass output made already (the display) runs nothing at all.
+    buffer(server, "display.image")
+    status, report = server.json("GET", "/api/report")
+    assert report["executedSteps"] == 0
+
+
 def test_a_newer_change_replaces_the_run_in_flight(server):
     first = server.json("PUT", "/api/params?wait=0", {"set": {"ssgi.rays": 16}})
     second = server.json("PUT", "/api/params?wait=0", {"set": {"ssgi.rays": 0}})
@@ -189,6 +212,12 @@ def test_bad_requests_are_4xx_with_a_json_error(server):
     error("PUT", "/api/params?wait=maybe", {}, match="?wait=maybe")
     error("PUT", "/api/params", b"[" * 100 + b"]" * 100, match="nested more than")
     error("PUT", "/api/params", b" " * (65 * 1024), status=413)
+    error("PUT", "/api/params", {"show": SOURCE_PORT}, match="/show: a list")
+    error("PUT", "/api/params", {"show": [SOURCE_PORT] * 17}, match="at most 16")
+    error("PUT", "/api/params", {"show": [3]}, match="/show/0")
+    error("PUT", "/api/params", {"show": ["../x"]}, match="not a buffer name")
+    j = error("PUT", "/api/params", {"show": [SOURCE_PORT, "ssgi.difuse"]}, status=404, match="no buffer 'ssgi.difuse'")
+    assert j["pointer"] == "/show/1"
     error("POST", "/api/tev", {"buffers": [SOURCE_PORT], "host": "example.com:1"}, match="not this machine")
     error("POST", "/api/tev", {"buffers": []}, match="buffers")
     # A rejected change leaves the settings as they were: the server still runs and answers.
