@@ -22,37 +22,64 @@ std::ptrdiff_t paddedStride(int width) {
     return (std::ptrdiff_t(width) + 31) / 32 * 32;
 }
 
-// Freed device images go back to a pool by size instead of to the driver: cudaMalloc and cudaFree
-// synchronise the GPU and cost tens of microseconds, and a sequence allocates the same sizes every
-// frame. The pool holds at most what one frame held at its peak.
-class DevicePool {
+// Freed memory goes back to a pool by size instead of to the driver: cudaMalloc, cudaFree and
+// their page-locked host twins synchronise the GPU and cost tens of microseconds (the host ones
+// milliseconds for a frame's plane), and a sequence allocates the same sizes every frame. A pool
+// holds at most what one frame held at its peak, and gives back to the driver what would take it
+// over kMaxFreeBytes.
+class MemoryPool {
 public:
+    using Allocate = cudaError_t (*)(void**, std::size_t);
+    using Free = cudaError_t (*)(void*);
+    MemoryPool(Allocate allocate, Free free, const char* what)
+        : mAllocate(allocate), mFree(free), mWhat(what) {}
+
     float* take(std::size_t bytes) {
         {
             std::lock_guard<std::mutex> lock(mMutex);
-            auto it = mFree.find(bytes);
-            if (it != mFree.end()) {
+            auto it = mBlocks.find(bytes);
+            if (it != mBlocks.end()) {
                 float* p = it->second;
-                mFree.erase(it);
+                mBlocks.erase(it);
+                mFreeBytes -= bytes;
                 return p;
             }
         }
-        float* p = nullptr;
-        check(cudaMalloc(&p, bytes), "allocating an image");
-        return p;
+        void* p = nullptr;
+        check(mAllocate(&p, bytes), mWhat);
+        return static_cast<float*>(p);
     }
     void give(std::size_t bytes, float* p) {
         std::lock_guard<std::mutex> lock(mMutex);
-        mFree.emplace(bytes, p);
+        if (mFreeBytes + bytes > kMaxFreeBytes) {
+            mFree(p);
+            return;
+        }
+        mBlocks.emplace(bytes, p);
+        mFreeBytes += bytes;
     }
 
 private:
+    static constexpr std::size_t kMaxFreeBytes = std::size_t(8) << 30;
+    Allocate mAllocate;
+    Free mFree;
+    const char* mWhat;
     std::mutex mMutex;
-    std::multimap<std::size_t, float*> mFree;
+    std::multimap<std::size_t, float*> mBlocks;
+    std::size_t mFreeBytes = 0;
 };
 
-DevicePool& pool() {
-    static DevicePool* p = new DevicePool;  // never destroyed: images may outlive static teardown
+MemoryPool& pool() {  // never destroyed: images may outlive static teardown
+    static MemoryPool* p = new MemoryPool([](void** q, std::size_t n) { return cudaMalloc(q, n); },
+                                          [](void* q) { return cudaFree(q); }, "allocating an image");
+    return *p;
+}
+
+// Page-locked host memory for the images of a process that runs passes on the GPU.
+MemoryPool& hostPool() {
+    static MemoryPool* p = new MemoryPool([](void** q, std::size_t n) { return cudaMallocHost(q, n); },
+                                          [](void* q) { return cudaFreeHost(q); },
+                                          "allocating page-locked host memory");
     return *p;
 }
 
@@ -110,9 +137,29 @@ DeviceTexture allocate(const std::vector<Extent>& mips, const std::vector<std::s
     return DeviceTexture(std::move(levels));
 }
 
+void usePinnedHostMemory() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        HostMemory memory;
+        memory.allocate = [](std::size_t bytes) -> void* { return hostPool().take(bytes); };
+        memory.release = [](void* p, std::size_t bytes) { hostPool().give(bytes, static_cast<float*>(p)); };
+        setHostMemory(memory);
+    });
+}
+
 std::shared_ptr<void> allocateBytes(std::size_t bytes) {
     // Rounded up to a float so the memory shares the image pool.
     return pooledMemory(std::max<std::size_t>((bytes + 3) / 4 * 4, 4));
+}
+
+std::shared_ptr<void> uploadBytes(const void* data, std::size_t bytes) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::shared_ptr<void> memory = allocateBytes(bytes);
+    if (bytes > 0)
+        check(cudaMemcpy(memory.get(), data, bytes, cudaMemcpyHostToDevice), "uploading a table");
+    gTotals.uploadBytes += bytes;
+    gTotals.uploadSeconds += secondsSince(t0);
+    return memory;
 }
 
 DeviceTexture upload(const Texture& texture) {

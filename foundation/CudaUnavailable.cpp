@@ -27,6 +27,12 @@ DeviceTexture allocate(const std::vector<Extent>&, const std::vector<std::string
 std::shared_ptr<void> allocateBytes(std::size_t) {
     noBackend();
 }
+void usePinnedHostMemory() {
+    noBackend();
+}
+std::shared_ptr<void> uploadBytes(const void*, std::size_t) {
+    noBackend();
+}
 DeviceTexture upload(const Texture&) {
     noBackend();
 }

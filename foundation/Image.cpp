@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <mutex>
 #include <new>
 
 namespace fp {
@@ -18,16 +19,35 @@ std::ptrdiff_t rowStride(int width) {
 // `count` floats, 64-byte aligned, set to `fill` by row blocks on all threads: a frame's plane is
 // megabytes, and the first write of each fresh page also faults it in, which one thread would do
 // serially.
+std::mutex gHostMemoryMutex;
+HostMemory gHostMemory;
+
+HostMemory hostMemory() {
+    std::lock_guard<std::mutex> lock(gHostMemoryMutex);
+    return gHostMemory;
+}
+
 std::shared_ptr<float> allocateFilled(std::size_t count, float fill) {
     count = std::max<std::size_t>(1, count);
-    float* p = static_cast<float*>(::operator new[](count * sizeof(float), std::align_val_t{64}));
+    const std::size_t bytes = count * sizeof(float);
+    const HostMemory memory = hostMemory();
+    float* p = memory.allocate
+                   ? static_cast<float*>(memory.allocate(bytes))
+                   : static_cast<float*>(::operator new[](bytes, std::align_val_t{64}));
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, std::size_t(1) << 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           std::fill(p + r.begin(), p + r.end(), fill);
                       });
+    if (memory.allocate)
+        return std::shared_ptr<float>(p, [release = memory.release, bytes](float* q) { release(q, bytes); });
     return std::shared_ptr<float>(p, [](float* q) { ::operator delete[](q, std::align_val_t{64}); });
 }
 }  // namespace
+
+void setHostMemory(HostMemory memory) {
+    std::lock_guard<std::mutex> lock(gHostMemoryMutex);
+    gHostMemory = memory;
+}
 
 Plane::Plane(int width, int height, float fill)
     : mData(allocateFilled(std::size_t(rowStride(width)) * std::size_t(height), fill)),

@@ -10,6 +10,18 @@
 
 namespace fp {
 
+/// Where the pixels of images made from now on come from. By default the C++ heap; the GPU
+/// backend installs page-locked memory (cuda::usePinnedHostMemory), which the GPU copies to and
+/// from at the bus's speed rather than through a staging copy. `allocate` returns at least
+/// `bytes` bytes aligned to 64; `release` takes them back with the same size.
+struct HostMemory {
+    void* (*allocate)(std::size_t bytes) = nullptr;
+    void (*release)(void* memory, std::size_t bytes) = nullptr;
+};
+/// Installs `memory` for the images made after it (a default HostMemory: the heap again). Images
+/// made before keep the memory they have and give it back where it came from.
+void setHostMemory(HostMemory memory);
+
 /// One channel of floats, `width × height`, rows `stride` floats apart.
 class Plane {
 public:

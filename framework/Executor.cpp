@@ -325,9 +325,11 @@ FrameReport executePlan(const Plan& plan,
                         StepCache* cache) {
     using Clock = std::chrono::steady_clock;
     const auto frameStart = Clock::now();
-    if (plan.device == Device::Cuda)
+    if (plan.device == Device::Cuda) {
         if (const std::string why = cuda::unavailableReason(); !why.empty())
             throw UsageError(fmt::format("--device cuda: {}", why));
+        cuda::usePinnedHostMemory();  // the capture is read into memory the GPU copies fastest
+    }
     const cuda::TransferTotals transfersBefore = cuda::transferTotals();
     const FrameInfo frame = source.frameInfo();
     FrameReport report;

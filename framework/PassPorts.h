@@ -39,6 +39,12 @@ struct HostPorts {
     std::shared_ptr<T> scratchArray(std::size_t count) const {
         return std::shared_ptr<T>(new T[count], std::default_delete<T[]>());
     }
+    /// `count` values of a plain type where the pixels read them: here, the values themselves
+    /// (not copied, not owned: they must outlive the pass's pixels).
+    template <class T>
+    std::shared_ptr<const T> constants(const T* data, std::size_t) const {
+        return std::shared_ptr<const T>(std::shared_ptr<const T>{}, data);
+    }
 };
 
 struct DevicePorts {
@@ -61,6 +67,11 @@ struct DevicePorts {
     template <class T>
     std::shared_ptr<T> scratchArray(std::size_t count) const {
         return std::static_pointer_cast<T>(cuda::allocateBytes(count * sizeof(T)));
+    }
+    /// A device copy of `count` values of a plain type.
+    template <class T>
+    std::shared_ptr<const T> constants(const T* data, std::size_t count) const {
+        return std::static_pointer_cast<const T>(cuda::uploadBytes(data, count * sizeof(T)));
     }
 };
 

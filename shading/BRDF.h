@@ -2,6 +2,7 @@
 // Unreal's default-lit BRDF terms (algorithms §7/§9 and Unreal's BRDF.ush as described there):
 // Lambert diffuse, GGX distribution, Smith joint visibility approximation, Schlick Fresnel with
 // Unreal's 2% cut-off. Shared by the capture renderer and the lighting passes.
+#include "foundation/HostDevice.h"
 #include "foundation/Math.h"
 
 #include <algorithm>
@@ -50,7 +51,7 @@ struct SurfaceBRDF {
     Vec3f specularColor;  //!< F0 = lerp(0.08·Specular, BaseColor, Metallic)
     float roughness;
 
-    static SurfaceBRDF fromMaterial(const Vec3f& baseColor, float metallic, float specular,
+    FP_HD static SurfaceBRDF fromMaterial(const Vec3f& baseColor, float metallic, float specular,
                                     float roughness) {
         const float dielectric = 0.08f * specular;
         const Vec3f f0 = Vec3f{dielectric, dielectric, dielectric} * (1.0f - metallic) +

@@ -13,30 +13,6 @@ namespace fp {
 
 namespace {
 
-// Face and coordinates s, t ∈ [−1, 1] of a direction (OpenGL's cube lookup).
-void faceCoordinates(const Vec3f& d, int& face, float& s, float& t) {
-    const float ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
-    float ma, sc, tc;
-    if (ax >= ay && ax >= az) {
-        face = d.x >= 0 ? 0 : 1;
-        ma = ax;
-        sc = d.x >= 0 ? -d.z : d.z;
-        tc = -d.y;
-    } else if (ay >= az) {
-        face = d.y >= 0 ? 2 : 3;
-        ma = ay;
-        sc = d.x;
-        tc = d.y >= 0 ? d.z : -d.z;
-    } else {
-        face = d.z >= 0 ? 4 : 5;
-        ma = az;
-        sc = d.z >= 0 ? d.x : -d.x;
-        tc = -d.y;
-    }
-    s = sc / ma;
-    t = tc / ma;
-}
-
 double areaElement(double x, double y) { return std::atan2(x * y, std::sqrt(x * x + y * y + 1.0)); }
 
 
@@ -60,18 +36,27 @@ double Cubemap::texelSolidAngle(int x, int y, int size) {
     return areaElement(x0, y0) - areaElement(x0, y1) - areaElement(x1, y0) + areaElement(x1, y1);
 }
 
-Vec3f Cubemap::bilinear(const Mip& m, const Vec3f& d) {
-    int face;
-    float s, t;
-    faceCoordinates(d, face, s, t);
-    // Clamped at the face's edge texels: a seam of half a texel, finest at mip 0.
-    const float x = std::clamp((s + 1.0f) * 0.5f * m.size - 0.5f, 0.0f, float(m.size - 1));
-    const float y = std::clamp((t + 1.0f) * 0.5f * m.size - 0.5f, 0.0f, float(m.size - 1));
-    const int x0 = std::min(int(x), m.size - 1), y0 = std::min(int(y), m.size - 1);
-    const int x1 = std::min(x0 + 1, m.size - 1), y1 = std::min(y0 + 1, m.size - 1);
-    const float fx = x - float(x0), fy = y - float(y0);
-    return (m.at(face, x0, y0) * (1 - fx) + m.at(face, x1, y0) * fx) * (1 - fy) +
-           (m.at(face, x0, y1) * (1 - fx) + m.at(face, x1, y1) * fx) * fy;
+void Cubemap::pack(const std::vector<Mip>& mips) {
+    FP_CHECK(int(mips.size()) <= kMaxCubemapMips, "a cubemap of {} mips: at most {}", mips.size(),
+             kMaxCubemapMips);
+    mTexels.clear();
+    mMipSizes.clear();
+    for (const Mip& m : mips) {
+        mMipSizes.push_back(m.size);
+        mTexels.insert(mTexels.end(), m.texels.begin(), m.texels.end());
+    }
+}
+
+CubemapView Cubemap::view() const {
+    CubemapView v;
+    v.mipCount = mipCount();
+    const Vec3f* texels = mTexels.data();
+    for (int m = 0; m < v.mipCount; ++m) {
+        v.mipSize[m] = mMipSizes[size_t(m)];
+        v.mips[m] = texels;
+        texels += std::ptrdiff_t(6) * v.mipSize[m] * v.mipSize[m];
+    }
+    return v;
 }
 
 std::vector<Cubemap::Mip> Cubemap::boxChain(Mip base) {
@@ -119,7 +104,7 @@ Cubemap Cubemap::fromFaces(const Image& strip) {
              "a cubemap strip of {}×{}: expected 6 square power-of-two faces stacked", strip.width(),
              strip.height());
     Cubemap cube;
-    cube.mSize = size;
+    std::vector<Mip> mips;
     Mip base;
     base.size = size;
     base.texels.resize(size_t(6) * size * size);
@@ -131,7 +116,7 @@ Cubemap Cubemap::fromFaces(const Image& strip) {
     // each sample at the mip whose texel covers the sample's share of the lobe (filtered
     // importance sampling, Křivánek & Colbert 2008), so 64 samples leave no visible noise.
     const std::vector<Mip> source = boxChain(base);
-    cube.mMips.push_back(std::move(base));
+    mips.push_back(std::move(base));
     const double texelAngle0 = 4.0 * kPi / (6.0 * double(size) * size);
     for (int m = 1; m < int(source.size()); ++m) {
         Mip out;
@@ -144,7 +129,7 @@ Cubemap Cubemap::fromFaces(const Image& strip) {
             float NoL, lod;
         };
         std::vector<LobeSample> lobe;
-        const float roughness = cube.roughnessForMip(m);
+        const float roughness = roughnessForMip(m, size);
         const float a2 = roughness * roughness * roughness * roughness;
         for (int i = 0; i < kPrefilterSamples; ++i) {
             const float e1 = float(i) / kPrefilterSamples, e2 = float(radicalInverse2(uint32_t(i)));
@@ -175,9 +160,10 @@ Cubemap Cubemap::fromFaces(const Image& strip) {
                     const Vec3f L = tb * l.x + bb * l.y + N * l.z;
                     const int l0 = int(l.lod), l1 = std::min(l0 + 1, int(source.size()) - 1);
                     const float fl = l.lod - float(l0);
-                    const Vec3f c = fl > 0.0f ? bilinear(source[size_t(l0)], L) * (1 - fl) +
-                                                    bilinear(source[size_t(l1)], L) * fl
-                                              : bilinear(source[size_t(l0)], L);
+                    const Mip &s0 = source[size_t(l0)], &s1 = source[size_t(l1)];
+                    const Vec3f c = fl > 0.0f ? cubeBilinear(s0.texels.data(), s0.size, L) * (1 - fl) +
+                                                    cubeBilinear(s1.texels.data(), s1.size, L) * fl
+                                              : cubeBilinear(s0.texels.data(), s0.size, L);
                     sum += c * l.NoL;
                     weight += l.NoL;
                 }
@@ -185,37 +171,29 @@ Cubemap Cubemap::fromFaces(const Image& strip) {
                     weight > 0.0f ? sum / weight : Vec3f{};
             }
         });
-        cube.mMips.push_back(std::move(out));
+        mips.push_back(std::move(out));
     }
+    cube.pack(mips);
     return cube;
 }
 
-float Cubemap::mipForRoughness(float roughness) const {
-    const float maxMip = std::log2(float(mSize));
-    return (maxMip - 1.0f) - (1.0f - 1.2f * std::log2(std::max(roughness, 0.001f)));
-}
+float Cubemap::roughnessForMip(int mip) const { return roughnessForMip(mip, size()); }
 
-float Cubemap::roughnessForMip(int mip) const {
-    const float maxMip = std::log2(float(mSize));
+float Cubemap::roughnessForMip(int mip, int size) {
+    const float maxMip = std::log2(float(size));
     return std::min(1.0f, std::exp2((float(mip) - maxMip + 2.0f) / 1.2f));
-}
-
-Vec3f Cubemap::sample(const Vec3f& d, float mip) const {
-    const float m = std::clamp(std::isnan(mip) ? 0.0f : mip, 0.0f, float(mMips.size() - 1));
-    const int m0 = int(m), m1 = std::min(m0 + 1, int(mMips.size()) - 1);
-    const float f = m - float(m0);
-    const Vec3f a = bilinear(mMips[size_t(m0)], d);
-    return f > 0.0f ? a * (1 - f) + bilinear(mMips[size_t(m1)], d) * f : a;
 }
 
 SH3 Cubemap::projectSH() const {
     SH3 sh;
-    const Mip& m = mMips.front();
+    const int size = this->size();
+    const Vec3f* texels = mTexels.data();
     for (int f = 0; f < 6; ++f)
-        for (int y = 0; y < m.size; ++y)
-            for (int x = 0; x < m.size; ++x)
-                sh.add(direction(f, (2.0f * x + 1.0f) / m.size - 1.0f, (2.0f * y + 1.0f) / m.size - 1.0f),
-                       m.at(f, x, y), float(texelSolidAngle(x, y, m.size)));
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x)
+                sh.add(direction(f, (2.0f * x + 1.0f) / size - 1.0f, (2.0f * y + 1.0f) / size - 1.0f),
+                       texels[(size_t(f) * size + size_t(y)) * size + size_t(x)],
+                       float(texelSolidAngle(x, y, size)));
     return sh;
 }
 

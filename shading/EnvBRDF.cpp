@@ -64,23 +64,4 @@ EnvBRDFLut::EnvBRDFLut() : mTexels(size_t(kNoVTexels) * kRoughnessTexels) {
         }
 }
 
-EnvBRDFTerms EnvBRDFLut::lookup(float NoV, float roughness) const {
-    // Texel centres sit at (i + 0.5)/size; outside the outer centres the edge texel holds.
-    auto coordinate = [](float u, int size, int& i0, float& f) {
-        const float x = std::clamp(std::isnan(u) ? 0.0f : u * size - 0.5f, 0.0f, float(size - 1));
-        i0 = std::min(int(x), size - 2);
-        f = x - float(i0);
-    };
-    int i, j;
-    float fx, fy;
-    coordinate(NoV, kNoVTexels, i, fx);
-    coordinate(roughness, kRoughnessTexels, j, fy);
-    auto mix = [&](float EnvBRDFTerms::*c) {
-        const float top = texel(i, j).*c * (1 - fx) + texel(i + 1, j).*c * fx;
-        const float bottom = texel(i, j + 1).*c * (1 - fx) + texel(i + 1, j + 1).*c * fx;
-        return top * (1 - fy) + bottom * fy;
-    };
-    return {mix(&EnvBRDFTerms::a), mix(&EnvBRDFTerms::b)};
-}
-
 }  // namespace fp

@@ -5,6 +5,7 @@
 // factors A_l/π = 1, 2/3, 1/4 this is Ramamoorthi & Hanrahan's irradiance environment map;
 // Unreal's constants c1 = √3/(3√π) = Y₁·(2/3) and c3 = √5/(16√π) = Y₂₀·(1/4) are these same
 // products, spelled out.
+#include "foundation/HostDevice.h"
 #include "foundation/Math.h"
 
 #include <algorithm>
@@ -13,7 +14,7 @@
 namespace fp {
 
 /// The nine real SH basis functions at unit direction d (l = 0, 1, 2; m = −l..l).
-inline std::array<float, 9> sh3Basis(const Vec3f& d) {
+FP_HD inline std::array<float, 9> sh3Basis(const Vec3f& d) {
     return {0.282094792f,
             0.488602512f * d.y,
             0.488602512f * d.z,
@@ -35,16 +36,16 @@ struct SH3 {
     }
 
     /// The projected radiance itself at d (band-limited to order 3).
-    Vec3f radiance(const Vec3f& d) const { return evaluate(d, {1.0f, 1.0f, 1.0f}); }
+    FP_HD Vec3f radiance(const Vec3f& d) const { return evaluate(d, {1.0f, 1.0f, 1.0f}); }
 
     /// Irradiance/π at a surface of unit normal n, clamped at 0 as Unreal's GetSkySHDiffuse.
-    Vec3f diffuse(const Vec3f& n) const {
+    FP_HD Vec3f diffuse(const Vec3f& n) const {
         const Vec3f e = evaluate(n, {1.0f, 2.0f / 3.0f, 0.25f});
-        return {std::max(e.x, 0.0f), std::max(e.y, 0.0f), std::max(e.z, 0.0f)};
+        return {e.x > 0.0f ? e.x : 0.0f, e.y > 0.0f ? e.y : 0.0f, e.z > 0.0f ? e.z : 0.0f};
     }
 
 private:
-    Vec3f evaluate(const Vec3f& d, const std::array<float, 3>& band) const {
+    FP_HD Vec3f evaluate(const Vec3f& d, const std::array<float, 3>& band) const {
         const std::array<float, 9> y = sh3Basis(d);
         Vec3f s;
         for (int i = 0; i < 9; ++i) s += coefficients[size_t(i)] * (y[size_t(i)] * band[i == 0 ? 0 : i < 4 ? 1 : 2]);

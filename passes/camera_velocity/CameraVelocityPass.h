@@ -20,6 +20,8 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+
+    FP_PASS_HAS_CUDA_KERNEL  // CameraVelocityPass.cu
 };
 
 }  // namespace fp

@@ -10,6 +10,7 @@
 #include "framework/Pass.h"
 #include "shading/Cubemap.h"
 #include "shading/ReflectionCaptures.h"
+#include "passes/reflection_environment/ReflectionEnvironmentKernel.h"
 
 #include <memory>
 
@@ -32,13 +33,17 @@ public:
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
 
+    FP_PASS_HAS_CUDA_KERNEL  // ReflectionEnvironmentPass.cu
+
     /// Unreal's sky light cubemap size (r.SkyLight… default 128): the sky is resampled to it.
     static constexpr int kSkyCubeSize = 128;
 
-    /// Lagarde's specular occlusion, saturate((NoV + AO)^(roughness²) − 1 + AO) (§8.2 step 5).
+    /// reflection_environment::specularOcclusion (the kernel's): Lagarde's, §8.2 step 5.
     static float specularOcclusion(float NoV, float ao, float roughness);
 
 private:
+    /// What lights the reflections this frame, from the caches below.
+    reflection_environment::Lighting lighting(PassContext& ctx);
     /// The sky resampled to a prefiltered cube and its SH, made on first use and kept while the
     /// sky light is the same one (it does not change from frame to frame).
     struct SkyLighting {

@@ -97,7 +97,8 @@ Plan chainPlan(const ChainOptions& o) {
       { "name": "ssgi_denoise", "type": "ssgi_denoise",
         "inputs": { "diffuse": "ssgi.diffuse", "ao": "ssgi.ao" } },
       { "name": "diffuse_indirect_composite", "type": "diffuse_indirect_composite",
-        "inputs": { "diffuse": "ssgi_denoise.diffuse", "ao": "ssgi_denoise.ao" } }
+        "inputs": { "diffuse": "ssgi_denoise.diffuse", "ao": "ssgi_denoise.ao" } },
+      { "name": "camera_velocity", "type": "camera_velocity" }
     ])");
     passes[2]["params"] = {{"quality", o.quality}, {"halfRes", o.halfRes}};
     passes[3]["params"] = {{"halfRes", o.halfRes}};
@@ -290,6 +291,9 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
         std::cerr << "framepass_gpu_check --bench: " << why << "\n";
         return 2;
     }
+    // As a run on the GPU reads its capture: into page-locked memory (the executor installs it
+    // before its first GPU pass; here the capture is made before that).
+    cuda::usePinnedHostMemory();
     auto cap = captureScene(scene, extent, 1);
     const Extent size = cap->source.info.extent;
     nlohmann::json result = {{"scene", scene},

@@ -7,6 +7,7 @@
 #include "screenspace/Surface.h"
 #include "foundation/FloatToInt.h"
 #include "foundation/ShadingModel.h"
+#include "foundation/ExpLog.h"
 #include "foundation/SinCos.h"
 
 #include <doctest/doctest.h>
@@ -90,6 +91,45 @@ TEST_CASE("sinCos is within 1 ulp of the correctly rounded sine and cosine") {
     sinCos(0.0f, s, c);
     CHECK(s == 0.0f);
     CHECK(c == 1.0f);
+}
+
+TEST_CASE("log2Float and powFloat are within 1 ulp of the correctly rounded values") {
+    // As sinCos: evaluated in double (truncation below 10⁻¹⁸ relative, rounding a few double
+    // ulps), rounded to float once; the reference is std::log2/std::pow in double rounded once.
+    auto ulpsApart = [](float a, float b) {
+        if (a == b)
+            return 0;
+        const float step = std::nextafter(std::fabs(b), std::numeric_limits<float>::infinity()) -
+                           std::fabs(b);
+        return int(std::ceil(std::fabs(double(a) - double(b)) / double(step)));
+    };
+    int worst = 0, inexact = 0, count = 0;
+    // Arguments over 2⁻⁶⁰ … 2⁶⁰ (log-spaced), exponents over [−8, 8]: the passes' ranges and more.
+    for (int i = 0; i <= 400000; ++i) {
+        const float x = float(std::exp2(-60.0 + 120.0 * i / 400000.0));
+        const float y = -8.0f + 16.0f * float(i % 1009) / 1008.0f;
+        const float l = log2Float(x), lRef = float(std::log2(double(x)));
+        const float p = powFloat(x, y), pRef = float(std::pow(double(x), double(y)));
+        worst = std::max(worst, ulpsApart(l, lRef));
+        if (std::isfinite(pRef) && pRef > 1e-30f) {
+            worst = std::max(worst, ulpsApart(p, pRef));
+            inexact += p != pRef;
+            ++count;
+        }
+        inexact += l != lRef;
+        ++count;
+    }
+    CHECK(worst <= 1);
+    CHECK(inexact * 1000 < count);
+    // Exact where the result is: powers of two, and the special cases Lagarde's term meets.
+    CHECK(log2Float(128.0f) == 7.0f);
+    CHECK(log2Float(0.001f) == float(std::log2(0.001)));
+    CHECK(powFloat(2.0f, 10.0f) == 1024.0f);
+    CHECK(powFloat(0.0f, 0.25f) == 0.0f);
+    CHECK(powFloat(0.0f, 0.0f) == 1.0f);
+    CHECK(powFloat(1.5f, 0.0f) == 1.0f);
+    CHECK(std::isnan(powFloat(-1.0f, 0.5f)));
+    CHECK(log2Float(0.0f) == -std::numeric_limits<float>::infinity());
 }
 
 TEST_CASE("bilateral weight: plane distance and normal⁴") {

@@ -261,30 +261,30 @@ TEST_CASE("Reflection captures: two nested captures composite smallest first, un
     const Cubemap green = Cubemap::render(8, [](const Vec3f&) { return Vec3f{0, 1, 0}; });
     PreparedCapture small, large;
     small.radius = 5.0f;
-    small.cube = &red;
+    small.cube = red.view();
     large.radius = 50.0f;
-    large.cube = &green;
+    large.cube = green.view();
     large.brightness = 2.0f;
     const std::vector<PreparedCapture> captures{small, large};  // ascending radius
     const Vec3f R{0, 0, 1};
     float alpha = 1.0f;
     // Deep inside the small one: it takes everything.
-    Vec3f c = compositeCaptures(captures, {1, 0, 0}, R, 0.3f, alpha);
+    Vec3f c = compositeCaptures(captures.data(), int(captures.size()), {1, 0, 0}, R, 0.3f, alpha);
     CHECK(c.x == doctest::Approx(1.0f));
     CHECK(c.y == 0.0f);
     CHECK(alpha == 0.0f);
     // At 0.8 of its radius it fades to 0.5 and the large one (brightness 2) fills the rest.
     alpha = 1.0f;
-    c = compositeCaptures(captures, {4, 0, 0}, R, 0.3f, alpha);
+    c = compositeCaptures(captures.data(), int(captures.size()), {4, 0, 0}, R, 0.3f, alpha);
     CHECK(c.x == doctest::Approx(0.5f));
     CHECK(c.y == doctest::Approx(1.0f));
     CHECK(alpha == doctest::Approx(0.0f));
     // Outside the small one: the large one alone; beyond both, the sky gets the weight.
     alpha = 0.6f;  // what SSR and specular occlusion left
-    c = compositeCaptures(captures, {20, 0, 0}, R, 0.3f, alpha);
+    c = compositeCaptures(captures.data(), int(captures.size()), {20, 0, 0}, R, 0.3f, alpha);
     CHECK(c.y == doctest::Approx(1.2f));
     alpha = 1.0f;
-    c = compositeCaptures(captures, {60, 0, 0}, R, 0.3f, alpha);
+    c = compositeCaptures(captures.data(), int(captures.size()), {60, 0, 0}, R, 0.3f, alpha);
     CHECK(alpha == 1.0f);
     CHECK(c.x + c.y + c.z == 0.0f);
 }
