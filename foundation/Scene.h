@@ -3,6 +3,7 @@
 // Unreal's GBuffer terms, and lights. io/SceneLoader fills it from glTF or OBJ plus a scene JSON.
 #include "foundation/Camera.h"
 #include "foundation/Environment.h"
+#include "foundation/HostDevice.h"
 #include "foundation/Math.h"
 
 #include <algorithm>
@@ -64,9 +65,15 @@ struct Light {
     /// saturate((cos − cosOuter)/(cosInner − cosOuter))²; 1 for every other light type.
     float spotMask(float cosAngle) const {
         if (type != LightType::Spot) return 1.0f;
-        const float cosOuter = std::cos(outerConeDegrees * kPiF / 180.0f);
-        const float cosInner = std::cos(innerConeDegrees * kPiF / 180.0f);
-        const float t = std::clamp((cosAngle - cosOuter) / std::max(cosInner - cosOuter, 1e-4f), 0.0f, 1.0f);
+        return spotMaskOf(cosAngle, cosOuterCone(), cosInnerCone());
+    }
+    float cosOuterCone() const { return std::cos(outerConeDegrees * kPiF / 180.0f); }
+    float cosInnerCone() const { return std::cos(innerConeDegrees * kPiF / 180.0f); }
+
+    /// The spot mask from the cone's cosines (for per-pixel code that has no Light).
+    FP_HD static float spotMaskOf(float cosAngle, float cosOuter, float cosInner) {
+        const float range = cosInner - cosOuter;
+        const float t = saturate((cosAngle - cosOuter) / (range < 1e-4f ? 1e-4f : range));
         return t * t;
     }
 };

@@ -15,22 +15,22 @@ namespace fp {
 constexpr float kMinLightRoughness = 0.02f;
 
 /// Unreal's Pow4 and Pow5 (Common.ush): products, not pow().
-inline float pow4(float x) {
+FP_HD inline float pow4(float x) {
     const float x2 = x * x;
     return x2 * x2;
 }
 
-inline float pow5(float x) {
+FP_HD inline float pow5(float x) {
     return pow4(x) * x;
 }
 
-inline float ggxD(float a2, float NoH) {
+FP_HD inline float ggxD(float a2, float NoH) {
     const float d = (NoH * a2 - NoH) * NoH + 1.0f;
     return a2 / (kPiF * d * d);
 }
 
 /// Vis = G/(4·NoL·NoV), Heitz's joint Smith approximation as Unreal writes it.
-inline float smithJointApproxVis(float a2, float NoV, float NoL) {
+FP_HD inline float smithJointApproxVis(float a2, float NoV, float NoL) {
     const float a = std::sqrt(a2);
     const float visV = NoL * (NoV * (1.0f - a) + a);
     const float visL = NoV * (NoL * (1.0f - a) + a);
@@ -40,7 +40,7 @@ inline float smithJointApproxVis(float a2, float NoV, float NoL) {
 /// Schlick with Unreal's rule that F0 below 2% means "no specular at all" (saturate(50·F0.g)).
 /// Fc = Pow5(1 − VoH) as Unreal's F_Schlick writes it (inferred from memory of BRDF.ush): three
 /// multiplies, which SIMD lanes repeat exactly where std::pow has no exact vector twin.
-inline Vec3f schlickF(const Vec3f& F0, float VoH) {
+FP_HD inline Vec3f schlickF(const Vec3f& F0, float VoH) {
     const float fc = pow5(1.0f - std::clamp(VoH, 0.0f, 1.0f));
     const float cut = std::clamp(50.0f * F0.y, 0.0f, 1.0f);
     return Vec3f{cut * fc, cut * fc, cut * fc} + F0 * (1.0f - fc);

@@ -4,7 +4,9 @@
 // √value and read back squared, an 8-bit-friendly gamma. The ray-traced shadow pass writes its
 // shadow with ShadowFadeFraction = 1, i.e. FadedShadow = Shadow², so the stored value is Shadow and
 // the lights see Shadow² (algorithms §9.4).
+#include "foundation/HostDevice.h"
 #include "foundation/Image.h"
+#include "foundation/PlaneView.h"
 #include "foundation/Math.h"
 #include "foundation/Scene.h"
 
@@ -17,7 +19,7 @@ struct LightAttenuation {
     float r = 1, g = 1, b = 1, a = 1;  //!< encoded (√) channel values
 
     static float encode(float value) { return std::sqrt(std::clamp(value, 0.0f, 1.0f)); }
-    static float decode(float stored) { return stored * stored; }
+    FP_HD static float decode(float stored) { return stored * stored; }
 
     /// What the RT shadow pass writes for one light: directional lights fill the whole-scene
     /// channels and leave B at 1, every other light writes its shadow into both pairs.
@@ -32,6 +34,10 @@ struct LightAttenuation {
         return {image.plane(0).at(x, y), image.plane(1).at(x, y), image.plane(2).at(x, y),
                 image.plane(3).at(x, y)};
     }
+    /// The same from views of the planes (per-pixel code on either backend).
+    FP_HD static LightAttenuation load(const PlaneView (&p)[4], int x, int y) {
+        return {p[0].at(x, y), p[1].at(x, y), p[2].at(x, y), p[3].at(x, y)};
+    }
     void store(Image& image, int x, int y) const {
         image.plane(0).at(x, y) = r;
         image.plane(1).at(x, y) = g;
@@ -41,12 +47,12 @@ struct LightAttenuation {
 
     /// GetShadowTerms (algorithms §9.5) without static shadowing or distance fade: the opaque
     /// surface shadow and the transmission shadow a light of `type` applies.
-    float surfaceShadow(LightType type) const {
+    FP_HD float surfaceShadow(LightType type) const {
         return type == LightType::Directional ? decode(r) * decode(b) : decode(b);
     }
-    float transmissionShadow(LightType type) const {
-        return type == LightType::Directional ? std::min(decode(g), decode(a)) * decode(b)
-                                              : decode(a);
+    FP_HD float transmissionShadow(LightType type) const {
+        const float dg = decode(g), da = decode(a);
+        return type == LightType::Directional ? (da < dg ? da : dg) * decode(b) : da;  // std::min
     }
 };
 

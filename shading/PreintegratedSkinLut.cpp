@@ -103,17 +103,4 @@ const PreintegratedSkinLut& PreintegratedSkinLut::instance() {
     return lut;
 }
 
-Vec3f PreintegratedSkinLut::sample(float u, float v) const {
-    // Written so that NaN fails both comparisons and reads texel 0.
-    const float cu = u > 0.0f ? std::min(u, 1.0f) : 0.0f;
-    const float cv = v > 0.0f ? std::min(v, 1.0f) : 0.0f;
-    const float x = cu * (kSize - 1), y = cv * (kSize - 1);
-    const int i = std::min(int(x), kSize - 2), j = std::min(int(y), kSize - 2);
-    const float fx = x - float(i), fy = y - float(j);
-    const auto at = [&](int di, int dj) { return mTexels[size_t(j + dj) * kSize + (i + di)]; };
-    const Vec3f bottom = at(0, 0) * (1.0f - fx) + at(1, 0) * fx;
-    const Vec3f top = at(0, 1) * (1.0f - fx) + at(1, 1) * fx;
-    return bottom * (1.0f - fy) + top * fy;
-}
-
 }  // namespace fp

@@ -7,6 +7,8 @@
 // incoming scene colour, as Unreal's additive light accumulation does (algorithms §7.5).
 #include "framework/Params.h"
 #include "framework/Pass.h"
+#include "passes/deferred_lighting/DeferredLightingKernel.h"
+#include "passes/deferred_lighting/DeferredLightingLanes.h"
 
 #include <string>
 
@@ -25,6 +27,13 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+
+    FP_PASS_HAS_CUDA_KERNEL  // DeferredLightingPass.cu
+
+private:
+    /// The light as the pixels read it, relative to this frame's eye; a rect light's grid goes
+    /// to `grid` (the shape points into it on the host).
+    deferred_lighting::LightShape lightShape(PassContext& ctx, deferred::RectGrid& grid) const;
 };
 
 }  // namespace fp

@@ -80,7 +80,16 @@ struct ChainOptions {
     int quality = 4;
     bool halfRes = false;
     bool workbench = false;    //!< planned as `framepass serve` plans: every pass, only the dumps
+    /// The scene's lights: per light, as the engine preset lights it, a ray-traced shadow, its
+    /// denoiser and the deferred lighting, the chain then starting from the capture's emissive.
+    std::vector<std::string> lights;
 };
+
+std::vector<std::string> lightsOf(const std::string& scene) {
+    std::vector<std::string> names;
+    for (const Light& l : io::loadScene(scenePath(scene)).scene.lights) names.push_back(l.name);
+    return names;
+}
 
 // The engine preset's screen-space chain (no lights: the demo chain of `make demo`), with SSR and
 // the reflection environment between the composite and the display where asked. The errors are
@@ -103,6 +112,23 @@ Plan chainPlan(const ChainOptions& o) {
     passes[2]["params"] = {{"quality", o.quality}, {"halfRes", o.halfRes}};
     passes[3]["params"] = {{"halfRes", o.halfRes}};
     std::string lit = "diffuse_indirect_composite.color";
+    if (!o.lights.empty()) {
+        passes.push_back(nlohmann::json::parse(R"({ "forEachLight": {
+          "colorIn": "diffuse_indirect_composite.color",
+          "passes": [
+            { "name": "rt_shadows_{light}", "type": "rt_shadows", "params": { "light": "{lightName}" } },
+            { "name": "shadow_denoise_{light}", "type": "shadow_denoise", "params": { "light": "{lightName}" },
+              "inputs": { "shadow": "rt_shadows_{light}.shadow", "transmission": "rt_shadows_{light}.transmission",
+                          "hitDistance": "rt_shadows_{light}.hitDistance" } },
+            { "name": "deferred_lighting_{light}", "type": "deferred_lighting", "params": { "light": "{lightName}" },
+              "inputs": { "color": "{colorIn}", "attenuation": "shadow_denoise_{light}.lightAttenuation" } }
+          ],
+          "colorOut": "deferred_lighting_{light}.color",
+          "rewire": { "diffuse_indirect_composite.sceneColor": "capture:Emissive" } } })"));
+        // The lit colour goes on to what follows the composite.
+        passes.back()["forEachLight"]["rewire"][o.reflections ? "reflection_environment.color" : "display.color"] =
+            "{colorOut}";
+    }
     if (o.reflections) {
         passes.push_back({{"name", "ssr"},
                           {"type", "ssr"},
@@ -136,6 +162,7 @@ Plan chainPlan(const ChainOptions& o) {
     inputs.overrides.dumps = o.dumps;
     inputs.overrides.runEveryPass = o.workbench;
     inputs.overrides.dumpsOnly = o.workbench;
+    inputs.lightNames = o.lights;
     return makePlan(rc.graph, builtinPasses(), inputs);
 }
 
@@ -219,7 +246,7 @@ Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, boo
     Comparison out;
     HistoryStore cpuHistory, gpuHistory;
     ChainOptions o{.dumps = {"all"}, .errors = true, .reflections = true, .quality = quality,
-                   .halfRes = halfRes};
+                   .halfRes = halfRes, .lights = lightsOf(scene)};
     const Plan cpuPlan = chainPlan(o);
     o.device = "cuda";
     const Plan gpuPlan = chainPlan(o);
@@ -302,7 +329,7 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
                              {"gpu", cuda::deviceName()},
                              {"runs", runs}};
     for (const std::string device : {"cuda", "cpu"}) {
-        const Plan plan = chainPlan({.device = device, .reflections = true});
+        const Plan plan = chainPlan({.device = device, .reflections = true, .lights = lightsOf(scene)});
         std::map<std::string, std::vector<double>> wall, gpu;
         std::vector<double> frames, transfers;
         double upBytes = 0, downBytes = 0;
@@ -396,8 +423,11 @@ TEST_CASE("gpu: the check's chain runs on the CPU, with every figure it compares
         const FrameReport r = executePlan(chainPlan({.dumps = {"all"}, .errors = true,
                                                      .reflections = true,
                                                      .quality = halfRes ? 1 : 4,
-                                                     .halfRes = halfRes}),
+                                                     .halfRes = halfRes,
+                                                     .lights = lightsOf("glossy")}),
                                           cap->source, sink);
+        CHECK(sink.layers.count("deferred_lighting_ceiling.color") == 1);
+        CHECK(sink.layers.count("camera_velocity.velocity") == 1);
         int figures = 0;
         for (const auto& p : r.passes)
             figures += int(p.metrics.size());
