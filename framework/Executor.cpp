@@ -500,8 +500,8 @@ FrameReport executePlan(const Plan& plan,
     const cuda::TransferTotals transfersAfter = cuda::transferTotals();
     report.uploadBytes = transfersAfter.uploadBytes - transfersBefore.uploadBytes;
     report.downloadBytes = transfersAfter.downloadBytes - transfersBefore.downloadBytes;
-    report.transferSeconds = (transfersAfter.uploadSeconds - transfersBefore.uploadSeconds) +
-                             (transfersAfter.downloadSeconds - transfersBefore.downloadSeconds);
+    report.uploadSeconds = transfersAfter.uploadSeconds - transfersBefore.uploadSeconds;
+    report.downloadSeconds = transfersAfter.downloadSeconds - transfersBefore.downloadSeconds;
     report.seconds = std::chrono::duration<double>(Clock::now() - frameStart).count();
     return report;
 }
@@ -512,7 +512,9 @@ nlohmann::json FrameReport::toJson() const {
         j["peakDeviceBytes"] = peakDeviceBytes;
         j["transfers"] = {{"uploadBytes", uploadBytes},
                           {"downloadBytes", downloadBytes},
-                          {"seconds", transferSeconds}};
+                          {"uploadSeconds", uploadSeconds},
+                          {"downloadSeconds", downloadSeconds},
+                          {"seconds", transferSeconds()}};
     }
     j["passes"] = nlohmann::json::array();
     for (const auto& p : passes) {

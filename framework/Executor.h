@@ -65,7 +65,8 @@ struct FrameReport {
     std::size_t peakBytes = 0;  //!< measured: most bytes of images held at once
     std::size_t peakDeviceBytes = 0;  //!< the same in GPU memory (0 on the CPU)
     std::size_t uploadBytes = 0, downloadBytes = 0;  //!< what crossed between host and GPU
-    double transferSeconds = 0;
+    double uploadSeconds = 0, downloadSeconds = 0;   //!< and how long each way took
+    double transferSeconds() const { return uploadSeconds + downloadSeconds; }
     /// Steps executed and steps whose outputs a StepCache supplied.
     int executedSteps = 0, reusedSteps = 0;
     nlohmann::json toJson() const;

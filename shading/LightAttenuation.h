@@ -18,12 +18,12 @@ namespace fp {
 struct LightAttenuation {
     float r = 1, g = 1, b = 1, a = 1;  //!< encoded (√) channel values
 
-    static float encode(float value) { return std::sqrt(std::clamp(value, 0.0f, 1.0f)); }
+    FP_HD static float encode(float value) { return std::sqrt(saturate(value)); }
     FP_HD static float decode(float stored) { return stored * stored; }
 
     /// What the RT shadow pass writes for one light: directional lights fill the whole-scene
     /// channels and leave B at 1, every other light writes its shadow into both pairs.
-    static LightAttenuation fromShadow(LightType type, float shadow, float subsurface) {
+    FP_HD static LightAttenuation fromShadow(LightType type, float shadow, float subsurface) {
         const float s = encode(shadow * shadow), t = encode(subsurface * subsurface);
         if (type == LightType::Directional) return {s, t, 1.0f, t};
         return {s, t, s, t};

@@ -12,9 +12,6 @@
 
 namespace fp {
 
-struct Light;
-class SurfaceGrid;
-
 struct ShadowDenoiseParams {
     int denoiser = 2;               //!< 0 passes the raw shadow through
     std::string light;              //!< the light's name ("" = the scene's only light)
@@ -31,12 +28,7 @@ public:
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
 
-private:
-    /// Each pixel's blur radius in pixels from its penumbra (0: nothing to blur).
-    Plane blurRadii(PassContext& ctx, const Light& light, const SurfaceGrid& surfaces) const;
-    /// The pre-convolution passes and the reconstruction over (shadow, transmission).
-    Image filter(const SurfaceGrid& surfaces, const Plane& radius, Image signal) const;
-
+    FP_PASS_HAS_CUDA_KERNEL  // ShadowDenoisePass.cu
 };
 
 }  // namespace fp

@@ -82,7 +82,8 @@ check "--set with a bad value exits 2 naming the flag" expect_exit 2 "--set hzb.
 if "$FP" plan "$DIR/config.json" --device cuda > "$DIR/plan_cuda.txt" 2>&1; then
     check "plan --device cuda marks the GPU passes" bash -c "grep -q 'ssgi (ssgi) \[gpu\]' '$DIR/plan_cuda.txt' && grep -q 'display (display) \[gpu\]' '$DIR/plan_cuda.txt'"
     check "plan --json gives each step's device" bash -c "'$FP' plan '$DIR/config.json' --device cuda --json | grep -q '\"device\": \"cuda\"'"
-    check "passes --json says which types have a GPU kernel" bash -c "'$FP' passes --json | python3 -c 'import json,sys; c={p[\"type\"]: p[\"cuda\"] for p in json.load(sys.stdin)}; sys.exit(not (c[\"ssr\"] and c[\"ssgi\"] and not c[\"rt_shadows\"]))'"
+    check "plan --device cuda puts the lit chain on the GPU but the shadow rays" bash -c "'$FP' plan '$DIR/lit.json' --device cuda > '$DIR/lit_cuda.txt' 2>&1; grep -q 'shadow_denoise_ceiling (shadow_denoise) \[gpu\]' '$DIR/lit_cuda.txt' && grep -q 'deferred_lighting_ceiling (deferred_lighting) \[gpu\]' '$DIR/lit_cuda.txt' && grep -q 'reflection_environment (reflection_environment) \[gpu\]' '$DIR/lit_cuda.txt' && ! grep -q 'rt_shadows_ceiling (rt_shadows) \[gpu\]' '$DIR/lit_cuda.txt'"
+    check "passes --json says which types have a GPU kernel" bash -c "'$FP' passes --json | python3 -c 'import json,sys; c={p[\"type\"]: p[\"cuda\"] for p in json.load(sys.stdin)}; sys.exit(not (c[\"ssr\"] and c[\"shadow_denoise\"] and c[\"deferred_lighting\"] and not c[\"rt_shadows\"]))'"
     if ! grep -q "not usable here" "$DIR/plan_cuda.txt"; then
         echo "  (a GPU is here: run --device cuda is checked by framepass_gpu_check)"
     else

@@ -331,7 +331,7 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
     for (const std::string device : {"cuda", "cpu"}) {
         const Plan plan = chainPlan({.device = device, .reflections = true, .lights = lightsOf(scene)});
         std::map<std::string, std::vector<double>> wall, gpu;
-        std::vector<double> frames, transfers;
+        std::vector<double> frames, transfers, uploads, downloads;
         double upBytes = 0, downBytes = 0;
         for (int r = 0; r < runs + 1; ++r) {  // the first run warms up (allocations, module load)
             test::MemorySink sink;
@@ -341,7 +341,9 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
             frames.push_back(rep.seconds);
             upBytes = double(rep.uploadBytes);
             downBytes = double(rep.downloadBytes);
-            transfers.push_back(rep.transferSeconds);
+            transfers.push_back(rep.transferSeconds());
+            uploads.push_back(rep.uploadSeconds);
+            downloads.push_back(rep.downloadSeconds);
             for (const auto& p : rep.passes) {
                 wall[p.name].push_back(p.seconds);
                 if (p.gpuSeconds)
@@ -349,7 +351,9 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
             }
         }
         nlohmann::json dj = {{"frameSeconds", median(frames)},
-                             {"transferSeconds", median(transfers)}};
+                             {"transferSeconds", median(transfers)},
+                             {"uploadSeconds", median(uploads)},
+                             {"downloadSeconds", median(downloads)}};
         double kernels = 0;
         std::cout << fmt::format("{} at {}×{} ({}), medians of {} runs:\n", device, size.width,
                                  size.height, device == "cuda" ? cuda::deviceName() : "CPU",
@@ -369,9 +373,11 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
         }
         dj["passSeconds"] = kernels;
         std::cout << fmt::format("  passes {:.3f} ms (GPU passes by events); frame {:.3f} ms wall, "
-                                 "of it host↔GPU copies {:.3f} ms ({:.1f} MB up, {:.1f} MB down)\n",
+                                 "of it host↔GPU copies {:.3f} ms: up {:.3f} ms ({:.1f} MB), "
+                                 "down {:.3f} ms ({:.1f} MB)\n",
                                  kernels * 1e3, median(frames) * 1e3, median(transfers) * 1e3,
-                                 upBytes / 1e6, downBytes / 1e6);
+                                 median(uploads) * 1e3, upBytes / 1e6, median(downloads) * 1e3,
+                                 downBytes / 1e6);
         result[device] = dj;
     }
     // The workbench's re-run (framepass serve, docs/results/serve.md): r.SSGI.Quality moved
