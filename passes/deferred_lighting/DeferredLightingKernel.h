@@ -12,6 +12,7 @@
 #include "foundation/ShadingModel.h"
 #include "framework/Pass.h"
 #include "screenspace/GBuffer.h"
+#include "screenspace/MaterialViews.h"
 #include "shading/BRDF.h"
 #include "shading/LightAttenuation.h"
 #include "shading/PreintegratedSkinLut.h"
@@ -44,8 +45,8 @@ struct LightShape {
 struct Frame {
     CameraView cam;
     LightShape light;
-    PlaneView color[3], depth, models, normal[3], baseColor[3], metallic, specular, roughness;
-    PlaneView customData[4], gbufferAO, attenuation[4];
+    PlaneView color[3], attenuation[4];
+    MaterialViews m;
     PlaneSpan out[3];
     PreintegratedSkinView skin;
 };
@@ -62,9 +63,9 @@ struct PixelStart {
 FP_HD inline PixelStart startPixel(const Frame& f, int x, int y) {
     PixelStart s;
     s.color = {f.color[0].at(x, y), f.color[1].at(x, y), f.color[2].at(x, y)};
-    const double d = f.depth.at(x, y);
-    s.model = truncToInt(f.models.at(x, y), 0, 255);
-    s.lit = isLitSurface(d, f.models.at(x, y));
+    const double d = f.m.depth.at(x, y);
+    s.model = truncToInt(f.m.shadingModel.at(x, y), 0, 255);
+    s.lit = isLitSurface(d, f.m.shadingModel.at(x, y));
     if (s.lit) s.p = Vec3f(f.cam.translatedFromPixel(x, y, d));
     return s;
 }
@@ -73,23 +74,23 @@ FP_HD inline PixelStart startPixel(const Frame& f, int x, int y) {
 FP_HD inline BxDFSurface materialAt(const Frame& f, int model, int x, int y) {
     BxDFSurface s{};
     s.shadingModel = model;
-    s.N = normalize(Vec3f{f.normal[0].at(x, y), f.normal[1].at(x, y), f.normal[2].at(x, y)});
-    const Vec3f base{f.baseColor[0].at(x, y), f.baseColor[1].at(x, y), f.baseColor[2].at(x, y)};
-    const SurfaceBRDF brdf = SurfaceBRDF::fromMaterial(base, f.metallic.at(x, y), f.specular.at(x, y),
-                                                       f.roughness.at(x, y));
+    s.N = normalize(Vec3f{f.m.normal[0].at(x, y), f.m.normal[1].at(x, y), f.m.normal[2].at(x, y)});
+    const Vec3f base{f.m.baseColor[0].at(x, y), f.m.baseColor[1].at(x, y), f.m.baseColor[2].at(x, y)};
+    const SurfaceBRDF brdf = SurfaceBRDF::fromMaterial(base, f.m.metallic.at(x, y), f.m.specular.at(x, y),
+                                                       f.m.roughness.at(x, y));
     s.diffuseColor = brdf.diffuseColor;
     s.specularColor = brdf.specularColor;
     s.roughness = brdf.roughness;
-    if (f.customData[0].data) {
+    if (f.m.customData[0].data) {
         // algorithms §1.7: subsurface-type colours are stored as √colour.
-        const float r = f.customData[0].at(x, y), g = f.customData[1].at(x, y), b = f.customData[2].at(x, y),
-                    a = f.customData[3].at(x, y);
+        const float r = f.m.customData[0].at(x, y), g = f.m.customData[1].at(x, y), b = f.m.customData[2].at(x, y),
+                    a = f.m.customData[3].at(x, y);
         s.subsurfaceColor = {r * r, g * g, b * b};
         s.opacity = a;
         s.clearCoat = r;
         s.clearCoatRoughness = g;
     }
-    s.gbufferAO = f.gbufferAO.data ? f.gbufferAO.at(x, y) : 1.0f;
+    s.gbufferAO = f.m.gbufferAO.data ? f.m.gbufferAO.at(x, y) : 1.0f;
     return s;
 }
 
@@ -176,23 +177,12 @@ Frame bindFrame(const Ports& ports, const FrameInfo& frame, const LightShape& li
     f.light.rectPoints = points;
     f.skin = skin;
     const auto& color = ports.input(kColor)->image();
-    const auto& normal = ports.input(gbuffer::kNormal)->image();
-    const auto& baseColor = ports.input(gbuffer::kBaseColor)->image();
     auto& out = ports.output(kColor, {frame.extent});
     for (int c = 0; c < 3; ++c) {
         f.color[c] = viewOf(color.plane(c));
-        f.normal[c] = viewOf(normal.plane(c));
-        f.baseColor[c] = viewOf(baseColor.plane(c));
         f.out[c] = spanOf(out.image().plane(c));
     }
-    f.depth = viewOf(ports.input(gbuffer::kDepth)->image().plane(0));
-    f.models = viewOf(ports.input(gbuffer::kShadingModel)->image().plane(0));
-    f.metallic = viewOf(ports.input(gbuffer::kMetallic)->image().plane(0));
-    f.specular = viewOf(ports.input(gbuffer::kSpecular)->image().plane(0));
-    f.roughness = viewOf(ports.input(gbuffer::kRoughness)->image().plane(0));
-    if (const auto* customData = ports.input(gbuffer::kCustomData))
-        for (int c = 0; c < 4; ++c) f.customData[c] = viewOf(customData->image().plane(c));
-    if (const auto* ao = ports.input(gbuffer::kGBufferAO)) f.gbufferAO = viewOf(ao->image().plane(0));
+    f.m = bindMaterialViews(ports);
     if (const auto* attenuation = ports.input(kAttenuation))
         for (int c = 0; c < 4; ++c) f.attenuation[c] = viewOf(attenuation->image().plane(c));
     return f;

@@ -15,6 +15,7 @@
 #include "foundation/ShadingModel.h"
 #include "framework/Pass.h"
 #include "screenspace/GBuffer.h"
+#include "screenspace/MaterialViews.h"
 #include "shading/BRDF.h"
 #include "shading/Cubemap.h"
 #include "shading/EnvBRDF.h"
@@ -65,8 +66,8 @@ FP_HD inline Vec3f dominantDirection(const Vec3f& N, const Vec3f& R, float rough
 /// Everything one frame's pixels read and write. Absent images have null data.
 struct Frame {
     CameraView cam;
-    PlaneView in[3], depth, normal[3], baseColor[3], metallic, specular, roughness, shadingModel;
-    PlaneView customData[4], gbufferAO, ssr[4], ao;
+    PlaneView in[3], ssr[4], ao;
+    MaterialViews m;
     bool halfAo;
     PlaneSpan out[3], specOut[3], diffOut[3];
     bool doSpecular, doDiffuse, useSpecularOcclusion;
@@ -102,32 +103,32 @@ FP_HD inline Vec3f layer(const Frame& f, const Vec3f& P, const Vec3f& N, const V
 /// the sky untouched), counted in `counts` (indexed by Counter).
 FP_HD inline void environmentPixel(const Frame& f, int x, int y, unsigned long long* counts) {
     const Vec3f before = rgbAt(f.in, x, y);
-    const double d = f.depth.at(x, y);
-    const int model = truncToInt(f.shadingModel.at(x, y), 0, 255);
+    const double d = f.m.depth.at(x, y);
+    const int model = truncToInt(f.m.shadingModel.at(x, y), 0, 255);
     const bool ssrEmpty = !f.ssr[0].data || (f.ssr[3].at(x, y) == 0.0f && f.ssr[0].at(x, y) == 0.0f &&
                                              f.ssr[1].at(x, y) == 0.0f && f.ssr[2].at(x, y) == 0.0f);
     Vec3f diffuse, spec;
-    if (!isLitSurface(d, f.shadingModel.at(x, y))) {
+    if (!isLitSurface(d, f.m.shadingModel.at(x, y))) {
         ++counts[kSkipped];
     } else if (!f.sky && f.captureCount == 0 && ssrEmpty) {
         // Without a sky or captures, a pixel the SSR left empty (rough, missed, faded) gets nothing.
         ++counts[kEmpty];
     } else {
         ++counts[kLit];
-        const Vec3f N = normalize(rgbAt(f.normal, x, y));
+        const Vec3f N = normalize(rgbAt(f.m.normal, x, y));
         const Vec3d p = f.cam.translatedFromPixel(x, y, d);
         const Vec3f P{float(p.x), float(p.y), float(p.z)};
         const Vec3f V = normalize(-P);
-        const Vec3f base = rgbAt(f.baseColor, x, y);
-        const SurfaceBRDF brdf = SurfaceBRDF::fromMaterial(base, f.metallic.at(x, y), f.specular.at(x, y),
-                                                           f.roughness.at(x, y));
+        const Vec3f base = rgbAt(f.m.baseColor, x, y);
+        const SurfaceBRDF brdf = SurfaceBRDF::fromMaterial(base, f.m.metallic.at(x, y), f.m.specular.at(x, y),
+                                                           f.m.roughness.at(x, y));
         Vec3f cd;
         float cdA = 0.0f;
-        if (f.customData[0].data) {
-            cd = {f.customData[0].at(x, y), f.customData[1].at(x, y), f.customData[2].at(x, y)};
-            cdA = f.customData[3].at(x, y);
+        if (f.m.customData[0].data) {
+            cd = {f.m.customData[0].at(x, y), f.m.customData[1].at(x, y), f.m.customData[2].at(x, y)};
+            cdA = f.m.customData[3].at(x, y);
         }
-        const float materialAO = f.gbufferAO.data ? f.gbufferAO.at(x, y) : 1.0f;
+        const float materialAO = f.m.gbufferAO.data ? f.m.gbufferAO.at(x, y) : 1.0f;
         const float screenAO = f.ao.data ? f.ao.at(f.halfAo ? x / 2 : x, f.halfAo ? y / 2 : y) : 1.0f;
         if (f.doDiffuse) {
             // §8.1: sky visibility 1 (no distance-field AO), combined with the AO by Minimum;
@@ -151,7 +152,7 @@ FP_HD inline void environmentPixel(const Frame& f, int x, int y, unsigned long l
                 ssrAlpha = saturate(f.ssr[3].at(x, y));
             }
             const EnvBRDFTerms terms = f.lut.lookup(NoV, roughness);
-            if (model == kClearCoat && f.customData[0].data) {
+            if (model == kClearCoat && f.m.customData[0].data) {
                 // §8.2 steps 4 and 8: the base loses the SSR to the coat and its grazing term,
                 // and sees what the coat's Fresnel lets through.
                 const float coat = saturate(cd.x), coatRoughness = saturate(cd.y);
@@ -227,20 +228,7 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const Light
     }
     f.cam = ctx.frame().camera.current;
     f.useSpecularOcclusion = lighting.specularOcclusion;
-    f.depth = viewOf(ports.input(gbuffer::kDepth)->image().plane(0));
-    const auto& normal = ports.input(gbuffer::kNormal)->image();
-    const auto& baseColor = ports.input(gbuffer::kBaseColor)->image();
-    for (int c = 0; c < 3; ++c) {
-        f.normal[c] = viewOf(normal.plane(c));
-        f.baseColor[c] = viewOf(baseColor.plane(c));
-    }
-    f.metallic = viewOf(ports.input(gbuffer::kMetallic)->image().plane(0));
-    f.specular = viewOf(ports.input(gbuffer::kSpecular)->image().plane(0));
-    f.roughness = viewOf(ports.input(gbuffer::kRoughness)->image().plane(0));
-    f.shadingModel = viewOf(ports.input(gbuffer::kShadingModel)->image().plane(0));
-    if (const auto* customData = ports.input(gbuffer::kCustomData))
-        for (int c = 0; c < 4; ++c) f.customData[c] = viewOf(customData->image().plane(c));
-    if (const auto* gbufferAO = ports.input(gbuffer::kGBufferAO)) f.gbufferAO = viewOf(gbufferAO->image().plane(0));
+    f.m = bindMaterialViews(ports);
     if (ssr) {
         const auto& image = ssr->image();
         FP_CHECK(image.width() == W && image.height() == H, "the reflection input is {}×{}, the frame {}×{}",

@@ -45,6 +45,14 @@ struct FlatGBuffer {
     SurfaceInputs inputs() const { return {depth, normal, shadingModel}; }
 };
 
+// How many float steps (at b's magnitude) a is from the reference b.
+int ulpsApart(float a, float b) {
+    if (a == b)
+        return 0;
+    const float step = std::nextafter(std::fabs(b), std::numeric_limits<float>::infinity()) - std::fabs(b);
+    return int(std::ceil(std::fabs(double(a) - double(b)) / double(step)));
+}
+
 }  // namespace
 
 TEST_CASE("roundHalfAwayToInt is std::lround: halves away from zero, and every float in between") {
@@ -67,13 +75,6 @@ TEST_CASE("sinCos is within 1 ulp of the correctly rounded sine and cosine") {
     // so each result is the correctly rounded float unless the true value lies that close to a
     // rounding midpoint, and then its neighbour: never more than 1 ulp away. The reference is
     // std::sin/std::cos in double (within 1 double ulp) rounded to float once.
-    auto ulpsApart = [](float a, float b) {
-        if (a == b)
-            return 0;
-        const float step = std::nextafter(std::fabs(b), std::numeric_limits<float>::infinity()) -
-                           std::fabs(b);
-        return int(std::ceil(std::fabs(double(a) - double(b)) / double(step)));
-    };
     int worst = 0, inexact = 0, count = 0;
     const float twoPi = 6.28318531f;
     for (int i = -1000003; i <= 1000003; ++i) {
@@ -96,13 +97,6 @@ TEST_CASE("sinCos is within 1 ulp of the correctly rounded sine and cosine") {
 TEST_CASE("log2Float and powFloat are within 1 ulp of the correctly rounded values") {
     // As sinCos: evaluated in double (truncation below 10⁻¹⁸ relative, rounding a few double
     // ulps), rounded to float once; the reference is std::log2/std::pow in double rounded once.
-    auto ulpsApart = [](float a, float b) {
-        if (a == b)
-            return 0;
-        const float step = std::nextafter(std::fabs(b), std::numeric_limits<float>::infinity()) -
-                           std::fabs(b);
-        return int(std::ceil(std::fabs(double(a) - double(b)) / double(step)));
-    };
     int worst = 0, inexact = 0, count = 0;
     // Arguments over 2⁻⁶⁰ … 2⁶⁰ (log-spaced), exponents over [−8, 8]: the passes' ranges and more.
     for (int i = 0; i <= 400000; ++i) {
