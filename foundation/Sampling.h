@@ -33,27 +33,29 @@ inline double radicalInverse2(uint32_t i) {
 }
 
 /// Shirley–Chiu concentric map of the unit square onto the unit disk (area-preserving).
-inline void concentricDisk(float u, float v, float& x, float& y) {
+FP_HD inline void concentricDisk(float u, float v, float& x, float& y) {
     const float a = 2.0f * u - 1.0f, b = 2.0f * v - 1.0f;
     if (a == 0.0f && b == 0.0f) {
         x = y = 0.0f;
         return;
     }
     float r, phi;
-    if (std::abs(a) > std::abs(b)) {
+    if (std::fabs(a) > std::fabs(b)) {
         r = a;
         phi = (kPiF / 4.0f) * (b / a);
     } else {
         r = b;
         phi = (kPiF / 2.0f) - (kPiF / 4.0f) * (a / b);
     }
-    x = r * std::cos(phi);
-    y = r * std::sin(phi);
+    float sinPhi, cosPhi;
+    sinCos(phi, sinPhi, cosPhi);  // the same bits on the CPU and the GPU
+    x = r * cosPhi;
+    y = r * sinPhi;
 }
 
 /// Cosine-weighted direction around unit n: a concentric-disk point lifted to the hemisphere
 /// (pdf = cosθ/π), as Unreal's SSGI builds its rays (algorithms §4.4).
-inline Vec3f cosineHemisphere(const Vec3f& n, float u, float v) {
+FP_HD inline Vec3f cosineHemisphere(const Vec3f& n, float u, float v) {
     float x, y;
     concentricDisk(u, v, x, y);
     const float z = std::sqrt(std::max(0.0f, 1.0f - x * x - y * y));
@@ -63,7 +65,7 @@ inline Vec3f cosineHemisphere(const Vec3f& n, float u, float v) {
 }
 
 /// Smith's masking term G1 for GGX with α² = a2, at cosine NoX.
-inline float smithG1(float a2, float NoX) {
+FP_HD inline float smithG1(float a2, float NoX) {
     return 2.0f * NoX / (NoX + std::sqrt(a2 + (1.0f - a2) * NoX * NoX));
 }
 
@@ -93,6 +95,6 @@ FP_HD inline Vec3f sampleGgxVisibleNormal(const Vec3f& n, const Vec3f& V, float 
 
 FP_HD inline Vec3f reflect(const Vec3f& v, const Vec3f& n) { return n * (2.0f * dot(v, n)) - v; }
 
-inline float luminance(const Vec3f& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+FP_HD inline float luminance(const Vec3f& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 }  // namespace fp

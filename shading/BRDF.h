@@ -60,12 +60,12 @@ struct SurfaceBRDF {
     }
 
     /// f(V, L) for unit N, V, L on the same side (NoL, NoV > 0), per steradian.
-    Vec3f evaluate(const Vec3f& N, const Vec3f& V, const Vec3f& L) const {
+    FP_HD Vec3f evaluate(const Vec3f& N, const Vec3f& V, const Vec3f& L) const {
         const float NoL = dot(N, L), NoV = std::max(dot(N, V), 1e-4f);
         if (NoL <= 0.0f) return {};
         const Vec3f H = normalize(V + L);
         const float NoH = std::clamp(dot(N, H), 0.0f, 1.0f), VoH = dot(V, H);
-        const float r = std::max(roughness, kMinLightRoughness);
+        const float r = roughness < kMinLightRoughness ? kMinLightRoughness : roughness;  // std::max
         const float a2 = r * r * r * r;  // α = roughness², a2 = α²
         const Vec3f spec = schlickF(specularColor, VoH) * (ggxD(a2, NoH) *
                                                            smithJointApproxVis(a2, NoV, NoL));

@@ -25,6 +25,8 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+
+    FP_PASS_HAS_CUDA_KERNEL  // ScreenSpaceOraclePass.cu
 };
 
 }  // namespace fp

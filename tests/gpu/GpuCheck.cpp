@@ -91,11 +91,13 @@ std::vector<std::string> lightsOf(const std::string& scene) {
     return names;
 }
 
-// The engine preset's screen-space chain (no lights: the demo chain of `make demo`), with SSR and
-// the reflection environment between the composite and the display where asked. The errors are
+// The engine preset's chain: its screen-space passes, then where asked each light's shadow rays,
+// their denoiser and the deferred lighting, and SSR and the reflection environment before the
+// display (without either it is the demo chain of `make demo`). The errors are
 // the GI against the capture's colour, with a standard error, and the AO against the GBuffer's
-// AO. SSR runs at Epic (12 glossy rays, the single mirror ray below roughness 0.1) with its
-// temporal smoothing, and traces every surface up to roughness 1.
+// AO, with the screen-space oracle beside them. SSR runs at Epic (12 glossy rays, the single
+// mirror ray below roughness 0.1) with its temporal smoothing, and traces every surface up to
+// roughness 1.
 Plan chainPlan(const ChainOptions& o) {
     nlohmann::json passes = nlohmann::json::parse(R"([
       { "name": "hzb", "type": "hzb" },
@@ -152,6 +154,8 @@ Plan chainPlan(const ChainOptions& o) {
         passes.push_back(nlohmann::json::parse(R"(
           { "name": "ao_vs_gbuffer", "type": "error_measure", "params": { "skyDistance": 1e6 },
             "inputs": { "source": "ssgi_denoise.ao", "reference": "capture:GBufferAO" } })"));
+        // The error breakdown's oracle, culled unless a dump asks for it.
+        passes.push_back({{"name", "oracle"}, {"type", "screen_space_oracle"}, {"params", {{"rays", 16}}}});
         config["outputs"] = {{"final.####.exr", {"display.image", "gi_vs_color.heat",
                                                  "gi_vs_color.absError", "ao_vs_gbuffer.heat"}}};
     }
@@ -434,6 +438,7 @@ TEST_CASE("gpu: the check's chain runs on the CPU, with every figure it compares
                                           cap->source, sink);
         CHECK(sink.layers.count("deferred_lighting_ceiling.color") == 1);
         CHECK(sink.layers.count("camera_velocity.velocity") == 1);
+        CHECK(sink.layers.count("oracle.specular") == 1);
         int figures = 0;
         for (const auto& p : r.passes)
             figures += int(p.metrics.size());
