@@ -1,8 +1,8 @@
 // DeferredLightingLanes.h: compiled once per x86 instruction set (foreach_target.h re-includes
 // this file); lanes() and shadeRectDefaultLit call the widest one the CPU has.
 //
-// Each lane repeats, operation for operation, what DeferredLightingPass.cpp's incomingLight (rect
-// branch) and reflectedLight do with ShadingModelBxDF.cpp's default-lit lobe and BRDF.h's terms:
+// Each lane repeats, operation for operation, what DeferredLightingKernel.h's forEachIncoming (rect
+// branch) and shadePixel do with ShadingModelBxDF.h's default-lit lobe and BRDF.h's terms:
 // the same products and sums in the same order, divisions where they divide, std::min/max/clamp's
 // NaN rules (LaneMath.h). A grid point behind the emitter is left out of a lane's sum as the
 // scalar loop leaves it out of its list.
@@ -63,7 +63,7 @@ struct Surfaces {
         transmission = zero * hn::LoadU(d, in.transmissionShadow);
     }
 
-    // reflectedLight's term for unit direction L bringing `falloff`: geometryOf, defaultLit
+    // shadePixel's term for unit direction L bringing `falloff`: geometryOf, defaultLit
     // (Lambert and schlickF × ggxD × smithJointApproxVis × NoL), then
     // ((diffuse + specular) · surface shadow + transmission · its shadow) · falloff.
     HWY_INLINE V3 term(const V3& L, const V3& falloff) const {
@@ -112,7 +112,7 @@ void shadeRect(const RectGrid& grid, const PixelLanes& in, LaneSums& out) {
     const V3 nl{hn::Set(d, grid.normal.x), hn::Set(d, grid.normal.y), hn::Set(d, grid.normal.z)};
     const V cellArea = hn::Set(d, grid.cellArea);
     for (const Vec3f& q : grid.points) {
-        // incomingLight: the direction to the point and its unshadowed irradiance; a point behind
+        // forEachIncoming: the direction to the point and its unshadowed irradiance; a point behind
         // the emitter is left out.
         const V3 toPoint{hn::Set(d, q.x) - p.x, hn::Set(d, q.y) - p.y, hn::Set(d, q.z) - p.z};
         const V dist2 = dot3(toPoint, toPoint);

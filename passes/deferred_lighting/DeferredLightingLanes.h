@@ -37,7 +37,7 @@ struct PixelLanes {
     float surfaceShadow[kMaxLanes], transmissionShadow[kMaxLanes];
 };
 
-/// Each pixel's light from the grid points in front of the emitter (reflectedLight's sum), and
+/// Each pixel's light from the grid points in front of the emitter (shadePixel's sum), and
 /// whether any point was (none: the pixel is out of the light's reach).
 struct LaneSums {
     float r[kMaxLanes], g[kMaxLanes], b[kMaxLanes];
