@@ -264,22 +264,20 @@ BufferImage Workbench::buffer(const std::string& name, std::optional<int> frame)
         std::lock_guard<std::mutex> lock(mStateMutex);
         generation = mRequested;
     }
-    bool notShown = false;
+    // A pass output not shown until now: shown from here on. Its run re-runs only the step that
+    // makes it, if that step did not already make it (the step cache).
+    SettingsChange show;
     if (!captureBuffer) {
         std::lock_guard<std::mutex> session(mSessionMutex);
-        notShown = mShown.count(name) == 0;
-    }
-    if (notShown) {
-        // A pass output not shown until now: shown from here on. Its run re-runs only the step
-        // that makes it, if that step did not already make it (the step cache).
-        SettingsChange change;
-        change.frame = frame;
-        {
-            std::lock_guard<std::mutex> session(mSessionMutex);
-            change.show = shownOutputs();
+        if (!mShown.count(name)) {
+            show.show = shownOutputs();
+            show.show->push_back(name);
         }
-        change.show->push_back(name);
-        generation = apply(change);
+    }
+    const bool notShown = show.show.has_value();
+    if (notShown) {
+        show.frame = frame;
+        generation = apply(show);
     }
     bool otherFrame = false;
     if (frame) {

@@ -85,9 +85,9 @@ struct ChainOptions {
     std::vector<std::string> lights;
 };
 
-std::vector<std::string> lightsOf(const std::string& scene) {
+std::vector<std::string> lightsOf(const Scene& scene) {
     std::vector<std::string> names;
-    for (const Light& l : io::loadScene(scenePath(scene)).scene.lights) names.push_back(l.name);
+    for (const Light& l : scene.lights) names.push_back(l.name);
     return names;
 }
 
@@ -250,7 +250,7 @@ Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, boo
     Comparison out;
     HistoryStore cpuHistory, gpuHistory;
     ChainOptions o{.dumps = {"all"}, .errors = true, .reflections = true, .quality = quality,
-                   .halfRes = halfRes, .lights = lightsOf(scene)};
+                   .halfRes = halfRes, .lights = lightsOf(io::loadScene(scenePath(scene)).scene)};
     const Plan cpuPlan = chainPlan(o);
     o.device = "cuda";
     const Plan gpuPlan = chainPlan(o);
@@ -333,7 +333,8 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
                              {"gpu", cuda::deviceName()},
                              {"runs", runs}};
     for (const std::string device : {"cuda", "cpu"}) {
-        const Plan plan = chainPlan({.device = device, .reflections = true, .lights = lightsOf(scene)});
+        const Plan plan =
+            chainPlan({.device = device, .reflections = true, .lights = lightsOf(cap->scene.scene)});
         std::map<std::string, std::vector<double>> wall, gpu;
         std::vector<double> frames, transfers, uploads, downloads;
         double upBytes = 0, downBytes = 0;
@@ -434,7 +435,7 @@ TEST_CASE("gpu: the check's chain runs on the CPU, with every figure it compares
                                                      .reflections = true,
                                                      .quality = halfRes ? 1 : 4,
                                                      .halfRes = halfRes,
-                                                     .lights = lightsOf("glossy")}),
+                                                     .lights = lightsOf(cap->scene.scene)}),
                                           cap->source, sink);
         CHECK(sink.layers.count("deferred_lighting_ceiling.color") == 1);
         CHECK(sink.layers.count("camera_velocity.velocity") == 1);
