@@ -6,9 +6,15 @@
 #include "foundation/DeviceImage.h"
 #include "foundation/Image.h"
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
+
+namespace fp {
+struct BvhView;
+struct Ray;
+}  // namespace fp
 
 namespace fp::cuda {
 
@@ -63,5 +69,13 @@ private:
     struct Events;
     std::unique_ptr<Events> mEvents;
 };
+
+/// The yardstick for rt_shadows' GPU speed, as app::timeBareOcclusion is on the CPU: the same
+/// rays (RayScene.h's, from host memory, copied to the GPU first) traced by a bare kernel, one
+/// thread a ray, through `bvh` (a RayScene::deviceBvh()): occlusion, and with `closestHits` the
+/// blocked rays' closest hit, as the pass asks. Returns the median GPU seconds of `runs` launches
+/// (CUDA events); `blocked` receives the occluded rays, so the work is checked and kept.
+double timeBareTraversal(const BvhView& bvh, const std::vector<Ray>& rays, bool closestHits,
+                         int runs, uint64_t& blocked);
 
 }  // namespace fp::cuda

@@ -48,6 +48,9 @@ unsigned long long* counterBuffer(int) {
 void checkStatus(int, const char*) {
     noBackend();
 }
+double timeBareTraversal(const BvhView&, const std::vector<Ray>&, bool, int, uint64_t&) {
+    noBackend();
+}
 TransferTotals transferTotals() {
     return {};
 }

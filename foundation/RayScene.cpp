@@ -1,13 +1,17 @@
 #include "foundation/RayScene.h"
 
+#include "foundation/Cuda.h"
 #include "foundation/Error.h"
 
 #include <embree3/rtcore.h>
+#include <embree3/rtcore_builder.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace fp {
 
@@ -59,6 +63,12 @@ RayScene::RayScene(const Scene& scene, const Vec3d& origin) : mScene(scene), mOr
     mRtcScene = rtc;
     if (!tEmbreeError.empty()) throw Error(tEmbreeError);
 }
+
+struct RayScene::OwnBvh {
+    std::vector<BvhNode> nodes;
+    std::vector<BvhTriangle> triangles;
+    std::shared_ptr<void> deviceNodes, deviceTriangles;  // null until deviceBvh()
+};
 
 RayScene::~RayScene() {
     if (mRtcScene) rtcReleaseScene(static_cast<RTCScene>(mRtcScene));
@@ -224,6 +234,189 @@ float RayScene::farthestDistance(const Vec3f& p) const {
                   std::max(std::fabs(p.y - mBoundsLo.y), std::fabs(mBoundsHi.y - p.y)),
                   std::max(std::fabs(p.z - mBoundsLo.z), std::fabs(mBoundsHi.z - p.z))};
     return length(d);
+}
+
+namespace {
+// rtcBuildBVH's tree, in memory from its thread-local allocator, before it is flattened into
+// BvhNodes: inner nodes with two children and their boxes, leaves with their triangles.
+struct BuildNode {
+    bool leaf;
+};
+struct BuildInner : BuildNode {
+    BuildNode* children[2];
+    RTCBounds bounds[2];
+    unsigned childCount;
+};
+struct BuildLeaf : BuildNode {
+    unsigned count;
+    unsigned mesh[RTC_BUILD_MAX_PRIMITIVES_PER_LEAF], triangle[RTC_BUILD_MAX_PRIMITIVES_PER_LEAF];
+};
+
+void* createInner(RTCThreadLocalAllocator alloc, unsigned childCount, void*) {
+    auto* n = static_cast<BuildInner*>(rtcThreadLocalAlloc(alloc, sizeof(BuildInner), 16));
+    n->leaf = false;
+    n->childCount = childCount;
+    n->children[0] = n->children[1] = nullptr;
+    return n;
+}
+void setChildren(void* node, void** children, unsigned count, void*) {
+    auto* n = static_cast<BuildInner*>(node);
+    for (unsigned i = 0; i < count && i < 2; ++i) n->children[i] = static_cast<BuildNode*>(children[i]);
+}
+void setBounds(void* node, const RTCBounds** bounds, unsigned count, void*) {
+    auto* n = static_cast<BuildInner*>(node);
+    for (unsigned i = 0; i < count && i < 2; ++i) n->bounds[i] = *bounds[i];
+}
+void* createLeaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t count, void*) {
+    auto* n = static_cast<BuildLeaf*>(rtcThreadLocalAlloc(alloc, sizeof(BuildLeaf), 16));
+    n->leaf = true;
+    n->count = unsigned(count);
+    for (size_t i = 0; i < count; ++i) {
+        n->mesh[i] = prims[i].geomID;
+        n->triangle[i] = prims[i].primID;
+    }
+    return n;
+}
+
+constexpr unsigned kBvhLeafSize = 4;
+
+// Depth-first, each inner node before its children, so node 0 is the root.
+class BvhFlattener {
+public:
+    BvhFlattener(const Scene& scene, const std::vector<std::array<Vec3f, 3>>& corners,
+                 const std::vector<std::size_t>& firstTriangle, std::vector<BvhNode>& nodes,
+                 std::vector<BvhTriangle>& triangles)
+        : mScene(scene), mCorners(corners), mFirst(firstTriangle), mNodes(nodes), mTriangles(triangles) {}
+
+    int inner(const BuildInner& b) {
+        const int index = int(mNodes.size());
+        mNodes.push_back({});
+        for (int c = 0; c < 2; ++c) {
+            if (c >= int(b.childCount) || !b.children[c]) {
+                mNodes[index].count[c] = -1;
+                continue;
+            }
+            const RTCBounds& r = b.bounds[c];
+            mNodes[index].lo[c] = {r.lower_x, r.lower_y, r.lower_z};
+            mNodes[index].hi[c] = {r.upper_x, r.upper_y, r.upper_z};
+            const auto [child, count] = place(*b.children[c]);
+            mNodes[index].child[c] = child;  // mNodes may have grown: index again
+            mNodes[index].count[c] = count;
+        }
+        return index;
+    }
+
+    /// The root, always an inner node (a lone leaf gets a parent with one child).
+    void root(const BuildNode& n, const Vec3f& lo, const Vec3f& hi) {
+        if (!n.leaf) {
+            inner(static_cast<const BuildInner&>(n));
+            return;
+        }
+        mNodes.push_back({});
+        mNodes[0].lo[0] = lo;
+        mNodes[0].hi[0] = hi;
+        mNodes[0].count[1] = -1;
+        const auto [child, count] = place(n);
+        mNodes[0].child[0] = child;
+        mNodes[0].count[0] = count;
+    }
+
+private:
+    std::pair<int32_t, int32_t> place(const BuildNode& n) {
+        if (!n.leaf) return {inner(static_cast<const BuildInner&>(n)), 0};
+        const auto& leaf = static_cast<const BuildLeaf&>(n);
+        const int32_t first = int32_t(mTriangles.size());
+        for (unsigned i = 0; i < leaf.count; ++i) {
+            const auto& v = mCorners[mFirst[leaf.mesh[i]] + leaf.triangle[i]];
+            mTriangles.push_back({v[0], v[1], v[2], mScene.meshes[leaf.mesh[i]].instanceId});
+        }
+        return {first, int32_t(leaf.count)};
+    }
+
+    const Scene& mScene;
+    const std::vector<std::array<Vec3f, 3>>& mCorners;
+    const std::vector<std::size_t>& mFirst;
+    std::vector<BvhNode>& mNodes;
+    std::vector<BvhTriangle>& mTriangles;
+};
+}  // namespace
+
+BvhView RayScene::bvh() const {
+    std::lock_guard<std::mutex> lock(mBvhMutex);
+    if (!mBvh) {
+        auto own = std::make_unique<OwnBvh>();
+        // Each triangle's corners as Embree holds them: offsets from the origin, in double, then
+        // rounded once. The build sorts the boxes; the flattening copies the corners in order.
+        std::vector<std::array<Vec3f, 3>> corners;
+        std::vector<std::size_t> firstTriangle;
+        std::vector<RTCBuildPrimitive> prims;
+        for (std::size_t m = 0; m < mScene.meshes.size(); ++m) {
+            const Mesh& mesh = mScene.meshes[m];
+            firstTriangle.push_back(corners.size());
+            for (std::size_t t = 0; 3 * t + 2 < mesh.indices.size(); ++t) {
+                std::array<Vec3f, 3> v;
+                for (int k = 0; k < 3; ++k)
+                    v[k] = Vec3f(mesh.positions[mesh.indices[3 * t + k]] - mOrigin);
+                corners.push_back(v);
+                RTCBuildPrimitive p;
+                p.lower_x = std::min({v[0].x, v[1].x, v[2].x});
+                p.lower_y = std::min({v[0].y, v[1].y, v[2].y});
+                p.lower_z = std::min({v[0].z, v[1].z, v[2].z});
+                p.upper_x = std::max({v[0].x, v[1].x, v[2].x});
+                p.upper_y = std::max({v[0].y, v[1].y, v[2].y});
+                p.upper_z = std::max({v[0].z, v[1].z, v[2].z});
+                p.geomID = unsigned(m);
+                p.primID = unsigned(t);
+                prims.push_back(p);
+            }
+        }
+        if (!prims.empty()) {
+            RTCBVH tree = rtcNewBVH(static_cast<RTCDevice>(mDevice));
+            RTCBuildArguments args = rtcDefaultBuildArguments();
+            args.buildQuality = RTC_BUILD_QUALITY_MEDIUM;  // binned SAH (HIGH's spatial splits
+                                                           // would need a split callback)
+            args.maxBranchingFactor = 2;
+            args.maxDepth = kBvhMaxDepth - 2;
+            args.maxLeafSize = kBvhLeafSize;
+            args.bvh = tree;
+            args.primitives = prims.data();
+            args.primitiveCount = prims.size();
+            args.primitiveArrayCapacity = prims.size();
+            args.createNode = createInner;
+            args.setNodeChildren = setChildren;
+            args.setNodeBounds = setBounds;
+            args.createLeaf = createLeaf;
+            tEmbreeError.clear();
+            const auto* root = static_cast<const BuildNode*>(rtcBuildBVH(&args));
+            if (!root || !tEmbreeError.empty()) {
+                rtcReleaseBVH(tree);
+                throw Error(fmt::format("building the scene's BVH failed: {}",
+                                        tEmbreeError.empty() ? "no tree" : tEmbreeError));
+            }
+            own->triangles.reserve(prims.size());
+            BvhFlattener(mScene, corners, firstTriangle, own->nodes, own->triangles)
+                .root(*root, mBoundsLo, mBoundsHi);
+            rtcReleaseBVH(tree);
+        }
+        mBvh = std::move(own);
+    }
+    return {mBvh->nodes.data(), mBvh->triangles.data(), int(mBvh->nodes.size()), mBoundsLo,
+            mBoundsHi};
+}
+
+BvhView RayScene::deviceBvh() const {
+    BvhView view = bvh();
+    std::lock_guard<std::mutex> lock(mBvhMutex);
+    if (view.nodeCount > 0 && !mBvh->deviceNodes) {
+        mBvh->deviceNodes = cuda::uploadBytes(view.nodes, sizeof(BvhNode) * mBvh->nodes.size());
+        mBvh->deviceTriangles =
+            cuda::uploadBytes(view.triangles, sizeof(BvhTriangle) * mBvh->triangles.size());
+    }
+    if (view.nodeCount > 0) {
+        view.nodes = static_cast<const BvhNode*>(mBvh->deviceNodes.get());
+        view.triangles = static_cast<const BvhTriangle*>(mBvh->deviceTriangles.get());
+    }
+    return view;
 }
 
 void RayScene::setOcclusionLog(OcclusionLog* log) const {

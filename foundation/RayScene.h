@@ -3,12 +3,14 @@
 // float offsets from `origin` (usually the camera), computed in double, so rays near a camera far
 // from the world origin keep full precision (algorithms §1.2–1.3, "translated world"). Every Embree
 // call of framepass lives in RayScene.cpp, so moving to Embree 4 touches one file.
+#include "foundation/Bvh.h"
 #include "foundation/Math.h"
 #include "foundation/Scene.h"
 
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -107,6 +109,12 @@ public:
     /// over exactly the rays a pass traced, asking what the pass asked. nullptr stops.
     void setOcclusionLog(OcclusionLog* log) const;
 
+    /// framepass's own BVH of the scene (Bvh.h), built through Embree's rtcBuildBVH on first use
+    /// and kept: what the GPU traverses, and the CPU where a pass asks for the GPU's code.
+    BvhView bvh() const;
+    /// The same tree in GPU memory, uploaded on first use and kept with the scene.
+    BvhView deviceBvh() const;
+
     /// Interpolated vertex normal (or the geometric normal for flat meshes), unit length.
     Vec3f shadingNormal(const RayHit& hit) const;
     const Material& material(const RayHit& hit) const;
@@ -119,6 +127,9 @@ private:
     void* mRtcScene = nullptr;
     Vec3f mBoundsLo, mBoundsHi;  // relative to mOrigin
     int mPacketWidth = 8;
+    struct OwnBvh;
+    mutable std::mutex mBvhMutex;
+    mutable std::unique_ptr<OwnBvh> mBvh;
     mutable std::mutex mLogMutex;
     mutable OcclusionLog* mLog = nullptr;
     void log(const RayArrays& rays, int count, bool closestHits) const;

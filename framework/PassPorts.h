@@ -2,7 +2,9 @@
 // A PassContext's ports seen from one backend, so a pass binds its inputs and outputs in one
 // template for both: HostPorts hands out Textures (execute), DevicePorts DeviceTextures
 // (executeCuda). Absent optional inputs are nullptr either way.
+#include "foundation/Bvh.h"
 #include "foundation/Cuda.h"
+#include "foundation/RayScene.h"
 #include "framework/Pass.h"
 
 #include <cstddef>
@@ -45,6 +47,8 @@ struct HostPorts {
     std::shared_ptr<const T> constants(const T* data, std::size_t) const {
         return std::shared_ptr<const T>(std::shared_ptr<const T>{}, data);
     }
+    /// The scene's BVH (Bvh.h) in host memory.
+    BvhView bvh() const { return ctx.scene().bvh(); }
 };
 
 struct DevicePorts {
@@ -73,6 +77,8 @@ struct DevicePorts {
     std::shared_ptr<const T> constants(const T* data, std::size_t count) const {
         return std::static_pointer_cast<const T>(cuda::uploadBytes(data, count * sizeof(T)));
     }
+    /// The scene's BVH in GPU memory, uploaded once per scene.
+    BvhView bvh() const { return ctx.scene().deviceBvh(); }
 };
 
 }  // namespace fp

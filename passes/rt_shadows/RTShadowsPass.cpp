@@ -7,6 +7,8 @@
 #include "foundation/Tiles.h"
 #include "shading/LightAttenuation.h"
 #include "shading/NamedLight.h"
+#include "framework/PassPorts.h"
+#include "passes/rt_shadows/RTShadowsKernel.h"
 #include "passes/rt_shadows/ShadowLanes.h"
 #include "passes/rt_shadows/ShadowRayGenerator.h"
 
@@ -18,11 +20,11 @@ namespace fp {
 
 namespace {
 
-constexpr const char* kInstanceId = "instanceId";
-constexpr const char* kShadow = "shadow";
-constexpr const char* kTransmission = "transmission";
-constexpr const char* kHitDistance = "hitDistance";
-constexpr const char* kLightAttenuation = "lightAttenuation";
+using shadow::kHitDistance;
+using shadow::kInstanceId;
+using shadow::kLightAttenuation;
+using shadow::kShadow;
+using shadow::kTransmission;
 
 constexpr uint32_t kSeed = 0x52545348u;    // "RTSH"
 constexpr float kMinNormalBiasCm = 0.01f;  // algorithms §9.1: r.RayTracing.NormalBias min 0.01
@@ -34,23 +36,6 @@ uint32_t lightSeed(const std::string& name) {
         h = (h ^ c) * 16777619u;
     return kSeed ^ h;
 }
-
-// algorithms §9.2: N·L ≤ 0 means "occluded" without a ray, except for hair, eye, two-sided foliage,
-// subsurface (inferred: subsurface and subsurface profile) and rect lights.
-bool cullsBackFacing(int model, LightType type) {
-    if (type == LightType::Rect)
-        return false;
-    return model != kHair && model != kEye && model != kTwoSidedFoliage && model != kSubsurface &&
-           model != kSubsurfaceProfile;
-}
-
-bool hasThicknessTransmission(int model) {
-    return model == kSubsurface || model == kHair;
-}
-
-struct PixelResult {
-    float visibility = 0, transmission = 0, closestHit = -1;
-};
 
 // Work counters of one tile.
 struct TileWork {
@@ -65,22 +50,26 @@ struct ShadowOutputs {
     Image* attenuation;
 };
 
-// One light's shadow rays over the frame, a tile row at a time: each pixel's set-up, each
-// sample's rays (in SIMD lanes, ShadowLanes.h, or one pixel at a time as the scalar reference),
-// their occlusion in Embree packets, what a blocked ray adds (transmission through the pixel's
-// own object) and the per-pixel resolve.
+// The scene as shadow::addSample sees it on the Embree path.
+struct EmbreeScene {
+    const RayScene& rs;
+    float farthestDistance(const Vec3f& p) const { return rs.farthestDistance(p); }
+    float instanceHit(const Vec3f& org, const Vec3f& dir, float tfar, uint32_t id) const {
+        const RayHit h = rs.intersectInstance(org, dir, 0.0f, tfar, id);
+        return h.hit ? h.t : -1.0f;
+    }
+};
+
+// One light's shadow rays over the frame through Embree, a tile row at a time: each pixel's
+// set-up, each sample's rays (in SIMD lanes, ShadowLanes.h, or one pixel at a time as the scalar
+// reference, RTShadowsKernel.h's setupPixel and sampleRay), their occlusion in Embree packets,
+// what a blocked ray adds (transmission through the pixel's own object) and the per-pixel resolve.
 class ShadowTracer {
 public:
-    ShadowTracer(const RTShadowsParams& params,
-                 PassContext& ctx,
-                 const RayScene& rs,
-                 const Light& light)
+    ShadowTracer(const RTShadowsParams& params, PassContext& ctx, const shadow::FrameSetup& setup)
         : mParams(params),
-          mRs(rs),
-          mLight(light),
-          mGenerator(light, rs.origin()),
-          mCm(float(rs.scene().centimetre())),
-          mSpp(params.samplesPerPixel > 0 ? params.samplesPerPixel : light.samplesPerPixel),
+          mRs(ctx.scene()),
+          mSetup(setup),
           mDepth(ctx.input(gbuffer::kDepth)->image().plane(0)),
           mNormal(ctx.input(gbuffer::kNormal)->image()),
           mModels(ctx.input(gbuffer::kShadingModel)->image().plane(0)),
@@ -88,16 +77,7 @@ public:
                        ? &ctx.input(gbuffer::kCustomData)->image().plane(3)
                        : nullptr),
           mInstances(ctx.input(kInstanceId) ? &ctx.input(kInstanceId)->image().plane(0) : nullptr),
-          mWantDistance(ctx.isRequested(kHitDistance)) {
-        const CameraView& cam = ctx.frame().camera.current;
-        mRow.camera = &cam;
-        mRow.eyeOffset = cam.position - rs.origin();
-        mRow.light = mGenerator.shape();
-        mRow.maxBias = std::max(params.normalBias, kMinNormalBiasCm) * mCm;
-        mRow.minBias = kMinNormalBiasCm * mCm;
-        mRow.transmission = params.transmission;
-        mRow.rngKey = Rng::frameKey(ctx.frame().number, lightSeed(light.name));
-    }
+          mWantDistance(ctx.isRequested(kHitDistance)) {}
 
     /// The tile's pixels, kStripRows rows at a time. Each sample's rays of a strip are gathered
     /// from the pixels that trace one (unlit, sky, unreachable and back-facing pixels trace none)
@@ -129,7 +109,7 @@ private:
                                        .normalZ = mNormal.plane(2).row(py) + t.x0,
                                        .model = mModels.row(py) + t.x0};
             if (mParams.lanes)
-                shadow::setupRow(mRow, in, rows[r]);
+                shadow::setupRow(mSetup.row, in, rows[r]);
             else
                 setupRow(in, rows[r]);
             for (int i = 0; i < count; ++i)
@@ -138,16 +118,16 @@ private:
         work.pixels += uint64_t(activeCount);
         work.skipped += uint64_t(rowCount * count - activeCount);
 
-        std::array<PixelResult, shadow::kStripRows * shadow::kRowCapacity> res{};
+        std::array<shadow::Sums, shadow::kStripRows * shadow::kRowCapacity> res{};
         shadow::StripRays rays;
         bool blocked[shadow::kStripRayCapacity];
         float hitT[shadow::kStripRayCapacity];
         const RayArrays arrays{rays.ox, rays.oy, rays.oz, rays.dx, rays.dy, rays.dz, rays.tfar};
-        for (int sample = 0; sample < mSpp && activeCount > 0; ++sample) {
+        for (int sample = 0; sample < mSetup.spp && activeCount > 0; ++sample) {
             rays.count = 0;
             for (int r = 0; r < rowCount; ++r) {
                 if (mParams.lanes)
-                    shadow::sampleRow(mRow, r, rows[r], rays);
+                    shadow::sampleRow(mSetup.row, r, rows[r], rays);
                 else
                     sampleRow(r, rows[r], rays);
             }
@@ -158,9 +138,13 @@ private:
                       &hitT[first], work);
             for (int k = 0; k < rays.count; ++k) {
                 const int32_t owner = rays.owner[k];
-                const int r = shadow::ownerRow(owner);
-                addSample(rows[r], shadow::ownerIndex(owner), y0 + r, arrays.at(k), blocked[k],
-                          hitT[k], res[owner], work);
+                const int r = shadow::ownerRow(owner), i = shadow::ownerIndex(owner);
+                const int x = t.x0 + i, y = y0 + r;
+                const Ray ray = arrays.at(k);
+                work.transmissionRays += uint64_t(shadow::addSample(
+                    mSetup.row, EmbreeScene{mRs}, pixelOf(rows[r], i), {ray.org, ray.dir, ray.tfar},
+                    blocked[k], hitT[k], mSetup.cm, [&] { return opacityAt(x, y); },
+                    [&] { return instanceAt(x, y); }, res[owner]));
             }
         }
         for (int r = 0; r < rowCount; ++r)
@@ -168,79 +152,57 @@ private:
                 resolvePixel(rows[r], i, res[shadow::ownerOf(r, i)], t.x0 + i, y0 + r, out);
     }
 
-    // The scalar reference of shadow::setupRow: what stays the same for all samples of each
-    // pixel; inactive for unlit and sky pixels and those the light cannot reach.
+    static shadow::Pixel pixelOf(const shadow::RowPixels& px, int i) {
+        return {{px.px[i], px.py[i], px.pz[i]}, {px.nx[i], px.ny[i], px.nz[i]},
+                {px.ex[i], px.ey[i], px.ez[i]}, px.eyeDistance[i], px.model[i], px.rng[i]};
+    }
+
+    // The scalar reference of shadow::setupRow: shadow::setupPixel one pixel at a time.
     void setupRow(const shadow::RowInputs& in, shadow::RowPixels& px) const {
         px.x0 = in.x0;
         px.count = in.count;
-        const CameraView& cam = *mRow.camera;
         for (int i = 0; i < in.count; ++i) {
-            px.active[i] = 0;
-            const double d = in.depth[i];
-            const float model = in.model[i];
-            if (!isLitSurface(d, model))
-                continue;  // sky and unlit pixels: nothing to rebuild
-            const int x = in.x0 + i;
-            const Vec3d offset = cam.translatedFromPixel(x, in.y, d);
-            const Vec3f p(mRow.eyeOffset + offset);
-            if (!mGenerator.reaches(p))
+            shadow::Pixel p;
+            px.active[i] = shadow::setupPixel(mSetup.row, in.x0 + i, in.y, in.depth[i], in.model[i],
+                                              {in.normalX[i], in.normalY[i], in.normalZ[i]}, p);
+            if (!px.active[i])
                 continue;
-            px.active[i] = 1;
-            px.px[i] = p.x;
-            px.py[i] = p.y;
-            px.pz[i] = p.z;
-            const double eyeDistance = length(offset);
-            px.eyeDistance[i] = float(eyeDistance);
-            const Vec3f toEye(-offset / eyeDistance);
-            px.ex[i] = toEye.x;
-            px.ey[i] = toEye.y;
-            px.ez[i] = toEye.z;
-            px.model[i] = truncToInt(model, 0, 255);
-            // Hair's GBuffer normal is its tangent: Unreal biases along the light instead.
-            const Vec3f n = px.model[i] == kHair
-                                ? mGenerator.centreDirection(p)
-                                : Vec3f{in.normalX[i], in.normalY[i], in.normalZ[i]};
-            px.nx[i] = n.x;
-            px.ny[i] = n.y;
-            px.nz[i] = n.z;
-            px.rng[i] = Rng::fromKey(mRow.rngKey, x, in.y).state();  // per-pixel streams
+            px.px[i] = p.p.x;
+            px.py[i] = p.p.y;
+            px.pz[i] = p.p.z;
+            px.nx[i] = p.n.x;
+            px.ny[i] = p.n.y;
+            px.nz[i] = p.n.z;
+            px.ex[i] = p.toEye.x;
+            px.ey[i] = p.toEye.y;
+            px.ez[i] = p.toEye.z;
+            px.eyeDistance[i] = p.eyeDistance;
+            px.model[i] = p.model;
+            px.rng[i] = p.rng;
         }
     }
 
-    // The scalar reference of shadow::sampleRow: one sample's rays of the active pixels. A
+    // The scalar reference of shadow::sampleRow: shadow::sampleRay one pixel at a time. A
     // back-facing pixel's ray is culled (occluded without a ray), but its two random numbers are
     // drawn either way, so every sample of a pixel reads the same stream.
     void sampleRow(int stripRow, shadow::RowPixels& px, shadow::StripRays& rays) const {
         for (int i = 0; i < px.count; ++i) {
             if (!px.active[i])
                 continue;
-            Rng rng = Rng::resume(px.rng[i]);
-            const float u = rng.nextFloat(), v = rng.nextFloat();
-            px.rng[i] = rng.state();
-            const Vec3f p{px.px[i], px.py[i], px.pz[i]}, n{px.nx[i], px.ny[i], px.nz[i]};
-            const int model = px.model[i];
-            const float NoL = dot(n, mGenerator.centreDirection(p));
-            if (NoL <= 0.0f && cullsBackFacing(model, mLight.type))
+            shadow::Pixel p = pixelOf(px, i);
+            shadow::ShadowRay ray;
+            const bool traced = shadow::sampleRay(mSetup.row, p, ray);
+            px.rng[i] = p.rng;
+            if (!traced)
                 continue;
-            // algorithms §9.2: towards the camera by max(1e-4·distance, bias), then along the
-            // normal by lerp(bias, 0.01 cm, N·L); a transmissive pixel facing away starts on its
-            // back side instead.
-            const Vec3f toEye{px.ex[i], px.ey[i], px.ez[i]};
-            Vec3f o = p + toEye * std::max(1e-4f * px.eyeDistance[i], mRow.maxBias);
-            const float nb =
-                mRow.maxBias + (mRow.minBias - mRow.maxBias) * std::clamp(NoL, 0.0f, 1.0f);
-            const bool backSide = mParams.transmission && NoL <= 0.0f &&
-                                  (hasThicknessTransmission(model) || model == kSubsurfaceProfile);
-            o += n * (backSide ? -nb : nb);
-            const ShadowDirection sd = mGenerator.sample(o, u, v);
             const int k = rays.count++;
-            rays.ox[k] = o.x;
-            rays.oy[k] = o.y;
-            rays.oz[k] = o.z;
-            rays.dx[k] = sd.dir.x;
-            rays.dy[k] = sd.dir.y;
-            rays.dz[k] = sd.dir.z;
-            rays.tfar[k] = sd.tfar;
+            rays.ox[k] = ray.org.x;
+            rays.oy[k] = ray.org.y;
+            rays.oz[k] = ray.org.z;
+            rays.dx[k] = ray.dir.x;
+            rays.dy[k] = ray.dir.y;
+            rays.dz[k] = ray.dir.z;
+            rays.tfar[k] = ray.tfar;
             rays.owner[k] = shadow::ownerOf(stripRow, i);
         }
     }
@@ -271,74 +233,6 @@ private:
                 work.distanceRays += blocked[i];
     }
 
-    // What one traced sample of pixel i of row py adds to it.
-    void addSample(const shadow::RowPixels& px,
-                   int i,
-                   int py,
-                   const Ray& ray,
-                   bool blocked,
-                   float hitT,
-                   PixelResult& r,
-                   TileWork& work) const {
-        const int model = px.model[i];
-        // A subsurface-profile pixel's transmission channel is its encoded thickness instead.
-        const bool profile = mParams.transmission && model == kSubsurfaceProfile;
-        if (!blocked) {
-            r.visibility += 1.0f;
-            if (!profile)
-                r.transmission += 1.0f;
-        } else {
-            if (hitT >= 0.0f && (r.closestHit < 0.0f || hitT < r.closestHit))
-                r.closestHit = hitT;
-            if (mParams.transmission && hasThicknessTransmission(model))
-                addThicknessTransmission(px.model[i], opacityAt(px.x0 + i, py),
-                                         instanceAt(px.x0 + i, py), ray, r, work);
-        }
-        if (profile)
-            r.transmission += profileThickness(px, i, instanceAt(px.x0 + i, py), ray, work);
-    }
-
-    // algorithms §9.3: the inverted ray from the far end finds where the light enters the pixel's
-    // own object; the thickness gives the transmittance (hair: density 1 per cm), and a fully
-    // transmitted sample counts as unoccluded.
-    void addThicknessTransmission(int model,
-                                  float opacity,
-                                  uint32_t instance,
-                                  const Ray& ray,
-                                  PixelResult& r,
-                                  TileWork& work) const {
-        const float far = std::min(ray.tfar, mRs.farthestDistance(ray.org));
-        const Vec3f start = ray.org + ray.dir * far;
-        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, far, instance);
-        ++work.transmissionRays;
-        if (!h.hit)
-            return;
-        const float thicknessCm = (far - h.t) / mCm;
-        const float T = model == kHair ? std::clamp(std::exp(-thicknessCm), 0.0f, 1.0f)
-                                       : RTShadowsPass::transmittance(opacity, thicknessCm);
-        r.transmission += T;
-        if (T == 1.0f)
-            r.visibility += 1.0f;  // promoted to unoccluded
-    }
-
-    // Subsurface profile: the encoded thickness of its own object towards the light, up to 5 cm
-    // (inferred simplification of Unreal's constant-tracking estimate, algorithms §9.3).
-    float profileThickness(const shadow::RowPixels& px,
-                           int i,
-                           uint32_t instance,
-                           const Ray& ray,
-                           TileWork& work) const {
-        const float reach = RTShadowsPass::kMaxProfileDistanceCm * mCm;
-        const Vec3f start = ray.org + ray.dir * reach;
-        const RayHit h = mRs.intersectInstance(start, -ray.dir, 0.0f, reach, instance);
-        ++work.transmissionRays;
-        const Vec3f n{px.nx[i], px.ny[i], px.nz[i]};
-        const float thicknessCm =
-            h.hit ? (reach - h.t) / mCm
-                  : (dot(n, ray.dir) > 0.0f ? 0.0f : RTShadowsPass::kMaxProfileDistanceCm);
-        return RTShadowsPass::encodeThickness(thicknessCm);
-    }
-
     // CustomData.A (the subsurface opacity: the transmission density) and the InstanceId of pixel
     // (x, y), read where a transmission ray needs them.
     float opacityAt(int x, int y) const { return mOpacity ? mOpacity->at(x, y) : 1.0f; }
@@ -346,11 +240,11 @@ private:
         return mInstances ? uint32_t(truncToInt(mInstances->at(x, y), 0, 1 << 30)) : 0u;
     }
 
-    // Pixel i's means over its samples, with far subsurface pixels blended towards transmission
-    // (algorithms §9.3), written with their light-attenuation encoding where it is read.
+    // Pixel i's means over its samples (shadow::resolveVisibility), written with their
+    // light-attenuation encoding where it is read.
     void resolvePixel(const shadow::RowPixels& px,
                       int i,
-                      const PixelResult& r,
+                      const shadow::Sums& r,
                       int x,
                       int py,
                       const ShadowOutputs& out) const {
@@ -358,39 +252,51 @@ private:
             out.hitDistance.at(x, py) = -1.0f;
             return;  // shadow, transmission and attenuation stay 0: no light
         }
-        float visibility = r.visibility / float(mSpp);
-        const float transmission = r.transmission / float(mSpp);
-        if (hasThicknessTransmission(px.model[i]) && mParams.lodTransitionEnd > 0.0f) {
-            const float span =
-                std::max(mParams.lodTransitionEnd - mParams.lodTransitionStart, 1e-6f);
-            const float f = std::clamp(
-                (px.eyeDistance[i] / mCm - mParams.lodTransitionStart) / span, 0.0f, 1.0f);
-            visibility += (transmission - visibility) * f;
-        }
+        const float transmission = r.transmission / float(mSetup.spp);
+        const float visibility =
+            shadow::resolveVisibility(pixelOf(px, i), r.visibility / float(mSetup.spp),
+                                      transmission, mSetup.cm, mSetup.lodStart, mSetup.lodEnd);
         out.shadow.at(x, py) = visibility;
         out.transmission.at(x, py) = transmission;
         out.hitDistance.at(x, py) = r.closestHit;
         if (out.attenuation)
-            LightAttenuation::fromShadow(mLight.type, visibility, transmission)
+            LightAttenuation::fromShadow(mSetup.row.light.type, visibility, transmission)
                 .store(*out.attenuation, x, py);
     }
 
     const RTShadowsParams& mParams;
     const RayScene& mRs;
-    const Light& mLight;
-    const ShadowRayGenerator mGenerator;
-    const float mCm;
-    const int mSpp;
+    const shadow::FrameSetup& mSetup;
     const Plane& mDepth;
     const Image& mNormal;
     const Plane& mModels;
     const Plane* mOpacity;    // CustomData.A: subsurface opacity, the transmission density
     const Plane* mInstances;  // the pixel's own object for transmission rays
     const bool mWantDistance;  // closest-hit rays only where a blocked ray's distance is read
-    shadow::RowContext mRow;   // the camera, light and biases both set-ups and samplers read
 };
 
 }  // namespace
+
+namespace shadow {
+FrameSetup setupFrame(const RTShadowsParams& params, PassContext& ctx) {
+    const RayScene& rs = ctx.scene();
+    const Light& light = namedLight(rs.scene().lights, params.light);
+    const CameraView& cam = ctx.frame().camera.current;
+    FrameSetup s{};
+    s.cm = float(rs.scene().centimetre());
+    s.spp = params.samplesPerPixel > 0 ? params.samplesPerPixel : light.samplesPerPixel;
+    s.lodStart = params.lodTransitionStart;
+    s.lodEnd = params.lodTransitionEnd;
+    s.row.camera = cam;
+    s.row.eyeOffset = cam.position - rs.origin();
+    s.row.light = ShadowRayGenerator(light, rs.origin()).shape();
+    s.row.maxBias = std::max(params.normalBias, kMinNormalBiasCm) * s.cm;
+    s.row.minBias = kMinNormalBiasCm * s.cm;
+    s.row.transmission = params.transmission;
+    s.row.rngKey = Rng::frameKey(ctx.frame().number, lightSeed(light.name));
+    return s;
+}
+}  // namespace shadow
 
 ParamSpec<RTShadowsParams> RTShadowsPass::paramSpec() {
     ParamSpec<RTShadowsParams> s;
@@ -417,6 +323,10 @@ ParamSpec<RTShadowsParams> RTShadowsPass::paramSpec() {
     s.add("lanes", &Params::lanes,
           "set up pixels and draw their rays in SIMD lanes (false: the scalar reference, one pixel "
           "at a time; same result bit for bit)");
+    s.add("traversal", &Params::traversal,
+          "\"embree\": Embree's packets; \"bvh\": framepass's own BVH one pixel at a time, the "
+          "code the GPU runs (on the GPU the pass always traverses it)")
+        .choices({"embree", "bvh"});
     return s;
 }
 
@@ -456,21 +366,14 @@ PassIO RTShadowsPass::describe() const {
     return io;
 }
 
-float RTShadowsPass::transmittance(float opacity, float thicknessCm) {
-    const float density = -0.05f * std::log(1.0f - std::min(opacity, 0.999f));
-    return std::clamp(std::exp(-density * thicknessCm), 0.0f, 1.0f);
-}
-
-float RTShadowsPass::encodeThickness(float thicknessCm) {
-    return std::clamp(1.0f - thicknessCm / kMaxProfileDistanceCm, 0.0f, 1.0f);
-}
-
 void RTShadowsPass::execute(PassContext& ctx) {
-    const FrameInfo& frame = ctx.frame();
-    const RayScene& rs = ctx.scene();
-    const Light& light = namedLight(rs.scene().lights, mParams.light);
-    const ShadowTracer tracer(mParams, ctx, rs, light);
-    const Extent size = frame.extent;
+    const shadow::FrameSetup setup = shadow::setupFrame(mParams, ctx);
+    if (mParams.traversal == "bvh") {
+        shadow::run(ctx, HostPorts{ctx}, CpuPixels{}, setup);
+        return;
+    }
+    const ShadowTracer tracer(mParams, ctx, setup);
+    const Extent size = ctx.frame().extent;
     // Unreal's light-attenuation encoding is only written where a reader asks for it (the lit
     // chain's denoiser and deferred lighting read shadow, transmission and hitDistance).
     const ShadowOutputs out{

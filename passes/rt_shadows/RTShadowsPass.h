@@ -1,8 +1,9 @@
 #pragma once
 // Ray-traced shadows of one light (algorithms §9, Unreal's RayTracingOcclusionRGS): per pixel,
 // shadow rays from the position reconstructed from depth, biased towards the camera and along the
-// normal, through Embree in packets of neighbouring pixels (rtcOccluded16 where the CPU has
-// AVX-512, else rtcOccluded8), the per-pixel work in SIMD lanes (ShadowLanes.h). Subsurface and
+// normal. On the CPU through Embree in packets of neighbouring pixels (rtcOccluded16 where the
+// CPU has AVX-512, else rtcOccluded8), the per-pixel work in SIMD lanes (ShadowLanes.h); on the
+// GPU one pixel per thread through framepass's own BVH (RTShadowsKernel.h, foundation/Bvh.h). Subsurface and
 // hair pixels whose ray is blocked trace the inverted ray through their own object: the thickness
 // gives a transmission exp(−density·thickness). Outputs visibility, transmission, the closest
 // occluder distance (for the denoiser) and the light-attenuation encoding (algorithms §9.5).
@@ -22,6 +23,9 @@ struct RTShadowsParams {
     float lodTransitionEnd = 5000.0f;    //!< cm
     bool rayPackets = true;      //!< Embree packets (8 or 16); false traces one ray at a time
     bool lanes = true;           //!< set-up and rays in SIMD lanes; false: the scalar reference
+    /// "embree": Embree's packets on the CPU; "bvh": framepass's own BVH, one pixel at a time,
+    /// the GPU's code (the GPU always traverses it).
+    std::string traversal = "embree";
 };
 
 class RTShadowsPass final : public PassWithParams<RTShadowsParams> {
@@ -31,13 +35,8 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    FP_PASS_HAS_CUDA_KERNEL  // RTShadowsPass.cu
 
-    /// Transmission through `thicknessCm` of a material of this opacity (algorithms §9.3):
-    /// saturate(exp(−density·thickness)), density = −0.05·ln(1 − min(opacity, 0.999)) per cm.
-    static float transmittance(float opacity, float thicknessCm);
-    /// Unreal's subsurface-profile thickness encoding: 1 − thickness/5 cm, saturated.
-    static float encodeThickness(float thicknessCm);
-    static constexpr float kMaxProfileDistanceCm = 5.0f;  // SSSS_MAX_TRANSMISSION_PROFILE_DISTANCE
 };
 
 }  // namespace fp

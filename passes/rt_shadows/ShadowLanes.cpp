@@ -155,7 +155,7 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
 
     // Camera.h translatedFromPixel in double, then the float position, eye distance and
     // direction to the eye: Vec3f(eyeOffset + offset), float(length), Vec3f(−offset / length).
-    const CameraView& cam = *c.camera;
+    const CameraView& cam = c.camera;
     const VD rowTerm = hn::Set(dd, cam.screenY(double(in.y)) - cam.cy);
     const VD laneD = hn::Iota(dd, 0.0);
     for (int i = 0; i < padded; i += ND) {

@@ -11,6 +11,7 @@
 // both give the same bits (ShadowTests checks it on every instruction set the CPU runs).
 #include "foundation/Camera.h"
 #include "foundation/Tiles.h"
+#include "passes/rt_shadows/RTShadowsKernel.h"
 #include "passes/rt_shadows/ShadowRayGenerator.h"
 
 #include <cstdint>
@@ -66,16 +67,6 @@ constexpr int ownerRow(int32_t owner) {
 constexpr int ownerIndex(int32_t owner) {
     return owner % kRowCapacity;
 }
-
-/// What the set-up and the rays need besides the row: the camera, the light, the biases.
-struct RowContext {
-    const CameraView* camera;
-    Vec3d eyeOffset;  // the eye relative to the RayScene origin
-    ShadowLightShape light;
-    float maxBias, minBias;  // scene units
-    bool transmission;       // the light's bTransmission
-    uint32_t rngKey;         // Rng's per-frame, per-light part: pcgHash(frame ^ pcgHash(seed ^ …))
-};
 
 /// The Rng state of pixel (x, y), as Rng(frame, x, y, seed) seeds it, from the frame's key.
 uint32_t rngState(uint32_t key, int x, int y);

@@ -9,6 +9,7 @@
 #include "io/scene/SceneLoader.h"
 #include "reference/ReflectionCaptureRenderer.h"
 #include "foundation/Cuda.h"
+#include "foundation/RayScene.h"
 #include "framework/Executor.h"
 #include "framework/PassRegistry.h"
 #include "framework/Planner.h"
@@ -83,6 +84,8 @@ struct ChainOptions {
     /// The scene's lights: per light, as the engine preset lights it, a ray-traced shadow, its
     /// denoiser and the deferred lighting, the chain then starting from the capture's emissive.
     std::vector<std::string> lights;
+    /// rt_shadows' traversal where set ("bvh": the GPU's own code on the CPU, for same bits).
+    std::string traversal;
 };
 
 std::vector<std::string> lightsOf(const Scene& scene) {
@@ -127,6 +130,8 @@ Plan chainPlan(const ChainOptions& o) {
           ],
           "colorOut": "deferred_lighting_{light}.color",
           "rewire": { "diffuse_indirect_composite.sceneColor": "capture:Emissive" } } })"));
+        if (!o.traversal.empty())
+            passes.back()["forEachLight"]["passes"][0]["params"]["traversal"] = o.traversal;
         // The lit colour goes on to what follows the composite.
         passes.back()["forEachLight"]["rewire"][o.reflections ? "reflection_environment.color" : "display.color"] =
             "{colorOut}";
@@ -183,7 +188,41 @@ struct Comparison {
     double metricMaxRel = 0;  //!< largest relative difference of an error_measure figure
     std::string metricWorst;
     int metrics = 0;
+    /// The GPU's shadow rays against Embree's (the CPU's default traversal): pixels whose
+    /// visibility differs, of all shadow pixels, and the largest differences where it agrees.
+    int64_t embreeShadowDiffering = 0, embreeShadowPixels = 0;
+    double embreeTransmissionMaxAbs = 0, embreeHitDistanceMaxRel = 0;
 };
+
+// rt_shadows' outputs of the GPU against a CPU run through Embree: the two triangle tests round
+// differently, so a ray within a few float steps of an edge may decide the other way.
+void compareWithEmbree(const test::MemorySink& embree, const test::MemorySink& gpu, Comparison& out) {
+    for (const auto& [name, a] : embree.layers) {
+        const auto dot = name.find('.');
+        if (name.rfind("rt_shadows_", 0) != 0 || name.substr(dot) != ".shadow") continue;
+        const std::string pass = name.substr(0, dot);
+        const Plane& se = a.image().plane(0);
+        const Plane& sg = gpu.layers.at(name).image().plane(0);
+        const Plane& te = embree.layers.at(pass + ".transmission").image().plane(0);
+        const Plane& tg = gpu.layers.at(pass + ".transmission").image().plane(0);
+        const Plane& he = embree.layers.at(pass + ".hitDistance").image().plane(0);
+        const Plane& hg = gpu.layers.at(pass + ".hitDistance").image().plane(0);
+        for (int y = 0; y < se.height(); ++y)
+            for (int x = 0; x < se.width(); ++x) {
+                ++out.embreeShadowPixels;
+                if (se.at(x, y) != sg.at(x, y) || (he.at(x, y) < 0.0f) != (hg.at(x, y) < 0.0f)) {
+                    ++out.embreeShadowDiffering;
+                    continue;
+                }
+                out.embreeTransmissionMaxAbs = std::max(
+                    out.embreeTransmissionMaxAbs, double(std::fabs(te.at(x, y) - tg.at(x, y))));
+                if (he.at(x, y) > 0.0f)
+                    out.embreeHitDistanceMaxRel = std::max(
+                        out.embreeHitDistanceMaxRel,
+                        std::fabs(double(he.at(x, y)) - hg.at(x, y)) / double(he.at(x, y)));
+            }
+    }
+}
 
 // Per layer and mip (mips after the first are reported as "layer@mip"), with the first
 // differing value of each for a look.
@@ -242,6 +281,11 @@ void printDifferences(const std::string& what, const Comparison& c) {
     std::cout << fmt::format("  error_measure figures: {} compared, largest relative difference "
                              "{:.3g} {}\n",
                              c.metrics, c.metricMaxRel, c.metricWorst);
+    std::cout << fmt::format("  shadow rays against Embree's: visibility differs at {} of {} "
+                             "pixels; where it agrees, transmission within {:.3g}, closest "
+                             "occluder within {:.3g} relative\n",
+                             c.embreeShadowDiffering, c.embreeShadowPixels,
+                             c.embreeTransmissionMaxAbs, c.embreeHitDistanceMaxRel);
 }
 
 // Frames 1–3 of a scene on both devices, the temporal passes' history carried from frame to frame
@@ -251,15 +295,20 @@ Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, boo
     HistoryStore cpuHistory, gpuHistory;
     ChainOptions o{.dumps = {"all"}, .errors = true, .reflections = true, .quality = quality,
                    .halfRes = halfRes, .lights = lightsOf(io::loadScene(scenePath(scene)).scene)};
+    const Plan embreePlan = chainPlan(o);
+    o.traversal = "bvh";  // the GPU's own traversal on the CPU: the same bits
     const Plan cpuPlan = chainPlan(o);
     o.device = "cuda";
     const Plan gpuPlan = chainPlan(o);
+    HistoryStore embreeHistory;
     for (int frame = 1; frame <= 3; ++frame) {
         auto cap = captureScene(scene, extent, frame);
         cap->source.info.firstInSequence = frame == 1;
-        test::MemorySink cpu, gpu;
+        test::MemorySink cpu, gpu, embree;
         const FrameReport cr = executePlan(cpuPlan, cap->source, cpu, {}, &cpuHistory);
         const FrameReport gr = executePlan(gpuPlan, cap->source, gpu, {}, &gpuHistory);
+        executePlan(embreePlan, cap->source, embree, {}, &embreeHistory);
+        compareWithEmbree(embree, gpu, out);
         for (Difference& d : compare(cpu, gpu)) {
             d.layer = fmt::format("f{} {}", frame, d.layer);
             out.layers.push_back(std::move(d));
@@ -281,7 +330,8 @@ Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, boo
 }
 
 // The tolerance of each output (docs/gpu.md). The kernels run the CPU's own FP_HD code without
-// FMA contraction, with IEEE division and square root, so outputs are expected bit for bit except:
+// FMA contraction, with IEEE division and square root, and the CPU traces rt_shadows' rays through
+// the GPU's own BVH code (traversal "bvh"), so outputs are expected bit for bit except:
 // - ssgi.hitDistance, a debug output: its distance goes through a float→double→float path whose
 //   last bit was seen to differ (largest relative difference 1.4e-4 on the hard capture, whose hits
 //   are 10⁷ units from the origin); 1e-3 leaves room for other scenes.
@@ -308,6 +358,15 @@ void checkAgreement(const Comparison& c) {
     INFO(c.metricWorst);
     CHECK(c.metrics >= 3 * 2 * 7);
     CHECK(c.metricMaxRel <= 1e-9);
+    // Against Embree (tests/foundation/BvhTests.cpp and the rt_shadows tests bound the same on
+    // the CPU): a pixel differs only where one of its rays passes within a few float steps of a
+    // triangle's edge, at most one pixel in a thousand. A distance is within a few float steps
+    // (6e-8 relative) of the coordinates it comes from, which in these rooms are up to 100× the
+    // shortest occluder distances (contact shadows): 1e-4 relative (1.5e-5 was seen on Cornell).
+    CHECK(c.embreeShadowPixels > 0);
+    CHECK(c.embreeShadowDiffering * 1000 <= c.embreeShadowPixels);
+    CHECK(c.embreeTransmissionMaxAbs <= 1e-4);
+    CHECK(c.embreeHitDistanceMaxRel <= 1e-4);
 }
 
 double median(std::vector<double> v) {
@@ -332,15 +391,26 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
                              {"height", size.height},
                              {"gpu", cuda::deviceName()},
                              {"runs", runs}};
+    // The CPU's run records its shadow rays (the same rays as the GPU's: one ray generation)
+    // for the bare traversal kernel below.
+    RayScene::OcclusionLog rayLog;
+    uint64_t passRays = 0;
+    double passRaySeconds = 0;
     for (const std::string device : {"cuda", "cpu"}) {
         const Plan plan =
             chainPlan({.device = device, .reflections = true, .lights = lightsOf(cap->scene.scene)});
         std::map<std::string, std::vector<double>> wall, gpu;
+        std::map<std::string, uint64_t> rays;
         std::vector<double> frames, transfers, uploads, downloads;
         double upBytes = 0, downBytes = 0;
         for (int r = 0; r < runs + 1; ++r) {  // the first run warms up (allocations, module load)
             test::MemorySink sink;
+            const bool logRays = device == "cpu" && r == 0;
+            if (logRays)
+                cap->source.scene().setOcclusionLog(&rayLog);
             const FrameReport rep = executePlan(plan, cap->source, sink);
+            if (logRays)
+                cap->source.scene().setOcclusionLog(nullptr);
             if (r == 0)
                 continue;
             frames.push_back(rep.seconds);
@@ -350,6 +420,8 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
             uploads.push_back(rep.uploadSeconds);
             downloads.push_back(rep.downloadSeconds);
             for (const auto& p : rep.passes) {
+                if (p.type == "rt_shadows" && p.work.count("rays"))
+                    rays[p.name] = p.work.at("rays");
                 wall[p.name].push_back(p.seconds);
                 if (p.gpuSeconds)
                     gpu[p.name].push_back(*p.gpuSeconds);
@@ -371,6 +443,10 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
             dj["passes"][step.name] = {{"wallSeconds", w}, {"device", onGpu ? "cuda" : "cpu"}};
             if (onGpu)
                 dj["passes"][step.name]["gpuSeconds"] = g;
+            if (onGpu && rays.count(step.name)) {
+                passRays += rays[step.name];
+                passRaySeconds += g;
+            }
             std::cout << fmt::format("  {:<28} {:>4} {:>10.3f} ms wall{}\n", step.name,
                                      onGpu ? "gpu" : "cpu", w * 1e3,
                                      onGpu ? fmt::format(" {:>10.3f} ms GPU (events)", g * 1e3)
@@ -384,6 +460,27 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
                                  median(uploads) * 1e3, upBytes / 1e6, median(downloads) * 1e3,
                                  downBytes / 1e6);
         result[device] = dj;
+    }
+    if (passRays > 0) {
+        // rays/s of the pass (its rays over its kernel time: set-up, ray generation, traversal,
+        // transmission and resolve) against the bare kernel tracing the same rays alone.
+        uint64_t blocked = 0;
+        const double bare = cuda::timeBareTraversal(cap->source.scene().deviceBvh(), rayLog.rays,
+                                                    rayLog.closestHits, runs, blocked);
+        const double passRate = double(passRays) / passRaySeconds;
+        const double bareRate = double(rayLog.rays.size()) / bare;
+        std::cout << fmt::format(
+            "shadow rays on the GPU: rt_shadows {:.3f} G rays/s ({} rays in {:.3f} ms); bare "
+            "traversal of the same {} rays{} {:.3f} G rays/s ({:.3f} ms, {} blocked): the pass "
+            "keeps {:.0f}%\n",
+            passRate / 1e9, passRays, passRaySeconds * 1e3, rayLog.rays.size(),
+            rayLog.closestHits ? " (closest hit of the blocked ones too)" : "", bareRate / 1e9,
+            bare * 1e3, blocked, 100.0 * passRate / bareRate);
+        result["cuda"]["shadowRays"] = {{"passRaysPerSecond", passRate},
+                                        {"bareRaysPerSecond", bareRate},
+                                        {"rays", passRays},
+                                        {"bareRays", rayLog.rays.size()},
+                                        {"closestHits", rayLog.closestHits}};
     }
     // The workbench's re-run (framepass serve, docs/results/serve.md): r.SSGI.Quality moved
     // between 4 and 2 with the session's step cache, planned as the workbench plans it (every
@@ -435,7 +532,8 @@ TEST_CASE("gpu: the check's chain runs on the CPU, with every figure it compares
                                                      .reflections = true,
                                                      .quality = halfRes ? 1 : 4,
                                                      .halfRes = halfRes,
-                                                     .lights = lightsOf(cap->scene.scene)}),
+                                                     .lights = lightsOf(cap->scene.scene),
+                                                     .traversal = halfRes ? "bvh" : ""}),
                                           cap->source, sink);
         CHECK(sink.layers.count("deferred_lighting_ceiling.color") == 1);
         CHECK(sink.layers.count("camera_velocity.velocity") == 1);

@@ -1,0 +1,188 @@
+#pragma once
+// framepass's own bounding volume hierarchy: the layout the GPU traverses, and the traversal,
+// written once as FP_HD so the CPU can run the GPU's exact code (rt_shadows' `traversal: "bvh"`).
+// Embree builds the tree on the host (RayScene::bvh(), through rtcBuildBVH with nodes of our
+// layout); the GPU gets a copy once per scene (RayScene::deviceBvh()).
+//
+// A binary tree whose nodes hold both children's boxes (Aila and Laine, "Understanding the
+// Efficiency of Ray Traversal on GPUs", 2009: one node fetch tests two boxes), leaves of up to
+// four triangles stored in order, and a watertight ray–triangle test (Woop, Benthin and Wald,
+// "Watertight Ray/Triangle Intersection", JCGT 2013), so a ray through a shared edge or vertex of
+// a closed mesh always hits one of its triangles, as Embree's robust mode promises. The box test
+// widens each slab interval by 2·γ₃ (Ize, "Robust BVH Ray Traversal", JCGT 2013) so rounding
+// never culls a box the ray touches. Embree's triangle test is another algorithm: a ray whose hit
+// lies within rounding of a triangle's edge may decide differently (docs/gpu.md counts them).
+#include "foundation/HostDevice.h"
+#include "foundation/Math.h"
+
+#include <cmath>
+#include <cstdint>
+
+namespace fp {
+
+/// One inner node: both children's boxes and where each child is. A child with count > 0 is a
+/// leaf of triangles [child, child + count); count == 0: the inner node `child`; count < 0: none.
+struct alignas(16) BvhNode {
+    Vec3f lo[2], hi[2];
+    int32_t child[2];
+    int32_t count[2];
+};
+static_assert(sizeof(BvhNode) == 64, "a node is one 64-byte fetch");
+
+/// A triangle of a leaf, its vertices relative to the scene's ray origin, and the InstanceId of
+/// its mesh (for rays restricted to one object).
+struct BvhTriangle {
+    Vec3f v0, v1, v2;
+    uint32_t instanceId;
+};
+
+/// The tree as the traversal reads it, in host or device memory. nodeCount 0: no geometry.
+struct BvhView {
+    const BvhNode* nodes = nullptr;
+    const BvhTriangle* triangles = nullptr;
+    int nodeCount = 0;
+    Vec3f lo, hi;  //!< the scene's bounds (RayScene's)
+};
+
+/// Most nodes a path from the root may pass: the build's depth limit, and the traversal's stack.
+constexpr int kBvhMaxDepth = 64;
+
+namespace bvh_detail {
+
+/// The ray in the watertight test's sheared frame: kz the axis of the direction's largest
+/// component, kx and ky the others in the order that keeps the winding.
+struct ShearedRay {
+    int kx, ky, kz;
+    float sx, sy, sz;
+};
+
+FP_HD inline float component(const Vec3f& v, int axis) {
+    return axis == 0 ? v.x : (axis == 1 ? v.y : v.z);
+}
+
+FP_HD inline ShearedRay shear(const Vec3f& dir) {
+    const float ax = std::fabs(dir.x), ay = std::fabs(dir.y), az = std::fabs(dir.z);
+    ShearedRay r;
+    r.kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+    r.kx = r.kz == 2 ? 0 : r.kz + 1;
+    r.ky = r.kx == 2 ? 0 : r.kx + 1;
+    if (component(dir, r.kz) < 0.0f) {
+        const int k = r.kx;
+        r.kx = r.ky;
+        r.ky = k;
+    }
+    const float dz = component(dir, r.kz);
+    r.sx = component(dir, r.kx) / dz;
+    r.sy = component(dir, r.ky) / dz;
+    r.sz = 1.0f / dz;
+    return r;
+}
+
+/// The distance t ∈ [tnear, tfar] at which the ray from `org` meets the triangle, or −1.
+FP_HD inline float hitTriangle(const ShearedRay& r, const Vec3f& org, const BvhTriangle& tri,
+                               float tnear, float tfar) {
+    const Vec3f A = tri.v0 - org, B = tri.v1 - org, C = tri.v2 - org;
+    const float az = component(A, r.kz), bz = component(B, r.kz), cz = component(C, r.kz);
+    const float ax = component(A, r.kx) - r.sx * az, ay = component(A, r.ky) - r.sy * az;
+    const float bx = component(B, r.kx) - r.sx * bz, by = component(B, r.ky) - r.sy * bz;
+    const float cx = component(C, r.kx) - r.sx * cz, cy = component(C, r.ky) - r.sy * cz;
+    float U = cx * by - cy * bx, V = ax * cy - ay * cx, W = bx * ay - by * ax;
+    if (U == 0.0f || V == 0.0f || W == 0.0f) {
+        // An edge through the ray: decide it in double, as the paper does, so neighbours agree.
+        U = float(double(cx) * double(by) - double(cy) * double(bx));
+        V = float(double(ax) * double(cy) - double(ay) * double(cx));
+        W = float(double(bx) * double(ay) - double(by) * double(ax));
+    }
+    if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return -1.0f;
+    const float det = U + V + W;
+    if (det == 0.0f) return -1.0f;
+    const float T = U * (r.sz * az) + V * (r.sz * bz) + W * (r.sz * cz);
+    const float t = T / det;
+    return t >= tnear && t <= tfar ? t : -1.0f;
+}
+
+/// Narrows [enter, leave] to one axis's slab. A NaN bound (0·∞: the ray runs in the slab's
+/// boundary plane, so it is inside) leaves the interval as it was: comparisons with NaN are false.
+FP_HD inline void clipSlab(float lo, float hi, float o, float inv, float& enter, float& leave) {
+    float t0 = (lo - o) * inv, t1 = (hi - o) * inv;
+    if (t0 > t1) {
+        const float t = t0;
+        t0 = t1;
+        t1 = t;
+    }
+    enter = t0 > enter ? t0 : enter;
+    leave = t1 < leave ? t1 : leave;
+}
+
+/// Whether the ray meets the box within [tnear, tfar], the exit widened by 2·γ₃.
+FP_HD inline bool hitBox(const Vec3f& lo, const Vec3f& hi, const Vec3f& org, const Vec3f& inv,
+                         float tnear, float tfar) {
+    constexpr float kWiden = 1.0f + 2.0f * 3.0f * 5.9604645e-8f / (1.0f - 3.0f * 5.9604645e-8f);
+    float enter = tnear, leave = tfar;
+    clipSlab(lo.x, hi.x, org.x, inv.x, enter, leave);
+    clipSlab(lo.y, hi.y, org.y, inv.y, enter, leave);
+    clipSlab(lo.z, hi.z, org.z, inv.z, enter, leave);
+    return enter <= leave * kWiden;
+}
+
+}  // namespace bvh_detail
+
+/// What a query asks: any blocker (a shadow ray), or the closest hit (of one instance, or all).
+struct BvhQuery {
+    bool anyHit = false;
+    bool oneInstance = false;
+    uint32_t instanceId = 0;  //!< with oneInstance: only this InstanceId's triangles count
+};
+
+/// The distance of the hit the query asks for along org + t·dir, t ∈ [tnear, tfar] (dir need
+/// not be unit), or −1 when there is none. An any-hit query returns the first hit it finds.
+FP_HD inline float traceBvh(const BvhView& bvh, const Vec3f& org, const Vec3f& dir, float tnear,
+                            float tfar, const BvhQuery& q) {
+    using namespace bvh_detail;
+    if (bvh.nodeCount == 0 || !(tnear <= tfar)) return -1.0f;
+    const ShearedRay sheared = shear(dir);
+    const Vec3f inv{1.0f / dir.x, 1.0f / dir.y, 1.0f / dir.z};
+    float best = -1.0f;
+    int stack[kBvhMaxDepth];
+    int depth = 0, node = 0;
+    for (;;) {
+        const BvhNode& n = bvh.nodes[node];
+        int next[2], nextCount = 0;
+        for (int c = 0; c < 2; ++c) {
+            if (n.count[c] < 0 || !hitBox(n.lo[c], n.hi[c], org, inv, tnear, tfar)) continue;
+            if (n.count[c] == 0) {
+                next[nextCount++] = n.child[c];
+                continue;
+            }
+            for (int i = n.child[c], end = n.child[c] + n.count[c]; i < end; ++i) {
+                const BvhTriangle& tri = bvh.triangles[i];
+                if (q.oneInstance && tri.instanceId != q.instanceId) continue;
+                const float t = hitTriangle(sheared, org, tri, tnear, tfar);
+                if (t < 0.0f) continue;
+                if (q.anyHit) return t;
+                best = t;
+                tfar = t;  // nearer hits only from here on
+            }
+        }
+        if (nextCount == 2) {
+            stack[depth++] = next[1];
+            node = next[0];
+        } else if (nextCount == 1) {
+            node = next[0];
+        } else {
+            if (depth == 0) return best;
+            node = stack[--depth];
+        }
+    }
+}
+
+/// The farthest distance from `p` to any point of the scene's bounds (RayScene's
+/// farthestDistance, the same arithmetic).
+FP_HD inline float farthestDistance(const BvhView& bvh, const Vec3f& p) {
+    const float dx = fmaxf(std::fabs(p.x - bvh.lo.x), std::fabs(bvh.hi.x - p.x));
+    const float dy = fmaxf(std::fabs(p.y - bvh.lo.y), std::fabs(bvh.hi.y - p.y));
+    const float dz = fmaxf(std::fabs(p.z - bvh.lo.z), std::fabs(bvh.hi.z - p.z));
+    return length(Vec3f{dx, dy, dz});
+}
+
+}  // namespace fp

@@ -1,0 +1,322 @@
+#pragma once
+// rt_shadows' per-pixel work written once for both backends: a pixel's set-up, each sample's
+// shadow ray, what a blocked ray adds (transmission through the pixel's own object) and the
+// resolve. The CPU's scalar reference (RTShadowsPass.cpp, lanes=false) builds its rows from
+// setupPixel and sampleRay and traces them through Embree; its SIMD lanes (ShadowLanes.h) compute
+// the same bits in vectors. The GPU's kernel (RTShadowsPass.cu) and the CPU's `traversal: "bvh"`
+// run `run` below, tracing framepass's own BVH (foundation/Bvh.h) one pixel per thread: the
+// same rays, the same tree, the same bits on both.
+#include "foundation/Bvh.h"
+#include "foundation/Camera.h"
+#include "foundation/ExpLog.h"
+#include "foundation/FloatToInt.h"
+#include "foundation/HostDevice.h"
+#include "foundation/PerPixel.h"
+#include "foundation/PlaneView.h"
+#include "foundation/Random.h"
+#include "foundation/ShadingModel.h"
+#include "framework/Pass.h"
+#include "passes/rt_shadows/RTShadowsPass.h"
+#include "passes/rt_shadows/ShadowRayGenerator.h"
+#include "screenspace/GBuffer.h"
+#include "shading/LightAttenuation.h"
+
+#include <cstdint>
+
+namespace fp::shadow {
+
+inline constexpr const char* kInstanceId = "instanceId";
+inline constexpr const char* kShadow = "shadow";
+inline constexpr const char* kTransmission = "transmission";
+inline constexpr const char* kHitDistance = "hitDistance";
+inline constexpr const char* kLightAttenuation = "lightAttenuation";
+
+struct RowContext;
+/// What the pass's parameters and the frame make of the light, the camera and the samples, for
+/// either path (RTShadowsPass.cpp).
+struct FrameSetup;
+FrameSetup setupFrame(const RTShadowsParams& params, PassContext& ctx);
+
+/// Subsurface-profile thickness is measured up to 5 cm (SSSS_MAX_TRANSMISSION_PROFILE_DISTANCE).
+inline constexpr float kMaxProfileDistanceCm = 5.0f;
+
+/// What the set-up and the rays need besides the pixel: the camera, the light, the biases.
+struct RowContext {
+    CameraView camera;
+    Vec3d eyeOffset;  // the eye relative to the RayScene origin
+    ShadowLightShape light;
+    float maxBias, minBias;  // scene units
+    bool transmission;       // the light's bTransmission
+    uint32_t rngKey;         // Rng's per-frame, per-light part: pcgHash(frame ^ pcgHash(seed ^ …))
+};
+
+struct FrameSetup {
+    RowContext row;
+    int spp;                       // samples per pixel
+    float cm;                      // scene units per centimetre
+    float lodStart, lodEnd;        // cm
+};
+
+// algorithms §9.2: N·L ≤ 0 means "occluded" without a ray, except for hair, eye, two-sided foliage,
+// subsurface (inferred: subsurface and subsurface profile) and rect lights.
+FP_HD inline bool cullsBackFacing(int model, LightType type) {
+    if (type == LightType::Rect) return false;
+    return model != kHair && model != kEye && model != kTwoSidedFoliage && model != kSubsurface &&
+           model != kSubsurfaceProfile;
+}
+
+FP_HD inline bool hasThicknessTransmission(int model) {
+    return model == kSubsurface || model == kHair;
+}
+
+/// Transmission through `thicknessCm` of a material of this opacity (algorithms §9.3):
+/// exp(−density·thickness) with density = −0.05·ln(1 − min(opacity, 0.999)) per cm, which is
+/// (1 − min(opacity, 0.999))^(0.05·thickness): ExpLog.h's power, the same bits on both backends.
+FP_HD inline float transmittance(float opacity, float thicknessCm) {
+    const float clear = 1.0f - (opacity < 0.999f ? opacity : 0.999f);
+    return saturate(powFloat(clear, 0.05f * thicknessCm));
+}
+
+/// Hair's transmission: density 1 per cm, exp(−thickness) as 2^(−thickness·log₂e).
+FP_HD inline float hairTransmittance(float thicknessCm) {
+    const double y = -double(thicknessCm) * explog_terms::kInvLn2;
+    return saturate(y < -1000.0 ? 0.0f : float(exp2Double(y > 0.0 ? 0.0 : y)));
+}
+
+/// Unreal's subsurface-profile thickness encoding: 1 − thickness/5 cm, saturated.
+FP_HD inline float encodeThickness(float thicknessCm) {
+    return saturate(1.0f - thicknessCm / kMaxProfileDistanceCm);
+}
+
+/// What stays the same for every sample of one pixel.
+struct Pixel {
+    Vec3f p;             // camera-relative position
+    Vec3f n;             // bias normal (hair: towards the light)
+    Vec3f toEye;         // unit
+    float eyeDistance;
+    int32_t model;
+    uint32_t rng;        // the pixel's Rng state (Random.h), advanced per sample
+};
+
+/// Pixel (x, y)'s set-up from its depth, shading model and normal; false for unlit and sky pixels
+/// and those the light cannot reach (they trace nothing).
+FP_HD inline bool setupPixel(const RowContext& c, int x, int y, float depth, float model,
+                             const Vec3f& normal, Pixel& px) {
+    const double d = depth;
+    if (!isLitSurface(d, model)) return false;  // sky and unlit pixels: nothing to rebuild
+    const Vec3d offset = c.camera.translatedFromPixel(x, y, d);
+    const Vec3f p(c.eyeOffset + offset);
+    if (!lightReaches(c.light, p)) return false;
+    px.p = p;
+    const double eyeDistance = length(offset);
+    px.eyeDistance = float(eyeDistance);
+    px.toEye = Vec3f(-offset / eyeDistance);
+    px.model = truncToInt(model, 0, 255);
+    // Hair's GBuffer normal is its tangent: Unreal biases along the light instead.
+    px.n = px.model == kHair ? lightCentreDirection(c.light, p) : normal;
+    px.rng = Rng::fromKey(c.rngKey, x, y).state();  // per-pixel streams
+    return true;
+}
+
+/// One shadow ray: from org along the unit dir up to tfar.
+struct ShadowRay {
+    Vec3f org, dir;
+    float tfar;
+};
+
+/// The pixel's next sample: draws its random pair (always, so every sample reads the same
+/// stream) and returns false for a back-facing pixel the light culls (occluded without a ray).
+FP_HD inline bool sampleRay(const RowContext& c, Pixel& px, ShadowRay& ray) {
+    Rng rng = Rng::resume(px.rng);
+    const float u = rng.nextFloat(), v = rng.nextFloat();
+    px.rng = rng.state();
+    const float NoL = dot(px.n, lightCentreDirection(c.light, px.p));
+    if (NoL <= 0.0f && cullsBackFacing(px.model, c.light.type)) return false;
+    // algorithms §9.2: towards the camera by max(1e-4·distance, bias), then along the normal by
+    // lerp(bias, 0.01 cm, N·L); a transmissive pixel facing away starts on its back side instead.
+    const float eyeBias = 1e-4f * px.eyeDistance;
+    Vec3f o = px.p + px.toEye * (eyeBias < c.maxBias ? c.maxBias : eyeBias);  // std::max
+    const float nb = c.maxBias + (c.minBias - c.maxBias) * (NoL < 0.0f ? 0.0f : (NoL > 1.0f ? 1.0f : NoL));
+    const bool backSide = c.transmission && NoL <= 0.0f &&
+                          (hasThicknessTransmission(px.model) || px.model == kSubsurfaceProfile);
+    o += px.n * (backSide ? -nb : nb);
+    const ShadowDirection sd = sampleLight(c.light, o, u, v);
+    ray = {o, sd.dir, sd.tfar};
+    return true;
+}
+
+/// A pixel's sums over its samples.
+struct Sums {
+    float visibility = 0, transmission = 0, closestHit = -1;
+};
+
+/// What one traced sample adds to the pixel's sums. `scene` answers closest hits restricted to
+/// one InstanceId (float instanceHit(org, dir, tfar, id): t or −1) and the farthest distance to
+/// the scene's bounds; `opacity()` and `instance()` read the pixel's CustomData.A and InstanceId,
+/// only where a transmission ray needs them. Returns the transmission rays it traced.
+template <class Scene, class Opacity, class Instance>
+FP_HD int addSample(const RowContext& c, const Scene& scene, const Pixel& px, const ShadowRay& ray,
+                    bool blocked, float hitT, float cm, const Opacity& opacity,
+                    const Instance& instance, Sums& r) {
+    const int model = px.model;
+    // A subsurface-profile pixel's transmission channel is its encoded thickness instead.
+    const bool profile = c.transmission && model == kSubsurfaceProfile;
+    int rays = 0;
+    if (!blocked) {
+        r.visibility += 1.0f;
+        if (!profile) r.transmission += 1.0f;
+    } else {
+        if (hitT >= 0.0f && (r.closestHit < 0.0f || hitT < r.closestHit)) r.closestHit = hitT;
+        if (c.transmission && hasThicknessTransmission(model)) {
+            // algorithms §9.3: the inverted ray from the far end finds where the light enters the
+            // pixel's own object; the thickness gives the transmittance, and a fully transmitted
+            // sample counts as unoccluded.
+            const float bound = scene.farthestDistance(ray.org);
+            const float far = ray.tfar < bound ? ray.tfar : bound;
+            const Vec3f start = ray.org + ray.dir * far;
+            const float t = scene.instanceHit(start, -ray.dir, far, instance());
+            ++rays;
+            if (t >= 0.0f) {
+                const float thicknessCm = (far - t) / cm;
+                const float T = model == kHair ? hairTransmittance(thicknessCm)
+                                               : transmittance(opacity(), thicknessCm);
+                r.transmission += T;
+                if (T == 1.0f) r.visibility += 1.0f;  // promoted to unoccluded
+            }
+        }
+    }
+    if (profile) {
+        // Subsurface profile: the encoded thickness of its own object towards the light, up to
+        // 5 cm (inferred simplification of Unreal's constant-tracking estimate, algorithms §9.3).
+        const float reach = kMaxProfileDistanceCm * cm;
+        const Vec3f start = ray.org + ray.dir * reach;
+        const float t = scene.instanceHit(start, -ray.dir, reach, instance());
+        ++rays;
+        const float thicknessCm =
+            t >= 0.0f ? (reach - t) / cm
+                      : (dot(px.n, ray.dir) > 0.0f ? 0.0f : kMaxProfileDistanceCm);
+        r.transmission += encodeThickness(thicknessCm);
+    }
+    return rays;
+}
+
+/// The resolved visibility: the mean over the samples, with far subsurface and hair pixels
+/// blended towards their transmission (algorithms §9.3's LOD transition).
+FP_HD inline float resolveVisibility(const Pixel& px, float visibility, float transmission,
+                                     float cm, float lodStart, float lodEnd) {
+    if (hasThicknessTransmission(px.model) && lodEnd > 0.0f) {
+        const float width = lodEnd - lodStart;
+        const float span = width > 1e-6f ? width : 1e-6f;
+        const float f = saturate((px.eyeDistance / cm - lodStart) / span);
+        visibility += (transmission - visibility) * f;
+    }
+    return visibility;
+}
+
+/// The scene as addSample sees it, through the BVH.
+struct BvhScene {
+    BvhView bvh;
+    FP_HD float farthestDistance(const Vec3f& p) const { return fp::farthestDistance(bvh, p); }
+    FP_HD float instanceHit(const Vec3f& org, const Vec3f& dir, float tfar, uint32_t id) const {
+        return traceBvh(bvh, org, dir, 0.0f, tfar, BvhQuery{false, true, id});
+    }
+};
+
+/// Everything one frame's pixels read and write on the BVH path.
+struct Frame {
+    RowContext row;
+    BvhScene scene;
+    int spp;
+    float cm, lodStart, lodEnd;
+    bool wantDistance;
+    PlaneView depth, normal[3], model, opacity, instance;  // opacity, instance: data null if absent
+    PlaneSpan shadow, transmission, hitDistance, attenuation[4];  // attenuation: null if unasked
+};
+
+/// The work counters of the BVH path, as the CPU pass names them.
+enum Counter { kRays, kTransmissionRays, kDistanceRays, kPixels, kSkipped, kCounterCount };
+
+/// Pixel (x, y): its set-up, its samples traced through the BVH, its resolve.
+FP_HD inline void shadowPixel(const Frame& f, int x, int y, WorkCounts<kCounterCount>& work) {
+    Pixel px;
+    const Vec3f normal{f.normal[0].at(x, y), f.normal[1].at(x, y), f.normal[2].at(x, y)};
+    if (!setupPixel(f.row, x, y, f.depth.at(x, y), f.model.at(x, y), normal, px)) {
+        ++work.value[kSkipped];
+        f.shadow.at(x, y) = 0.0f;  // no light: shadow, transmission and attenuation 0
+        f.transmission.at(x, y) = 0.0f;
+        f.hitDistance.at(x, y) = -1.0f;
+        if (f.attenuation[0])
+            for (int c = 0; c < 4; ++c) f.attenuation[c].at(x, y) = 0.0f;
+        return;
+    }
+    ++work.value[kPixels];
+    auto opacity = [&] { return f.opacity.data ? f.opacity.at(x, y) : 1.0f; };
+    auto instance = [&] {
+        return f.instance.data ? uint32_t(truncToInt(f.instance.at(x, y), 0, 1 << 30)) : 0u;
+    };
+    Sums sums;
+    for (int sample = 0; sample < f.spp; ++sample) {
+        ShadowRay ray;
+        if (!sampleRay(f.row, px, ray)) continue;
+        ++work.value[kRays];
+        const BvhQuery anyHit{true, false, 0};
+        const bool blocked = traceBvh(f.scene.bvh, ray.org, ray.dir, 0.0f, ray.tfar, anyHit) >= 0.0f;
+        float hitT = -1.0f;
+        if (blocked && f.wantDistance) {
+            hitT = traceBvh(f.scene.bvh, ray.org, ray.dir, 0.0f, ray.tfar, BvhQuery{});
+            ++work.value[kDistanceRays];
+        }
+        work.value[kTransmissionRays] +=
+            addSample(f.row, f.scene, px, ray, blocked, hitT, f.cm, opacity, instance, sums);
+    }
+    const float transmission = sums.transmission / float(f.spp);
+    const float visibility = resolveVisibility(px, sums.visibility / float(f.spp), transmission,
+                                               f.cm, f.lodStart, f.lodEnd);
+    f.shadow.at(x, y) = visibility;
+    f.transmission.at(x, y) = transmission;
+    f.hitDistance.at(x, y) = sums.closestHit;
+    if (f.attenuation[0]) {
+        const LightAttenuation a =
+            LightAttenuation::fromShadow(f.row.light.type, visibility, transmission);
+        f.attenuation[0].at(x, y) = a.r;
+        f.attenuation[1].at(x, y) = a.g;
+        f.attenuation[2].at(x, y) = a.b;
+        f.attenuation[3].at(x, y) = a.a;
+    }
+}
+
+/// The whole pass on the BVH path through `ports` on `pixels`, its work reported to `ctx`.
+template <class Ports, class Pixels>
+void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const FrameSetup& setup) {
+    const Extent size = ctx.frame().extent;
+    Frame f{};
+    f.row = setup.row;
+    f.scene.bvh = ports.bvh();
+    f.spp = setup.spp;
+    f.cm = setup.cm;
+    f.lodStart = setup.lodStart;
+    f.lodEnd = setup.lodEnd;
+    f.wantDistance = ctx.isRequested(kHitDistance);
+    f.depth = viewOf(ports.input(gbuffer::kDepth)->image().plane(0));
+    for (int c = 0; c < 3; ++c) f.normal[c] = viewOf(ports.input(gbuffer::kNormal)->image().plane(c));
+    f.model = viewOf(ports.input(gbuffer::kShadingModel)->image().plane(0));
+    if (const auto* custom = ports.input(gbuffer::kCustomData))
+        f.opacity = viewOf(custom->image().plane(3));
+    if (const auto* ids = ports.input(kInstanceId)) f.instance = viewOf(ids->image().plane(0));
+    f.shadow = spanOf(ports.output(kShadow, {size}).image().plane(0));
+    f.transmission = spanOf(ports.output(kTransmission, {size}).image().plane(0));
+    f.hitDistance = spanOf(ports.output(kHitDistance, {size}).image().plane(0));
+    if (auto* att = ports.outputIfRequested(kLightAttenuation, {size}))
+        for (int c = 0; c < 4; ++c) f.attenuation[c] = spanOf(att->image().plane(c));
+    const auto work = pixels.template forEach<kCounterCount>(
+        size.width, size.height,
+        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& w) { shadowPixel(f, x, y, w); },
+        "rt_shadows");
+    ctx.addWork("rays", work[kRays]);
+    ctx.addWork("transmissionRays", work[kTransmissionRays]);
+    ctx.addWork("distanceRays", work[kDistanceRays]);
+    ctx.addWork("pixels", work[kPixels]);
+    ctx.addWork("skippedPixels", work[kSkipped]);
+}
+
+}  // namespace fp::shadow
