@@ -30,11 +30,16 @@ struct alignas(16) BvhNode {
 static_assert(sizeof(BvhNode) == 64, "a node is one 64-byte fetch");
 
 /// A triangle of a leaf, its vertices relative to the scene's ray origin, and the InstanceId of
-/// its mesh (for rays restricted to one object).
-struct BvhTriangle {
-    Vec3f v0, v1, v2;
+/// its mesh (for rays restricted to one object); three 16-byte fetches.
+struct alignas(16) BvhTriangle {
+    Vec3f v0;
     uint32_t instanceId;
+    Vec3f v1;
+    uint32_t unused0;
+    Vec3f v2;
+    uint32_t unused1;
 };
+static_assert(sizeof(BvhTriangle) == 48, "a triangle is three 16-byte fetches");
 
 /// The tree as the traversal reads it, in host or device memory. nodeCount 0: no geometry.
 struct BvhView {
@@ -114,15 +119,54 @@ FP_HD inline void clipSlab(float lo, float hi, float o, float inv, float& enter,
     leave = t1 < leave ? t1 : leave;
 }
 
-/// Whether the ray meets the box within [tnear, tfar], the exit widened by 2·γ₃.
+/// 1 + 2·γ₃: how far a box's exit distance is widened against rounding.
+constexpr float kWiden = 1.0f + 2.0f * 3.0f * 5.9604645e-8f / (1.0f - 3.0f * 5.9604645e-8f);
+
+/// Whether the ray meets the box within [tnear, tfar], the exit widened by 2·γ₃; `enter` is
+/// where it enters.
 FP_HD inline bool hitBox(const Vec3f& lo, const Vec3f& hi, const Vec3f& org, const Vec3f& inv,
-                         float tnear, float tfar) {
-    constexpr float kWiden = 1.0f + 2.0f * 3.0f * 5.9604645e-8f / (1.0f - 3.0f * 5.9604645e-8f);
-    float enter = tnear, leave = tfar;
+                         float tnear, float tfar, float& enter) {
+    enter = tnear;
+    float leave = tfar;
     clipSlab(lo.x, hi.x, org.x, inv.x, enter, leave);
     clipSlab(lo.y, hi.y, org.y, inv.y, enter, leave);
     clipSlab(lo.z, hi.z, org.z, inv.z, enter, leave);
     return enter <= leave * kWiden;
+}
+
+/// A node or a triangle read whole: on the GPU as 16-byte read-only fetches (a node in four, a
+/// triangle in three), where element by element would take a load per float.
+FP_HD inline BvhNode loadNode(const BvhNode* p) {
+#if defined(__CUDA_ARCH__)
+    const float4* q = reinterpret_cast<const float4*>(p);
+    const float4 a = __ldg(q), b = __ldg(q + 1), c = __ldg(q + 2), d = __ldg(q + 3);
+    BvhNode n;
+    n.lo[0] = {a.x, a.y, a.z};
+    n.lo[1] = {a.w, b.x, b.y};
+    n.hi[0] = {b.z, b.w, c.x};
+    n.hi[1] = {c.y, c.z, c.w};
+    n.child[0] = __float_as_int(d.x);
+    n.child[1] = __float_as_int(d.y);
+    n.count[0] = __float_as_int(d.z);
+    n.count[1] = __float_as_int(d.w);
+    return n;
+#else
+    return *p;
+#endif
+}
+FP_HD inline BvhTriangle loadTriangle(const BvhTriangle* p) {
+#if defined(__CUDA_ARCH__)
+    const float4* q = reinterpret_cast<const float4*>(p);
+    const float4 a = __ldg(q), b = __ldg(q + 1), c = __ldg(q + 2);
+    BvhTriangle t;
+    t.v0 = {a.x, a.y, a.z};
+    t.instanceId = uint32_t(__float_as_int(a.w));
+    t.v1 = {b.x, b.y, b.z};
+    t.v2 = {c.x, c.y, c.z};
+    return t;
+#else
+    return *p;
+#endif
 }
 
 }  // namespace bvh_detail
@@ -134,28 +178,44 @@ struct BvhQuery {
     uint32_t instanceId = 0;  //!< with oneInstance: only this InstanceId's triangles count
 };
 
+// On the GPU the traversal is one function of its own rather than inlined into each pass's kernel
+// (rt_shadows calls it three times): its loop keeps its registers, where inlined into a large
+// kernel it spilled to memory on every step (204 bytes; the bare traversal kernel spills none).
+#if defined(__CUDA_ARCH__)
+#define FP_BVH_NOINLINE __noinline__
+#else
+#define FP_BVH_NOINLINE
+#endif
+
 /// The distance of the hit the query asks for along org + t·dir, t ∈ [tnear, tfar] (dir need
-/// not be unit), or −1 when there is none. An any-hit query returns the first hit it finds.
-FP_HD inline float traceBvh(const BvhView& bvh, const Vec3f& org, const Vec3f& dir, float tnear,
-                            float tfar, const BvhQuery& q) {
+/// not be unit), or −1 when there is none. An any-hit query returns the first hit it finds. The
+/// nearer child is visited first and a stacked one is dropped once a hit is nearer than where the
+/// ray enters it; neither changes the result (the closest of the triangle tests' distances, each
+/// computed the same whatever the order), only how much is read.
+FP_HD FP_BVH_NOINLINE inline float traceBvh(const BvhView bvh, const Vec3f org, const Vec3f dir,
+                                            float tnear, float tfar, const BvhQuery q) {
     using namespace bvh_detail;
     if (bvh.nodeCount == 0 || !(tnear <= tfar)) return -1.0f;
     const ShearedRay sheared = shear(dir);
     const Vec3f inv{1.0f / dir.x, 1.0f / dir.y, 1.0f / dir.z};
     float best = -1.0f;
-    int stack[kBvhMaxDepth];
+    int stackNode[kBvhMaxDepth];
+    float stackEnter[kBvhMaxDepth];
     int depth = 0, node = 0;
     for (;;) {
-        const BvhNode& n = bvh.nodes[node];
-        int next[2], nextCount = 0;
+        const BvhNode n = loadNode(bvh.nodes + node);
+        float enter[2];
+        bool inner[2];
         for (int c = 0; c < 2; ++c) {
-            if (n.count[c] < 0 || !hitBox(n.lo[c], n.hi[c], org, inv, tnear, tfar)) continue;
+            inner[c] = false;
+            if (n.count[c] < 0 || !hitBox(n.lo[c], n.hi[c], org, inv, tnear, tfar, enter[c]))
+                continue;
             if (n.count[c] == 0) {
-                next[nextCount++] = n.child[c];
+                inner[c] = true;
                 continue;
             }
             for (int i = n.child[c], end = n.child[c] + n.count[c]; i < end; ++i) {
-                const BvhTriangle& tri = bvh.triangles[i];
+                const BvhTriangle tri = loadTriangle(bvh.triangles + i);
                 if (q.oneInstance && tri.instanceId != q.instanceId) continue;
                 const float t = hitTriangle(sheared, org, tri, tnear, tfar);
                 if (t < 0.0f) continue;
@@ -164,15 +224,24 @@ FP_HD inline float traceBvh(const BvhView& bvh, const Vec3f& org, const Vec3f& d
                 tfar = t;  // nearer hits only from here on
             }
         }
-        if (nextCount == 2) {
-            stack[depth++] = next[1];
-            node = next[0];
-        } else if (nextCount == 1) {
-            node = next[0];
-        } else {
-            if (depth == 0) return best;
-            node = stack[--depth];
+        if (inner[0] && inner[1]) {
+            const bool firstNear = enter[0] <= enter[1];
+            stackNode[depth] = firstNear ? n.child[1] : n.child[0];
+            stackEnter[depth] = firstNear ? enter[1] : enter[0];
+            ++depth;
+            node = firstNear ? n.child[0] : n.child[1];
+            continue;
         }
+        if (inner[0] || inner[1]) {
+            node = inner[0] ? n.child[0] : n.child[1];
+            continue;
+        }
+        for (;;) {
+            if (depth == 0) return best;
+            --depth;
+            if (stackEnter[depth] <= tfar * kWiden) break;  // else: wholly beyond a nearer hit
+        }
+        node = stackNode[depth];
     }
 }
 

@@ -182,6 +182,75 @@ DeviceTexture upload(const Texture& texture) {
     return DeviceTexture(std::move(levels));
 }
 
+namespace {
+// The upload stream: non-blocking, so its copies do not wait for the default stream's kernels
+// (nor they for it, but where awaitUpload says). One batch of copies is timed by two events.
+struct Uploads {
+    std::mutex mutex;
+    cudaStream_t stream = nullptr;
+    cudaEvent_t first = nullptr, last = nullptr;
+    bool pending = false;
+};
+Uploads& uploads() {
+    static Uploads u;
+    if (!u.stream) {
+        check(cudaStreamCreateWithFlags(&u.stream, cudaStreamNonBlocking), "creating a stream");
+        check(cudaEventCreate(&u.first), "creating an event");
+        check(cudaEventCreate(&u.last), "creating an event");
+    }
+    return u;
+}
+}  // namespace
+
+DeviceTexture uploadAsync(const Texture& texture) {
+    Uploads& u = uploads();
+    std::lock_guard<std::mutex> lock(u.mutex);
+    if (!u.pending) {
+        check(cudaEventRecord(u.first, u.stream), "recording an event");
+        u.pending = true;
+    }
+    std::vector<DeviceImage> levels;
+    for (int m = 0; m < texture.mipCount(); ++m) {
+        const Image& host = texture.mip(m);
+        DeviceImage dev = allocateImage(host.width(), host.height(), host.channels(), false);
+        for (int c = 0; c < host.channelCount(); ++c) {
+            const Plane& src = host.plane(c);
+            check(cudaMemcpy2DAsync(dev.plane(c).data, dev.stride() * sizeof(float), src.row(0),
+                                    src.stride() * sizeof(float), src.width() * sizeof(float),
+                                    src.height(), cudaMemcpyHostToDevice, u.stream),
+                  "uploading an image");
+            gTotals.uploadBytes += std::size_t(src.width()) * src.height() * sizeof(float);
+        }
+        levels.push_back(std::move(dev));
+    }
+    cudaEvent_t arrived = nullptr;
+    check(cudaEventCreateWithFlags(&arrived, cudaEventDisableTiming), "creating an event");
+    check(cudaEventRecord(arrived, u.stream), "recording an event");
+    check(cudaEventRecord(u.last, u.stream), "recording an event");
+    DeviceTexture result(std::move(levels));
+    result.setArrival(std::shared_ptr<void>(static_cast<void*>(arrived), [](void* e) {
+        cudaEventDestroy(static_cast<cudaEvent_t>(e));
+    }));
+    return result;
+}
+
+void awaitUpload(const DeviceTexture& texture) {
+    if (texture.arrival())
+        check(cudaStreamWaitEvent(cudaStreamLegacy, static_cast<cudaEvent_t>(texture.arrival().get()), 0),
+              "waiting for an upload");
+}
+
+void finishUploads() {
+    Uploads& u = uploads();
+    std::lock_guard<std::mutex> lock(u.mutex);
+    if (!u.pending) return;
+    check(cudaEventSynchronize(u.last), "uploading an image");
+    float ms = 0.0f;
+    check(cudaEventElapsedTime(&ms, u.first, u.last), "timing the uploads");
+    gTotals.uploadSeconds += double(ms) * 1e-3;
+    u.pending = false;
+}
+
 Texture download(const DeviceTexture& texture) {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<Image> levels;

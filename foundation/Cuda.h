@@ -37,6 +37,16 @@ void usePinnedHostMemory();
 /// A copy on the device of `bytes` bytes of host memory (a pass's tables: a cubemap, a LUT).
 std::shared_ptr<void> uploadBytes(const void* data, std::size_t bytes);
 DeviceTexture upload(const Texture& texture);
+/// Starts copying `texture` to the GPU on the upload stream, a stream of its own that runs beside
+/// the kernels, and returns the device copy at once: a frame's capture crosses while its first
+/// passes run. The host images must stay as they are until finishUploads().
+DeviceTexture uploadAsync(const Texture& texture);
+/// Makes the kernels launched after this wait (on the GPU, not the host) until `texture` has
+/// arrived; nothing for a texture not uploaded by uploadAsync.
+void awaitUpload(const DeviceTexture& texture);
+/// Waits for every uploadAsync so far and books their time, from the first copy's start to the
+/// last one's end on the upload stream, in the transfer totals.
+void finishUploads();
 Texture download(const DeviceTexture& texture);
 /// Waits for the GPU; a failed kernel becomes an fp::Error naming `what`.
 void synchronize(const char* what);

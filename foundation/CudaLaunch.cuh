@@ -1,7 +1,7 @@
 #pragma once
 // CudaPixels, the GPU's side of PerPixel.h: one thread per pixel in 16×8 blocks calling the same
 // FP_HD function the CPU tile loop calls, with the work counters summed per block in shared
-// memory and added once per block to the totals. The function object is a __grid_constant__
+// memory (a warp's first reduced by shuffles) and added once per block to the totals. The function object is a __grid_constant__
 // kernel parameter, so a pass's frame description is read from constant memory, not copied
 // per thread.
 #include "foundation/Cuda.h"
@@ -28,18 +28,23 @@ __global__ void __launch_bounds__(128, 8)
         __syncthreads();
     const int x = blockIdx.x * blockDim.x + threadIdx.x;
     const int y = blockIdx.y * blockDim.y + threadIdx.y;
-    if (x < width && y < height) {
-        WorkCounts<N> local{};
+    WorkCounts<N> local{};
+    if (x < width && y < height)
         f(x, y, local);
-        for (int i = 0; i < N; ++i)
-            if (local.value[i])
-                atomicAdd(&blockSums[i], local.value[i]);
+    if constexpr (N > 0) {
+        // Each counter summed across the warp by shuffles, then one shared atomic a warp: 128
+        // threads adding to one shared 64-bit counter each would wait on each other in turn.
+        for (int i = 0; i < N; ++i) {
+            unsigned long long v = local.value[i];
+            for (int offset = 16; offset > 0; offset /= 2)
+                v += __shfl_down_sync(0xffffffffu, v, offset);
+            if ((lane & 31) == 0 && v)
+                atomicAdd(&blockSums[i], v);
+        }
+        __syncthreads();
+        if (lane < N && blockSums[lane])
+            atomicAdd(&totals[lane], blockSums[lane]);
     }
-    if (N == 0)
-        return;
-    __syncthreads();
-    if (lane < N && blockSums[lane])
-        atomicAdd(&totals[lane], blockSums[lane]);
 }
 }  // namespace detail
 

@@ -36,6 +36,11 @@ std::shared_ptr<void> uploadBytes(const void*, std::size_t) {
 DeviceTexture upload(const Texture&) {
     noBackend();
 }
+DeviceTexture uploadAsync(const Texture&) {
+    noBackend();
+}
+void awaitUpload(const DeviceTexture&) {}
+void finishUploads() {}
 Texture download(const DeviceTexture&) {
     noBackend();
 }

@@ -61,9 +61,14 @@ public:
             b += m.bytes();
         return b;
     }
+    /// For a copy still crossing from the host (cuda::uploadAsync): the event that marks its
+    /// arrival, which cuda::awaitUpload makes the kernels wait for; null once it is not pending.
+    const std::shared_ptr<void>& arrival() const { return mArrival; }
+    void setArrival(std::shared_ptr<void> event) { mArrival = std::move(event); }
 
 private:
     std::vector<DeviceImage> mMips;
+    std::shared_ptr<void> mArrival;
 };
 
 }  // namespace fp

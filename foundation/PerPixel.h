@@ -14,6 +14,9 @@
 
 namespace fp {
 
+/// The GPU's Pixels (CudaLaunch.cuh), named here for the rare pass that gives it its own code.
+struct CudaPixels;
+
 /// Per-pixel work counters ("pixels", "rays", …), N fixed by the pass.
 template <int N>
 struct WorkCounts {

@@ -328,7 +328,12 @@ private:
         const int32_t first = int32_t(mTriangles.size());
         for (unsigned i = 0; i < leaf.count; ++i) {
             const auto& v = mCorners[mFirst[leaf.mesh[i]] + leaf.triangle[i]];
-            mTriangles.push_back({v[0], v[1], v[2], mScene.meshes[leaf.mesh[i]].instanceId});
+            BvhTriangle tri{};
+            tri.v0 = v[0];
+            tri.v1 = v[1];
+            tri.v2 = v[2];
+            tri.instanceId = mScene.meshes[leaf.mesh[i]].instanceId;
+            mTriangles.push_back(tri);
         }
         return {first, int32_t(leaf.count)};
     }

@@ -95,6 +95,14 @@ public:
         }
         return slot.device.get();
     }
+    /// Starts the device copy of a host image (cuda::uploadAsync) unless it has one.
+    void prefetchDevice(const std::string& key) {
+        auto it = mSlots.find(key);
+        if (it == mSlots.end() || it->second.device)
+            return;
+        it->second.device = std::make_shared<DeviceTexture>(cuda::uploadAsync(*it->second.host));
+        track();
+    }
     void release(const std::string& key) {
         if (auto it = mSlots.find(key); it != mSlots.end()) {
             keep(key, it->second);
@@ -378,6 +386,22 @@ FrameReport executePlan(const Plan& plan,
                 store.release(key);
     };
 
+    // A GPU plan reads the capture buffers its GPU steps take up front and starts their copies to
+    // the GPU on the upload stream in the order the steps need them: the first passes run while
+    // the rest of the capture crosses (each step's kernels wait for their own inputs only).
+    if (plan.device == Device::Cuda)
+        for (const PlanStep& step : plan.steps) {
+            if (step.device != Device::Cuda)
+                continue;
+            for (const auto& [port, ref] : step.inputs) {
+                if (!ref.fromCapture)
+                    continue;
+                if (!store.contains(ref.key))
+                    store.load(ref.buffer, channelsOf(ref.buffer));
+                store.prefetchDevice(ref.key);
+            }
+        }
+
     const int total = int(plan.steps.size());
     // What every step ends with, executed or reused: its report, the files it completes, the
     // images no later step reads freed, progress.
@@ -447,7 +471,8 @@ FrameReport executePlan(const Plan& plan,
             if (step.device == Device::Cuda) {
                 // Inputs cross before the clock starts: the GPU time is the kernels' alone.
                 for (const auto& [port, ref] : step.inputs)
-                    store.findDevice(ref.key);
+                    if (const DeviceTexture* d = store.findDevice(ref.key))
+                        cuda::awaitUpload(*d);
                 gpuTimer.emplace();
                 gpuTimer->start();
             }
@@ -495,6 +520,8 @@ FrameReport executePlan(const Plan& plan,
         finishStep(s, std::move(pr));
     }
     writeOutputs(-1);  // outputs that only copy capture buffers, in a plan with no steps
+    if (plan.device == Device::Cuda)
+        cuda::finishUploads();
     report.peakBytes = store.peak();
     report.peakDeviceBytes = store.peakDevice();
     const cuda::TransferTotals transfersAfter = cuda::transferTotals();

@@ -236,39 +236,17 @@ struct Frame {
 /// The work counters of the BVH path, as the CPU pass names them.
 enum Counter { kRays, kTransmissionRays, kDistanceRays, kPixels, kSkipped, kCounterCount };
 
-/// Pixel (x, y): its set-up, its samples traced through the BVH, its resolve.
-FP_HD inline void shadowPixel(const Frame& f, int x, int y, WorkCounts<kCounterCount>& work) {
-    Pixel px;
-    const Vec3f normal{f.normal[0].at(x, y), f.normal[1].at(x, y), f.normal[2].at(x, y)};
-    if (!setupPixel(f.row, x, y, f.depth.at(x, y), f.model.at(x, y), normal, px)) {
-        ++work.value[kSkipped];
-        f.shadow.at(x, y) = 0.0f;  // no light: shadow, transmission and attenuation 0
-        f.transmission.at(x, y) = 0.0f;
-        f.hitDistance.at(x, y) = -1.0f;
-        if (f.attenuation[0])
-            for (int c = 0; c < 4; ++c) f.attenuation[c].at(x, y) = 0.0f;
-        return;
-    }
-    ++work.value[kPixels];
-    auto opacity = [&] { return f.opacity.data ? f.opacity.at(x, y) : 1.0f; };
-    auto instance = [&] {
-        return f.instance.data ? uint32_t(truncToInt(f.instance.at(x, y), 0, 1 << 30)) : 0u;
-    };
-    Sums sums;
-    for (int sample = 0; sample < f.spp; ++sample) {
-        ShadowRay ray;
-        if (!sampleRay(f.row, px, ray)) continue;
-        ++work.value[kRays];
-        const BvhQuery anyHit{true, false, 0};
-        const bool blocked = traceBvh(f.scene.bvh, ray.org, ray.dir, 0.0f, ray.tfar, anyHit) >= 0.0f;
-        float hitT = -1.0f;
-        if (blocked && f.wantDistance) {
-            hitT = traceBvh(f.scene.bvh, ray.org, ray.dir, 0.0f, ray.tfar, BvhQuery{});
-            ++work.value[kDistanceRays];
-        }
-        work.value[kTransmissionRays] +=
-            addSample(f.row, f.scene, px, ray, blocked, hitT, f.cm, opacity, instance, sums);
-    }
+/// A pixel that traces nothing (unlit, sky, out of the light's reach): no light.
+FP_HD inline void writeUnlit(const Frame& f, int x, int y) {
+    f.shadow.at(x, y) = 0.0f;
+    f.transmission.at(x, y) = 0.0f;
+    f.hitDistance.at(x, y) = -1.0f;
+    if (f.attenuation[0])
+        for (int c = 0; c < 4; ++c) f.attenuation[c].at(x, y) = 0.0f;
+}
+
+/// A pixel's outputs from its sums over the samples.
+FP_HD inline void writeResolved(const Frame& f, int x, int y, const Pixel& px, const Sums& sums) {
     const float transmission = sums.transmission / float(f.spp);
     const float visibility = resolveVisibility(px, sums.visibility / float(f.spp), transmission,
                                                f.cm, f.lodStart, f.lodEnd);
@@ -285,9 +263,62 @@ FP_HD inline void shadowPixel(const Frame& f, int x, int y, WorkCounts<kCounterC
     }
 }
 
-/// The whole pass on the BVH path through `ports` on `pixels`, its work reported to `ctx`.
-template <class Ports, class Pixels>
-void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const FrameSetup& setup) {
+/// Pixel (x, y)'s set-up from the frame's planes.
+FP_HD inline bool setupFramePixel(const Frame& f, int x, int y, Pixel& px) {
+    const Vec3f normal{f.normal[0].at(x, y), f.normal[1].at(x, y), f.normal[2].at(x, y)};
+    return setupPixel(f.row, x, y, f.depth.at(x, y), f.model.at(x, y), normal, px);
+}
+
+/// Whether a shadow ray is blocked, and where asked its closest occluder (−1: none or unasked).
+FP_HD inline bool traceShadowRay(const Frame& f, const ShadowRay& ray, float& hitT) {
+    const bool blocked =
+        traceBvh(f.scene.bvh, ray.org, ray.dir, 0.0f, ray.tfar, BvhQuery{true, false, 0}) >= 0.0f;
+    hitT = blocked && f.wantDistance
+               ? traceBvh(f.scene.bvh, ray.org, ray.dir, 0.0f, ray.tfar, BvhQuery{})
+               : -1.0f;
+    return blocked;
+}
+
+/// What a traced sample of pixel (x, y) adds to its sums; returns the transmission rays.
+FP_HD inline int addFrameSample(const Frame& f, int x, int y, const Pixel& px,
+                                const ShadowRay& ray, bool blocked, float hitT, Sums& sums) {
+    auto opacity = [&] { return f.opacity.data ? f.opacity.at(x, y) : 1.0f; };
+    auto instance = [&] {
+        return f.instance.data ? uint32_t(truncToInt(f.instance.at(x, y), 0, 1 << 30)) : 0u;
+    };
+    return addSample(f.row, f.scene, px, ray, blocked, hitT, f.cm, opacity, instance, sums);
+}
+
+/// Pixel (x, y): its set-up, its samples traced through the BVH, its resolve. Its counts are kept
+/// in 32 bits until the end: fewer registers live across the traversal (64-bit counters held ten).
+FP_HD inline void shadowPixel(const Frame& f, int x, int y, WorkCounts<kCounterCount>& work) {
+    Pixel px;
+    if (!setupFramePixel(f, x, y, px)) {
+        ++work.value[kSkipped];
+        writeUnlit(f, x, y);
+        return;
+    }
+    uint32_t rays = 0, distanceRays = 0, transmissionRays = 0;
+    Sums sums;
+    for (int sample = 0; sample < f.spp; ++sample) {
+        ShadowRay ray;
+        if (!sampleRay(f.row, px, ray)) continue;
+        ++rays;
+        float hitT;
+        const bool blocked = traceShadowRay(f, ray, hitT);
+        distanceRays += blocked && f.wantDistance;
+        transmissionRays += uint32_t(addFrameSample(f, x, y, px, ray, blocked, hitT, sums));
+    }
+    writeResolved(f, x, y, px, sums);
+    ++work.value[kPixels];
+    work.value[kRays] += rays;
+    work.value[kDistanceRays] += distanceRays;
+    work.value[kTransmissionRays] += transmissionRays;
+}
+
+/// The frame's planes and the pass's set-up bound for the BVH path.
+template <class Ports>
+Frame bindFrame(PassContext& ctx, const Ports& ports, const FrameSetup& setup) {
     const Extent size = ctx.frame().extent;
     Frame f{};
     f.row = setup.row;
@@ -308,15 +339,31 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const Frame
     f.hitDistance = spanOf(ports.output(kHitDistance, {size}).image().plane(0));
     if (auto* att = ports.outputIfRequested(kLightAttenuation, {size}))
         for (int c = 0; c < 4; ++c) f.attenuation[c] = spanOf(att->image().plane(c));
-    const auto work = pixels.template forEach<kCounterCount>(
-        size.width, size.height,
-        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& w) { shadowPixel(f, x, y, w); },
-        "rt_shadows");
+    return f;
+}
+
+/// Reports the pass's work counters to `ctx`.
+inline void addWork(PassContext& ctx, const uint64_t (&work)[kCounterCount]) {
     ctx.addWork("rays", work[kRays]);
     ctx.addWork("transmissionRays", work[kTransmissionRays]);
     ctx.addWork("distanceRays", work[kDistanceRays]);
     ctx.addWork("pixels", work[kPixels]);
     ctx.addWork("skippedPixels", work[kSkipped]);
+}
+
+/// The whole pass on the BVH path, one pixel at a time through `pixels` (the CPU's
+/// traversal "bvh"; the GPU runs the same functions as a wavefront, RTShadowsPass.cu).
+template <class Ports, class Pixels>
+void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const FrameSetup& setup) {
+    const Frame f = bindFrame(ctx, ports, setup);
+    const Extent size = ctx.frame().extent;
+    const auto counts = pixels.template forEach<kCounterCount>(
+        size.width, size.height,
+        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& w) { shadowPixel(f, x, y, w); },
+        "rt_shadows");
+    uint64_t work[kCounterCount];
+    for (int i = 0; i < kCounterCount; ++i) work[i] = counts[i];
+    addWork(ctx, work);
 }
 
 }  // namespace fp::shadow

@@ -148,6 +148,22 @@ FP_HD inline void occluderColumn(const Frame& f, int x) {
     for (int y = 1; y <= f.height; ++y) f.occluders.at(x, y) += f.occluders.at(x, y - 1);
 }
 
+/// The occluder table: a sweep along each row, then down each column. The counts are integers, so
+/// any order of additions gives the same table: the GPU builds it its own way (below).
+template <class Pixels>
+void buildOccluderTable(const Frame& f, const Pixels& pixels) {
+    pixels.template forEach<0>(
+        1, f.height, [=] FP_HD(int, int y, WorkCounts<0>&) { occluderRow(f, y); },
+        "shadow_denoise rows");
+    pixels.template forEach<0>(
+        f.width + 1, 1, [=] FP_HD(int x, int, WorkCounts<0>&) { occluderColumn(f, x); },
+        "shadow_denoise columns");
+}
+/// The GPU's (ShadowDenoisePass.cu): a warp scans each row 32 pixels at a time, then a block of
+/// 32 × 32 threads sums 32 columns in 32 segments, reading and writing whole rows at once; one
+/// thread a row, as above, would read a row's pixels one by one, 1,920 dependent steps apart.
+void buildOccluderTable(const Frame& f, const CudaPixels& pixels);
+
 /// The blur radius of one valid pixel, in pixels: the penumbra width behind its own occluder,
 /// else behind the closest occluder around it (a lit pixel next to a shadow is in that shadow's
 /// penumbra); 0 where no occluder is found.
@@ -253,11 +269,7 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const Light
                 f.surfaces.build(f.cam, f.gbuffer, NormalRead::AsStored, x, y);
             },
             "shadow_denoise surfaces");
-        pixels.template forEach<0>(
-            1, H, [=] FP_HD(int, int y, WorkCounts<0>&) { occluderRow(f, y); }, "shadow_denoise rows");
-        pixels.template forEach<0>(
-            W + 1, 1, [=] FP_HD(int x, int, WorkCounts<0>&) { occluderColumn(f, x); },
-            "shadow_denoise columns");
+        buildOccluderTable(f, pixels);
         // Pixels without a radius of at least half a pixel are left as they are (and counted).
         const auto filtered = pixels.template forEach<1>(
             W, H,
