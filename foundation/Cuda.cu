@@ -162,24 +162,33 @@ std::shared_ptr<void> uploadBytes(const void* data, std::size_t bytes) {
     return memory;
 }
 
-DeviceTexture upload(const Texture& texture) {
-    const auto t0 = std::chrono::steady_clock::now();
+namespace {
+// The texture's planes queued for copying to new device images on `stream`.
+DeviceTexture copyToDevice(const Texture& texture, cudaStream_t stream) {
     std::vector<DeviceImage> levels;
     for (int m = 0; m < texture.mipCount(); ++m) {
         const Image& host = texture.mip(m);
         DeviceImage dev = allocateImage(host.width(), host.height(), host.channels(), false);
         for (int c = 0; c < host.channelCount(); ++c) {
             const Plane& src = host.plane(c);
-            check(cudaMemcpy2D(dev.plane(c).data, dev.stride() * sizeof(float), src.row(0),
-                               src.stride() * sizeof(float), src.width() * sizeof(float),
-                               src.height(), cudaMemcpyHostToDevice),
+            check(cudaMemcpy2DAsync(dev.plane(c).data, dev.stride() * sizeof(float), src.row(0),
+                                    src.stride() * sizeof(float), src.width() * sizeof(float),
+                                    src.height(), cudaMemcpyHostToDevice, stream),
                   "uploading an image");
             gTotals.uploadBytes += std::size_t(src.width()) * src.height() * sizeof(float);
         }
         levels.push_back(std::move(dev));
     }
-    gTotals.uploadSeconds += secondsSince(t0);
     return DeviceTexture(std::move(levels));
+}
+}  // namespace
+
+DeviceTexture upload(const Texture& texture) {
+    const auto t0 = std::chrono::steady_clock::now();
+    DeviceTexture result = copyToDevice(texture, cudaStreamLegacy);
+    check(cudaStreamSynchronize(cudaStreamLegacy), "uploading an image");
+    gTotals.uploadSeconds += secondsSince(t0);
+    return result;
 }
 
 namespace {
@@ -192,12 +201,13 @@ struct Uploads {
     bool pending = false;
 };
 Uploads& uploads() {
-    static Uploads u;
-    if (!u.stream) {
-        check(cudaStreamCreateWithFlags(&u.stream, cudaStreamNonBlocking), "creating a stream");
-        check(cudaEventCreate(&u.first), "creating an event");
-        check(cudaEventCreate(&u.last), "creating an event");
-    }
+    static Uploads& u = *[] {
+        auto* made = new Uploads;  // kept for the process, as the CUDA context is
+        check(cudaStreamCreateWithFlags(&made->stream, cudaStreamNonBlocking), "creating a stream");
+        check(cudaEventCreate(&made->first), "creating an event");
+        check(cudaEventCreate(&made->last), "creating an event");
+        return made;
+    }();
     return u;
 }
 }  // namespace
@@ -209,25 +219,11 @@ DeviceTexture uploadAsync(const Texture& texture) {
         check(cudaEventRecord(u.first, u.stream), "recording an event");
         u.pending = true;
     }
-    std::vector<DeviceImage> levels;
-    for (int m = 0; m < texture.mipCount(); ++m) {
-        const Image& host = texture.mip(m);
-        DeviceImage dev = allocateImage(host.width(), host.height(), host.channels(), false);
-        for (int c = 0; c < host.channelCount(); ++c) {
-            const Plane& src = host.plane(c);
-            check(cudaMemcpy2DAsync(dev.plane(c).data, dev.stride() * sizeof(float), src.row(0),
-                                    src.stride() * sizeof(float), src.width() * sizeof(float),
-                                    src.height(), cudaMemcpyHostToDevice, u.stream),
-                  "uploading an image");
-            gTotals.uploadBytes += std::size_t(src.width()) * src.height() * sizeof(float);
-        }
-        levels.push_back(std::move(dev));
-    }
+    DeviceTexture result = copyToDevice(texture, u.stream);
     cudaEvent_t arrived = nullptr;
     check(cudaEventCreateWithFlags(&arrived, cudaEventDisableTiming), "creating an event");
     check(cudaEventRecord(arrived, u.stream), "recording an event");
     check(cudaEventRecord(u.last, u.stream), "recording an event");
-    DeviceTexture result(std::move(levels));
     result.setArrival(std::shared_ptr<void>(static_cast<void*>(arrived), [](void* e) {
         cudaEventDestroy(static_cast<cudaEvent_t>(e));
     }));

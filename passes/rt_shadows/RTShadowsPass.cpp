@@ -152,6 +152,7 @@ private:
                 resolvePixel(rows[r], i, res[shadow::ownerOf(r, i)], t.x0 + i, y0 + r, out);
     }
 
+    // Pixel i of a row's set-up, as RTShadowsKernel.h's functions take it.
     static shadow::Pixel pixelOf(const shadow::RowPixels& px, int i) {
         return {{px.px[i], px.py[i], px.pz[i]}, {px.nx[i], px.ny[i], px.nz[i]},
                 {px.ex[i], px.ey[i], px.ez[i]}, px.eyeDistance[i], px.model[i], px.rng[i]};
@@ -165,21 +166,25 @@ private:
             shadow::Pixel p;
             px.active[i] = shadow::setupPixel(mSetup.row, in.x0 + i, in.y, in.depth[i], in.model[i],
                                               {in.normalX[i], in.normalY[i], in.normalZ[i]}, p);
-            if (!px.active[i])
-                continue;
-            px.px[i] = p.p.x;
-            px.py[i] = p.p.y;
-            px.pz[i] = p.p.z;
-            px.nx[i] = p.n.x;
-            px.ny[i] = p.n.y;
-            px.nz[i] = p.n.z;
-            px.ex[i] = p.toEye.x;
-            px.ey[i] = p.toEye.y;
-            px.ez[i] = p.toEye.z;
-            px.eyeDistance[i] = p.eyeDistance;
-            px.model[i] = p.model;
-            px.rng[i] = p.rng;
+            if (px.active[i])
+                storePixel(p, px, i);
         }
+    }
+
+    // The inverse of pixelOf.
+    static void storePixel(const shadow::Pixel& p, shadow::RowPixels& px, int i) {
+        px.px[i] = p.p.x;
+        px.py[i] = p.p.y;
+        px.pz[i] = p.p.z;
+        px.nx[i] = p.n.x;
+        px.ny[i] = p.n.y;
+        px.nz[i] = p.n.z;
+        px.ex[i] = p.toEye.x;
+        px.ey[i] = p.toEye.y;
+        px.ez[i] = p.toEye.z;
+        px.eyeDistance[i] = p.eyeDistance;
+        px.model[i] = p.model;
+        px.rng[i] = p.rng;
     }
 
     // The scalar reference of shadow::sampleRow: shadow::sampleRay one pixel at a time. A

@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <memory>
 
 namespace fp {
 
@@ -93,24 +94,39 @@ TEST_CASE("transmission through a slab is exp(−density·thickness)") {
     }
 }
 
-TEST_CASE("packets and single rays agree bit for bit; 1 and 2 threads are byte-identical") {
-    // Soft shadows of a sphere light (4 samples per pixel) over a floor and a subsurface sphere,
-    // so occlusion, closest-hit distances and transmission rays all take both paths.
+namespace {
+// A sphere light over a floor and a subsurface sphere (opacity 0.4), seen from above and in front;
+// the capture points at the scene, so both live together.
+struct SoftShadowCapture {
+    Scene scene;
+    test::MemorySource src;
+};
+std::unique_ptr<SoftShadowCapture> softShadowCapture(int width, int height) {
+    auto c = std::make_unique<SoftShadowCapture>();
     Light bulb;
     bulb.name = "bulb";
     bulb.position = {20, 80, -10};
     bulb.radius = 15.0f;
     bulb.intensity = 5000.0f;
-    Scene scene = test::sphereOverFloor({}, bulb);
+    Scene& scene = c->scene = test::sphereOverFloor({}, bulb);
     Material skin = test::lambert(0.7f);
     skin.shadingModel = 2;
     skin.opacity = 0.4f;
     scene.materials.push_back(skin);
     scene.meshes[1].material = 1;
     FrameCamera cam;
-    cam.current = CameraView::lookAt({0, 90, -120}, {0, 10, 0}, {0, 1, 0}, 40.0, 80, 64, 10.0);
+    cam.current = CameraView::lookAt({0, 90, -120}, {0, 10, 0}, {0, 1, 0}, 40.0, width, height, 10.0);
     cam.previous = cam.current;
-    auto src = test::captureToMemory(scene, cam);
+    c->src = test::captureToMemory(scene, cam);
+    return c;
+}
+}  // namespace
+
+TEST_CASE("packets and single rays agree bit for bit; 1 and 2 threads are byte-identical") {
+    // Soft shadows of a sphere light (4 samples per pixel) over a floor and a subsurface sphere,
+    // so occlusion, closest-hit distances and transmission rays all take both paths.
+    const auto capture = softShadowCapture(80, 64);
+    auto& src = capture->src;
     const std::vector<std::string> outs = {"rt_shadows.shadow", "rt_shadows.transmission",
                                            "rt_shadows.hitDistance", "rt_shadows.lightAttenuation"};
     auto trace = [&](bool packets, int threads) {
@@ -139,21 +155,8 @@ TEST_CASE("packets and single rays agree bit for bit; 1 and 2 threads are byte-i
 TEST_CASE("the BVH path, the GPU's code, gives Embree's shadows but where a ray grazes an edge") {
     // The scene of the packet test: soft shadows of a sphere light (4 samples per pixel) over a
     // floor and a subsurface sphere, so occlusion, closest hits and transmission rays all run.
-    Light bulb;
-    bulb.name = "bulb";
-    bulb.position = {20, 80, -10};
-    bulb.radius = 15.0f;
-    bulb.intensity = 5000.0f;
-    Scene scene = test::sphereOverFloor({}, bulb);
-    Material skin = test::lambert(0.7f);
-    skin.shadingModel = 2;
-    skin.opacity = 0.4f;
-    scene.materials.push_back(skin);
-    scene.meshes[1].material = 1;
-    FrameCamera cam;
-    cam.current = CameraView::lookAt({0, 90, -120}, {0, 10, 0}, {0, 1, 0}, 40.0, 160, 128, 10.0);
-    cam.previous = cam.current;
-    auto src = test::captureToMemory(scene, cam);
+    const auto capture = softShadowCapture(160, 128);
+    auto& src = capture->src;
     const std::vector<std::string> outs = {"rt_shadows.shadow", "rt_shadows.transmission",
                                            "rt_shadows.hitDistance", "rt_shadows.lightAttenuation"};
     auto trace = [&](const std::string& traversal, int threads) {
