@@ -352,6 +352,19 @@ FrameReport executePlan(const Plan& plan,
         keptCaptures = &cache->mCaptures;
     }
     ImageStore store(source, keptCaptures);
+    // Copies still crossing to the GPU are waited for before the store frees their images, also
+    // when a pass throws: a freed block would go back to the memory pools mid-copy.
+    struct UploadsFinished {
+        bool gpu;
+        ~UploadsFinished() {
+            if (!gpu) return;
+            try {
+                cuda::finishUploads();
+            } catch (const std::exception&) {
+                // Already failing (the GPU's error surfaces again on its next call).
+            }
+        }
+    } uploadsFinished{plan.device == Device::Cuda};
     if (history && frame.firstInSequence)
         history->clear();
 
@@ -521,7 +534,7 @@ FrameReport executePlan(const Plan& plan,
     }
     writeOutputs(-1);  // outputs that only copy capture buffers, in a plan with no steps
     if (plan.device == Device::Cuda)
-        cuda::finishUploads();
+        cuda::finishUploads();  // the upload time is booked before the report reads it
     report.peakBytes = store.peak();
     report.peakDeviceBytes = store.peakDevice();
     const cuda::TransferTotals transfersAfter = cuda::transferTotals();
