@@ -264,6 +264,7 @@ io::CaptureSource::Options RunSetup::captureOptions(int frame) const {
     SessionInputs* inputs = mInputs.get();
     o.scene = [inputs]() -> const io::SceneFile& { return inputs->scene(); };
     o.lights = [inputs]() -> const std::vector<Light>& { return inputs->lights(); };
+    o.rayScene = [inputs](const Vec3d& origin) { return inputs->rayScene(origin); };
     if (inputs->hasScene())  // without a scene there is no sky light (and it is no error)
         o.environment = [inputs]() -> const Environment& { return inputs->environment(); };
     o.colorConfig = [inputs]() { return inputs->colorConfig(); };

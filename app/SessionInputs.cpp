@@ -24,6 +24,16 @@ const io::SceneFile& SessionInputs::scene() {
     return sf;
 }
 
+std::shared_ptr<const RayScene> SessionInputs::rayScene(const Vec3d& origin) {
+    const io::SceneFile& sf = scene();
+    std::lock_guard<std::mutex> lock(mRaySceneMutex);
+    const bool same = mRayScene && mRayScene->origin().x == origin.x &&
+                      mRayScene->origin().y == origin.y && mRayScene->origin().z == origin.z;
+    if (!same)
+        mRayScene = std::make_shared<const RayScene>(sf.scene, origin);
+    return mRayScene;
+}
+
 const std::vector<Light>& SessionInputs::lights() {
     return description().scene.lights;
 }

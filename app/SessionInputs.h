@@ -8,6 +8,10 @@
 
 #include <OpenColorIO/OpenColorIO.h>
 
+#include "foundation/RayScene.h"
+
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -30,6 +34,11 @@ public:
     /// cubemap file are rendered from the scene's geometry on the first call.
     const Environment& environment();
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig();
+    /// The scene's ray-traceable form around `origin` (a frame's camera position): the last one
+    /// made is kept, so frames and re-runs from the same camera share one Embree BVH and one
+    /// framepass BVH — built once, copied to the GPU once — where each frame's source would
+    /// build its own. Another origin builds another (its coordinates are relative to it).
+    std::shared_ptr<const RayScene> rayScene(const Vec3d& origin);
     /// The files read so far, as (role, path): "scene", "geometry", "ocioConfig".
     std::vector<std::pair<std::string, std::string>> filesRead() const;
 
@@ -37,6 +46,8 @@ private:
     io::SceneFile& description();
     std::string mConfigPath, mScenePath, mOcioPath;
     std::optional<io::SceneFile> mScene;
+    std::mutex mRaySceneMutex;
+    std::shared_ptr<const RayScene> mRayScene;  // the last made, around mRayScene->origin()
     OCIO_NAMESPACE::ConstConfigRcPtr mColorConfig;
 };
 

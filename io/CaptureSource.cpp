@@ -260,8 +260,10 @@ Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
 const RayScene& SceneBackedSource::scene() {
     if (!mRayScene) {
         FP_CHECK(mOptions.scene, "a pass needs scene geometry but the config names no 'scene'");
-        mRayScene = std::make_unique<RayScene>(mOptions.scene().scene,
-                                               frameInfo().camera.current.position);
+        const Vec3d origin = frameInfo().camera.current.position;
+        mRayScene = mOptions.rayScene
+                        ? mOptions.rayScene(origin)
+                        : std::make_shared<const RayScene>(mOptions.scene().scene, origin);
     }
     return *mRayScene;
 }

@@ -41,6 +41,9 @@ struct CaptureOptions {
     std::string cameraSidecar;                //!< "" = header, then <path>.camera.json
     std::string previousCameraSidecar;        //!< frame N−1's camera file, when per frame
     std::function<const SceneFile&()> scene;  //!< loads the scene, geometry too, on first call
+    /// The scene's RayScene around a camera position, shared by the sources of a session (null:
+    /// each source builds its own from `scene`).
+    std::function<std::shared_ptr<const RayScene>(const Vec3d& origin)> rayScene;
     std::function<const std::vector<Light>&()> lights;  //!< reads the scene's lights only
     std::function<const Environment&()> environment;    //!< the scene's sky light (no geometry)
     std::function<OCIO_NAMESPACE::ConstConfigRcPtr()> colorConfig;  //!< loads on first call
@@ -62,7 +65,7 @@ protected:
     CaptureOptions mOptions;
 
 private:
-    std::unique_ptr<RayScene> mRayScene;
+    std::shared_ptr<const RayScene> mRayScene;
 };
 
 class CaptureSource final : public SceneBackedSource {

@@ -31,7 +31,6 @@ inline constexpr const char* kTransmission = "transmission";
 inline constexpr const char* kHitDistance = "hitDistance";
 inline constexpr const char* kLightAttenuation = "lightAttenuation";
 
-struct RowContext;
 /// What the pass's parameters and the frame make of the light, the camera and the samples, for
 /// either path (RTShadowsPass.cpp).
 struct FrameSetup;
@@ -351,8 +350,8 @@ inline void addWork(PassContext& ctx, const uint64_t (&work)[kCounterCount]) {
     ctx.addWork("skippedPixels", work[kSkipped]);
 }
 
-/// The whole pass on the BVH path, one pixel at a time through `pixels` (the CPU's
-/// traversal "bvh"; the GPU runs the same functions as a wavefront, RTShadowsPass.cu).
+/// The whole pass on the BVH path, one pixel at a time through `pixels`: CpuPixels for the CPU's
+/// traversal "bvh", CudaPixels (a thread a pixel) on the GPU.
 template <class Ports, class Pixels>
 void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const FrameSetup& setup) {
     const Frame f = bindFrame(ctx, ports, setup);

@@ -133,6 +133,21 @@ std::set<std::string> executed(const FrameReport& r) {
 }  // namespace
 
 TEST_SUITE("app") {
+    TEST_CASE("frames from one camera position share one ray-traceable scene and its BVH") {
+        const app::RunSetup setup(options());
+        io::CaptureSource a(setup.captureOptions(1), setup.profile());
+        io::CaptureSource b(setup.captureOptions(1), setup.profile());
+        const RayScene& first = a.scene();
+        CHECK(&b.scene() == &first);  // built once: Embree's BVH, and framepass's on first use
+        CHECK(b.scene().bvh().nodes == first.bvh().nodes);
+        // Another origin is another scene (its coordinates are relative to it), the same bits
+        // as a source that builds its own.
+        const std::shared_ptr<const RayScene> moved =
+            setup.inputs().rayScene(first.origin() + Vec3d{1, 0, 0});
+        CHECK(moved.get() != &first);
+        CHECK(moved->origin().x == first.origin().x + 1.0);
+    }
+
     TEST_CASE("a session runs a frame into memory with the bits of a plain run") {
         app::Session session(options());
         const app::FrameResult r = session.run(1, kOutputs);
