@@ -245,12 +245,12 @@ FP_HD FP_BVH_NOINLINE inline float traceBvh(const BvhView bvh, const Vec3f org, 
     }
 }
 
-/// The farthest distance from `p` to any point of the scene's bounds (RayScene's
-/// farthestDistance, the same arithmetic).
-FP_HD inline float farthestDistance(const BvhView& bvh, const Vec3f& p) {
-    const float dx = fmaxf(std::fabs(p.x - bvh.lo.x), std::fabs(bvh.hi.x - p.x));
-    const float dy = fmaxf(std::fabs(p.y - bvh.lo.y), std::fabs(bvh.hi.y - p.y));
-    const float dz = fmaxf(std::fabs(p.z - bvh.lo.z), std::fabs(bvh.hi.z - p.z));
+/// The farthest distance from `p` to any point of the box [lo, hi]: how far a ray from `p` can
+/// travel inside a scene of those bounds (RayScene::farthestDistance and the GPU's alike).
+FP_HD inline float farthestDistance(const Vec3f& lo, const Vec3f& hi, const Vec3f& p) {
+    const float dx = fmaxf(std::fabs(p.x - lo.x), std::fabs(hi.x - p.x));
+    const float dy = fmaxf(std::fabs(p.y - lo.y), std::fabs(hi.y - p.y));
+    const float dz = fmaxf(std::fabs(p.z - lo.z), std::fabs(hi.z - p.z));
     return length(Vec3f{dx, dy, dz});
 }
 

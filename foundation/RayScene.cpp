@@ -230,10 +230,7 @@ RayHit RayScene::intersectInstance(const Vec3f& org, const Vec3f& dir, float tne
 }
 
 float RayScene::farthestDistance(const Vec3f& p) const {
-    const Vec3f d{std::max(std::fabs(p.x - mBoundsLo.x), std::fabs(mBoundsHi.x - p.x)),
-                  std::max(std::fabs(p.y - mBoundsLo.y), std::fabs(mBoundsHi.y - p.y)),
-                  std::max(std::fabs(p.z - mBoundsLo.z), std::fabs(mBoundsHi.z - p.z))};
-    return length(d);
+    return fp::farthestDistance(mBoundsLo, mBoundsHi, p);
 }
 
 namespace {

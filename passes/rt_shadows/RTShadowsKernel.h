@@ -31,11 +31,6 @@ inline constexpr const char* kTransmission = "transmission";
 inline constexpr const char* kHitDistance = "hitDistance";
 inline constexpr const char* kLightAttenuation = "lightAttenuation";
 
-/// What the pass's parameters and the frame make of the light, the camera and the samples, for
-/// either path (RTShadowsPass.cpp).
-struct FrameSetup;
-FrameSetup setupFrame(const RTShadowsParams& params, PassContext& ctx);
-
 /// Subsurface-profile thickness is measured up to 5 cm (SSSS_MAX_TRANSMISSION_PROFILE_DISTANCE).
 inline constexpr float kMaxProfileDistanceCm = 5.0f;
 
@@ -49,12 +44,21 @@ struct RowContext {
     uint32_t rngKey;         // Rng's per-frame, per-light part: pcgHash(frame ^ pcgHash(seed ^ …))
 };
 
+/// What the pass's parameters and the frame make of the light, the camera and the samples, for
+/// either path.
 struct FrameSetup {
     RowContext row;
     int spp;                       // samples per pixel
     float cm;                      // scene units per centimetre
     float lodStart, lodEnd;        // cm
 };
+FrameSetup setupFrame(const RTShadowsParams& params, PassContext& ctx);  // RTShadowsPass.cpp
+
+/// The InstanceId buffer's value as an id, and CustomData.A as the subsurface opacity (1 without
+/// the buffer), as a transmission ray reads them.
+FP_HD inline uint32_t instanceIdOf(float stored) {
+    return uint32_t(truncToInt(stored, 0, 1 << 30));
+}
 
 // algorithms §9.2: N·L ≤ 0 means "occluded" without a ray, except for hair, eye, two-sided foliage,
 // subsurface (inferred: subsurface and subsurface profile) and rect lights.
@@ -199,23 +203,29 @@ FP_HD int addSample(const RowContext& c, const Scene& scene, const Pixel& px, co
     return rays;
 }
 
-/// The resolved visibility: the mean over the samples, with far subsurface and hair pixels
+/// A pixel's outputs: the means over its samples, the visibility of far subsurface and hair pixels
 /// blended towards their transmission (algorithms §9.3's LOD transition).
-FP_HD inline float resolveVisibility(const Pixel& px, float visibility, float transmission,
-                                     float cm, float lodStart, float lodEnd) {
-    if (hasThicknessTransmission(px.model) && lodEnd > 0.0f) {
-        const float width = lodEnd - lodStart;
+struct Resolved {
+    float visibility, transmission;
+};
+FP_HD inline Resolved resolve(const Pixel& px, const Sums& sums, const FrameSetup& s) {
+    const float transmission = sums.transmission / float(s.spp);
+    float visibility = sums.visibility / float(s.spp);
+    if (hasThicknessTransmission(px.model) && s.lodEnd > 0.0f) {
+        const float width = s.lodEnd - s.lodStart;
         const float span = width > 1e-6f ? width : 1e-6f;
-        const float f = saturate((px.eyeDistance / cm - lodStart) / span);
+        const float f = saturate((px.eyeDistance / s.cm - s.lodStart) / span);
         visibility += (transmission - visibility) * f;
     }
-    return visibility;
+    return {visibility, transmission};
 }
 
 /// The scene as addSample sees it, through the BVH.
 struct BvhScene {
     BvhView bvh;
-    FP_HD float farthestDistance(const Vec3f& p) const { return fp::farthestDistance(bvh, p); }
+    FP_HD float farthestDistance(const Vec3f& p) const {
+        return fp::farthestDistance(bvh.lo, bvh.hi, p);
+    }
     FP_HD float instanceHit(const Vec3f& org, const Vec3f& dir, float tfar, uint32_t id) const {
         return traceBvh(bvh, org, dir, 0.0f, tfar, BvhQuery{false, true, id});
     }
@@ -223,10 +233,8 @@ struct BvhScene {
 
 /// Everything one frame's pixels read and write on the BVH path.
 struct Frame {
-    RowContext row;
+    FrameSetup setup;
     BvhScene scene;
-    int spp;
-    float cm, lodStart, lodEnd;
     bool wantDistance;
     PlaneView depth, normal[3], model, opacity, instance;  // opacity, instance: data null if absent
     PlaneSpan shadow, transmission, hitDistance, attenuation[4];  // attenuation: null if unasked
@@ -246,15 +254,13 @@ FP_HD inline void writeUnlit(const Frame& f, int x, int y) {
 
 /// A pixel's outputs from its sums over the samples.
 FP_HD inline void writeResolved(const Frame& f, int x, int y, const Pixel& px, const Sums& sums) {
-    const float transmission = sums.transmission / float(f.spp);
-    const float visibility = resolveVisibility(px, sums.visibility / float(f.spp), transmission,
-                                               f.cm, f.lodStart, f.lodEnd);
-    f.shadow.at(x, y) = visibility;
-    f.transmission.at(x, y) = transmission;
+    const Resolved r = resolve(px, sums, f.setup);
+    f.shadow.at(x, y) = r.visibility;
+    f.transmission.at(x, y) = r.transmission;
     f.hitDistance.at(x, y) = sums.closestHit;
     if (f.attenuation[0]) {
         const LightAttenuation a =
-            LightAttenuation::fromShadow(f.row.light.type, visibility, transmission);
+            LightAttenuation::fromShadow(f.setup.row.light.type, r.visibility, r.transmission);
         f.attenuation[0].at(x, y) = a.r;
         f.attenuation[1].at(x, y) = a.g;
         f.attenuation[2].at(x, y) = a.b;
@@ -265,7 +271,7 @@ FP_HD inline void writeResolved(const Frame& f, int x, int y, const Pixel& px, c
 /// Pixel (x, y)'s set-up from the frame's planes.
 FP_HD inline bool setupFramePixel(const Frame& f, int x, int y, Pixel& px) {
     const Vec3f normal{f.normal[0].at(x, y), f.normal[1].at(x, y), f.normal[2].at(x, y)};
-    return setupPixel(f.row, x, y, f.depth.at(x, y), f.model.at(x, y), normal, px);
+    return setupPixel(f.setup.row, x, y, f.depth.at(x, y), f.model.at(x, y), normal, px);
 }
 
 /// Whether a shadow ray is blocked, and where asked its closest occluder (−1: none or unasked).
@@ -282,10 +288,9 @@ FP_HD inline bool traceShadowRay(const Frame& f, const ShadowRay& ray, float& hi
 FP_HD inline int addFrameSample(const Frame& f, int x, int y, const Pixel& px,
                                 const ShadowRay& ray, bool blocked, float hitT, Sums& sums) {
     auto opacity = [&] { return f.opacity.data ? f.opacity.at(x, y) : 1.0f; };
-    auto instance = [&] {
-        return f.instance.data ? uint32_t(truncToInt(f.instance.at(x, y), 0, 1 << 30)) : 0u;
-    };
-    return addSample(f.row, f.scene, px, ray, blocked, hitT, f.cm, opacity, instance, sums);
+    auto instance = [&] { return f.instance.data ? instanceIdOf(f.instance.at(x, y)) : 0u; };
+    return addSample(f.setup.row, f.scene, px, ray, blocked, hitT, f.setup.cm, opacity, instance,
+                     sums);
 }
 
 /// Pixel (x, y): its set-up, its samples traced through the BVH, its resolve. Its counts are kept
@@ -299,9 +304,9 @@ FP_HD inline void shadowPixel(const Frame& f, int x, int y, WorkCounts<kCounterC
     }
     uint32_t rays = 0, distanceRays = 0, transmissionRays = 0;
     Sums sums;
-    for (int sample = 0; sample < f.spp; ++sample) {
+    for (int sample = 0; sample < f.setup.spp; ++sample) {
         ShadowRay ray;
-        if (!sampleRay(f.row, px, ray)) continue;
+        if (!sampleRay(f.setup.row, px, ray)) continue;
         ++rays;
         float hitT;
         const bool blocked = traceShadowRay(f, ray, hitT);
@@ -320,12 +325,8 @@ template <class Ports>
 Frame bindFrame(PassContext& ctx, const Ports& ports, const FrameSetup& setup) {
     const Extent size = ctx.frame().extent;
     Frame f{};
-    f.row = setup.row;
+    f.setup = setup;
     f.scene.bvh = ports.bvh();
-    f.spp = setup.spp;
-    f.cm = setup.cm;
-    f.lodStart = setup.lodStart;
-    f.lodEnd = setup.lodEnd;
     f.wantDistance = ctx.isRequested(kHitDistance);
     f.depth = viewOf(ports.input(gbuffer::kDepth)->image().plane(0));
     for (int c = 0; c < 3; ++c) f.normal[c] = viewOf(ports.input(gbuffer::kNormal)->image().plane(c));
@@ -341,7 +342,7 @@ Frame bindFrame(PassContext& ctx, const Ports& ports, const FrameSetup& setup) {
     return f;
 }
 
-/// Reports the pass's work counters to `ctx`.
+/// Reports the pass's work counters to `ctx` (either path).
 inline void addWork(PassContext& ctx, const uint64_t (&work)[kCounterCount]) {
     ctx.addWork("rays", work[kRays]);
     ctx.addWork("transmissionRays", work[kTransmissionRays]);

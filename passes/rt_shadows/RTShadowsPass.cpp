@@ -40,6 +40,16 @@ uint32_t lightSeed(const std::string& name) {
 // Work counters of one tile.
 struct TileWork {
     uint64_t rays = 0, transmissionRays = 0, distanceRays = 0, pixels = 0, skipped = 0;
+    // In shadow::Counter's order, for shadow::addWork.
+    void report(PassContext& ctx) const {
+        uint64_t counts[shadow::kCounterCount] = {};
+        counts[shadow::kRays] = rays;
+        counts[shadow::kTransmissionRays] = transmissionRays;
+        counts[shadow::kDistanceRays] = distanceRays;
+        counts[shadow::kPixels] = pixels;
+        counts[shadow::kSkipped] = skipped;
+        shadow::addWork(ctx, counts);
+    }
 };
 
 // The output planes of the pass; attenuation is null when nothing reads it.
@@ -242,11 +252,11 @@ private:
     // (x, y), read where a transmission ray needs them.
     float opacityAt(int x, int y) const { return mOpacity ? mOpacity->at(x, y) : 1.0f; }
     uint32_t instanceAt(int x, int y) const {
-        return mInstances ? uint32_t(truncToInt(mInstances->at(x, y), 0, 1 << 30)) : 0u;
+        return mInstances ? shadow::instanceIdOf(mInstances->at(x, y)) : 0u;
     }
 
-    // Pixel i's means over its samples (shadow::resolveVisibility), written with their
-    // light-attenuation encoding where it is read.
+    // Pixel i's outputs (shadow::resolve), written with their light-attenuation encoding where it
+    // is read.
     void resolvePixel(const shadow::RowPixels& px,
                       int i,
                       const shadow::Sums& r,
@@ -257,15 +267,12 @@ private:
             out.hitDistance.at(x, py) = -1.0f;
             return;  // shadow, transmission and attenuation stay 0: no light
         }
-        const float transmission = r.transmission / float(mSetup.spp);
-        const float visibility =
-            shadow::resolveVisibility(pixelOf(px, i), r.visibility / float(mSetup.spp),
-                                      transmission, mSetup.cm, mSetup.lodStart, mSetup.lodEnd);
-        out.shadow.at(x, py) = visibility;
-        out.transmission.at(x, py) = transmission;
+        const shadow::Resolved v = shadow::resolve(pixelOf(px, i), r, mSetup);
+        out.shadow.at(x, py) = v.visibility;
+        out.transmission.at(x, py) = v.transmission;
         out.hitDistance.at(x, py) = r.closestHit;
         if (out.attenuation)
-            LightAttenuation::fromShadow(mSetup.row.light.type, visibility, transmission)
+            LightAttenuation::fromShadow(mSetup.row.light.type, v.visibility, v.transmission)
                 .store(*out.attenuation, x, py);
     }
 
@@ -294,7 +301,7 @@ FrameSetup setupFrame(const RTShadowsParams& params, PassContext& ctx) {
     s.lodEnd = params.lodTransitionEnd;
     s.row.camera = cam;
     s.row.eyeOffset = cam.position - rs.origin();
-    s.row.light = ShadowRayGenerator(light, rs.origin()).shape();
+    s.row.light = shadowLightShape(light, rs.origin());
     s.row.maxBias = std::max(params.normalBias, kMinNormalBiasCm) * s.cm;
     s.row.minBias = kMinNormalBiasCm * s.cm;
     s.row.transmission = params.transmission;
@@ -390,11 +397,7 @@ void RTShadowsPass::execute(PassContext& ctx) {
     forEachTile(size.width, size.height, [&](const Tile& t) {
         TileWork work;
         tracer.traceTile(t, out, work);
-        ctx.addWork("rays", work.rays);
-        ctx.addWork("transmissionRays", work.transmissionRays);
-        ctx.addWork("distanceRays", work.distanceRays);
-        ctx.addWork("pixels", work.pixels);
-        ctx.addWork("skippedPixels", work.skipped);
+        work.report(ctx);
     });
 }
 

@@ -2,8 +2,8 @@
 // lanes(), setupRow and sampleRow call the widest one the CPU has.
 //
 // Each lane repeats, operation for operation, what RTShadowsPass.cpp's scalar reference does with
-// Camera.h's translatedFromPixel, ShadowRayGenerator (reaches, centreDirection, sample) and Rng
-// (Random.h): the same products and sums in the same order, double precision where the scalar
+// Camera.h's translatedFromPixel, ShadowRayGenerator.h (lightReaches, lightCentreDirection,
+// sampleLight) and Rng (Random.h): the same products and sums in the same order, double precision where the scalar
 // code rebuilds positions in double, std::min/max/clamp's NaN rules (LaneMath.h).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/rt_shadows/ShadowLanes.cpp"
@@ -100,14 +100,14 @@ HWY_INLINE VI truncClamped(V v, float hi) {
     return hn::ConvertTo(DI(), c);
 }
 
-// ShadowRayGenerator::centreDirection.
+// lightCentreDirection (ShadowRayGenerator.h).
 HWY_INLINE V3 centreDirection(const ShadowLightShape& l, const V3& p) {
     if (l.type == LightType::Directional)
         return splat(l.toLight);
     return normalize3(sub3(splat(l.position), p));
 }
 
-// ShadowRayGenerator::reaches (all lanes true for a directional light).
+// lightReaches (ShadowRayGenerator.h; all lanes true for a directional light).
 HWY_INLINE M reaches(const ShadowLightShape& l, const V3& p) {
     const D d;
     if (l.type == LightType::Directional)
@@ -211,7 +211,7 @@ void setupRowHere(const RowContext& c, const RowInputs& in, RowPixels& out) {
     }
 }
 
-// ShadowRayGenerator::sample from origins `o` with the random pair (u, v).
+// sampleLight (ShadowRayGenerator.h) from origins `o` with the random pair (u, v).
 HWY_INLINE void lightSample(const ShadowLightShape& l, const V3& o, V u, V v, V3& dir, V& tfar) {
     const D d;
     const V one = hn::Set(d, 1.0f), two = hn::Set(d, 2.0f), zero = hn::Zero(d);

@@ -6,9 +6,8 @@
 
 namespace fp {
 
-ShadowRayGenerator::ShadowRayGenerator(const Light& light, const Vec3d& lightOrigin)
-    : mLight(light) {
-    ShadowLightShape& s = mShape;
+ShadowLightShape shadowLightShape(const Light& light, const Vec3d& lightOrigin) {
+    ShadowLightShape s;
     s.type = light.type;
     s.position = Vec3f(light.position - lightOrigin);
     s.toLight = normalize(-Vec3f(light.direction));
@@ -27,6 +26,7 @@ ShadowRayGenerator::ShadowRayGenerator(const Light& light, const Vec3d& lightOri
             bound = std::nextafter(bound, -std::numeric_limits<float>::infinity());
         s.reachBound = bound;
     }
+    return s;
 }
 
 }  // namespace fp

@@ -20,7 +20,7 @@ struct ShadowDirection {
     float tfar = 0;   //!< where the ray stops: the light's surface, or far away for directional
 };
 
-/// The light as its shadow rays see it, in the float terms both the scalar generator below and
+/// The light as its shadow rays see it, in the float terms both the scalar functions below and
 /// the SIMD lanes (ShadowLanes.h) compute with.
 struct ShadowLightShape {
     LightType type = LightType::Point;
@@ -104,23 +104,8 @@ FP_HD inline ShadowDirection sampleLight(const ShadowLightShape& l, const Vec3f&
     return s;
 }
 
-class ShadowRayGenerator {
-public:
-    /// `lightOrigin`: the scene origin of the RayScene the rays go into (positions are relative).
-    ShadowRayGenerator(const Light& light, const Vec3d& lightOrigin);
-
-    bool reaches(const Vec3f& p) const { return lightReaches(mShape, p); }
-    Vec3f centreDirection(const Vec3f& p) const { return lightCentreDirection(mShape, p); }
-    ShadowDirection sample(const Vec3f& o, float u, float v) const {
-        return sampleLight(mShape, o, u, v);
-    }
-
-    const Light& light() const { return mLight; }
-    const ShadowLightShape& shape() const { return mShape; }
-
-private:
-    const Light& mLight;
-    ShadowLightShape mShape;
-};
+/// The light as its shadow rays see it, around `lightOrigin`: the scene origin of the RayScene the
+/// rays go into (positions are relative).
+ShadowLightShape shadowLightShape(const Light& light, const Vec3d& lightOrigin);
 
 }  // namespace fp
