@@ -34,8 +34,11 @@ public:
             keep(key, slot);
     }
 
+    /// Reads capture buffer `buffer` (with `channels`) unless the store holds it already.
     void load(const std::string& buffer, int channels) {
         const std::string key = "capture:" + buffer;
+        if (contains(key))
+            return;
         if (mKept)
             if (auto it = mKept->find(keptName(key, channels)); it != mKept->end()) {
                 adopt(key, it->second.first, it->second.second);
@@ -252,12 +255,9 @@ private:
         if (mFrame.camera.previous) return "";
         auto it = mStep.noPreviousCameraInputs.find(std::string(port));
         if (it == mStep.noPreviousCameraInputs.end()) return "";
-        const std::string key = "capture:" + it->second;
-        if (!mStore.contains(key)) {
-            const SemanticBuffer* sem = findSemanticBuffer(it->second);
-            mStore.load(it->second, sem ? int(sem->channels.size()) : 1);
-        }
-        return key;
+        const SemanticBuffer* sem = findSemanticBuffer(it->second);
+        mStore.load(it->second, sem ? int(sem->channels.size()) : 1);
+        return "capture:" + it->second;
     }
     // Filament's rule: a pass may only touch what it declared.
     const PortSpec& checkDeclared(const std::vector<PortSpec>& ports,
@@ -383,7 +383,7 @@ FrameReport executePlan(const Plan& plan,
             std::vector<OutputLayer> layers;
             for (const auto& src : out.sources) {
                 const bool capture = src.rfind("capture:", 0) == 0;
-                if (capture && !store.contains(src))
+                if (capture)
                     store.load(src.substr(8), channelsOf(src.substr(8)));
                 const Texture* t = store.find(src);
                 FP_CHECK(t && !t->empty(), "frame {}: '{}' was not produced by its pass",
@@ -409,8 +409,7 @@ FrameReport executePlan(const Plan& plan,
             for (const auto& [port, ref] : step.inputs) {
                 if (!ref.fromCapture)
                     continue;
-                if (!store.contains(ref.key))
-                    store.load(ref.buffer, channelsOf(ref.buffer));
+                store.load(ref.buffer, channelsOf(ref.buffer));
                 store.prefetchDevice(ref.key);
             }
         }
@@ -435,8 +434,7 @@ FrameReport executePlan(const Plan& plan,
         const PlanStep& step = plan.steps[s];
         if (auto it = plan.loadsBefore.find(s); it != plan.loadsBefore.end())
             for (const auto& b : it->second)
-                if (!store.contains("capture:" + b))
-                    store.load(b, channelsOf(b));
+                store.load(b, channelsOf(b));
         PassReport pr{.name = step.name, .type = step.type};
         if (cache) {
             stepKeys[std::size_t(s)] = stepKey(step, stepKeys, frame, cache->sourceId,
