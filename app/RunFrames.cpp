@@ -4,6 +4,7 @@
 #include "app/ErrorBreakdown.h"
 #include "app/Invocation.h"
 #include "app/MemoryLimit.h"
+#include "io/CaptureReadAhead.h"
 #include "io/CaptureSource.h"
 #include "io/OutputLock.h"
 #include "io/OutputWriter.h"
@@ -182,9 +183,16 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
     wo.protectedPaths.insert(inputs.begin(), inputs.end());
     wo.protectedPaths.erase("");
     io::checkFolderWritable(opt.outputDir, "-o");
-    if (session.extent().width > 0)
-        checkMemory(plan.estimatePeakBytes(session.extent()), opt.maxMemory,
+    if (session.extent().width > 0) {
+        // Reading ahead holds the next frame's capture buffers beside this frame's images.
+        std::size_t aheadBytes = 0;
+        if (opt.readAhead && frames.size() > 1)
+            for (const auto& r : plan.captureReads)
+                aheadBytes += std::size_t(r.channels) * sizeof(float) *
+                              std::size_t(session.extent().width) * session.extent().height;
+        checkMemory(plan.estimatePeakBytes(session.extent()) + aheadBytes, opt.maxMemory,
                     int(opt.setup.dumps.size()));
+    }
     const io::OutputLock lock(opt.outputDir, frames);
     io::OutputWriter writer(wo);
     // --tev: every output also goes to the viewer (connected now: a wrong address fails first).
@@ -248,16 +256,33 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
             work += fmt::format(" {}={}", k, v);
         logVerbose(fmt::format("  {:<24} {:>9.2f} ms{}", p.name, p.seconds * 1e3, work));
     };
-    // One frame into `sink`: its capture opened, its notes said, its files recorded.
-    auto runFrame = [&](int frame, bool firstInSequence, FrameSink& sink,
-                        const ProgressFn& progress) {
+    // Frame N+1's capture is read while frame N runs (--no-read-ahead: each frame reads its own
+    // at its start).
+    io::CaptureReadAhead readAhead;
+    auto optionsOf = [&](int frame) {
         io::CaptureSource::Options so = session.captureOptions(frame);
         so.strict = opt.strict;
-        so.firstInSequence = firstInSequence;
-        io::CaptureSource source(so, session.profile());
+        return so;
+    };
+    auto startReading = [&](int frame) {
+        if (opt.readAhead)
+            readAhead.start(optionsOf(frame), session.profile(), plan.captureReads);
+    };
+    // One frame into `sink`: its capture opened (or taken from the read-ahead), its notes said,
+    // its files recorded; `next` is the frame to read while this one runs.
+    auto runFrame = [&](int frame, bool firstInSequence, FrameSink& sink,
+                        const ProgressFn& progress, std::optional<int> next) {
+        const io::CaptureSource::Options so = optionsOf(frame);
+        std::unique_ptr<io::CaptureSource> opened = readAhead.take(frame);
+        if (!opened)
+            opened = std::make_unique<io::CaptureSource>(so, session.profile());
+        io::CaptureSource& source = *opened;
+        source.setFirstInSequence(firstInSequence);
         FP_CHECK(!plan.needsCamera || source.frameInfo().hasCamera,
                  "{}: frame {}: no camera in the header and no sidecar ({}.camera.json)",
                  so.path, frame, so.path);
+        if (next)
+            startReading(*next);
         const FrameReport fr = executePlan(plan, source, sink, progress, &history);
         for (const auto& [role, path] : source.filesRead())
             addInput(role, path);
@@ -283,7 +308,7 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
             throwIfStopped();
             logVerbose(fmt::format("warm-up frame {}:", warmup[i]));
             DiscardSink discard;
-            const auto [fr, fj] = runFrame(warmup[i], i == 0, discard, verbosePass);
+            const auto [fr, fj] = runFrame(warmup[i], i == 0, discard, verbosePass, std::nullopt);
             console << fmt::format("warm-up frame {}: {} passes in {:.3f} s\n", warmup[i],
                                      fr.passes.size(), fr.seconds);
         } catch (const Interrupted& e) {
@@ -309,6 +334,13 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
         lastComputed == skip.rend() ? 0 : std::size_t(skip.rend() - lastComputed);
     const bool temporal = hasTemporalPass(plan);
 
+    // The frame after frames[i] that runs, if any.
+    auto nextComputed = [&](std::size_t i) -> std::optional<int> {
+        for (std::size_t k = i + 1; k < frames.size(); ++k)
+            if (!skip[k] || (temporal && k < computeUntil))
+                return frames[k];
+        return std::nullopt;
+    };
     std::vector<int> failed;
     bool cut = warmup.empty();  // the next frame starts a sequence: no history
     for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -334,7 +366,7 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
                     (double(i) + double(done) / std::max(total, 1)) / frames.size();
                 logProgress(int(progress * 100.0));
             };
-            auto [fr, fj] = runFrame(frames[i], cut, kept, frameProgress);
+            auto [fr, fj] = runFrame(frames[i], cut, kept, frameProgress, nextComputed(i));
             cut = false;
             const std::vector<std::string> written(writer.written().begin() + before,
                                                    writer.written().end());

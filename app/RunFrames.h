@@ -24,6 +24,8 @@ struct RunOptions {
     int decomposeRays = 0;         //!< 0: no error breakdown
     std::string maxMemory;         //!< "8G", ""= the default limit (MemoryLimit.h)
     std::string tev;               //!< HOST:PORT of a tev viewer to push outputs to; "" = none
+    /// Read frame N+1's capture while frame N runs (holds two frames' capture buffers at once).
+    bool readAhead = true;
 };
 
 struct RunOutcome {

@@ -33,6 +33,9 @@ Command addRunCommand(CLI::App& app) {
     sub->add_flag("--continue-on-error", opt->continueOnError,
                   "attempt every frame; exit 1 at the end listing the frames that failed");
     addMaxMemoryOption(*sub, opt->maxMemory);
+    sub->add_flag("!--no-read-ahead", opt->readAhead,
+                  "read each frame's capture at its start, not while the previous frame runs "
+                  "(reading ahead holds two frames' capture buffers in memory at once)");
     sub->add_flag("--skip-existing", opt->skipExisting,
                   "skip frames whose outputs all exist (a re-queued farm task); with temporal "
                   "passes the skipped frames before a computed one still run, writing nothing");

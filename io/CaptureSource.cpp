@@ -192,7 +192,30 @@ Image CaptureSource::readPreviousFrame(const std::string& buffer, const BufferMa
     return img;
 }
 
+void CaptureSource::readAhead(const std::vector<CaptureRead>& reads,
+                              const std::atomic<bool>& cancelled) {
+    for (const CaptureRead& r : reads) {
+        if (cancelled) return;
+        try {
+            Texture t = loadBuffer(r.buffer, r.channels);
+            mReadAhead.insert_or_assign(r.buffer, std::make_pair(r.channels, std::move(t)));
+        } catch (const std::exception&) {
+            return;  // read again, and reported, when the frame asks for it
+        }
+    }
+}
+
+void CaptureSource::setFirstInSequence(bool first) {
+    mOptions.firstInSequence = first;
+    if (mInfo) mInfo->firstInSequence = first;
+}
+
 Texture CaptureSource::loadBuffer(const std::string& buffer, int channels) {
+    if (auto it = mReadAhead.find(buffer); it != mReadAhead.end() && it->second.first == channels) {
+        Texture t = std::move(it->second.second);
+        mReadAhead.erase(it);
+        return t;
+    }
     const BufferMapping* m = mFiles.mappingFor(buffer);
     Image img;
     if (m && !m->previousFrame.empty()) {

@@ -9,6 +9,7 @@
 #include "framework/Executor.h"
 #include "foundation/RayScene.h"
 
+#include <atomic>
 #include <functional>
 #include <map>
 #include <memory>
@@ -87,6 +88,14 @@ public:
     /// "cameraSidecar".
     std::vector<std::pair<std::string, std::string>> filesRead() const;
 
+    /// Reads `reads` now, in order, for loadBuffer to hand out later (a sequence reads frame
+    /// N+1 this way while frame N runs: CaptureReadAhead). Stops at the first buffer that fails
+    /// to read, or when `cancelled` turns true: loadBuffer then reads the rest as usual, and a
+    /// bad buffer's error comes from there, where the frame asks for it.
+    void readAhead(const std::vector<CaptureRead>& reads, const std::atomic<bool>& cancelled);
+    /// Whether the frame starts a sequence (no history), when that is known only after opening.
+    void setFirstInSequence(bool first);
+
 private:
     void note(const std::string& text);
     Image readPreviousFrame(const std::string& buffer, const BufferMapping& m, int channels);
@@ -96,6 +105,7 @@ private:
     std::string mCameraSidecar;  // the sidecar frameInfo() read, if any
     std::optional<FrameInfo> mInfo;
     SanitizeCounts mSanitized;
+    std::map<std::string, std::pair<int, Texture>> mReadAhead;  // buffer → (channels, pixels)
 };
 
 /// The OCIO config to use: `explicitPath`, else $OCIO, else configs/ocio/config.ocio.

@@ -10,6 +10,9 @@ rm -rf "$DIR"; mkdir -p "$DIR"; DIR="$(cd "$DIR" && pwd)"; cd "$DIR"
 check "capture a 6-frame sequence" "$FP" capture "$SRC/examples/cornell/scene.json" -o seq.####.exr --frames 1-6 --width 64 --height 64
 echo '{ "version": 1, "capture": "seq.####.exr", "frames": "1-6" }' > seq.json
 check "a clean sequential run" "$FP" run seq.json -o clean
+check "reading each frame at its start (--no-read-ahead) gives the same files, byte for byte" bash -c "
+    '$FP' run seq.json -o inplace --no-read-ahead > /dev/null &&
+    for f in 1 3 6; do for o in ssgi indirect; do cmp clean/\$o.000\$f.exr inplace/\$o.000\$f.exr || exit 1; done; done"
 
 # A bad frame in the middle.
 mkdir -p broken && cp seq.0*.exr broken/ && head -c 3000 seq.0003.exr > broken/seq.0003.exr
