@@ -130,10 +130,11 @@ std::string deviceName() {
     return prop.name;
 }
 
-DeviceTexture allocate(const std::vector<Extent>& mips, const std::vector<std::string>& channels) {
+DeviceTexture allocate(const std::vector<Extent>& mips, const std::vector<std::string>& channels,
+                       bool zeroed) {
     std::vector<DeviceImage> levels;
     for (const Extent& e : mips)
-        levels.push_back(allocateImage(e.width, e.height, channels, true));
+        levels.push_back(allocateImage(e.width, e.height, channels, zeroed));
     return DeviceTexture(std::move(levels));
 }
 
@@ -274,6 +275,18 @@ unsigned long long* counterBuffer(int count) {
         cudaFree(buffer);
         buffer = nullptr;
         check(cudaMalloc(&buffer, sizeof(unsigned long long) * count), "allocating counters");
+        capacity = count;
+    }
+    return buffer;
+}
+
+unsigned long long* hostCounterBuffer(int count) {
+    static unsigned long long* buffer = nullptr;
+    static int capacity = 0;
+    if (count > capacity) {
+        cudaFreeHost(buffer);
+        buffer = nullptr;
+        check(cudaMallocHost(&buffer, sizeof(unsigned long long) * count), "allocating counters");
         capacity = count;
     }
     return buffer;

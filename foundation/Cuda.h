@@ -25,8 +25,10 @@ std::string unavailableReason();
 /// The GPU's name, e.g. "NVIDIA H100 80GB HBM3" (empty without one).
 std::string deviceName();
 
-/// Zero-filled device images, one per extent, with the given channels.
-DeviceTexture allocate(const std::vector<Extent>& mips, const std::vector<std::string>& channels);
+/// Device images, one per extent, with the given channels: zero-filled, or as the memory pool
+/// hands them out where the caller writes every pixel (`zeroed` false).
+DeviceTexture allocate(const std::vector<Extent>& mips, const std::vector<std::string>& channels,
+                       bool zeroed = true);
 /// Uninitialised device memory of `bytes` bytes (scratch arrays of a pass).
 std::shared_ptr<void> allocateBytes(std::size_t bytes);
 /// From now on images are made in page-locked host memory (a pool; Image.h's setHostMemory), so
@@ -53,6 +55,9 @@ void synchronize(const char* what);
 /// Device memory for `count` work counters, kept for the process (one launch uses it at a time:
 /// kernels run in order on the default stream).
 unsigned long long* counterBuffer(int count);
+/// Page-locked host memory the counters are read back into (a copy to pageable memory is staged
+/// through a driver buffer: a few microseconds more on every counting launch).
+unsigned long long* hostCounterBuffer(int count);
 /// Throws an fp::Error naming `what` unless `cudaStatus` (a cudaError_t) is cudaSuccess.
 void checkStatus(int cudaStatus, const char* what);
 

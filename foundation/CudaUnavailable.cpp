@@ -21,7 +21,7 @@ std::string unavailableReason() {
 std::string deviceName() {
     return "";
 }
-DeviceTexture allocate(const std::vector<Extent>&, const std::vector<std::string>&) {
+DeviceTexture allocate(const std::vector<Extent>&, const std::vector<std::string>&, bool) {
     noBackend();
 }
 std::shared_ptr<void> allocateBytes(std::size_t) {
@@ -48,6 +48,9 @@ void synchronize(const char*) {
     noBackend();
 }
 unsigned long long* counterBuffer(int) {
+    noBackend();
+}
+unsigned long long* hostCounterBuffer(int) {
     noBackend();
 }
 void checkStatus(int, const char*) {

@@ -208,10 +208,11 @@ public:
             levels.emplace_back(e.width, e.height, spec.channels);
         return mStore.put(mStep.name + "." + std::string(port), Texture(std::move(levels)));
     }
-    DeviceTexture& deviceOutput(std::string_view port, const std::vector<Extent>& mips) override {
+    DeviceTexture& deviceOutput(std::string_view port, const std::vector<Extent>& mips,
+                                bool zeroed) override {
         const PortSpec& spec = checkDeclared(mStep.io.outputs, port, "output");
         return mStore.putDevice(mStep.name + "." + std::string(port),
-                                cuda::allocate(mips, spec.channels));
+                                cuda::allocate(mips, spec.channels, zeroed));
     }
     const FrameInfo& frame() const override { return mFrame; }
     const RayScene& scene() override {

@@ -24,6 +24,13 @@ struct HostPorts {
     Texture* outputIfRequested(std::string_view port, const std::vector<Extent>& mips) const {
         return ctx.isRequested(port) ? &ctx.output(port, mips) : nullptr;
     }
+    /// An output the pass writes at every pixel of every level (the GPU's then skips clearing).
+    Texture& overwrite(std::string_view port, const std::vector<Extent>& mips) const {
+        return output(port, mips);
+    }
+    Texture* overwriteIfRequested(std::string_view port, const std::vector<Extent>& mips) const {
+        return outputIfRequested(port, mips);
+    }
     /// Zero-filled working images of the pass's own, freed with it.
     Texture scratch(const std::vector<Extent>& mips, const std::vector<std::string>& channels) const {
         std::vector<Image> levels;
@@ -59,6 +66,14 @@ struct DevicePorts {
     }
     DeviceTexture* outputIfRequested(std::string_view port, const std::vector<Extent>& mips) const {
         return ctx.isRequested(port) ? &ctx.deviceOutput(port, mips) : nullptr;
+    }
+    /// An output the pass writes at every pixel of every level: not cleared first.
+    DeviceTexture& overwrite(std::string_view port, const std::vector<Extent>& mips) const {
+        return ctx.deviceOutput(port, mips, false);
+    }
+    DeviceTexture* overwriteIfRequested(std::string_view port,
+                                        const std::vector<Extent>& mips) const {
+        return ctx.isRequested(port) ? &ctx.deviceOutput(port, mips, false) : nullptr;
     }
     DeviceTexture scratch(const std::vector<Extent>& mips,
                           const std::vector<std::string>& channels) const {

@@ -45,7 +45,7 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, float skyDi
     f.cam = frame.camera.current;
     f.previous = *frame.camera.previous;
     f.depth = viewOf(ports.input(gbuffer::kDepth)->image().plane(0));
-    auto& velocity = ports.output(kVelocity, {frame.extent});
+    auto& velocity = ports.overwrite(kVelocity, {frame.extent});
     for (int c = 0; c < 2; ++c) f.velocity[c] = spanOf(velocity.image().plane(c));
     f.sky = skyDistance > 0.0f ? double(skyDistance) : std::numeric_limits<double>::infinity();
     pixels.template forEach<0>(

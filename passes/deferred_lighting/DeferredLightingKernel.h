@@ -177,7 +177,7 @@ Frame bindFrame(const Ports& ports, const FrameInfo& frame, const LightShape& li
     f.light.rectPoints = points;
     f.skin = skin;
     const auto& color = ports.input(kColor)->image();
-    auto& out = ports.output(kColor, {frame.extent});
+    auto& out = ports.overwrite(kColor, {frame.extent});
     for (int c = 0; c < 3; ++c) {
         f.color[c] = viewOf(color.plane(c));
         f.out[c] = spanOf(out.image().plane(c));

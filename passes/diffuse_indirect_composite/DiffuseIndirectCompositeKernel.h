@@ -136,7 +136,7 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, bool ue5,
     f.depthTested = ue5;
     f.aoStaticFraction = aoStaticFraction;
     const auto& baseColor = ports.input(gbuffer::kBaseColor)->image();
-    auto& out = ports.output(kColor, {{W, H}});
+    auto& out = ports.overwrite(kColor, {{W, H}});
     for (int c = 0; c < 3; ++c) {
         f.sceneColor[c] = viewOf(sceneColor.plane(c));
         f.ssgi[c] = viewOf(ssgi.plane(c));

@@ -21,7 +21,7 @@ void DisplayPass::executeCuda(PassContext& ctx) {
     }
     const DeviceImage& src = ctx.deviceInput(kDisplayColor)->image();
     const int w = src.width(), h = src.height();
-    DeviceImage& out = ctx.deviceOutput(kDisplayImage, {{w, h}}).image();
+    DeviceImage& out = ctx.deviceOutput(kDisplayImage, {{w, h}}, false).image();  // every pixel written
     display::Frame f{};
     f.channels = std::min(src.channelCount(), 4);
     for (int c = 0; c < f.channels; ++c)

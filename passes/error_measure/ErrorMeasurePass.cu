@@ -127,7 +127,7 @@ void ErrorMeasurePass::executeCuda(PassContext& ctx) {
     const bool wantHeat = ctx.isRequested(kHeat);
     DeviceTexture absError;
     if (ctx.isRequested(kAbsError))
-        absError = ctx.deviceOutput(kAbsError, {{W, H}});
+        absError = ctx.deviceOutput(kAbsError, {{W, H}}, false);  // every pixel written
     else if (wantHeat)
         absError = cuda::allocate({{W, H}}, {"Y"});
     const PlaneSpan err = absError.empty() ? PlaneSpan{} : absError.image().plane(0);
@@ -155,7 +155,7 @@ void ErrorMeasurePass::executeCuda(PassContext& ctx) {
                                  : selectRank(viewOf(err), in.mask,
                                               std::min<unsigned long long>(
                                                   s.pixels - 1, (unsigned long long)(0.99 * double(s.pixels)))));
-        DeviceImage& heat = ctx.deviceOutput(kHeat, {{W, H}}).image();
+        DeviceImage& heat = ctx.deviceOutput(kHeat, {{W, H}}, false).image();  // every pixel written
         const PlaneSpan r = heat.plane(0), g = heat.plane(1), bl = heat.plane(2);
         const PlaneView mask = in.mask, e = viewOf(err);
         const float grey = heatMaskedGrey();

@@ -60,8 +60,8 @@ void run(PassContext& ctx,
          const std::vector<Extent>& extents) {
     const CameraView cam = ctx.frame().camera.current;
     const PlaneView depth = viewOf(ports.input(gbuffer::kDepth)->image().plane(0));
-    auto* furthest = ports.outputIfRequested(kFurthest, extents);
-    auto* closest = ports.outputIfRequested(kClosest, extents);
+    auto* furthest = ports.overwriteIfRequested(kFurthest, extents);
+    auto* closest = ports.overwriteIfRequested(kClosest, extents);
     const PlaneSpan furthest0 = furthest ? spanOf(furthest->mip(0).plane(0)) : PlaneSpan{};
     const PlaneSpan closest0 = closest ? spanOf(closest->mip(0).plane(0)) : PlaneSpan{};
     pixels.template forEach<0>(

@@ -274,8 +274,8 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels,
                                    "prev_color_reduction");
     }
 
-    auto& color = ports.output(kColor, extents);
-    auto* alpha = ports.outputIfRequested(kAlpha, extents);
+    auto& color = ports.overwrite(kColor, extents);
+    auto* alpha = ports.overwriteIfRequested(kAlpha, extents);
     for (int m = 0; m < PrevColorReductionPass::kMipCount; ++m) {
         const Level src = levelOf(levels, m);
         PlaneSpan dst[4];

@@ -197,14 +197,14 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const Light
     const int W = in.width(), H = in.height();
     const std::vector<Extent> frameExtent = {{W, H}};
     Frame f{};
-    auto& out = ports.output(kColor, frameExtent);
+    auto& out = ports.overwrite(kColor, frameExtent);
     for (int c = 0; c < 3; ++c) {
         f.in[c] = viewOf(in.plane(c));
         f.out[c] = spanOf(out.image().plane(c));
     }
-    if (auto* specOut = ports.outputIfRequested(kSpecular, frameExtent))
+    if (auto* specOut = ports.overwriteIfRequested(kSpecular, frameExtent))
         for (int c = 0; c < 3; ++c) f.specOut[c] = spanOf(specOut->image().plane(c));
-    if (auto* diffOut = ports.outputIfRequested(kDiffuse, frameExtent))
+    if (auto* diffOut = ports.overwriteIfRequested(kDiffuse, frameExtent))
         for (int c = 0; c < 3; ++c) f.diffOut[c] = spanOf(diffOut->image().plane(c));
 
     const auto* ssr = ports.input(kReflection);

@@ -334,10 +334,11 @@ Frame bindFrame(PassContext& ctx, const Ports& ports, const FrameSetup& setup) {
     if (const auto* custom = ports.input(gbuffer::kCustomData))
         f.opacity = viewOf(custom->image().plane(3));
     if (const auto* ids = ports.input(kInstanceId)) f.instance = viewOf(ids->image().plane(0));
-    f.shadow = spanOf(ports.output(kShadow, {size}).image().plane(0));
-    f.transmission = spanOf(ports.output(kTransmission, {size}).image().plane(0));
-    f.hitDistance = spanOf(ports.output(kHitDistance, {size}).image().plane(0));
-    if (auto* att = ports.outputIfRequested(kLightAttenuation, {size}))
+    // Every output is written at every pixel (writeUnlit or writeResolved).
+    f.shadow = spanOf(ports.overwrite(kShadow, {size}).image().plane(0));
+    f.transmission = spanOf(ports.overwrite(kTransmission, {size}).image().plane(0));
+    f.hitDistance = spanOf(ports.overwrite(kHitDistance, {size}).image().plane(0));
+    if (auto* att = ports.overwriteIfRequested(kLightAttenuation, {size}))
         for (int c = 0; c < 4; ++c) f.attenuation[c] = spanOf(att->image().plane(c));
     return f;
 }

@@ -8,7 +8,9 @@
 namespace fp {
 
 void RTShadowsPass::executeCuda(PassContext& ctx) {
-    shadow::run(ctx, DevicePorts{ctx}, CudaPixels{}, shadow::setupFrame(mParams, ctx));
+    // A warp traces 8×4 neighbouring pixels' rays (CudaLaunch.cuh's PixelBlock).
+    shadow::run(ctx, DevicePorts{ctx}, CudaPixels{cuda::PixelBlock::Squares},
+                shadow::setupFrame(mParams, ctx));
 }
 
 }  // namespace fp

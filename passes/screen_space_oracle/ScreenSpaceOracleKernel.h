@@ -285,8 +285,8 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, int rays, f
     if (auto* t = ports.outputIfRequested(kSpecular, extent))
         for (int c = 0; c < 3; ++c) f.specular[c] = spanOf(t->image().plane(c));
     if (auto* t = ports.outputIfRequested(kHitFraction, extent)) f.hitFraction = spanOf(t->image().plane(0));
-    if (auto* t = ports.outputIfRequested(kAo, extent)) f.ao = spanOf(t->image().plane(0));
-    if (auto* t = ports.outputIfRequested(kAoWithinRadius, extent)) f.aoWithinRadius = spanOf(t->image().plane(0));
+    if (auto* t = ports.overwriteIfRequested(kAo, extent)) f.ao = spanOf(t->image().plane(0));
+    if (auto* t = ports.overwriteIfRequested(kAoWithinRadius, extent)) f.aoWithinRadius = spanOf(t->image().plane(0));
     f.wantDiffuse = f.diffuse[0] || f.hitFraction || f.ao || f.aoWithinRadius;
 
     // Planes and gathered colours start at zero (sky, and pixels off last frame's screen).

@@ -304,9 +304,9 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const Light
     Outputs out;
     out.signal[0] = signal[0];
     out.signal[1] = signal[1];
-    out.shadow = spanOf(ports.output(kShadow, extent).image().plane(0));
-    out.transmission = spanOf(ports.output(kTransmission, extent).image().plane(0));
-    auto& attenuation = ports.output(kLightAttenuation, extent);
+    out.shadow = spanOf(ports.overwrite(kShadow, extent).image().plane(0));
+    out.transmission = spanOf(ports.overwrite(kTransmission, extent).image().plane(0));
+    auto& attenuation = ports.overwrite(kLightAttenuation, extent);
     for (int c = 0; c < 4; ++c) out.attenuation[c] = spanOf(attenuation.image().plane(c));
     out.type = light.type;
     pixels.template forEach<0>(

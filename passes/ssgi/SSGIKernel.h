@@ -295,7 +295,7 @@ Frame bindFrame(const Ports& ports,
         f.normal[c] = viewOf(normal.image().plane(c));
         f.diffuse[c] = spanOf(diffuse.image().plane(c));
     }
-    f.ao = spanOf(ports.output(kAo, trace).image().plane(0));
+    f.ao = spanOf(ports.overwrite(kAo, trace).image().plane(0));
     if (auto* hitMask = ports.outputIfRequested(kHitMask, trace))
         f.hitMask = spanOf(hitMask->image().plane(0));
     if (auto* hitDistance = ports.outputIfRequested(kHitDistance, trace))

@@ -315,8 +315,8 @@ void run(PassContext& ctx,
     for (int c = 0; c < 3; ++c)
         f.color[c] = viewOf(inColor.plane(c));
     f.velocity = velocityViewOf(ports.input(gbuffer::kVelocity));
-    auto& outColor = ports.output(kDiffuse, {trace});
-    auto& outAo = ports.output(kAo, {trace});
+    auto& outColor = ports.overwrite(kDiffuse, {trace});
+    auto& outAo = ports.overwrite(kAo, {trace});
     for (int c = 0; c < 3; ++c)
         f.outColor[c] = spanOf(outColor.image().plane(c));
     f.outAo = spanOf(outAo.image().plane(0));

@@ -263,8 +263,11 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const SSRQu
     const std::vector<Extent> frameExtent = {{W, H}};
     auto& out = ports.output(kReflection, frameExtent);
     if (quality.level == 0) {
+        // Every output stays 0: no reflection, no coverage, no hits (those asked for exist).
+        ports.outputIfRequested(kHitMask, frameExtent);
+        ports.outputIfRequested(kHitDistance, frameExtent);
         ctx.addWork("skippedPixels", uint64_t(W) * H);
-        return;  // the output stays 0: no reflection, no coverage
+        return;
     }
     const FrameInfo& info = ctx.frame();
     const auto& hzb = *ports.input(kFurthestHzb);

@@ -162,6 +162,26 @@ TEST_CASE("ssr: pixels past the roughness cutoff are untouched and counted") {
     }
 }
 
+TEST_CASE("ssr: quality 0 traces nothing, and every output asked for exists, all 0") {
+    const FrameCamera cam = test::wallCamera(16);
+    const Scene scene = glowingRoom(0.1f);
+    test::MemorySource src = test::captureToMemory(scene, cam);
+    test::MemorySink sink;
+    const Plan plan = test::planFor(
+        {test::node("hzb"), test::node("ssr", {{"quality", 0}}, {{"furthestHzb", "hzb.furthest"}})},
+        {"ssr.reflection", "ssr.hitMask", "ssr.hitDistance"});
+    const FrameReport report = executePlan(plan, src, sink);
+    CHECK(report.passes.back().work.at("skippedPixels") == 16 * 16);
+    for (const char* name : {"ssr.reflection", "ssr.hitMask", "ssr.hitDistance"}) {
+        CAPTURE(name);
+        REQUIRE(sink.layers.count(name));
+        const Image& image = sink.layers.at(name).image();
+        for (int c = 0; c < image.channelCount(); ++c)
+            for (int y = 0; y < 16; ++y)
+                for (int x = 0; x < 16; ++x) CHECK(image.plane(c).at(x, y) == 0.0f);
+    }
+}
+
 TEST_CASE("ssr: 1 and 2 threads give the same bits") {
     const Scene scene = glowingRoom(0.2f);
     const FrameCamera cam = test::wallCamera(40);
