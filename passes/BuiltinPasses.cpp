@@ -8,6 +8,7 @@
 #include "passes/hzb/HZBPass.h"
 #include "passes/prev_color_reduction/PrevColorReductionPass.h"
 #include "passes/reflection_environment/ReflectionEnvironmentPass.h"
+#include "passes/rt_ambient_occlusion/RTAmbientOcclusionPass.h"
 #include "passes/rt_shadows/RTShadowsPass.h"
 #include "passes/screen_space_oracle/ScreenSpaceOraclePass.h"
 #include "passes/shadow_denoise/ShadowDenoisePass.h"
@@ -37,6 +38,10 @@ const PassRegistry& builtinPasses() {
                              "ray-traced shadows of one light through Embree "
                              "packets, subsurface transmission, light attenuation "
                              "(algorithms §9)");
+        r.add<RTAmbientOcclusionPass>("rt_ambient_occlusion",
+                                      "ray-traced ambient occlusion: cosine rays about the "
+                                      "depth buffer's normal up to the AO radius, through "
+                                      "Embree packets (algorithms §12)");
         r.add<ShadowDenoisePass>("shadow_denoise",
                                  "penumbra-aware spatial shadow denoiser: blur "
                                  "radius from occluder distance and light size "

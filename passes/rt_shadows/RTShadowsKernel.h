@@ -20,6 +20,7 @@
 #include "passes/rt_shadows/ShadowRayGenerator.h"
 #include "screenspace/GBuffer.h"
 #include "shading/LightAttenuation.h"
+#include "shading/RayOriginBias.h"
 
 #include <cstdint>
 
@@ -135,14 +136,11 @@ FP_HD inline bool sampleRay(const RowContext& c, Pixel& px, ShadowRay& ray) {
     px.rng = rng.state();
     const float NoL = dot(px.n, lightCentreDirection(c.light, px.p));
     if (NoL <= 0.0f && cullsBackFacing(px.model, c.light.type)) return false;
-    // algorithms §9.2: towards the camera by max(1e-4·distance, bias), then along the normal by
-    // lerp(bias, 0.01 cm, N·L); a transmissive pixel facing away starts on its back side instead.
-    const float eyeBias = 1e-4f * px.eyeDistance;
-    Vec3f o = px.p + px.toEye * (eyeBias < c.maxBias ? c.maxBias : eyeBias);  // std::max
-    const float nb = c.maxBias + (c.minBias - c.maxBias) * (NoL < 0.0f ? 0.0f : (NoL > 1.0f ? 1.0f : NoL));
+    // A transmissive pixel facing away starts on its back side.
     const bool backSide = c.transmission && NoL <= 0.0f &&
                           (hasThicknessTransmission(px.model) || px.model == kSubsurfaceProfile);
-    o += px.n * (backSide ? -nb : nb);
+    const Vec3f o = biasedRayOrigin(px.p, px.toEye, px.eyeDistance, px.n, NoL, c.maxBias,
+                                    c.minBias, backSide);
     const ShadowDirection sd = sampleLight(c.light, o, u, v);
     ray = {o, sd.dir, sd.tfar};
     return true;

@@ -1,0 +1,171 @@
+#pragma once
+// rt_ambient_occlusion's per-pixel work (algorithms §12, Unreal 4.27's
+// RayTracingAmbientOcclusionRGS): a pixel's set-up — its position from depth, its geometric
+// normal from the neighbours' depths, how far its shading normal leans from it — each sample's
+// cosine-weighted ray about the geometric normal with its weight, and the resolve. Written as
+// FP_HD functions over plane views, so a GPU kernel can call them as rt_shadows' does.
+#include "foundation/Camera.h"
+#include "foundation/ExpLog.h"
+#include "foundation/FloatToInt.h"
+#include "foundation/HostDevice.h"
+#include "foundation/Math.h"
+#include "foundation/PlaneView.h"
+#include "foundation/Random.h"
+#include "foundation/Sampling.h"
+#include "foundation/ShadingModel.h"
+#include "shading/RayOriginBias.h"
+
+#include <cstdint>
+
+namespace fp::rtao {
+
+inline constexpr const char* kAo = "ao";
+inline constexpr const char* kHitDistance = "hitDistance";
+
+/// Unreal's hit distance where no ray hit anything: 10000 (its units, cm), in scene units here
+/// scaled by the scene's centimetre. Sky and unlit pixels write −2.
+inline constexpr float kNoHitCm = 10000.0f;
+inline constexpr float kSkippedHitDistance = -2.0f;
+
+/// A clamped cosine lobe as a spherical Gaussian μ·e^{λ(v·axis − 1)}: Unreal's
+/// ClampedCosine_ToSphericalGaussian sharpness (inferred, algorithms §12).
+inline constexpr double kCosineLobeSharpness = 2.133;
+
+/// What every pixel of a frame shares.
+struct FrameSetup {
+    CameraView camera;
+    Vec3d eyeOffset;        // the eye relative to the RayScene origin
+    int spp;                // samples per pixel
+    float radius;           // scene units: the rays' tfar
+    float intensity;        // 0–1: a blocked ray counts 1 − intensity
+    float maxBias, minBias; // scene units
+    float noHitDistance;    // kNoHitCm in scene units
+    uint32_t rngKey;        // Rng::frameKey(frame, seed)
+};
+
+/// What stays the same for every sample of one pixel.
+struct Pixel {
+    Vec3f p;              // position relative to the RayScene origin
+    Vec3f shading;        // the GBuffer normal, unit
+    Vec3f geometric;      // from the neighbours' depths, facing the camera
+    Vec3f tangent, bitangent;  // orthonormalBasis(geometric): the rays' frame
+    Vec3f toEye;          // unit
+    float eyeDistance;
+    float shadingDotGeometric;  // how much of the shading lobe the geometric hemisphere holds
+    uint32_t rng;
+};
+
+/// The overlap of two clamped cosine lobes about unit a and b as spherical Gaussians, over a
+/// lobe's overlap with itself: ∫G_a·G_b = 4π·e^{−2λ}·sinh(d)/d with d = λ|a + b|, so the ratio is
+/// (sinh(d)/d)·(2λ/sinh(2λ)), 1 for a = b, saturated.
+FP_HD inline float lobeOverlap(const Vec3f& a, const Vec3f& b) {
+    const double lambda = kCosineLobeSharpness;
+    const Vec3f s = a + b;
+    const double d = lambda * std::sqrt(double(dot(s, s)));
+    auto sinhOver = [](double x) {  // sinh(x)/x, 1 at 0
+        if (x < 1e-4) return 1.0;
+        const double e = exp2Double(x * explog_terms::kInvLn2);
+        return 0.5 * (e - 1.0 / e) / x;
+    };
+    const double ratio = sinhOver(d) / sinhOver(2.0 * lambda);
+    return float(ratio > 1.0 ? 1.0 : ratio);
+}
+
+/// The surface normal the depth buffer gives at (x, y) (algorithms §12): of the vectors to the
+/// left and right neighbours the shorter, the same up and down, crossed and turned towards the
+/// camera. The shading normal where a side has no surface on either hand (the screen's edge, sky)
+/// or the vectors are parallel, and for two-sided foliage (thin: its faces bound nothing).
+FP_HD inline Vec3f geometricNormal(const FrameSetup& s, const PlaneView& depth, int x, int y,
+                                   const Vec3d& centre, const Vec3f& shading, int model,
+                                   const Vec3f& toEye) {
+    if (model == kTwoSidedFoliage) return shading;
+    auto neighbour = [&](int nx, int ny, Vec3d& q) {
+        if (nx < 0 || ny < 0 || nx >= depth.width || ny >= depth.height) return false;
+        const double d = depth.at(nx, ny);
+        if (!(d > 0.0) || std::isinf(d)) return false;
+        q = s.camera.translatedFromPixel(nx, ny, d);
+        return true;
+    };
+    // The shorter of the two one-sided differences along an axis (either, where only one exists).
+    auto along = [&](int dx, int dy, Vec3d& v) {
+        Vec3d after, before;
+        const bool a = neighbour(x + dx, y + dy, after), b = neighbour(x - dx, y - dy, before);
+        if (!a && !b) return false;
+        const Vec3d forward = after - centre, backward = centre - before;
+        v = !b ? forward : (!a ? backward : (dot(forward, forward) < dot(backward, backward) ? forward : backward));
+        return true;
+    };
+    Vec3d h, v;
+    if (!along(1, 0, h) || !along(0, 1, v)) return shading;
+    const Vec3d n = cross(h, v);
+    const double len = length(n);
+    if (!(len > 0.0)) return shading;
+    Vec3f g(n / len);
+    return dot(g, toEye) < 0.0f ? -g : g;
+}
+
+/// Pixel (x, y)'s set-up; false for sky and unlit pixels (they trace nothing).
+FP_HD inline bool setupPixel(const FrameSetup& s, const PlaneView& depth, const PlaneView& model,
+                             const PlaneView (&normal)[3], int x, int y, Pixel& px) {
+    const double d = depth.at(x, y);
+    const float m = model.at(x, y);
+    if (!isLitSurface(d, m)) return false;
+    const Vec3d offset = s.camera.translatedFromPixel(x, y, d);
+    px.p = Vec3f(s.eyeOffset + offset);
+    const double eyeDistance = length(offset);
+    px.eyeDistance = float(eyeDistance);
+    px.toEye = Vec3f(-offset / eyeDistance);
+    px.shading = Vec3f{normal[0].at(x, y), normal[1].at(x, y), normal[2].at(x, y)};
+    px.geometric = geometricNormal(s, depth, x, y, offset, px.shading, truncToInt(m, 0, 255), px.toEye);
+    px.shadingDotGeometric = lobeOverlap(px.shading, px.geometric);
+    orthonormalBasis(px.geometric, px.tangent, px.bitangent);
+    px.rng = Rng::fromKey(s.rngKey, x, y).state();
+    return true;
+}
+
+/// One AO ray and its weight: cosine-distributed about the geometric normal (pdf ∝ cosθ there),
+/// weighted by max(N_shading·dir, 0.05) / max(pdf, 0.05) so a shading normal that leans away
+/// counts its own cosine (on a flat surface every weight is 1).
+struct AoRay {
+    Vec3f org, dir;
+    float weight;
+};
+FP_HD inline AoRay sampleRay(const FrameSetup& s, Pixel& px) {
+    Rng rng = Rng::resume(px.rng);
+    const float u = rng.nextFloat(), v = rng.nextFloat();
+    px.rng = rng.state();
+    // cosineHemisphere(px.geometric, u, v), its frame built once per pixel.
+    float x, y;
+    concentricDisk(u, v, x, y);
+    const float z = std::sqrt(std::max(0.0f, 1.0f - x * x - y * y));
+    const Vec3f dir = normalize(px.tangent * x + px.bitangent * y + px.geometric * z);
+    const float NoL = dot(px.shading, dir);
+    const float pdf = dot(px.geometric, dir);
+    const float weight = (NoL > 0.05f ? NoL : 0.05f) / (pdf > 0.05f ? pdf : 0.05f);
+    const Vec3f org = biasedRayOrigin(px.p, px.toEye, px.eyeDistance, px.shading, NoL,
+                                      s.maxBias, s.minBias);
+    return {org, dir, weight};
+}
+
+/// A pixel's sums over its samples.
+struct Sums {
+    float weighted = 0, weights = 0, closestHit = -1;
+    FP_HD void add(const FrameSetup& s, float weight, bool blocked, float hitT) {
+        weights += weight;
+        weighted += weight * (blocked ? 1.0f - s.intensity : 1.0f);
+        if (blocked && hitT >= 0.0f && (closestHit < 0.0f || hitT < closestHit)) closestHit = hitT;
+    }
+};
+
+/// The pixel's outputs: the weighted visibility scaled by how much of its shading lobe the
+/// geometric hemisphere holds; the closest hit (kNoHitCm where none hit, −1 with no weight).
+struct Resolved {
+    float ao, hitDistance;
+};
+FP_HD inline Resolved resolve(const FrameSetup& s, float shadingDotGeometric, const Sums& sums) {
+    if (!(sums.weights > 0.0f)) return {shadingDotGeometric, -1.0f};
+    return {shadingDotGeometric * (sums.weighted / sums.weights),
+            sums.closestHit >= 0.0f ? sums.closestHit : s.noHitDistance};
+}
+
+}  // namespace fp::rtao

@@ -1,0 +1,184 @@
+#include "passes/rt_ambient_occlusion/RTAmbientOcclusionPass.h"
+
+#include "foundation/RayScene.h"
+#include "foundation/Tiles.h"
+#include "framework/PassPorts.h"
+#include "passes/rt_ambient_occlusion/RTAmbientOcclusionKernel.h"
+#include "screenspace/GBuffer.h"
+
+#include <algorithm>
+#include <vector>
+
+namespace fp {
+
+namespace {
+
+constexpr uint32_t kSeed = 0x5254414Fu;    // "RTAO"
+constexpr float kMinNormalBiasCm = 0.01f;  // r.RayTracing.NormalBias's floor, as rt_shadows
+
+// A tile's rays in flight, as structure-of-arrays, each with its pixel and weight: a few hundred
+// at a time, so they stay in the core's cache between being drawn, traced and summed.
+class RayBatch {
+public:
+    static constexpr int kFlushAt = 256;  // rays drawn before the full packets among them go
+    static constexpr int kCapacity = kFlushAt + 64 + kMaxPacketSize;  // + one pixel's samples
+
+    int size() const { return mCount; }
+    void push(const rtao::AoRay& r, float length, int pixel) {
+        const int i = mCount++;
+        mOx[i] = r.org.x, mOy[i] = r.org.y, mOz[i] = r.org.z;
+        mDx[i] = r.dir.x, mDy[i] = r.dir.y, mDz[i] = r.dir.z;
+        mTfar[i] = length, mWeight[i] = r.weight, mPixel[i] = pixel;
+    }
+    /// Traces the first `count` rays in packets of `width` (the last may be partial) and adds
+    /// each to its pixel's sums in the order drawn; the rays after them move to the front.
+    void trace(const RayScene& rs, int count, int width, bool wantDistance,
+               const rtao::FrameSetup& s, rtao::Sums* sums) {
+        const RayArrays all{mOx, mOy, mOz, mDx, mDy, mDz, mTfar};
+        for (int first = 0; first < count; first += width) {
+            const int n = std::min(width, count - first);
+            bool blocked[kMaxPacketSize];
+            float hitT[kMaxPacketSize];
+            rs.occludedWithDistancePacket(all.from(first), n, width, blocked,
+                                          wantDistance ? hitT : nullptr);
+            for (int k = 0; k < n; ++k)
+                sums[mPixel[first + k]].add(s, mWeight[first + k], blocked[k],
+                                            wantDistance ? hitT[k] : -1.0f);
+        }
+        const int rest = mCount - count;
+        for (float* a : {mOx, mOy, mOz, mDx, mDy, mDz, mTfar, mWeight})
+            std::copy(a + count, a + mCount, a);
+        std::copy(mPixel + count, mPixel + mCount, mPixel);
+        mCount = rest;
+    }
+
+private:
+    int mCount = 0;
+    float mOx[kCapacity], mOy[kCapacity], mOz[kCapacity], mDx[kCapacity], mDy[kCapacity],
+        mDz[kCapacity], mTfar[kCapacity], mWeight[kCapacity];
+    int mPixel[kCapacity];
+};
+
+}  // namespace
+
+ParamSpec<RTAmbientOcclusionParams> RTAmbientOcclusionPass::paramSpec() {
+    ParamSpec<RTAmbientOcclusionParams> s;
+    s.add("samplesPerPixel", &Params::samplesPerPixel,
+          "AO rays per pixel; −1 = the post-process volume's RayTracingAOSamplesPerPixel (1)")
+        .range(-1, 64)
+        .cvar("r.RayTracing.AmbientOcclusion.SamplesPerPixel");
+    s.add("intensity", &Params::intensity,
+          "post-process RayTracingAOIntensity: a blocked ray counts 1 − intensity (0: the pass "
+          "traces nothing and writes 1, as Unreal skips it)")
+        .range(0.0, 1.0);
+    s.add("radius", &Params::radius,
+          "post-process RayTracingAORadius, cm: a hit closer than this occludes the ray")
+        .range(0.0, 1e7);
+    s.add("normalBias", &Params::normalBias, "largest normal/camera bias, cm (at N·L = 0)")
+        .range(0.01, 1e6)
+        .cvar("r.RayTracing.NormalBias");
+    return s;
+}
+
+PassIO RTAmbientOcclusionPass::describe() const {
+    PassIO io;
+    io.roles.tracesShadowRays = true;  // bench replays its rays in a bare Embree loop
+    io.inputs = {
+        gbuffer::depthInput(),
+        gbuffer::normalInput(),
+        gbuffer::shadingModelInput("unlit and sky pixels are skipped"),
+    };
+    io.outputs = {
+        {.name = rtao::kAo,
+         .channels = {"Y"},
+         .doc = "ambient occlusion, 1 open: weighted fraction of rays unblocked within the radius, "
+                "× the shading normal's lobe overlap with the geometric normal's"},
+        {.name = rtao::kHitDistance,
+         .channels = {"Y"},
+         .doc = "closest hit over the samples, scene units; 10000 cm where none hit; −2 sky and "
+                "unlit"},
+    };
+    io.needsCamera = true;
+    io.needsScene = true;
+    io.workUnit = "rays";
+    return io;
+}
+
+void RTAmbientOcclusionPass::execute(PassContext& ctx) {
+    const Extent size = ctx.frame().extent;
+    Plane& ao = ctx.output(rtao::kAo, {size}).image().plane(0);
+    Plane& hitDistance = ctx.output(rtao::kHitDistance, {size}).image().plane(0);
+    const int spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 1;
+    if (mParams.intensity <= 0.0f) {  // Unreal runs no RTAO at intensity 0
+        for (int y = 0; y < size.height; ++y)
+            for (int x = 0; x < size.width; ++x) {
+                ao.at(x, y) = 1.0f;
+                hitDistance.at(x, y) = rtao::kSkippedHitDistance;
+            }
+        ctx.addWork("skippedPixels", uint64_t(size.width) * size.height);
+        return;
+    }
+    const RayScene& rs = ctx.scene();
+    const CameraView& cam = ctx.frame().camera.current;
+    const float cm = float(rs.scene().centimetre());
+    rtao::FrameSetup s{};
+    s.camera = cam;
+    s.eyeOffset = cam.position - rs.origin();
+    s.spp = spp;
+    s.radius = mParams.radius * cm;
+    s.intensity = mParams.intensity;
+    s.maxBias = std::max(mParams.normalBias, kMinNormalBiasCm) * cm;
+    s.minBias = kMinNormalBiasCm * cm;
+    s.noHitDistance = rtao::kNoHitCm * cm;
+    s.rngKey = Rng::frameKey(ctx.frame().number, kSeed);
+
+    const PlaneView depth = viewOf(ctx.input(gbuffer::kDepth)->image().plane(0));
+    const PlaneView model = viewOf(ctx.input(gbuffer::kShadingModel)->image().plane(0));
+    const Image& n = ctx.input(gbuffer::kNormal)->image();
+    const PlaneView normal[3] = {viewOf(n.plane(0)), viewOf(n.plane(1)), viewOf(n.plane(2))};
+    const bool wantDistance = ctx.isRequested(rtao::kHitDistance);
+
+    const int width = rs.packetWidth();
+    forEachTile(size.width, size.height, [&](const Tile& t) {
+        // Each pixel set up and its rays drawn in sample order (its own stream), batched across
+        // pixels and traced in full packets; every ray adds to its pixel's sums in the order it
+        // was drawn, so the result is that of one ray at a time.
+        const int w = t.x1 - t.x0, count = w * (t.y1 - t.y0);
+        std::vector<float> overlap(count, -1.0f);  // the lobe overlap; −1: a skipped pixel
+        std::vector<rtao::Sums> sums(count);
+        RayBatch batch;
+        uint64_t rays = 0;
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                const int i = (y - t.y0) * w + (x - t.x0);
+                rtao::Pixel px;
+                if (!rtao::setupPixel(s, depth, model, normal, x, y, px)) continue;
+                overlap[i] = px.shadingDotGeometric;
+                for (int k = 0; k < spp; ++k) batch.push(rtao::sampleRay(s, px), s.radius, i);
+                rays += uint64_t(spp);
+                if (batch.size() >= RayBatch::kFlushAt)
+                    batch.trace(rs, batch.size() - batch.size() % width, width, wantDistance, s,
+                                sums.data());
+            }
+        batch.trace(rs, batch.size(), width, wantDistance, s, sums.data());
+        uint64_t skipped = 0;
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                const int i = (y - t.y0) * w + (x - t.x0);
+                if (overlap[i] < 0.0f) {
+                    ao.at(x, y) = 1.0f;
+                    hitDistance.at(x, y) = rtao::kSkippedHitDistance;
+                    ++skipped;
+                    continue;
+                }
+                const rtao::Resolved r = rtao::resolve(s, overlap[i], sums[i]);
+                ao.at(x, y) = r.ao;
+                hitDistance.at(x, y) = r.hitDistance;
+            }
+        ctx.addWork("rays", rays);
+        ctx.addWork("pixels", uint64_t(count) - skipped);
+        ctx.addWork("skippedPixels", skipped);
+    });
+}
+
+}  // namespace fp

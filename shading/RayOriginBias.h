@@ -1,0 +1,21 @@
+#pragma once
+// Where Unreal's ray-traced passes start a ray from a pixel's surface (ApplyCameraRelativeDepthBias,
+// algorithms §9.2): towards the camera by max(1e-4·distance, bias), then along the normal by a bias
+// that runs from `maxBias` (a ray grazing the surface, N·L = 0) down to `minBias` (a ray along
+// the normal); `backSide` pushes into the surface instead (a transmissive pixel lit from behind).
+#include "foundation/HostDevice.h"
+#include "foundation/Math.h"
+
+namespace fp {
+
+FP_HD inline Vec3f biasedRayOrigin(const Vec3f& p, const Vec3f& toEye, float eyeDistance,
+                                   const Vec3f& n, float NoL, float maxBias, float minBias,
+                                   bool backSide = false) {
+    const float eyeBias = 1e-4f * eyeDistance;
+    Vec3f o = p + toEye * (eyeBias < maxBias ? maxBias : eyeBias);  // std::max
+    const float nb = maxBias + (minBias - maxBias) * (NoL < 0.0f ? 0.0f : (NoL > 1.0f ? 1.0f : NoL));
+    o += n * (backSide ? -nb : nb);
+    return o;
+}
+
+}  // namespace fp

@@ -1,0 +1,158 @@
+// rt_ambient_occlusion against analytic answers: an open floor, a closed sphere, a floor beside an
+// infinite wall (the cosine-weighted fraction of rays that reach it within the radius), the
+// shading/geometric lobe overlap, and thread identity.
+#include "passes/rt_ambient_occlusion/RTAmbientOcclusionKernel.h"
+#include "tests/support/TestScenes.h"
+
+#include <doctest/doctest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+namespace fp {
+
+namespace {
+
+// The pass's outputs on `src`.
+std::map<std::string, Texture> runAo(test::MemorySource& src, nlohmann::json params) {
+    return test::runChain(src, {test::node("rt_ambient_occlusion", std::move(params))},
+                          {"rt_ambient_occlusion.ao", "rt_ambient_occlusion.hitDistance"});
+}
+
+// A floor (y = 0) in centimetres, seen from straight above.
+Scene floorInCm() {
+    Scene s = test::floorScene();
+    s.sceneUnitsPerMeter = 100.0;
+    return s;
+}
+
+// The cosine-weighted fraction of the hemisphere over a floor point whose rays of length R reach
+// a wall (infinite, perpendicular to the floor) at distance h: a ray reaches it when its
+// horizontal component towards the wall is at least a = h/R, and cosine-weighted directions
+// project uniformly onto the unit disk, so the fraction is the area of the disk's segment
+// x ≥ a over π.
+double wallFraction(double h, double R) {
+    const double a = h / R;
+    if (a >= 1.0) return 0.0;
+    return (std::acos(a) - a * std::sqrt(1.0 - a * a)) / kPi;
+}
+
+}  // namespace
+
+TEST_CASE("rt_ambient_occlusion: an open floor is unoccluded, its hit distance Unreal's 'none'") {
+    const Scene scene = floorInCm();
+    auto src = test::captureToMemory(scene, test::topCamera({}, 32));
+    const auto out = runAo(src, {{"samplesPerPixel", 4}});
+    const Plane& ao = out.at("rt_ambient_occlusion.ao").image().plane(0);
+    const Plane& hit = out.at("rt_ambient_occlusion.hitDistance").image().plane(0);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            // The normal rebuilt from depth differs from the exact one by rounding only; the lobe
+            // overlap is flat at equal normals, so the AO is 1 to second order.
+            CHECK(ao.at(x, y) == doctest::Approx(1.0).epsilon(1e-5));
+            CHECK(ao.at(x, y) <= 1.0f);
+            CHECK(hit.at(x, y) == rtao::kNoHitCm);  // 1 scene unit a centimetre
+        }
+}
+
+TEST_CASE("rt_ambient_occlusion: inside a closed sphere smaller than the radius every ray is blocked") {
+    Scene scene;
+    scene.sceneUnitsPerMeter = 100.0;
+    scene.materials.push_back(test::lambert(0.5f));
+    scene.meshes.push_back(test::sphere({0, 0, 0}, 50.0, 64));
+    FrameCamera cam;
+    cam.current = CameraView::lookAt({0, 0, 0}, {1, 0.3, 0.2}, {0, 1, 0}, 60.0, 24, 24, 1.0);
+    cam.previous = cam.current;
+    auto src = test::captureToMemory(scene, cam);
+    for (const float intensity : {1.0f, 0.25f}) {
+        CAPTURE(intensity);
+        const auto out = runAo(src, {{"samplesPerPixel", 8}, {"radius", 200.0}, {"intensity", intensity}});
+        const Plane& ao = out.at("rt_ambient_occlusion.ao").image().plane(0);
+        const Plane& hit = out.at("rt_ambient_occlusion.hitDistance").image().plane(0);
+        for (int y = 0; y < 24; ++y)
+            for (int x = 0; x < 24; ++x) {
+                // Every ray counts 1 − intensity; the lobe overlap (≤ 1) scales it.
+                CHECK(ao.at(x, y) <= 1.0f - intensity + 1e-6f);
+                if (intensity == 1.0f) CHECK(ao.at(x, y) == 0.0f);
+                CHECK(hit.at(x, y) > 0.0f);
+                CHECK(hit.at(x, y) <= 100.0f + 1.0f);  // within the sphere's diameter
+            }
+    }
+}
+
+TEST_CASE("rt_ambient_occlusion: beside an infinite wall, the analytic cosine fraction within the radius") {
+    // The floor y = 0 and a wall x = 30 (facing −x), both 20 m across: within a radius of 40 cm
+    // they are infinite. A floor pixel at distance h from the wall loses wallFraction(h, 40) of its
+    // rays; h ≥ 40 loses none.
+    Scene scene = floorInCm();
+    scene.meshes.push_back(test::quad({30, 0, 0}, {0, 0, 1}, {0, 1, 0}, 1000.0, 0, 2));
+    scene.meshes[0] = test::quad({}, {1, 0, 0}, {0, 0, -1}, 1000.0, 0, 1);
+    const int size = 48;
+    auto src = test::captureToMemory(scene, test::topCamera({}, size));
+    const int spp = 64;
+    const double R = 40.0;
+    const auto out = runAo(src, {{"samplesPerPixel", spp}, {"radius", R}});
+    const Plane& ao = out.at("rt_ambient_occlusion.ao").image().plane(0);
+    const Plane& depth = src.buffers.at("SceneDepth").plane(0);
+    const Plane& instance = src.buffers.at("InstanceId").plane(0);
+    const CameraView& cam = src.info.camera.current;
+    double measured = 0, expected = 0, variance = 0;
+    int near = 0, far = 0;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            if (instance.at(x, y) != 1.0f) continue;  // floor pixels
+            const Vec3d p = cam.worldFromPixel(x, y, depth.at(x, y));
+            const double h = 30.0 - p.x;
+            if (h < 1.0) continue;  // the wall's foot: the bias moves these rays
+            const double f = wallFraction(h, R);
+            if (f == 0.0) {
+                CHECK(ao.at(x, y) == doctest::Approx(1.0).epsilon(1e-5));
+                ++far;
+                continue;
+            }
+            measured += ao.at(x, y);
+            expected += 1.0 - f;
+            variance += f * (1.0 - f) / spp;  // a pixel's mean of spp Bernoulli rays
+            ++near;
+        }
+    REQUIRE(near > 200);
+    REQUIRE(far > 100);
+    // The mean over the near pixels within 4 standard deviations of the rays' noise.
+    const double sigma = std::sqrt(variance) / near;
+    CAPTURE(sigma);
+    CHECK(std::fabs(measured / near - expected / near) < 4.0 * sigma);
+    CHECK(sigma < 0.01);  // the test can tell the AO apart from a wrong one
+}
+
+TEST_CASE("rt_ambient_occlusion: the shading lobe's overlap with the geometric one") {
+    const Vec3f up{0, 1, 0};
+    CHECK(rtao::lobeOverlap(up, up) == doctest::Approx(1.0f));
+    // Perpendicular normals: (sinh(λ√2)/(λ√2))·(2λ/sinh(2λ)) with λ = 2.133.
+    const double l = rtao::kCosineLobeSharpness, d = l * std::sqrt(2.0);
+    const double expected = (std::sinh(d) / d) * (2.0 * l / std::sinh(2.0 * l));
+    CHECK(rtao::lobeOverlap(up, Vec3f{1, 0, 0}) == doctest::Approx(expected).epsilon(1e-6));
+    CHECK(rtao::lobeOverlap(up, -up) == doctest::Approx(2.0 * l / std::sinh(2.0 * l)).epsilon(1e-6));
+    // Less overlap the further apart.
+    CHECK(rtao::lobeOverlap(up, normalize(Vec3f{1, 1, 0})) > rtao::lobeOverlap(up, Vec3f{1, 0, 0}));
+}
+
+TEST_CASE("rt_ambient_occlusion: 1 and 2 threads give the same bits") {
+    Scene scene = floorInCm();
+    scene.meshes.push_back(test::sphere({0, 12, 0}, 10.0, 64, 0, 2));
+    auto src = test::captureToMemory(scene, test::topCamera({}, 64));
+    std::map<std::string, Texture> outs[2];
+    for (int threads : {1, 2}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        outs[threads - 1] = runAo(src, {{"samplesPerPixel", 4}});
+    }
+    for (const char* name : {"rt_ambient_occlusion.ao", "rt_ambient_occlusion.hitDistance"})
+        CHECK(test::sameBits(outs[0].at(name).image().plane(0), outs[1].at(name).image().plane(0)));
+    // The sphere occludes the floor around its foot: some AO below 1, none above.
+    const Plane& ao = outs[0].at("rt_ambient_occlusion.ao").image().plane(0);
+    float lowest = 1.0f;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) lowest = std::min(lowest, ao.at(x, y));
+    CHECK(lowest < 0.9f);
+}
+
+}  // namespace fp
