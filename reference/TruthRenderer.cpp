@@ -66,6 +66,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
     addLayer("Truth.DiffuseIndirectOneBounce", rgb);
     addLayer("Truth.DiffuseIndirectFull", rgb);
     addLayer("Truth.AO", y);
+    addLayer("Truth.AOAnyDistance", y);
     addLayer("Truth.Specular", rgb);
     addLayer("Truth.Combined", rgb);
     const std::vector<std::string> shadowNames = shadowLayerNames(mScene);
@@ -78,6 +79,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
     const Target oneT = target("Truth.DiffuseIndirectOneBounce");
     const Target fullT = target("Truth.DiffuseIndirectFull");
     const Target aoT = target("Truth.AO"), specT = target("Truth.Specular");
+    const Target aoAnyT = target("Truth.AOAnyDistance");
     const Target combinedT = target("Truth.Combined");
     std::vector<Target> shadowT;
     for (const auto& n : shadowNames) shadowT.push_back(target(n));
@@ -99,7 +101,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                 if (!primary.hit) continue;  // sky: every layer stays 0
                 const SurfacePoint s = surfaceAt(rs, primary, Vec3f{}, dir0);
                 Rng rng(mSettings.frame, px, py, kSeedTruth);
-                PixelStats one, full, ao, spec, combined;
+                PixelStats one, full, ao, aoAny, spec, combined;
                 std::fill(shadow.begin(), shadow.end(), PixelStats{});
                 for (int i = 0; i < N; ++i) {
                     // Diffuse indirect and AO share one cosine-distributed ray.
@@ -108,6 +110,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                     full.add(d.full);
                     // A ray into the surface's own back counts as occluded.
                     ao.add(d.sampled && (!d.hit || d.distance > aoRadius) ? 1.0f : 0.0f);
+                    aoAny.add(d.sampled && !d.hit ? 1.0f : 0.0f);
                     const Vec3f specular = tracer.gather(s, ScatterLobe::Kind::Specular, rng, tileRays).full;
                     spec.add(specular);
                     // The beauty: what the pixel emits, its direct light, and the two indirect
@@ -139,6 +142,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                 one.store(*oneT.mean, *oneT.stdErr, px, py, N);
                 full.store(*fullT.mean, *fullT.stdErr, px, py, N);
                 ao.store(*aoT.mean, *aoT.stdErr, px, py, N);
+                aoAny.store(*aoAnyT.mean, *aoAnyT.stdErr, px, py, N);
                 spec.store(*specT.mean, *specT.stdErr, px, py, N);
                 combined.store(*combinedT.mean, *combinedT.stdErr, px, py, N);
                 for (std::size_t l = 0; l < lights.size(); ++l)

@@ -10,7 +10,11 @@
 //                                        irradiance/π, so DiffuseColor × this = indirect diffuse)
 //   Truth.DiffuseIndirectFull       RGB  the same with every bounce
 //   Truth.AO                        Y    fraction of cosine-distributed rays that travel further
-//                                        than the AO radius (1 = open, 0 = enclosed)
+//                                        than the AO radius (1 = open, 0 = enclosed): what
+//                                        Unreal's ray-traced AO estimates at that radius
+//   Truth.AOAnyDistance             Y    fraction of the same rays that hit nothing at any
+//                                        distance: what SSGI's AO (1 − its rays' hit fraction,
+//                                        however far the hit) estimates where it sees everything
 //   Truth.Specular                  RGB  indirect specular radiance reflected to the camera by
 //                                        the pixel's GGX lobe (Unreal's F·D·Vis), all bounces
 //   Truth.Combined                  RGB  the path-traced beauty: emission + direct light of every

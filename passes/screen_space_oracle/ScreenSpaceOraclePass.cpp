@@ -37,7 +37,8 @@ PassIO ScreenSpaceOraclePass::describe() const {
     io.roles.raysParam = "rays";
     io.roles.oracleFor = {{"Truth.DiffuseIndirectOneBounce", kDiffuse},
                           {"Truth.DiffuseIndirectFull", kDiffuse},
-                          {"Truth.AO", kAoWithinRadius}};
+                          {"Truth.AO", kAoWithinRadius},
+                          {"Truth.AOAnyDistance", kAo}};
     io.inputs = {
         gbuffer::depthInput("full-resolution linear depth: what the rays march against"),
         gbuffer::normalInput(),
@@ -66,7 +67,7 @@ PassIO ScreenSpaceOraclePass::describe() const {
          .doc = "indirect specular radiance through the pixel's GGX lobe (F·D·Vis, as "
                 "Truth.Specular); traced only when read"},
         {.name = kHitFraction, .channels = {"Y"}, .doc = "fraction of the cosine rays that hit"},
-        {.name = kAo, .channels = {"Y"}, .doc = "1 − hitFraction: occluders at any distance on screen"},
+        {.name = kAo, .channels = {"Y"}, .doc = "1 − hitFraction: occluders at any distance on screen (as Truth.AOAnyDistance)"},
         {.name = kAoWithinRadius,
          .channels = {"Y"},
          .doc = "1 − the fraction of cosine rays that hit within aoRadius (as Truth.AO)"},

@@ -132,8 +132,10 @@ TEST_CASE("AO is 1 everywhere on an open plane and 0 everywhere inside a closed 
             ++plane;
             CHECK(a.layers.at("Truth.AO").plane(0).at(x, y) == 1.0f);
             CHECK(a.layers.at("Truth.AO.StdErr").plane(0).at(x, y) == 0.0f);
+            CHECK(a.layers.at("Truth.AOAnyDistance").plane(0).at(x, y) == 1.0f);
             CHECK(depthless.plane(0).at(x, y) == 0.0f);  // nothing to bounce light from
             CHECK(b.layers.at("Truth.AO").plane(0).at(x, y) == 0.0f);
+            CHECK(b.layers.at("Truth.AOAnyDistance").plane(0).at(x, y) == 0.0f);
         }
     CHECK(plane > 100);
 }
@@ -168,7 +170,30 @@ TEST_CASE("AO at a concave edge is one half, for pixel centres on the edge and a
             var += std::pow(r.layers.at("Truth.AO.StdErr").plane(0).at(4, y), 2.0f);
         }
         CHECK(std::abs(sum / 33 - 0.5) <= 4.0 * std::sqrt(var) / 33);
+        // With no radius the wall occludes at any distance: the same half.
+        checkWithinNoise(r, "Truth.AOAnyDistance", 0, [&](int, int, double& e) {
+            return e = 0.5, true;
+        }, 9 * 33);
     }
+}
+
+TEST_CASE("Truth.AO counts occluders within the radius, Truth.AOAnyDistance at any distance") {
+    // A floor point 10 units from a wall 2000 units across: with an AO radius of 5 the wall is out
+    // of reach (AO 1 exactly); at any distance it takes the cosine-weighted half leaning towards it,
+    // less the cone over its top (cos² < 10⁻⁴): 0.5.
+    Scene s;
+    s.materials.push_back(lambert(0.5f));
+    const Vec3d X{1, 0, 0}, Y{0, 1, 0}, Z{0, 0, 1};
+    s.meshes.push_back(test::quad({-1000, 0, 0}, Z, X, 1000));  // floor, normal +y
+    s.meshes.push_back(test::quad({0, 1000, 0}, Z, Y, 1000));   // wall x = 0, normal −x
+    // Looking straight down at floor points 10 ± 1 units from the wall.
+    const auto cam = camera({-10, 5, 0}, {-10, 0, 0}, X, 8, 8, 20.0);
+    const TruthResult r = renderTruth(s, cam, 256, 5.0);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) CHECK(r.layers.at("Truth.AO").plane(0).at(x, y) == 1.0f);
+    checkWithinNoise(r, "Truth.AOAnyDistance", 0, [&](int, int, double& e) {
+        return e = 0.5, true;
+    }, 64);
 }
 
 TEST_CASE("a point light's irradiance I·cosθ/r² on a Lambert wall, seen in a mirror floor") {
