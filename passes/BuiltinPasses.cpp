@@ -9,6 +9,7 @@
 #include "passes/prev_color_reduction/PrevColorReductionPass.h"
 #include "passes/reflection_environment/ReflectionEnvironmentPass.h"
 #include "passes/rt_ambient_occlusion/RTAmbientOcclusionPass.h"
+#include "passes/rt_global_illumination/RTGlobalIlluminationPass.h"
 #include "passes/rt_shadows/RTShadowsPass.h"
 #include "passes/screen_space_oracle/ScreenSpaceOraclePass.h"
 #include "passes/shadow_denoise/ShadowDenoisePass.h"
@@ -41,7 +42,11 @@ const PassRegistry& builtinPasses() {
         r.add<RTAmbientOcclusionPass>("rt_ambient_occlusion",
                                       "ray-traced ambient occlusion: cosine rays about the "
                                       "depth buffer's normal up to the AO radius, through "
-                                      "Embree packets (algorithms §12)");
+                                      "Embree packets (algorithms §12.1)");
+        r.add<RTGlobalIlluminationPass>("rt_global_illumination",
+                                        "ray-traced diffuse global illumination, Unreal 4.27's "
+                                        "brute force: cosine paths through Embree, the lights "
+                                        "sampled at every hit (algorithms §12.2)");
         r.add<ShadowDenoisePass>("shadow_denoise",
                                  "penumbra-aware spatial shadow denoiser: blur "
                                  "radius from occluder distance and light size "

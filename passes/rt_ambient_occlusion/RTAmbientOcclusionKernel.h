@@ -1,5 +1,5 @@
 #pragma once
-// rt_ambient_occlusion's per-pixel work (algorithms §12, Unreal 4.27's
+// rt_ambient_occlusion's per-pixel work (algorithms §12.1, Unreal 4.27's
 // RayTracingAmbientOcclusionRGS): a pixel's set-up — its position from depth, its geometric
 // normal from the neighbours' depths, how far its shading normal leans from it — each sample's
 // cosine-weighted ray about the geometric normal with its weight, and the resolve. Written as
@@ -28,7 +28,7 @@ inline constexpr float kNoHitCm = 10000.0f;
 inline constexpr float kSkippedHitDistance = -2.0f;
 
 /// A clamped cosine lobe as a spherical Gaussian μ·e^{λ(v·axis − 1)}: Unreal's
-/// ClampedCosine_ToSphericalGaussian sharpness (inferred, algorithms §12).
+/// ClampedCosine_ToSphericalGaussian sharpness (inferred, algorithms §12.1).
 inline constexpr double kCosineLobeSharpness = 2.133;
 
 /// What every pixel of a frame shares.
@@ -71,7 +71,7 @@ FP_HD inline float lobeOverlap(const Vec3f& a, const Vec3f& b) {
     return float(ratio > 1.0 ? 1.0 : ratio);
 }
 
-/// The surface normal the depth buffer gives at (x, y) (algorithms §12): of the vectors to the
+/// The surface normal the depth buffer gives at (x, y) (algorithms §12.1): of the vectors to the
 /// left and right neighbours the shorter, the same up and down, crossed and turned towards the
 /// camera. The shading normal where a side has no surface on either hand (the screen's edge, sky)
 /// or the vectors are parallel, and for two-sided foliage (thin: its faces bound nothing).

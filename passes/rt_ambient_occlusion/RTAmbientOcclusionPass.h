@@ -1,5 +1,5 @@
 #pragma once
-// Ray-traced ambient occlusion (algorithms §12, Unreal 4.27's RTAO): per pixel, cosine-weighted
+// Ray-traced ambient occlusion (algorithms §12.1, Unreal 4.27's RTAO): per pixel, cosine-weighted
 // rays about the normal the depth buffer gives, up to the AO radius; any hit within it occludes
 // the ray. Traced through Embree in full packets of the tile's rays. Outputs the AO (Unreal's
 // mask, fed to the composite where SSGI's AO goes) and the closest hit (its denoiser's input).

@@ -1,0 +1,32 @@
+#pragma once
+// Ray-traced global illumination, Unreal 4.27's brute-force method (algorithms §12.2,
+// RayTracingGlobalIlluminationRGS): per pixel, cosine-weighted paths of up to `maxBounces`
+// diffuse bounces through the scene; at every hit the lights are sampled with shadow rays (next
+// event estimation), and neither the hit's emission nor, unless asked, the sky is added. The
+// result is irradiance/π, as SSGI's, for the composite's DiffuseColor × GI. CPU, through Embree.
+#include "framework/Params.h"
+#include "framework/Pass.h"
+
+namespace fp {
+
+struct RTGlobalIlluminationParams {
+    int samplesPerPixel = -1;   //!< −1: the post-process volume's 4
+    int maxBounces = -1;        //!< −1: the post-process volume's 1
+    float maxRayDistance = 1e27f;  //!< cm; a hit beyond it ends the path
+    float aoRadius = 200.0f;    //!< cm: a first hit closer than this counts in `ao`
+    int nextEventEstimationSamples = 2;  //!< light samples at each hit
+    bool evalSkyLight = false;  //!< a bounce ray that misses adds the sky's radiance
+    float diffuseThreshold = 0.01f;  //!< pixels whose diffuse colour is darker trace nothing
+    float normalBias = 0.1f;    //!< cm (min 0.01), as rt_shadows
+};
+
+class RTGlobalIlluminationPass final : public PassWithParams<RTGlobalIlluminationParams> {
+public:
+    static ParamSpec<Params> paramSpec();
+    using PassWithParams::PassWithParams;
+
+    PassIO describe() const override;
+    void execute(PassContext& ctx) override;
+};
+
+}  // namespace fp
