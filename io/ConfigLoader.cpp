@@ -7,6 +7,9 @@
 #include "foundation/Error.h"
 #include "foundation/Suggest.h"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -52,7 +55,7 @@ const JsonObjectShape kExrShape = {
      {"colorPrecision", K::String, "how colour layers of outputs and dumps are stored (data layers are always float32)",
       {}, {}, {"half", "float"}}}};
 
-const std::vector<std::string> kEngines = {"ue4.27", "ue5"};
+const std::vector<std::string> kEngines = {"ue4.27", "ue5", "ue4.27-raytracing"};
 
 nlohmann::json readJsonFile(const std::string& path) {
     return io::readJsonFile(path, "config");
@@ -224,7 +227,7 @@ const JsonObjectShape& configShape() {
         "A chain of Unreal's lighting passes on a capture (docs/config.md).",
         {{"version", K::Integer, "1", 1, 1, {}, nullptr, nullptr, true},
          {"engine", K::String, "a config without passes runs configs/<engine>.json", {}, {},
-          {"ue4.27", "ue5"}},
+          {"ue4.27", "ue5", "ue4.27-raytracing"}},
          {"device", K::String, "where the passes with a CUDA kernel run (--device)", {}, {},
           {"cpu", "cuda"}},
          {"capture", K::String, "capture EXR or frame pattern (####, %04d, @@@, shot.1-10#.exr)"},
@@ -286,8 +289,9 @@ RunConfig parseRunConfig(const nlohmann::json& j,
     if (rc.graph.device != "cpu" && rc.graph.device != "cuda")
         diag.error("/device", fmt::format("unknown device '{}'; known: cpu, cuda", rc.graph.device));
     if (std::find(kEngines.begin(), kEngines.end(), rc.graph.engine) == kEngines.end())
-        diag.error("/engine", fmt::format("unknown engine '{}'{}; known: ue4.27, ue5",
-                                          rc.graph.engine, didYouMean(rc.graph.engine, kEngines)));
+        diag.error("/engine", fmt::format("unknown engine '{}'{}; known: {}",
+                                          rc.graph.engine, didYouMean(rc.graph.engine, kEngines),
+                                          fmt::join(kEngines, ", ")));
     rc.capture = resolvePath(baseDir, stringAt(j, "capture", "", diag));
     rc.camera = resolvePath(baseDir, stringAt(j, "camera", "", diag));
     rc.previous = resolvePath(baseDir, stringAt(j, "previous", "", diag));

@@ -35,6 +35,19 @@ check "bench replays the shadow rays through a bare Embree loop" bash -c "'$FP' 
 check "the lit chain's denoiser reads the hit distance: bench also replays the closest-hit queries" bash -c "grep -Eq 'bare loop rtcOccluded(8|16) \+ rtcIntersect(8|16) ' '$DIR/lit_bench.txt'"
 check "an unknown light name is an error that suggests the right one" expect_exit 1 "no light named 'ceilng' in the scene (did you mean 'ceiling'?)" "$FP" run "$DIR/lit.json" -o "$DIR/l3" --set rt_shadows_ceiling.light=ceilng
 check "plan shows the light template as written and what it expanded to" bash -c "grep -q '(preset ue4.27)/passes/5/forEachLight expands for light ceiling: rt_shadows_ceiling, shadow_denoise_ceiling, deferred_lighting_ceiling' '$DIR/lit_plan.txt'"
+# The ray-traced preset: RTGI and RTAO in SSGI's place; a config without a scene is told why.
+cat > "$DIR/rt.json" <<JSON
+{ "version": 1, "engine": "ue4.27-raytracing", "capture": "cornell.exr", "scene": "$SRC/examples/cornell/scene.json" }
+JSON
+cat > "$DIR/rt_noscene.json" <<JSON
+{ "version": 1, "engine": "ue4.27-raytracing", "capture": "cornell.exr" }
+JSON
+check "the ray-traced preset composites RTGI and RTAO, no SSGI" bash -c "'$FP' plan '$DIR/rt.json' > '$DIR/rt_plan.txt' && grep -q 'diffuse←rt_global_illumination.diffuse' '$DIR/rt_plan.txt' && grep -q 'ao←rt_ambient_occlusion.ao' '$DIR/rt_plan.txt' && ! grep -q '(ssgi)' '$DIR/rt_plan.txt' && '$FP' run '$DIR/rt.json' -o '$DIR/rt_out' >/dev/null && test -f '$DIR/rt_out/raytraced.0001.exr' && test -f '$DIR/rt_out/final.0001.png'"
+check "the ray-traced preset without a scene says it needs one" expect_exit 2 "a pass needs the scene; name the scene JSON" "$FP" run "$DIR/rt_noscene.json" -o "$DIR/rt_none"
+cat > "$DIR/rt_bad.json" <<JSON
+{ "version": 1, "engine": "ue4.27-raytrace", "capture": "cornell.exr" }
+JSON
+check "an unknown engine lists the known ones" expect_exit 2 "known: ue4.27, ue5, ue4.27-raytracing" "$FP" plan "$DIR/rt_bad.json"
 cat > "$DIR/lights_only.json" <<JSON
 { "version": 1, "capture": "cornell.exr", "scene": "$SRC/examples/cornell/scene.json",
   "passes": [ { "name": "light", "type": "deferred_lighting", "params": { "light": "ceiling" } } ],
