@@ -10,7 +10,7 @@
 #include "foundation/UnrealRandom.h"
 #include "framework/PassPorts.h"
 #include "screenspace/GBuffer.h"
-#include "shading/DirectLighting.h"
+#include "shading/DiffusePaths.h"
 #include "shading/RayOriginBias.h"
 
 #include <algorithm>
@@ -27,80 +27,12 @@ constexpr uint32_t kSeed = 0x52544749u;    // "RTGI"
 constexpr float kMinNormalBiasCm = 0.01f;  // r.RayTracing.NormalBias's floor, as rt_shadows
 constexpr float kTMinCm = 0.01f;           // the first ray's TMin
 
-// What every pixel of a frame shares.
-struct Setup {
-    const RayScene* rs;
-    const DirectLighting* lighting;
-    const std::vector<Light>* lights;
-    const SkyLight* sky;  // null: no sky radiance on a miss
-    CameraView camera;
-    Vec3d eyeOffset;
-    int spp, bounces, nee;
-    float giDistance, aoRadius, tMin, maxBias, minBias, diffuseThreshold;
-    uint32_t rngKey;
-};
-
 // One pixel's sums over its paths.
 struct PixelSums {
     Vec3f radiance;
     int aoHits = 0, hits = 0;
     double hitDistance = 0;
 };
-
-// The diffuse light the lights send to hit `s` through next event estimation: each of `nee`
-// samples picks one light uniformly and traces its shadow ray; the sum is scaled by the light
-// count over the sample count (the pick's pdf).
-Vec3f sampleLights(const Setup& c, const SurfacePoint& s, Rng& rng, uint64_t& shadowRays) {
-    const int n = int(c.lights->size());
-    Vec3f sum;
-    if (n == 0 || c.nee <= 0) return sum;
-    for (int k = 0; k < c.nee; ++k) {
-        const float pick = rng.nextFloat(), u = rng.nextFloat(), v = rng.nextFloat();
-        const Light& light = (*c.lights)[std::min(int(pick * float(n)), n - 1)];
-        const LightSample ls = c.lighting->sample(light, s, u, v);
-        const float cosine = dot(s.normal, ls.L);
-        if (!ls.reaches() || cosine <= 0.0f) continue;
-        ++shadowRays;
-        if (!c.lighting->visible(s, ls)) continue;
-        sum += s.brdf.diffuseColor * ls.irradiance * (cosine / kPiF);
-    }
-    return sum * (float(n) / float(c.nee));
-}
-
-// One path from the pixel's surface along the cosine direction drawn from `rng`.
-void tracePath(const Setup& c, const Vec3f& p, const Vec3f& n, const Vec3f& toEye, float eyeDistance,
-               Rng& rng, PixelSums& sums, uint64_t& rays, uint64_t& shadowRays) {
-    const float u = rng.nextFloat(), v = rng.nextFloat();
-    Vec3f dir = cosineHemisphere(n, u, v);
-    Vec3f org = biasedRayOrigin(p, toEye, eyeDistance, n, dot(n, dir), c.maxBias, c.minBias);
-    float tMin = c.tMin;
-    Vec3f throughput{1, 1, 1};  // the pixel's own albedo is divided out (the composite applies it)
-    const float reach = std::max(c.giDistance, c.aoRadius);
-    for (int bounce = 0; bounce < c.bounces; ++bounce) {
-        ++rays;
-        const RayHit hit = c.rs->intersect(org, dir, tMin, reach);
-        if (!hit.hit) {
-            if (c.sky && bounce > 0) sums.radiance += throughput * c.sky->radiance(dir);
-            return;
-        }
-        if (bounce == 0) {
-            ++sums.hits;
-            sums.hitDistance += hit.t;
-            if (hit.t < c.aoRadius) ++sums.aoHits;
-        }
-        if (hit.t > c.giDistance) return;
-        const SurfacePoint s = surfaceAt(*c.rs, hit, org, dir);
-        // No emission at hits: Unreal adds only the lights' light (and no lightmap).
-        sums.radiance += throughput * sampleLights(c, s, rng, shadowRays);
-        if (bounce + 1 == c.bounces) return;
-        // The next diffuse bounce: BxDF·cos/pdf = DiffuseColor.
-        const float bu = rng.nextFloat(), bv = rng.nextFloat();
-        dir = cosineHemisphere(s.normal, bu, bv);
-        org = s.rayOrigin();
-        tMin = 0.0f;
-        throughput = throughput * s.brdf.diffuseColor;
-    }
-}
 
 }  // namespace
 
@@ -174,24 +106,23 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
     const DirectLighting lighting(rs, 1);
     const CameraView& cam = ctx.frame().camera.current;
     const float cm = float(rs.scene().centimetre());
-    Setup c{};
-    c.rs = &rs;
-    c.lighting = &lighting;
-    c.lights = &rs.scene().lights;
-    c.sky = mParams.evalSkyLight && rs.scene().environment.sky.enabled ? &rs.scene().environment.sky
-                                                                       : nullptr;
-    c.camera = cam;
-    c.eyeOffset = cam.position - rs.origin();
-    c.spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 4;
-    c.bounces = mParams.maxBounces > 0 ? mParams.maxBounces : 1;
-    c.nee = mParams.nextEventEstimationSamples;
-    c.giDistance = float(std::min(double(mParams.maxRayDistance) * cm, 1e30));
-    c.aoRadius = mParams.aoRadius * cm;
-    c.tMin = kTMinCm * cm;
-    c.maxBias = std::max(mParams.normalBias, kMinNormalBiasCm) * cm;
-    c.minBias = kMinNormalBiasCm * cm;
-    c.diffuseThreshold = mParams.diffuseThreshold;
-    c.rngKey = Rng::frameKey(ctx.frame().number, kSeed);
+    const Vec3d eyeOffset = cam.position - rs.origin();
+    const int spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 4;
+    const float aoRadius = mParams.aoRadius * cm, tMin = kTMinCm * cm;
+    const float maxBias = std::max(mParams.normalBias, kMinNormalBiasCm) * cm;
+    const float minBias = kMinNormalBiasCm * cm;
+    DiffusePathSetup paths;
+    paths.scene = &rs;
+    paths.lighting = &lighting;
+    paths.lights = &rs.scene().lights;
+    paths.sky = mParams.evalSkyLight && rs.scene().environment.sky.enabled
+                    ? &rs.scene().environment.sky
+                    : nullptr;
+    paths.bounces = mParams.maxBounces > 0 ? mParams.maxBounces : 1;
+    paths.nee = mParams.nextEventEstimationSamples;
+    paths.giDistance = float(std::min(double(mParams.maxRayDistance) * cm, 1e30));
+    paths.reach = std::max(paths.giDistance, aoRadius);
+    const uint32_t rngKey = Rng::frameKey(ctx.frame().number, kSeed);
 
     const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
     const Plane& model = ctx.input(gbuffer::kShadingModel)->image().plane(0);
@@ -211,7 +142,7 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
                 const bool profile = truncToInt(model.at(x, y), 0, 255) == kSubsurfaceProfile;
                 const Vec3f diffuseColor = profile ? albedo : albedo * (1.0f - m);
                 if (!isLitSurface(d, model.at(x, y)) ||
-                    ue::luma(diffuseColor.x, diffuseColor.y, diffuseColor.z) < c.diffuseThreshold) {
+                    ue::luma(diffuseColor.x, diffuseColor.y, diffuseColor.z) < mParams.diffuseThreshold) {
                     for (int ch = 0; ch < 3; ++ch) diffuse.plane(ch).at(x, y) = 0.0f;
                     ao.at(x, y) = 0.0f;
                     hitDistance.at(x, y) = -1.0f;
@@ -219,16 +150,29 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
                     continue;
                 }
                 const Vec3d offset = cam.translatedFromPixel(x, y, d);
-                const Vec3f p(c.eyeOffset + offset);
+                const Vec3f p(eyeOffset + offset);
                 const double eyeDistance = length(offset);
                 const Vec3f toEye(-offset / eyeDistance);
                 const Vec3f n{normal.plane(0).at(x, y), normal.plane(1).at(x, y),
                               normal.plane(2).at(x, y)};
-                Rng rng = Rng::fromKey(c.rngKey, x, y);
+                Rng rng = Rng::fromKey(rngKey, x, y);
                 PixelSums sums;
-                for (int k = 0; k < c.spp; ++k)
-                    tracePath(c, p, n, toEye, float(eyeDistance), rng, sums, rays, shadowRays);
-                const float inv = 1.0f / float(c.spp);
+                for (int k = 0; k < spp; ++k) {
+                    // A cosine ray about the GBuffer normal from the biased position (§12.2).
+                    const float u = rng.nextFloat(), v = rng.nextFloat();
+                    const Vec3f dir = cosineHemisphere(n, u, v);
+                    const Vec3f org = biasedRayOrigin(p, toEye, float(eyeDistance), n, dot(n, dir),
+                                                      maxBias, minBias);
+                    const DiffusePath path =
+                        traceDiffusePath(paths, org, dir, tMin, rng, rays, shadowRays);
+                    sums.radiance += path.radiance;
+                    if (path.firstHit >= 0.0f) {
+                        ++sums.hits;
+                        sums.hitDistance += path.firstHit;
+                        if (path.firstHit < aoRadius) ++sums.aoHits;
+                    }
+                }
+                const float inv = 1.0f / float(spp);
                 diffuse.plane(0).at(x, y) = sums.radiance.x * inv;
                 diffuse.plane(1).at(x, y) = sums.radiance.y * inv;
                 diffuse.plane(2).at(x, y) = sums.radiance.z * inv;
