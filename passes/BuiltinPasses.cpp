@@ -5,6 +5,7 @@
 #include "passes/diffuse_indirect_composite/DiffuseIndirectCompositePass.h"
 #include "passes/display/DisplayPass.h"
 #include "passes/error_measure/ErrorMeasurePass.h"
+#include "passes/hybrid/HybridPass.h"
 #include "passes/hzb/HZBPass.h"
 #include "passes/prev_color_reduction/PrevColorReductionPass.h"
 #include "passes/reflection_environment/ReflectionEnvironmentPass.h"
@@ -43,6 +44,10 @@ const PassRegistry& builtinPasses() {
                                       "ray-traced ambient occlusion: cosine rays about the "
                                       "depth buffer's normal up to the AO radius, through "
                                       "Embree packets (algorithms §12.1)");
+        r.add<HybridPass>("hybrid",
+                          "framepass's own: SSGI's rays marched on screen, those it cannot "
+                          "finish traced through the scene and shaded as RTGI shades them "
+                          "(algorithms §12.3)");
         r.add<RTGlobalIlluminationPass>("rt_global_illumination",
                                         "ray-traced diffuse global illumination, Unreal 4.27's "
                                         "brute force: cosine paths through Embree, the lights "

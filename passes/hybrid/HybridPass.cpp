@@ -1,0 +1,179 @@
+#include "passes/hybrid/HybridPass.h"
+
+#include "foundation/Tiles.h"
+#include "framework/PassPorts.h"
+#include "passes/ssgi/SSGIKernel.h"
+#include "passes/ssgi/SSGIPass.h"
+#include "screenspace/GBuffer.h"
+#include "shading/DiffusePaths.h"
+#include "shading/RayOriginBias.h"
+
+#include <algorithm>
+
+namespace fp {
+
+namespace {
+
+constexpr uint32_t kSeed = 0x48594252u;    // "HYBR"
+constexpr float kMinNormalBiasCm = 0.01f;  // r.RayTracing.NormalBias's floor, as rt_shadows
+
+// Work counted per tile.
+struct HybridWork {
+    uint64_t pixels = 0, skipped = 0, onScreen = 0, fallback = 0, fallbackHits = 0, rays = 0,
+             shadowRays = 0, hzbSamples = 0;
+};
+
+}  // namespace
+
+ParamSpec<HybridParams> HybridPass::paramSpec() {
+    ParamSpec<HybridParams> s;
+    s.add("quality", &Params::quality,
+          "1..4 → SSGI's 4/8/16/32 rays per pixel and 8/8/8/12 steps per ray (algorithms §4.2)")
+        .range(1, 4)
+        .cvar("r.SSGI.Quality");
+    s.add("rays", &Params::rays, "rays per pixel in place of the quality's count (0: the quality's)")
+        .range(0, SSGIPass::kMaxRays);
+    s.add("maxBounces", &Params::maxBounces,
+          "hits a fallback path shades: 1 is the one bounce the screen gives, more add the "
+          "light that bounced again")
+        .range(1, 64);
+    s.add("nextEventEstimationSamples", &Params::nextEventEstimationSamples,
+          "light samples (one light picked uniformly, one shadow ray) at each fallback hit")
+        .range(0, 64);
+    s.add("normalBias", &Params::normalBias,
+          "largest normal/camera bias of a fallback ray's origin, cm (at N·L = 0)")
+        .range(0.01, 1e6);
+    return s;
+}
+
+PassIO HybridPass::describe() const {
+    PassIO io;
+    io.inputs = {
+        gbuffer::depthInput(),
+        gbuffer::normalInput(),
+        gbuffer::shadingModelInput("unlit (0) pixels are skipped"),
+        {.name = ssgi::kFurthestHzb, .channels = {"Z"}, .doc = "furthest HZB (device Z)"},
+        {.name = ssgi::kReducedColor,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .doc = "last frame's colour, reprojected and reduced to 5 mips: what on-screen hits read"},
+    };
+    io.outputs = {
+        {.name = ssgi::kDiffuse,
+         .channels = {"R", "G", "B"},
+         .kind = PortKind::Color,
+         .doc = "mean incoming radiance of the rays (irradiance/π), on-screen and fallback hits "
+                "together; 0 on skipped pixels"},
+        {.name = ssgi::kAo,
+         .channels = {"Y"},
+         .doc = "1 − fraction of rays that hit, on screen or in the scene (as "
+                "Truth.AOAnyDistance); 1 on skipped pixels"},
+        {.name = ssgi::kHitMask,
+         .channels = {"Y"},
+         .doc = "debug: fraction of rays that hit on screen or in the scene"},
+        {.name = ssgi::kHitDistance,
+         .channels = {"Y"},
+         .doc = "debug: mean distance to the hits, scene units (0: no hit)"},
+    };
+    io.needsCamera = true;
+    io.needsScene = true;
+    io.workUnit = "rays";
+    return io;
+}
+
+void HybridPass::execute(PassContext& ctx) {
+    const SSGIQuality q = SSGIPass::traced(mParams.quality, mParams.rays);
+    const ssgi::Frame f = ssgi::bindFrame(HostPorts{ctx}, ctx.frame(), q.rays, q.steps, false, 1.0f);
+    const RayScene& rs = ctx.scene();
+    const DirectLighting lighting(rs, 1);
+    const CameraView& cam = ctx.frame().camera.current;
+    const float cm = float(rs.scene().centimetre());
+    const Vec3d eyeOffset = cam.position - rs.origin();
+    const float maxBias = std::max(mParams.normalBias, kMinNormalBiasCm) * cm;
+    const float minBias = kMinNormalBiasCm * cm;
+    DiffusePathSetup paths;
+    paths.scene = &rs;
+    paths.lighting = &lighting;
+    paths.lights = &rs.scene().lights;
+    paths.bounces = mParams.maxBounces;
+    paths.nee = mParams.nextEventEstimationSamples;
+    const uint32_t rngKey = Rng::frameKey(ctx.frame().number, kSeed);
+    const bool wantDistance = bool(f.hitDistance);
+
+    forEachTile(f.ao.width, f.ao.height, [&](const Tile& t) {
+        HybridWork work;
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                unsigned long long counts[ssgi::kCounterCount] = {};
+                ssgi::PixelStart start;
+                if (!ssgi::beginPixel(f, x, y, counts, start)) {
+                    ++work.skipped;
+                    continue;
+                }
+                ++work.pixels;
+                // The fallback rays' common origin: the pixel's surface as the RT passes leave it.
+                const double d = f.depth.at(x, y);
+                const Vec3d offset = cam.translatedFromPixel(x, y, d);
+                const Vec3f p(eyeOffset + offset);
+                const double eyeDistance = length(offset);
+                const Vec3f toEye(-offset / eyeDistance);
+                const Vec3f n{f.normal[0].at(x, y), f.normal[1].at(x, y), f.normal[2].at(x, y)};
+                Rng rng = Rng::fromKey(rngKey, x, y);
+                ssgi::PixelTrace trace;
+                unsigned hzbSamples = 0;
+                for (int r = 0; r < f.setup.rays; ++r) {
+                    // SSGI's ray and march (algorithms §4.4–4.7), unchanged.
+                    const Vec3f L =
+                        ssgi::rayDirection(start.nView, x, y, f.setup.frameMod8, r, f.setup.rays);
+                    RaySteps steps;
+                    if (ssgi::raySteps(f.setup, start, L, steps)) {
+                        float level;
+                        const int hitSample = marchHzb(f.setup.hzb, steps, f.setup.steps,
+                                                       f.setup.levelStep, level, hzbSamples);
+                        if (hitSample >= 0) {
+                            trace.add(ssgi::shadeHit(f.setup, start, steps, hitSample, level,
+                                                     wantDistance));
+                            ++work.onScreen;
+                            continue;
+                        }
+                    }
+                    // The march found nothing: the same direction through the scene, from the
+                    // pixel (a march that saw nothing may still have passed behind a surface).
+                    ++work.fallback;
+                    const Vec3f dir = normalize(Vec3f(cam.right) * L.x + Vec3f(cam.up) * L.y +
+                                                Vec3f(cam.forward) * L.z);
+                    const Vec3f org = biasedRayOrigin(p, toEye, float(eyeDistance), n,
+                                                      dot(n, dir), maxBias, minBias);
+                    const DiffusePath path =
+                        traceDiffusePath(paths, org, dir, 0.0f, rng, work.rays, work.shadowRays);
+                    if (path.firstHit < 0.0f) continue;  // left the scene: no light, as a miss
+                    ++work.fallbackHits;
+                    // Weighted as SSGI weighs an on-screen hit, so the pixel's resolve undoes
+                    // one weighting over all its hits (algorithms §4.7–4.8).
+                    ssgi::RayTrace hit;
+                    const Vec3f c = path.radiance;
+                    const float karis = 1.0f / (1.0f + ue::luma(c.x, c.y, c.z));
+                    hit.weighted[0] = c.x * karis;
+                    hit.weighted[1] = c.y * karis;
+                    hit.weighted[2] = c.z * karis;
+                    hit.hit = true;
+                    hit.measured = wantDistance;
+                    hit.distance = path.firstHit;
+                    trace.add(hit);
+                }
+                work.hzbSamples += hzbSamples;
+                ssgi::finishPixel(f, x, y, trace);
+            }
+        ctx.addWork("pixels", work.pixels);
+        ctx.addWork("skippedPixels", work.skipped);
+        ctx.addWork("rays", work.onScreen + work.fallback);
+        ctx.addWork("onScreenRays", work.onScreen);
+        ctx.addWork("fallbackRays", work.fallback);
+        ctx.addWork("fallbackHits", work.fallbackHits);
+        ctx.addWork("sceneRays", work.rays);
+        ctx.addWork("shadowRays", work.shadowRays);
+        ctx.addWork("hzbSamples", work.hzbSamples);
+    });
+}
+
+}  // namespace fp

@@ -1,0 +1,31 @@
+#pragma once
+// ★ framepass's own, not one of Unreal's passes: screen-space GI that falls back to the scene
+// (algorithms §12.3). Every ray is SSGI's — drawn, marched through the HZB and, where it hits on
+// screen, shaded from last frame's colour exactly as `ssgi` does. A ray the march cannot finish
+// (it leaves the screen, passes behind surfaces, or ends without a hit) is traced again through
+// the scene's geometry and its hit shaded as `rt_global_illumination` shades one: the lights
+// sampled with shadow rays, no emission, `maxBounces` diffuse bounces. Lumen's screen traces
+// before its ray-traced fallback are the precedent. CPU, one ray at a time.
+#include "framework/Params.h"
+#include "framework/Pass.h"
+
+namespace fp {
+
+struct HybridParams {
+    int quality = 4;        //!< r.SSGI.Quality: the screen rays' count and steps
+    int rays = 0;           //!< rays per pixel in place of the quality's (0: the quality's)
+    int maxBounces = 1;     //!< hits a fallback path shades
+    int nextEventEstimationSamples = 2;  //!< light samples at each fallback hit
+    float normalBias = 0.1f;  //!< cm (min 0.01): the fallback ray's origin, as the RT passes
+};
+
+class HybridPass final : public PassWithParams<HybridParams> {
+public:
+    static ParamSpec<Params> paramSpec();
+    using PassWithParams::PassWithParams;
+
+    PassIO describe() const override;
+    void execute(PassContext& ctx) override;
+};
+
+}  // namespace fp
