@@ -11,6 +11,7 @@
 #include "passes/reflection_environment/ReflectionEnvironmentPass.h"
 #include "passes/rt_ambient_occlusion/RTAmbientOcclusionPass.h"
 #include "passes/rt_global_illumination/RTGlobalIlluminationPass.h"
+#include "passes/rt_reflections/RTReflectionsPass.h"
 #include "passes/rt_shadows/RTShadowsPass.h"
 #include "passes/screen_space_oracle/ScreenSpaceOraclePass.h"
 #include "passes/shadow_denoise/ShadowDenoisePass.h"
@@ -44,6 +45,10 @@ const PassRegistry& builtinPasses() {
                                       "ray-traced ambient occlusion: cosine rays about the "
                                       "depth buffer's normal up to the AO radius, through "
                                       "Embree packets (algorithms §12.1)");
+        r.add<RTReflectionsPass>("rt_reflections",
+                                 "ray-traced reflections: mirror or GGX rays through Embree, hits "
+                                 "lit by the scene's lights with shadow rays, the sky on a miss; "
+                                 "SSR's output format (algorithms §12.4)");
         r.add<HybridPass>("hybrid",
                           "framepass's own: SSGI's rays marched on screen, those it cannot "
                           "finish traced through the scene and shaded as RTGI shades them "

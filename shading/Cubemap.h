@@ -98,6 +98,9 @@ public:
     /// Renders `size`² texels a face from `radiance(direction)`, 2×2 samples a texel (so a finer
     /// source, a lat-long map, is averaged rather than point-sampled), then prefilters the mips.
     static Cubemap render(int size, const std::function<Vec3f(const Vec3f&)>& radiance);
+    /// Unreal's sky light cubemap size (r.SkyLight… default 128): a sky light's radiance is
+    /// resampled to it for the reflections and its SH.
+    static constexpr int kSkyLightSize = 128;
     /// The same from faces already made: a strip of six `size`² faces stacked top to bottom
     /// (+X, −X, +Y, −Y, +Z, −Z), RGB, size a power of two.
     static Cubemap fromFaces(const Image& strip);

@@ -100,7 +100,8 @@ bool DirectLighting::visible(const SurfacePoint& s, const LightSample& ls) const
     return !mScene.occluded(s.rayOrigin(), ls.shadowDir, 0.0f, ls.shadowDistance);
 }
 
-Vec3f DirectLighting::shade(const SurfacePoint& s, Rng& rng, uint64_t& shadowRays) const {
+Vec3f DirectLighting::shade(const SurfacePoint& s, Rng& rng, uint64_t& shadowRays,
+                            bool shadowed) const {
     Vec3f total;
     for (const Light& light : mScene.scene().lights) {
         const int n = samplesFor(light);
@@ -111,8 +112,10 @@ Vec3f DirectLighting::shade(const SurfacePoint& s, Rng& rng, uint64_t& shadowRay
             const LightSample ls = sample(light, s, u, v);
             const float NoL = dot(s.normal, ls.L);
             if (NoL <= 0.0f || !ls.reaches()) continue;
-            ++shadowRays;
-            if (!visible(s, ls)) continue;
+            if (shadowed) {
+                ++shadowRays;
+                if (!visible(s, ls)) continue;
+            }
             sum += s.brdf.evaluate(s.normal, s.toViewer, ls.L) * ls.irradiance * NoL;
         }
         total += sum * (1.0f / float(n));

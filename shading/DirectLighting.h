@@ -47,8 +47,9 @@ public:
     /// `samples`: shadow (and area) samples for lights with extent; punctual lights use one.
     DirectLighting(const RayScene& scene, int samples) : mScene(scene), mSamples(samples) {}
 
-    /// Reflected radiance towards V from all lights.
-    Vec3f shade(const SurfacePoint& s, Rng& rng, uint64_t& shadowRays) const;
+    /// Reflected radiance towards V from all lights; `shadowed` false traces no shadow rays (every
+    /// light unshadowed).
+    Vec3f shade(const SurfacePoint& s, Rng& rng, uint64_t& shadowRays, bool shadowed = true) const;
 
     /// Samples `light` at (u, v) ∈ [0,1)² for the point `s`.
     LightSample sample(const Light& light, const SurfacePoint& s, float u, float v) const;

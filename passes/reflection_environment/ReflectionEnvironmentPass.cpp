@@ -71,7 +71,7 @@ const ReflectionEnvironmentPass::SkyLighting& ReflectionEnvironmentPass::skyLigh
     if (!mSky || mSky->source != &sky) {
         auto s = std::make_shared<SkyLighting>();
         s->source = &sky;
-        s->cube = Cubemap::render(kSkyCubeSize, [&](const Vec3f& d) { return sky.radiance(d); });
+        s->cube = Cubemap::render(Cubemap::kSkyLightSize, [&](const Vec3f& d) { return sky.radiance(d); });
         s->sh = s->cube.projectSH();
         mSky = std::move(s);
     }

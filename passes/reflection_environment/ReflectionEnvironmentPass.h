@@ -35,9 +35,6 @@ public:
 
     FP_PASS_HAS_CUDA_KERNEL  // ReflectionEnvironmentPass.cu
 
-    /// Unreal's sky light cubemap size (r.SkyLight… default 128): the sky is resampled to it.
-    static constexpr int kSkyCubeSize = 128;
-
     /// reflection_environment::specularOcclusion (the kernel's): Lagarde's, §8.2 step 5.
     static float specularOcclusion(float NoV, float ao, float roughness);
 

@@ -42,7 +42,7 @@ JSON
 cat > "$DIR/rt_noscene.json" <<JSON
 { "version": 1, "engine": "ue4.27-raytracing", "capture": "cornell.exr" }
 JSON
-check "the ray-traced preset composites RTGI and RTAO, no SSGI" bash -c "'$FP' plan '$DIR/rt.json' > '$DIR/rt_plan.txt' && grep -q 'diffuse←rt_global_illumination.diffuse' '$DIR/rt_plan.txt' && grep -q 'ao←rt_ambient_occlusion.ao' '$DIR/rt_plan.txt' && ! grep -q '(ssgi)' '$DIR/rt_plan.txt' && '$FP' run '$DIR/rt.json' -o '$DIR/rt_out' >/dev/null && test -f '$DIR/rt_out/raytraced.0001.exr' && test -f '$DIR/rt_out/final.0001.png'"
+check "the ray-traced preset composites RTGI, RTAO and RTR, no SSGI or SSR" bash -c "'$FP' plan '$DIR/rt.json' > '$DIR/rt_plan.txt' && grep -q 'diffuse←rt_global_illumination.diffuse' '$DIR/rt_plan.txt' && grep -q 'ao←rt_ambient_occlusion.ao' '$DIR/rt_plan.txt' && grep -q 'reflection←rt_reflections.reflection' '$DIR/rt_plan.txt' && ! grep -q '(ssgi)' '$DIR/rt_plan.txt' && ! grep -q '(ssr)' '$DIR/rt_plan.txt' && '$FP' run '$DIR/rt.json' -o '$DIR/rt_out' >/dev/null && test -f '$DIR/rt_out/raytraced.0001.exr' && test -f '$DIR/rt_out/final.0001.png'"
 check "the ray-traced preset without a scene says it needs one" expect_exit 2 "a pass needs the scene; name the scene JSON" "$FP" run "$DIR/rt_noscene.json" -o "$DIR/rt_none"
 cat > "$DIR/rt_bad.json" <<JSON
 { "version": 1, "engine": "ue4.27-raytrace", "capture": "cornell.exr" }

@@ -1,0 +1,199 @@
+#include "passes/rt_reflections/RTReflectionsPass.h"
+
+#include "foundation/Environment.h"
+#include "foundation/FloatToInt.h"
+#include "foundation/Random.h"
+#include "foundation/RayScene.h"
+#include "foundation/Sampling.h"
+#include "foundation/ShadingModel.h"
+#include "foundation/Tiles.h"
+#include "framework/PassPorts.h"
+#include "screenspace/GBuffer.h"
+#include "shading/DirectLighting.h"
+#include "shading/RayOriginBias.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fp {
+
+namespace {
+
+constexpr const char* kReflection = "reflection";
+constexpr const char* kHitDistance = "hitDistance";
+constexpr uint32_t kSeed = 0x52545246u;     // "RTRF"
+constexpr float kMinNormalBiasCm = 0.01f;   // the bias along a ray along the normal
+constexpr float kMirrorRoughness = 0.001f;  // below it the ray is the mirror direction
+constexpr float kImportantSampleBias = 0.1f;  // GGX_IMPORTANT_SAMPLE_BIAS: the tail left out
+constexpr float kSkyHitDistance = 1e20f;      // Unreal's hit distance for a ray that saw the sky
+
+// Unreal's RoughnessFade: 1 up to half the cutoff, 0 at it.
+float roughnessFade(float roughness, float maxRoughness) {
+    return std::clamp(2.0f - 2.0f * roughness / maxRoughness, 0.0f, 1.0f);
+}
+
+}  // namespace
+
+ParamSpec<RTReflectionsParams> RTReflectionsPass::paramSpec() {
+    ParamSpec<RTReflectionsParams> s;
+    s.add("samplesPerPixel", &Params::samplesPerPixel,
+          "reflection rays per pixel; −1 = the post-process volume's RayTracingReflectionsSamplesPerPixel (1)")
+        .range(-1, 256)
+        .cvar("r.RayTracing.Reflections.SamplesPerPixel");
+    s.add("maxRoughness", &Params::maxRoughness,
+          "rougher pixels trace nothing (faded from half of it); −1 = the post-process volume's "
+          "RayTracingReflectionsMaxRoughness (0.6)")
+        .range(-1.0, 1.0)
+        .cvar("r.RayTracing.Reflections.MaxRoughness");
+    s.add("shadows", &Params::shadows,
+          "shadow rays at hits: 0 off (every light unshadowed), 1 hard, 2 soft (framepass samples "
+          "the light's area for both); −1 = the post-process volume's hard")
+        .range(-1, 2)
+        .cvar("r.RayTracing.Reflections.Shadows");
+    s.add("normalBias", &Params::normalBias, "the reflection ray's origin bias, cm")
+        .range(0.01, 1e6)
+        .cvar("r.RayTracing.Reflections.NormalBias");
+    return s;
+}
+
+PassIO RTReflectionsPass::describe() const {
+    PassIO io;
+    io.inputs = {
+        gbuffer::depthInput(),
+        gbuffer::normalInput(),
+        gbuffer::shadingModelInput("unlit, hair and sky pixels are skipped"),
+        gbuffer::roughnessInput("the GGX lobe the ray is drawn from, and the cutoff"),
+    };
+    io.outputs = {
+        {.name = kReflection,
+         .channels = {"R", "G", "B", "A"},
+         .kind = PortKind::Color,
+         .doc = "pre-BRDF reflected radiance × the roughness fade, coverage (the fade) in A: "
+                "what ssr.reflection holds, for reflection_environment"},
+        {.name = kHitDistance,
+         .channels = {"Y"},
+         .doc = "mean distance to the rays' hits, scene units; 1e20 where only the sky was seen, "
+                "−1 no ray hit, −2 skipped"},
+    };
+    io.needsCamera = true;
+    io.needsScene = true;
+    io.workUnit = "rays";
+    return io;
+}
+
+void RTReflectionsPass::execute(PassContext& ctx) {
+    const Extent size = ctx.frame().extent;
+    Image& reflection = ctx.output(kReflection, {size}).image();
+    Plane& hitDistance = ctx.output(kHitDistance, {size}).image().plane(0);
+    const RayScene& rs = ctx.scene();
+    const SkyLight& skyLight = rs.scene().environment.sky;
+    if (skyLight.enabled && (!mSky || mSky->source != &skyLight)) {
+        auto sky = std::make_shared<Sky>();
+        sky->source = &skyLight;
+        sky->cube = Cubemap::render(Cubemap::kSkyLightSize,
+                                    [&](const Vec3f& d) { return skyLight.radiance(d); });
+        sky->sh = sky->cube.projectSH();
+        mSky = std::move(sky);
+    }
+    const Sky* sky = skyLight.enabled ? mSky.get() : nullptr;
+    const DirectLighting lighting(rs, 1);
+    const CameraView& cam = ctx.frame().camera.current;
+    const float cm = float(rs.scene().centimetre());
+    const Vec3d eyeOffset = cam.position - rs.origin();
+    const int spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 1;
+    const float maxRoughness =
+        std::clamp(mParams.maxRoughness < 0.0f ? 0.6f : mParams.maxRoughness, 0.01f, 1.0f);
+    const bool shadowed = mParams.shadows != 0;
+    const float maxBias = std::max(mParams.normalBias, kMinNormalBiasCm) * cm;
+    const float minBias = kMinNormalBiasCm * cm;
+    const uint32_t rngKey = Rng::frameKey(ctx.frame().number, kSeed);
+
+    const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
+    const Plane& model = ctx.input(gbuffer::kShadingModel)->image().plane(0);
+    const Image& normal = ctx.input(gbuffer::kNormal)->image();
+    const Plane& roughnessPlane = ctx.input(gbuffer::kRoughness)->image().plane(0);
+
+    forEachTile(size.width, size.height, [&](const Tile& t) {
+        uint64_t rays = 0, shadowRays = 0, pixels = 0, skipped = 0, skyRays = 0;
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                const double d = depth.at(x, y);
+                const float roughness = roughnessPlane.at(x, y);
+                const float fade = roughnessFade(roughness, maxRoughness);
+                if (!isLitSurface(d, model.at(x, y)) || truncToInt(model.at(x, y), 0, 255) == kHair ||
+                    fade <= 0.0f) {
+                    for (int c = 0; c < 4; ++c) reflection.plane(c).at(x, y) = 0.0f;
+                    hitDistance.at(x, y) = -2.0f;
+                    ++skipped;
+                    continue;
+                }
+                const Vec3d offset = cam.translatedFromPixel(x, y, d);
+                const Vec3f p(eyeOffset + offset);
+                const double eyeDistance = length(offset);
+                const Vec3f V(-offset / eyeDistance);
+                const Vec3f N{normal.plane(0).at(x, y), normal.plane(1).at(x, y),
+                              normal.plane(2).at(x, y)};
+                Rng rng = Rng::fromKey(rngKey, x, y);
+                Vec3f sum;
+                double distanceSum = 0;
+                int hits = 0, sawSky = 0;
+                for (int k = 0; k < spp; ++k) {
+                    const float e1 = rng.nextFloat(), e2 = rng.nextFloat();
+                    Vec3f L;
+                    if (roughness < kMirrorRoughness) {
+                        L = reflect(V, N);
+                    } else {
+                        // GGX visible normals with a² = roughness⁴; the disk's radius coordinate
+                        // scaled by 0.9 leaves out the lobe's tail.
+                        const Vec3f H = sampleGgxVisibleNormal(N, V, roughness * roughness,
+                                                               e2 * (1.0f - kImportantSampleBias), e1);
+                        L = reflect(V, H);
+                    }
+                    const float NoL = dot(N, L);
+                    if (NoL < 0.0f) L = normalize(L - N * (2.0f * NoL));  // mirrored back above
+                    const Vec3f org = biasedRayOrigin(p, V, float(eyeDistance), N, dot(N, L),
+                                                      maxBias, minBias);
+                    ++rays;
+                    const RayHit hit = rs.intersect(org, L, 0.0f, std::numeric_limits<float>::infinity());
+                    if (!hit.hit) {
+                        if (sky) {
+                            sum += sky->cube.sample(L, sky->cube.mipForRoughness(roughness));
+                            ++sawSky;
+                        }
+                        continue;
+                    }
+                    ++hits;
+                    distanceSum += hit.t;
+                    const SurfacePoint s = surfaceAt(rs, hit, org, L);
+                    // The hit as Unreal's material hit shader lights it: the lights (the view
+                    // vector the ray's), its emission, and its diffuse colour × the sky light's
+                    // SH irradiance (the precomputed indirect light framepass has). A light's
+                    // visible shape sends no emission here: its reflection is the light's own
+                    // specular, which deferred_lighting adds (algorithms §12.4).
+                    Vec3f radiance = rs.scene().emissionTowardsSurfaces(hit.mesh) +
+                                     lighting.shade(s, rng, shadowRays, shadowed);
+                    if (sky) radiance += s.brdf.diffuseColor * sky->sh.diffuse(s.normal);
+                    sum += Vec3f{std::max(radiance.x, 0.0f), std::max(radiance.y, 0.0f),
+                                 std::max(radiance.z, 0.0f)};
+                }
+                const float scale = fade / float(spp);
+                reflection.plane(0).at(x, y) = sum.x * scale;
+                reflection.plane(1).at(x, y) = sum.y * scale;
+                reflection.plane(2).at(x, y) = sum.z * scale;
+                // Coverage: the samples that found something (a surface, or the sky); a miss
+                // with no sky light leaves its share to the reflection captures.
+                reflection.plane(3).at(x, y) = fade * float(hits + sawSky) / float(spp);
+                hitDistance.at(x, y) = hits > 0 ? float(distanceSum / hits)
+                                                : (sawSky > 0 ? kSkyHitDistance : -1.0f);
+                skyRays += uint64_t(sawSky);
+                ++pixels;
+            }
+        ctx.addWork("rays", rays);
+        ctx.addWork("shadowRays", shadowRays);
+        ctx.addWork("skyRays", skyRays);
+        ctx.addWork("pixels", pixels);
+        ctx.addWork("skippedPixels", skipped);
+    });
+}
+
+}  // namespace fp

@@ -1,0 +1,43 @@
+#pragma once
+// Ray-traced reflections, Unreal 4.27's (algorithms §12.4, RayTracingReflections.usf): per pixel
+// a mirror or GGX (visible-normal) ray, its closest hit shaded with the scene's material and
+// lights (one shadow ray a light), its emission and the sky light's diffuse; a miss takes the sky.
+// The output is what SSR's is — pre-BRDF radiance with coverage in alpha — so
+// reflection_environment takes it in SSR's place and applies EnvBRDF. CPU, through Embree.
+#include "framework/Params.h"
+#include "framework/Pass.h"
+#include "shading/Cubemap.h"
+#include "shading/SphericalHarmonics.h"
+
+#include <memory>
+
+namespace fp {
+
+struct SkyLight;
+
+struct RTReflectionsParams {
+    int samplesPerPixel = -1;   //!< −1: the post-process volume's 1
+    float maxRoughness = -1.0f; //!< −1: the post-process volume's 0.6
+    int shadows = -1;           //!< −1: hard (1); 0 off; 1, 2 shadow rays
+    float normalBias = 0.1f;    //!< cm: the reflection ray's origin bias
+};
+
+class RTReflectionsPass final : public PassWithParams<RTReflectionsParams> {
+public:
+    static ParamSpec<Params> paramSpec();
+    using PassWithParams::PassWithParams;
+
+    PassIO describe() const override;
+    void execute(PassContext& ctx) override;
+
+private:
+    // The sky light as the reflections see it: its cubemap (a miss) and SH (a hit's diffuse).
+    struct Sky {
+        const SkyLight* source = nullptr;
+        Cubemap cube;
+        SH3 sh;
+    };
+    std::shared_ptr<const Sky> mSky;
+};
+
+}  // namespace fp

@@ -1,0 +1,135 @@
+// rt_reflections against analytic answers: a mirror floor shows a point-lit Lambert wall's
+// radiance ρ/π·I·cosθ/r²; under an open sky it shows the sky; the roughness fade sets the
+// coverage; a light's visible shape is not reflected as emission (the light's specular is).
+#include "tests/support/TestScenes.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+namespace fp {
+
+namespace {
+
+std::map<std::string, Texture> runRtr(test::MemorySource& src, nlohmann::json params = nlohmann::json::object()) {
+    return test::runChain(src, {test::node("rt_reflections", std::move(params))},
+                          {"rt_reflections.reflection", "rt_reflections.hitDistance"});
+}
+
+Material mirror() {
+    Material m;
+    m.baseColor = {1, 1, 1};
+    m.metallic = 1.0f;
+    m.roughness = 0.0f;
+    return m;
+}
+
+FrameCamera camera(const Vec3d& eye, const Vec3d& target, int w, int h, double fov) {
+    FrameCamera cam;
+    cam.current = CameraView::lookAt(eye, target, {0, 1, 0}, fov, w, h, 0.01);
+    cam.previous = cam.current;
+    return cam;
+}
+
+}  // namespace
+
+TEST_CASE("rt_reflections: a mirror floor shows the point-lit wall's radiance") {
+    // The truth tracer's test scene: a mirror floor (roughness 0: the mirror ray) before a Lambert
+    // wall (ρ = 0.6) lit by a spot whose inner cone covers the tested part of the wall. A floor
+    // pixel's reflection is the wall's radiance ρ/π·I·cosθ/r² at the mirrored point, coverage 1.
+    Scene s;
+    s.materials.push_back(mirror());
+    s.materials.push_back(test::lambert(0.6f));
+    s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 100.0, 0, 1));  // floor y = 0
+    s.meshes.push_back(test::quad({0, 50, 60}, {1, 0, 0}, {0, 1, 0}, 50.0, 1, 2));  // wall z = 60
+    Light l;
+    l.name = "spot";
+    l.type = LightType::Spot;
+    l.position = {10, 40, 20};
+    l.direction = {0, 0, 1};
+    l.innerConeDegrees = 30.0f;
+    l.outerConeDegrees = 35.0f;
+    l.intensity = 5000.0f;
+    s.lights.push_back(l);
+    const FrameCamera cam = camera({0, 20, -40}, {0, 5, 30}, 32, 24, 50.0);
+    auto src = test::captureToMemory(s, cam);
+    const auto out = runRtr(src);
+    const Image& r = out.at("rt_reflections.reflection").image();
+    const CameraView& c = cam.current;
+    int checked = 0;
+    for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) {
+            const Vec3d d = c.rayDirection(x, y);
+            if (d.y >= 0) continue;
+            const Vec3d p = c.position + d * (-c.position.y / d.y);  // on the floor
+            const Vec3d m{d.x, -d.y, d.z};                           // mirrored direction
+            // The ray leaves from the floor point moved as Unreal moves it (algorithms §9.2):
+            // 0.1 towards the camera, then up by lerp(0.1, 0.01, N·L).
+            const Vec3d o = p - d * 0.1 + Vec3d{0, 1, 0} * (0.1 + (0.01 - 0.1) * m.y);
+            const Vec3d w = o + m * ((60.0 - o.z) / m.z);            // on the wall
+            if (m.z <= 0 || std::abs(w.x) > 45 || w.y < 5 || w.y > 95) continue;
+            const Vec3d toLight = l.position - w;
+            const double r2 = dot(toLight, toLight), cosTheta = -toLight.z / std::sqrt(r2);
+            if (cosTheta < std::cos(29.0 * kPi / 180.0)) continue;  // outside the inner cone
+            const double expected = 0.6 / kPi * l.intensity * cosTheta / r2;
+            // To the float rounding of the position rebuilt from depth and of the shading.
+            CHECK(r.plane(1).at(x, y) == doctest::Approx(expected).epsilon(2e-4));
+            CHECK(r.plane(3).at(x, y) == 1.0f);
+            ++checked;
+        }
+    CHECK(checked > 60);
+}
+
+TEST_CASE("rt_reflections: under an open sky a mirror shows the sky, and the fade sets the coverage") {
+    Scene s;
+    s.materials.push_back(mirror());
+    s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 1000.0, 0, 1));
+    s.environment.sky.enabled = true;
+    s.environment.sky.color = {0.25f, 0.5f, 1.0f};
+    auto src = test::captureToMemory(s, camera({0, 20, -40}, {0, 0, 0}, 16, 16, 40.0));
+    const auto out = runRtr(src);
+    const Image& r = out.at("rt_reflections.reflection").image();
+    const Plane& hit = out.at("rt_reflections.hitDistance").image().plane(0);
+    // A constant sky's cubemap is that colour at every mip (to float rounding of its filter).
+    CHECK(r.plane(0).at(8, 12) == doctest::Approx(0.25).epsilon(1e-4));
+    CHECK(r.plane(2).at(8, 12) == doctest::Approx(1.0).epsilon(1e-4));
+    CHECK(r.plane(3).at(8, 12) == 1.0f);
+    CHECK(hit.at(8, 12) == 1e20f);
+
+    // Roughness 0.45 under the cutoff 0.6: fade 2 − 2·0.45/0.6 = 0.5, on colour and coverage.
+    s.materials[0].roughness = 0.45f;
+    auto rough = test::captureToMemory(s, camera({0, 20, -40}, {0, 0, 0}, 16, 16, 40.0));
+    const auto faded = runRtr(rough, {{"samplesPerPixel", 4}});
+    const Image& f = faded.at("rt_reflections.reflection").image();
+    CHECK(f.plane(3).at(8, 12) == doctest::Approx(0.5f));
+    CHECK(f.plane(0).at(8, 12) == doctest::Approx(0.125).epsilon(1e-3));
+    // Past the cutoff nothing is traced: 0 and −2.
+    const auto none = runRtr(rough, {{"maxRoughness", 0.4}});
+    CHECK(none.at("rt_reflections.reflection").image().plane(3).at(8, 12) == 0.0f);
+    CHECK(none.at("rt_reflections.hitDistance").image().plane(0).at(8, 12) == -2.0f);
+}
+
+TEST_CASE("rt_reflections: a light's visible shape is reflected by its light, not as emission") {
+    // A mirror floor under a glowing quad: as a plain emissive surface its emission is what the
+    // mirror shows; marked as a light's shape (Mesh::shapeOf) it adds nothing, the light's own
+    // specular (deferred_lighting) being its reflection. The light itself points away.
+    Scene s;
+    s.materials.push_back(mirror());
+    s.materials.push_back(test::lambert(0.0f, 2.0f));
+    s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 1000.0, 0, 1));
+    s.meshes.push_back(test::quad({0, 30, 0}, {1, 0, 0}, {0, 0, 1}, 1000.0, 1, 2));  // faces down
+    const FrameCamera cam = camera({0, 10, -5}, {0, 0, 5}, 16, 16, 40.0);
+    auto plain = test::captureToMemory(s, cam);
+    CHECK(runRtr(plain).at("rt_reflections.reflection").image().plane(0).at(8, 12) ==
+          doctest::Approx(2.0f));
+    Light l;
+    l.name = "panel";
+    l.type = LightType::Directional;
+    l.direction = {0, 1, 0};  // shines upwards: lights nothing here
+    s.lights.push_back(l);
+    s.meshes[1].shapeOf = 0;
+    auto shape = test::captureToMemory(s, cam);
+    CHECK(runRtr(shape).at("rt_reflections.reflection").image().plane(0).at(8, 12) == 0.0f);
+}
+
+}  // namespace fp
