@@ -49,4 +49,19 @@ double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, in
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+double timeBareClosestHit(const RayScene& scene, const std::vector<Ray>& rays, uint64_t& hits) {
+    const auto start = std::chrono::steady_clock::now();
+    hits = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, rays.size(), 1024), uint64_t(0),
+        [&](const tbb::blocked_range<std::size_t>& r, uint64_t sum) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const Ray& q = rays[i];
+                sum += scene.intersect(q.org, q.dir, q.tnear, q.tfar).hit;
+            }
+            return sum;
+        },
+        [](uint64_t a, uint64_t b) { return a + b; });
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 }  // namespace fp::app

@@ -1,7 +1,7 @@
 #pragma once
-// The yardstick for a shadow pass's speed: the same shadow rays, replayed through Embree in a bare
+// The yardstick for a ray-traced pass's speed: the same rays, replayed through Embree in a bare
 // parallel loop with nothing else per ray. bench records the rays of one run of the chain
-// (RayScene::setOcclusionLog) and times them here, so "pass rays/s ÷ bare rays/s" is how much of
+// (RayScene::setRayLog) and times them here, so "pass rays/s ÷ bare rays/s" is how much of
 // Embree's speed the pass keeps.
 #include "foundation/RayScene.h"
 
@@ -17,5 +17,9 @@ namespace fp::app {
 /// (and can be checked).
 double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, int width,
                          bool closestHits, uint64_t& blocked);
+
+/// Seconds to find every ray's closest hit on all threads, one ray at a time (rtcIntersect1), as
+/// the ray-traced GI, reflections and the hybrid ask for them; `hits` receives how many hit.
+double timeBareClosestHit(const RayScene& scene, const std::vector<Ray>& rays, uint64_t& hits);
 
 }  // namespace fp::app

@@ -88,43 +88,71 @@ ErrorImages errorImages(const std::string& heat,
     return {preview(e.source), preview(e.reference), heatPng};
 }
 
-// Replays the shadow rays of one more run through bare Embree loops: packets of 8 (the yardstick),
-// of 16 where the pass traces them so (AVX-512), and single rays; where the chain reads a shadow
-// pass's hit distance, also the pass's packets with their closest-hit queries, the same work.
+// Replays the rays of one more run through bare Embree loops, each tracing pass's rays apart:
+// occlusion rays in packets of 8 (the yardstick), of 16 where the pass traces them so (AVX-512),
+// and single rays; where the chain reads a shadow pass's hit distance, also the pass's packets
+// with their closest-hit queries (the same work); closest-hit rays one at a time. With more than
+// one tracing pass each loop is named after its pass.
 void addBareRayLoops(const Plan& plan,
                      CachedSource& source,
                      KeepingSink& sink,
                      const BenchOptions& opt,
                      BenchSetting& setting) {
-    RayScene::OcclusionLog log;
+    RayScene::RayLog log;
+    std::vector<std::pair<std::string, RayScene::RayLog>> perPass;
     const RayScene& scene = source.scene();
-    scene.setOcclusionLog(&log);
+    scene.setRayLog(&log);
     sink.keep = false;
-    executePlan(plan, source, sink);
-    scene.setOcclusionLog(nullptr);
-    struct Loop {
-        int width;
-        bool closestHits;
-    };
-    std::vector<Loop> loops = {{8, false}};
-    if (scene.packetWidth() == 16)
-        loops.push_back({16, false});
-    loops.push_back({1, false});
-    if (log.closestHits)
-        loops.push_back({scene.packetWidth(), true});
-    for (const Loop& loop : loops) {
+    // After each pass, the rays it traced move to its own log (passes run one at a time).
+    executePlan(plan, source, sink, [&](int, int, const PassReport& pass) {
+        if (log.rays.empty() && log.closestRays.empty())
+            return;
+        perPass.emplace_back(pass.name, std::move(log));
+        log = RayScene::RayLog{};
+    });
+    scene.setRayLog(nullptr);
+    auto timed = [&](const std::function<double()>& once) {
         std::vector<double> seconds;
-        uint64_t blocked = 0;
         for (int r = 0; r < opt.warmup + opt.runs; ++r) {
-            const double t =
-                timeBareOcclusion(scene, log.rays, loop.width, loop.closestHits, blocked);
+            const double t = once();
             if (r >= opt.warmup)
                 seconds.push_back(t);
         }
-        setting.passes.push_back(
-            {fmt::format("bare loop rtcOccluded{}{}", loop.width,
-                         loop.closestHits ? fmt::format(" + rtcIntersect{}", loop.width) : ""),
-             kBareLoopType, "rays", log.rays.size(), TimingStats::of(seconds)});
+        return TimingStats::of(seconds);
+    };
+    for (const auto& [pass, rays] : perPass) {
+        const std::string of = perPass.size() > 1 ? " (" + pass + ")" : "";
+        struct Loop {
+            int width;
+            bool closestHits;
+        };
+        std::vector<Loop> loops;
+        if (!rays.rays.empty()) {
+            loops.push_back({8, false});
+            if (scene.packetWidth() == 16)
+                loops.push_back({16, false});
+            loops.push_back({1, false});
+            if (rays.closestHits)
+                loops.push_back({scene.packetWidth(), true});
+        }
+        for (const Loop& loop : loops) {
+            uint64_t blocked = 0;
+            setting.passes.push_back(
+                {fmt::format("bare loop rtcOccluded{}{}{}", loop.width,
+                             loop.closestHits ? fmt::format(" + rtcIntersect{}", loop.width) : "",
+                             of),
+                 kBareLoopType, "rays", rays.rays.size(), timed([&] {
+                     return timeBareOcclusion(scene, rays.rays, loop.width, loop.closestHits,
+                                              blocked);
+                 })});
+        }
+        // The closest-hit queries of the ray-traced GI, reflections and the hybrid.
+        if (!rays.closestRays.empty()) {
+            uint64_t hits = 0;
+            setting.passes.push_back(
+                {"bare loop rtcIntersect1" + of, kBareLoopType, "rays", rays.closestRays.size(),
+                 timed([&] { return timeBareClosestHit(scene, rays.closestRays, hits); })});
+        }
     }
 }
 
@@ -223,7 +251,7 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     if (decomposer)
         decomposer->decompose(sessionOptions, sink.images, setting.label, setting.errors);
     if (std::any_of(plan.steps.begin(), plan.steps.end(),
-                    [](const PlanStep& s) { return s.io.roles.tracesShadowRays; }))
+                    [](const PlanStep& s) { return s.io.roles.tracesRays; }))
         addBareRayLoops(plan, source, sink, opt, setting);
     return setting;
 }

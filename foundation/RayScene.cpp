@@ -76,6 +76,10 @@ RayScene::~RayScene() {
 }
 
 RayHit RayScene::intersect(const Vec3f& org, const Vec3f& dir, float tnear, float tfar) const {
+    if (mLog) {
+        std::lock_guard<std::mutex> lock(mLogMutex);
+        if (mLog) mLog->closestRays.push_back({org, dir, tnear, tfar});
+    }
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh{};
@@ -421,7 +425,7 @@ BvhView RayScene::deviceBvh() const {
     return view;
 }
 
-void RayScene::setOcclusionLog(OcclusionLog* log) const {
+void RayScene::setRayLog(RayLog* log) const {
     std::lock_guard<std::mutex> lock(mLogMutex);
     mLog = log;
 }

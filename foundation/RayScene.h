@@ -99,15 +99,17 @@ public:
     /// The farthest distance from `p` (relative to origin()) to any point of the scene's bounds.
     float farthestDistance(const Vec3f& p) const;
 
-    /// What a log collects: the rays, and whether any packet also asked for the closest hits.
-    struct OcclusionLog {
+    /// What a log collects: the occlusion rays (and whether any packet also asked for the blocked
+    /// rays' closest hits), and apart the rays asked for their closest hit alone (intersect()).
+    struct RayLog {
         std::vector<Ray> rays;
         bool closestHits = false;
+        std::vector<Ray> closestRays;
     };
-    /// While a log is set, every ray of occluded(), occludedPacket() and
-    /// occludedWithDistancePacket() is appended to it, so `bench` can time a bare Embree loop
-    /// over exactly the rays a pass traced, asking what the pass asked. nullptr stops.
-    void setOcclusionLog(OcclusionLog* log) const;
+    /// While a log is set, every ray of occluded(), occludedPacket(),
+    /// occludedWithDistancePacket() and intersect() is appended to it, so `bench` can time bare
+    /// Embree loops over exactly the rays a pass traced, asking what the pass asked. nullptr stops.
+    void setRayLog(RayLog* log) const;
 
     /// framepass's own BVH of the scene (Bvh.h), built through Embree's rtcBuildBVH on first use
     /// and kept: what the GPU traverses, and the CPU where a pass asks for the GPU's code.
@@ -131,7 +133,7 @@ private:
     mutable std::mutex mBvhMutex;
     mutable std::unique_ptr<OwnBvh> mBvh;
     mutable std::mutex mLogMutex;
-    mutable OcclusionLog* mLog = nullptr;
+    mutable RayLog* mLog = nullptr;
     void log(const RayArrays& rays, int count, bool closestHits) const;
 };
 

@@ -75,8 +75,8 @@ struct PassRoles {
     /// colour): per capture truth layer, the output that estimates the same quantity. Its ray
     /// count is raysParam.
     std::map<std::string, std::string> oracleFor;
-    /// Traces shadow rays through RayScene: bench replays them in a bare Embree loop.
-    bool tracesShadowRays = false;
+    /// Traces rays through RayScene: bench replays them in bare Embree loops.
+    bool tracesRays = false;
 };
 
 struct PassIO {

@@ -82,7 +82,7 @@ ParamSpec<RTAmbientOcclusionParams> RTAmbientOcclusionPass::paramSpec() {
 
 PassIO RTAmbientOcclusionPass::describe() const {
     PassIO io;
-    io.roles.tracesShadowRays = true;  // bench replays its rays in a bare Embree loop
+    io.roles.tracesRays = true;  // bench replays its rays in a bare Embree loop
     io.inputs = {
         gbuffer::depthInput(),
         gbuffer::normalInput(),

@@ -72,6 +72,7 @@ ParamSpec<RTGlobalIlluminationParams> RTGlobalIlluminationPass::paramSpec() {
 
 PassIO RTGlobalIlluminationPass::describe() const {
     PassIO io;
+    io.roles.tracesRays = true;  // bench replays its rays in bare Embree loops
     io.inputs = {
         gbuffer::depthInput(),
         gbuffer::normalInput(),

@@ -58,6 +58,7 @@ ParamSpec<RTReflectionsParams> RTReflectionsPass::paramSpec() {
 
 PassIO RTReflectionsPass::describe() const {
     PassIO io;
+    io.roles.tracesRays = true;  // bench replays its rays in bare Embree loops
     io.inputs = {
         gbuffer::depthInput(),
         gbuffer::normalInput(),

@@ -344,7 +344,7 @@ ParamSpec<RTShadowsParams> RTShadowsPass::paramSpec() {
 
 PassIO RTShadowsPass::describe() const {
     PassIO io;
-    io.roles.tracesShadowRays = true;  // bench replays its rays in a bare Embree loop
+    io.roles.tracesRays = true;  // bench replays its rays in a bare Embree loop
     io.inputs = {
         gbuffer::depthInput(),
         gbuffer::normalInput(),

@@ -43,6 +43,7 @@ cat > "$DIR/rt_noscene.json" <<JSON
 { "version": 1, "engine": "ue4.27-raytracing", "capture": "cornell.exr" }
 JSON
 check "the ray-traced preset composites RTGI, RTAO and RTR, no SSGI or SSR" bash -c "'$FP' plan '$DIR/rt.json' > '$DIR/rt_plan.txt' && grep -q 'diffuse←rt_global_illumination.diffuse' '$DIR/rt_plan.txt' && grep -q 'ao←rt_ambient_occlusion.ao' '$DIR/rt_plan.txt' && grep -q 'reflection←rt_reflections.reflection' '$DIR/rt_plan.txt' && ! grep -q '(ssgi)' '$DIR/rt_plan.txt' && ! grep -q '(ssr)' '$DIR/rt_plan.txt' && '$FP' run '$DIR/rt.json' -o '$DIR/rt_out' >/dev/null && test -f '$DIR/rt_out/raytraced.0001.exr' && test -f '$DIR/rt_out/final.0001.png'"
+check "bench replays each ray-traced pass's rays through its own bare loops" bash -c "'$FP' bench '$DIR/rt.json' --runs 1 --warmup 0 > '$DIR/rt_bench.txt' && grep -q 'bare loop rtcIntersect1 (rt_global_illumination)' '$DIR/rt_bench.txt' && grep -q 'bare loop rtcIntersect1 (rt_reflections)' '$DIR/rt_bench.txt' && grep -q 'bare loop rtcOccluded8 (rt_ambient_occlusion)' '$DIR/rt_bench.txt' && grep -q 'bare loop rtcOccluded8 (rt_shadows_ceiling)' '$DIR/rt_bench.txt'"
 check "the ray-traced preset without a scene says it needs one" expect_exit 2 "a pass needs the scene; name the scene JSON" "$FP" run "$DIR/rt_noscene.json" -o "$DIR/rt_none"
 cat > "$DIR/rt_bad.json" <<JSON
 { "version": 1, "engine": "ue4.27-raytrace", "capture": "cornell.exr" }

@@ -393,7 +393,7 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
                              {"runs", runs}};
     // The CPU's run records its shadow rays (the same rays as the GPU's: one ray generation)
     // for the bare traversal kernel below.
-    RayScene::OcclusionLog rayLog;
+    RayScene::RayLog rayLog;
     uint64_t passRays = 0;
     double passRaySeconds = 0;
     for (const std::string device : {"cuda", "cpu"}) {
@@ -407,10 +407,10 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
             test::MemorySink sink;
             const bool logRays = device == "cpu" && r == 0;
             if (logRays)
-                cap->source.scene().setOcclusionLog(&rayLog);
+                cap->source.scene().setRayLog(&rayLog);
             const FrameReport rep = executePlan(plan, cap->source, sink);
             if (logRays)
-                cap->source.scene().setOcclusionLog(nullptr);
+                cap->source.scene().setRayLog(nullptr);
             if (r == 0)
                 continue;
             frames.push_back(rep.seconds);
