@@ -8,6 +8,20 @@
 
 namespace fp {
 
+/// The bias along a ray along the normal, and r.RayTracing.NormalBias's floor: 0.01 cm
+/// (algorithms §9.1).
+inline constexpr float kMinNormalBiasCm = 0.01f;
+
+/// A pass's biases in scene units from its normal bias in cm (floored at 0.01 cm) and the scene's
+/// units per cm: `max` at N·L = 0, `min` along the normal.
+struct RayBias {
+    float max, min;
+    static RayBias fromCm(float normalBiasCm, float unitsPerCm) {
+        return {(normalBiasCm > kMinNormalBiasCm ? normalBiasCm : kMinNormalBiasCm) * unitsPerCm,
+                kMinNormalBiasCm * unitsPerCm};
+    }
+};
+
 FP_HD inline Vec3f biasedRayOrigin(const Vec3f& p, const Vec3f& toEye, float eyeDistance,
                                    const Vec3f& n, float NoL, float maxBias, float minBias,
                                    bool backSide = false) {

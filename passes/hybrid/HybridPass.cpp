@@ -15,7 +15,6 @@ namespace fp {
 namespace {
 
 constexpr uint32_t kSeed = 0x48594252u;    // "HYBR"
-constexpr float kMinNormalBiasCm = 0.01f;  // r.RayTracing.NormalBias's floor, as rt_shadows
 
 // Work counted per tile.
 struct HybridWork {
@@ -90,8 +89,7 @@ void HybridPass::execute(PassContext& ctx) {
     const CameraView& cam = ctx.frame().camera.current;
     const float cm = float(rs.scene().centimetre());
     const Vec3d eyeOffset = cam.position - rs.origin();
-    const float maxBias = std::max(mParams.normalBias, kMinNormalBiasCm) * cm;
-    const float minBias = kMinNormalBiasCm * cm;
+    const RayBias bias = RayBias::fromCm(mParams.normalBias, cm);
     DiffusePathSetup paths;
     paths.scene = &rs;
     paths.lighting = &lighting;
@@ -144,7 +142,7 @@ void HybridPass::execute(PassContext& ctx) {
                     const Vec3f dir = normalize(Vec3f(cam.right) * L.x + Vec3f(cam.up) * L.y +
                                                 Vec3f(cam.forward) * L.z);
                     const Vec3f org = biasedRayOrigin(p, toEye, float(eyeDistance), n,
-                                                      dot(n, dir), maxBias, minBias);
+                                                      dot(n, dir), bias.max, bias.min);
                     const DiffusePath path =
                         traceDiffusePath(paths, org, dir, 0.0f, rng, work.rays, work.shadowRays);
                     if (path.firstHit < 0.0f) continue;  // left the scene: no light, as a miss

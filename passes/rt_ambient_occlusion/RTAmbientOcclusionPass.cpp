@@ -14,7 +14,6 @@ namespace fp {
 namespace {
 
 constexpr uint32_t kSeed = 0x5254414Fu;    // "RTAO"
-constexpr float kMinNormalBiasCm = 0.01f;  // r.RayTracing.NormalBias's floor, as rt_shadows
 
 // A tile's rays in flight, as structure-of-arrays, each with its pixel and weight: a few hundred
 // at a time, so they stay in the core's cache between being drawn, traced and summed.
@@ -127,8 +126,9 @@ void RTAmbientOcclusionPass::execute(PassContext& ctx) {
     s.spp = spp;
     s.radius = mParams.radius * cm;
     s.intensity = mParams.intensity;
-    s.maxBias = std::max(mParams.normalBias, kMinNormalBiasCm) * cm;
-    s.minBias = kMinNormalBiasCm * cm;
+    const RayBias bias = RayBias::fromCm(mParams.normalBias, cm);
+    s.maxBias = bias.max;
+    s.minBias = bias.min;
     s.noHitDistance = rtao::kNoHitCm * cm;
     s.rngKey = Rng::frameKey(ctx.frame().number, kSeed);
 

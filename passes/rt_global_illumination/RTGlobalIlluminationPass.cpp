@@ -24,7 +24,6 @@ constexpr const char* kDiffuse = "diffuse";
 constexpr const char* kAo = "ao";
 constexpr const char* kHitDistance = "hitDistance";
 constexpr uint32_t kSeed = 0x52544749u;    // "RTGI"
-constexpr float kMinNormalBiasCm = 0.01f;  // r.RayTracing.NormalBias's floor, as rt_shadows
 constexpr float kTMinCm = 0.01f;           // the first ray's TMin
 
 // One pixel's sums over its paths.
@@ -110,8 +109,7 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
     const Vec3d eyeOffset = cam.position - rs.origin();
     const int spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 4;
     const float aoRadius = mParams.aoRadius * cm, tMin = kTMinCm * cm;
-    const float maxBias = std::max(mParams.normalBias, kMinNormalBiasCm) * cm;
-    const float minBias = kMinNormalBiasCm * cm;
+    const RayBias bias = RayBias::fromCm(mParams.normalBias, cm);
     DiffusePathSetup paths;
     paths.scene = &rs;
     paths.lighting = &lighting;
@@ -163,7 +161,7 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
                     const float u = rng.nextFloat(), v = rng.nextFloat();
                     const Vec3f dir = cosineHemisphere(n, u, v);
                     const Vec3f org = biasedRayOrigin(p, toEye, float(eyeDistance), n, dot(n, dir),
-                                                      maxBias, minBias);
+                                                      bias.max, bias.min);
                     const DiffusePath path =
                         traceDiffusePath(paths, org, dir, tMin, rng, rays, shadowRays);
                     sums.radiance += path.radiance;

@@ -22,7 +22,6 @@ namespace {
 constexpr const char* kReflection = "reflection";
 constexpr const char* kHitDistance = "hitDistance";
 constexpr uint32_t kSeed = 0x52545246u;     // "RTRF"
-constexpr float kMinNormalBiasCm = 0.01f;   // the bias along a ray along the normal
 constexpr float kMirrorRoughness = 0.001f;  // below it the ray is the mirror direction
 constexpr float kImportantSampleBias = 0.1f;  // GGX_IMPORTANT_SAMPLE_BIAS: the tail left out
 constexpr float kSkyHitDistance = 1e20f;      // Unreal's hit distance for a ray that saw the sky
@@ -105,8 +104,7 @@ void RTReflectionsPass::execute(PassContext& ctx) {
     const float maxRoughness =
         std::clamp(mParams.maxRoughness < 0.0f ? 0.6f : mParams.maxRoughness, 0.01f, 1.0f);
     const bool shadowed = mParams.shadows != 0;
-    const float maxBias = std::max(mParams.normalBias, kMinNormalBiasCm) * cm;
-    const float minBias = kMinNormalBiasCm * cm;
+    const RayBias bias = RayBias::fromCm(mParams.normalBias, cm);
     const uint32_t rngKey = Rng::frameKey(ctx.frame().number, kSeed);
 
     const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
@@ -153,7 +151,7 @@ void RTReflectionsPass::execute(PassContext& ctx) {
                     const float NoL = dot(N, L);
                     if (NoL < 0.0f) L = normalize(L - N * (2.0f * NoL));  // mirrored back above
                     const Vec3f org = biasedRayOrigin(p, V, float(eyeDistance), N, dot(N, L),
-                                                      maxBias, minBias);
+                                                      bias.max, bias.min);
                     ++rays;
                     const RayHit hit = rs.intersect(org, L, 0.0f, std::numeric_limits<float>::infinity());
                     if (!hit.hit) {

@@ -27,7 +27,6 @@ using shadow::kShadow;
 using shadow::kTransmission;
 
 constexpr uint32_t kSeed = 0x52545348u;    // "RTSH"
-constexpr float kMinNormalBiasCm = 0.01f;  // algorithms §9.1: r.RayTracing.NormalBias min 0.01
 
 // Each light draws its own random numbers, so adding a light leaves the others' shadows alone.
 uint32_t lightSeed(const std::string& name) {
@@ -302,8 +301,9 @@ FrameSetup setupFrame(const RTShadowsParams& params, PassContext& ctx) {
     s.row.camera = cam;
     s.row.eyeOffset = cam.position - rs.origin();
     s.row.light = shadowLightShape(light, rs.origin());
-    s.row.maxBias = std::max(params.normalBias, kMinNormalBiasCm) * s.cm;
-    s.row.minBias = kMinNormalBiasCm * s.cm;
+    const RayBias bias = RayBias::fromCm(params.normalBias, s.cm);
+    s.row.maxBias = bias.max;
+    s.row.minBias = bias.min;
     s.row.transmission = params.transmission;
     s.row.rngKey = Rng::frameKey(ctx.frame().number, lightSeed(light.name));
     return s;
