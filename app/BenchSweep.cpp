@@ -176,14 +176,25 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
         // The error is the last frame's: its capture holds the rungs' truths.
         const int measured = mProbe.frames().back();
         const auto capture = mProbe.openCapture(mProbe.capturePath(measured));
-        auto targets = decompositionTargets(
-            session.plan(), capture ? capture->availableBuffers() : std::set<std::string>{});
+        mMeasuredBuffers = capture ? capture->availableBuffers() : std::set<std::string>{};
+        auto targets = decompositionTargets(session.plan(), mMeasuredBuffers);
         if (!targets.empty())
             mDecomposer.emplace(mProbe, std::move(targets), mOptions.decomposeRays, measured);
     }
     const BenchOptions& opt = mOptions;
     ErrorBreakdown* decomposer = decompose && mDecomposer ? &*mDecomposer : nullptr;
     const Plan& plan = session.plan();
+    // A setting that rebinds what an error measures (--sweep ERROR.source=…) has other sources to
+    // take apart than the decomposer was made for: it is not taken apart.
+    if (decomposer) {
+        const auto here = decompositionTargets(plan, mMeasuredBuffers);
+        auto same = [](const DecompositionTarget& a, const DecompositionTarget& b) {
+            return a.errorNode == b.errorNode && a.source == b.source && a.tracer == b.tracer;
+        };
+        if (!std::equal(here.begin(), here.end(), decomposer->targets().begin(),
+                        decomposer->targets().end(), same))
+            decomposer = nullptr;
+    }
     // A sequence (--frames) runs frame after frame with the temporal passes' history, as `run`
     // does; each frame's buffers are read once. Times are per frame; errors are the last frame's.
     const std::vector<int>& frames = session.frames();

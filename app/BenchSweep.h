@@ -73,6 +73,7 @@ private:
     SetupOptions mBase;  //!< the command line, plus the error_measure ports as dumps
     std::optional<ErrorBreakdown> mDecomposer;
     bool mDecomposerChecked = false;
+    std::set<std::string> mMeasuredBuffers;  //!< what the measured frame's capture holds
     int mRunsDone = 0, mTotalRuns = 1;
     std::set<std::string> mWarned;  //!< plan warnings already said
 };

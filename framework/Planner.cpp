@@ -24,6 +24,8 @@ struct NodeState {
     std::map<std::string, SourceRef> inputs;
     std::map<std::string, std::string> inputPointers;  // port → where its binding came from
     std::map<std::string, std::string> noPreviousCameraInputs;  // port → capture buffer
+    /// Inputs rebound by "set"/--set PASS.INPUT=SOURCE: port → (source, where it was set).
+    std::map<std::string, std::pair<std::string, std::string>> setInputs;
     bool live = false;
 };
 
@@ -170,9 +172,19 @@ public:
             if (n.desc->params.is_object())
                 for (const auto& [k, v] : n.desc->params.items())
                     merged[k] = v;
+            std::map<std::string, std::pair<std::string, std::string>> maybeInputs;
             if (auto it = sets.find(int(i)); it != sets.end()) {
                 // Each value on its own, so that an error names the setting that made it.
                 for (const auto& [k, v] : it->second.values.items()) {
+                    // PASS.INPUT=SOURCE on a name that is no parameter rebinds that input (bench
+                    // and tune sweep which method feeds an error measure so); checked below,
+                    // once the pass's ports are known.
+                    const bool isParam = std::any_of(n.type->params.begin(), n.type->params.end(),
+                                                     [&](const ParamInfo& p) { return p.name == k; });
+                    if (!isParam && v.is_string()) {
+                        maybeInputs[k] = {v.get<std::string>(), it->second.where.at(k)};
+                        continue;
+                    }
                     validateLayer(*n.type, nlohmann::json::object({{k, v}}), paramsPtr,
                                   it->second.where.at(k), "", mDiag);
                     merged[k] = v;
@@ -185,6 +197,13 @@ public:
             n.pass = n.type->create(paramsOk ? merged : nlohmann::json::object(), paramsPtr,
                                     ignored, n.params);
             n.io = n.pass->describe();
+            for (const auto& [name, set] : maybeInputs) {
+                if (findPort(n.io.inputs, name))
+                    n.setInputs[name] = set;
+                else  // neither: the parameter check says so, with its did-you-mean
+                    validateLayer(*n.type, nlohmann::json::object({{name, set.first}}), paramsPtr,
+                                  set.second, "", mDiag);
+            }
         }
     }
 
@@ -204,7 +223,10 @@ public:
                                     n.desc->type, port, didYouMean(port, portNames(n.io.inputs))));
             for (const auto& port : n.io.inputs) {
                 std::string text, where;
-                if (auto it = n.desc->inputs.find(port.name); it != n.desc->inputs.end()) {
+                if (auto set = n.setInputs.find(port.name); set != n.setInputs.end()) {
+                    text = set->second.first;
+                    where = set->second.second;
+                } else if (auto it = n.desc->inputs.find(port.name); it != n.desc->inputs.end()) {
                     text = it->second;
                     where = n.desc->pointer + "/inputs/" + jsonPointerEscape(port.name);
                 } else {

@@ -44,6 +44,19 @@ cat > "$DIR/rt_noscene.json" <<JSON
 JSON
 check "the ray-traced preset composites RTGI, RTAO and RTR, no SSGI or SSR" bash -c "'$FP' plan '$DIR/rt.json' > '$DIR/rt_plan.txt' && grep -q 'diffuse←rt_global_illumination.diffuse' '$DIR/rt_plan.txt' && grep -q 'ao←rt_ambient_occlusion.ao' '$DIR/rt_plan.txt' && grep -q 'reflection←rt_reflections.reflection' '$DIR/rt_plan.txt' && ! grep -q '(ssgi)' '$DIR/rt_plan.txt' && ! grep -q '(ssr)' '$DIR/rt_plan.txt' && '$FP' run '$DIR/rt.json' -o '$DIR/rt_out' >/dev/null && test -f '$DIR/rt_out/raytraced.0001.exr' && test -f '$DIR/rt_out/final.0001.png'"
 check "bench replays each ray-traced pass's rays through its own bare loops (the Cornell box's rough walls give rt_reflections none)" bash -c "'$FP' bench '$DIR/rt.json' --runs 1 --warmup 0 > '$DIR/rt_bench.txt' && grep -q 'bare loop rtcIntersect1 (rt_global_illumination)' '$DIR/rt_bench.txt' && grep -q 'bare loop rtcOccluded8 (rt_ambient_occlusion)' '$DIR/rt_bench.txt' && grep -q 'bare loop rtcOccluded8 (rt_shadows_ceiling)' '$DIR/rt_bench.txt'"
+cat > "$DIR/methods.json" <<JSON
+{ "version": 1, "capture": "cornell.exr", "scene": "$SRC/examples/cornell/scene.json",
+  "passes": [
+    { "name": "hzb", "type": "hzb" },
+    { "name": "prev", "type": "prev_color_reduction", "inputs": { "furthestHzb": "hzb.furthest" } },
+    { "name": "ssgi", "type": "ssgi", "inputs": { "furthestHzb": "hzb.furthest", "reducedColor": "prev.color" } },
+    { "name": "rtgi", "type": "rt_global_illumination", "params": { "samplesPerPixel": 1 } },
+    { "name": "gi", "type": "error_measure", "inputs": { "source": "ssgi.diffuse", "reference": "capture:SceneColor" } } ],
+  "outputs": { "gi.####.exr": "gi.heat" } }
+JSON
+check "--set PASS.INPUT=SOURCE rebinds an input, and the method it leaves is culled" bash -c "'$FP' plan '$DIR/methods.json' | grep -q '3. ssgi (ssgi)' && ! '$FP' plan '$DIR/methods.json' | grep -q '[0-9]. rtgi' && '$FP' plan '$DIR/methods.json' --set gi.source=rtgi.diffuse > '$DIR/methods_plan.txt' && grep -q 'source←rtgi.diffuse' '$DIR/methods_plan.txt' && grep -q '1. rtgi (rt_global_illumination)' '$DIR/methods_plan.txt' && ! grep -q '[0-9]. ssgi' '$DIR/methods_plan.txt'"
+check "a --set on neither a parameter nor an input is an error" expect_exit 2 "gi" "$FP" plan "$DIR/methods.json" --set gi.sorce=rtgi.diffuse
+check "tune searches across methods through an error's source" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=ssgi.diffuse,rtgi.diffuse --runs 1 --warmup 0 2>/dev/null | grep -q 'cheapest setting that meets'"
 check "the ray-traced preset without a scene says it needs one" expect_exit 2 "a pass needs the scene; name the scene JSON" "$FP" run "$DIR/rt_noscene.json" -o "$DIR/rt_none"
 cat > "$DIR/rt_bad.json" <<JSON
 { "version": 1, "engine": "ue4.27-raytrace", "capture": "cornell.exr" }
