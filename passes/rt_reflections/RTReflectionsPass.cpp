@@ -25,6 +25,8 @@ constexpr uint32_t kSeed = 0x52545246u;     // "RTRF"
 constexpr float kMirrorRoughness = 0.001f;  // below it the ray is the mirror direction
 constexpr float kImportantSampleBias = 0.1f;  // GGX_IMPORTANT_SAMPLE_BIAS: the tail left out
 constexpr float kSkyHitDistance = 1e20f;      // Unreal's hit distance for a ray that saw the sky
+constexpr float kHybridDepthCm = 5.0f;        // hybrid: a hit this close behind the depth buffer is the pixel's
+constexpr const char* kSceneColor = "sceneColor";
 
 // Unreal's RoughnessFade: 1 up to half the cutoff, 0 at it.
 float roughnessFade(float roughness, float maxRoughness) {
@@ -52,6 +54,11 @@ ParamSpec<RTReflectionsParams> RTReflectionsPass::paramSpec() {
     s.add("normalBias", &Params::normalBias, "the reflection ray's origin bias, cm")
         .range(0.01, 1e6)
         .cvar("r.RayTracing.Reflections.NormalBias");
+    s.add("hybrid", &Params::hybrid,
+          "Unreal's hybrid: a hit that projects on screen less than 5 cm behind the depth buffer "
+          "takes `sceneColor` there (this frame's lit colour) instead of being shaded, and shaded "
+          "hits take the camera's view vector")
+        .cvar("r.RayTracing.Reflections.Hybrid");
     return s;
 }
 
@@ -64,6 +71,9 @@ PassIO RTReflectionsPass::describe() const {
         gbuffer::shadingModelInput("unlit, hair and sky pixels are skipped"),
         gbuffer::roughnessInput("the GGX lobe the ray is drawn from, and the cutoff"),
     };
+    if (mParams.hybrid)
+        io.inputs.push_back(gbuffer::sceneColorInput(
+            kSceneColor, "hybrid: this frame's lit colour, read where a hit lands on screen"));
     io.outputs = {
         {.name = kReflection,
          .channels = {"R", "G", "B", "A"},
@@ -111,9 +121,11 @@ void RTReflectionsPass::execute(PassContext& ctx) {
     const Plane& model = ctx.input(gbuffer::kShadingModel)->image().plane(0);
     const Image& normal = ctx.input(gbuffer::kNormal)->image();
     const Plane& roughnessPlane = ctx.input(gbuffer::kRoughness)->image().plane(0);
+    const Image* sceneColor = mParams.hybrid ? &ctx.input(kSceneColor)->image() : nullptr;
+    const float hybridDepth = kHybridDepthCm * cm;
 
     forEachTile(size.width, size.height, [&](const Tile& t) {
-        uint64_t rays = 0, shadowRays = 0, pixels = 0, skipped = 0, skyRays = 0;
+        uint64_t rays = 0, shadowRays = 0, pixels = 0, skipped = 0, skyRays = 0, screenHits = 0;
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
                 const double d = depth.at(x, y);
@@ -163,7 +175,29 @@ void RTReflectionsPass::execute(PassContext& ctx) {
                     }
                     ++hits;
                     distanceSum += hit.t;
-                    const SurfacePoint s = surfaceAt(rs, hit, org, L);
+                    const Vec3f hitPoint = org + L * hit.t;  // relative to the scene's origin
+                    if (sceneColor) {
+                        // Unreal's hybrid: on screen, in front of the camera, and at most 5 cm
+                        // behind the depth buffer there: the lit colour of that pixel, point
+                        // sampled, no shading.
+                        const CameraView::Projection pr = cam.projectOffset(Vec3d(hitPoint), rs.origin());
+                        if (pr.depth > 0.0 && pr.px >= 0.0 && pr.py >= 0.0 && pr.px < size.width &&
+                            pr.py < size.height) {
+                            const int hx = int(pr.px), hy = int(pr.py);
+                            const double there = depth.at(hx, hy);
+                            if (std::isfinite(there) && pr.depth - there < hybridDepth) {
+                                sum += Vec3f{sceneColor->plane(0).at(hx, hy),
+                                             sceneColor->plane(1).at(hx, hy),
+                                             sceneColor->plane(2).at(hx, hy)};
+                                ++screenHits;
+                                continue;
+                            }
+                        }
+                    }
+                    SurfacePoint s = surfaceAt(rs, hit, org, L);
+                    // Hybrid: shaded hits look from the camera, so both kinds match (knowingly
+                    // wrong for the specular term, as in Unreal).
+                    if (sceneColor) s.toViewer = normalize(Vec3f(eyeOffset) - hitPoint);
                     // The hit as Unreal's material hit shader lights it: the lights (the view
                     // vector the ray's), its emission, and its diffuse colour × the sky light's
                     // SH irradiance (the precomputed indirect light framepass has). A light's
@@ -190,6 +224,7 @@ void RTReflectionsPass::execute(PassContext& ctx) {
         ctx.addWork("rays", rays);
         ctx.addWork("shadowRays", shadowRays);
         ctx.addWork("skyRays", skyRays);
+        if (sceneColor) ctx.addWork("screenHits", screenHits);
         ctx.addWork("pixels", pixels);
         ctx.addWork("skippedPixels", skipped);
     });

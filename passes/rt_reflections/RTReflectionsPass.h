@@ -20,6 +20,9 @@ struct RTReflectionsParams {
     float maxRoughness = -1.0f; //!< −1: the post-process volume's 0.6
     int shadows = -1;           //!< −1: hard (1); 0 off; 1, 2 shadow rays
     float normalBias = 0.1f;    //!< cm: the reflection ray's origin bias
+    /// r.RayTracing.Reflections.Hybrid: a hit that lands on screen within 5 cm of the depth
+    /// buffer takes this frame's lit colour there instead of being shaded.
+    bool hybrid = false;
 };
 
 class RTReflectionsPass final : public PassWithParams<RTReflectionsParams> {

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <set>
 
 namespace fp {
 
@@ -130,6 +131,55 @@ TEST_CASE("rt_reflections: a light's visible shape is reflected by its light, no
     s.meshes[1].shapeOf = 0;
     auto shape = test::captureToMemory(s, cam);
     CHECK(runRtr(shape).at("rt_reflections.reflection").image().plane(0).at(8, 12) == 0.0f);
+}
+
+}  // namespace fp
+
+namespace fp {
+
+TEST_CASE("rt_reflections: the hybrid takes the lit colour where a hit lands on screen") {
+    // The mirror floor and the spot-lit wall of the first case, the wall on screen. With the
+    // hybrid a floor pixel whose ray meets the wall where the screen shows it reflects the
+    // capture's SceneColor of that wall pixel, bit for bit; shaded, its value is the wall's
+    // radiance at the hit, which matches no pixel's stored colour exactly.
+    Scene s;
+    s.materials.push_back(mirror());
+    s.materials.push_back(test::lambert(0.6f));
+    s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 100.0, 0, 1));
+    s.meshes.push_back(test::quad({0, 50, 60}, {1, 0, 0}, {0, 1, 0}, 50.0, 1, 2));
+    Light l;
+    l.name = "spot";
+    l.type = LightType::Spot;
+    l.position = {10, 40, 20};
+    l.direction = {0, 0, 1};
+    l.innerConeDegrees = 30.0f;
+    l.outerConeDegrees = 35.0f;
+    l.intensity = 5000.0f;
+    s.lights.push_back(l);
+    auto src = test::captureToMemory(s, camera({0, 20, -40}, {0, 25, 30}, 32, 32, 70.0));
+    const Plane& color = src.buffers.at("SceneColor").plane(1);
+    const Plane& instance = src.buffers.at("InstanceId").plane(0);
+    std::set<float> wallColours;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x)
+            if (instance.at(x, y) == 2.0f) wallColours.insert(color.at(x, y));
+    REQUIRE(wallColours.size() > 50);
+    auto reused = [&](const std::map<std::string, Texture>& out) {
+        const Plane& r = out.at("rt_reflections.reflection").image().plane(1);
+        int floor = 0, found = 0;
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x) {
+                if (instance.at(x, y) != 1.0f || r.at(x, y) == 0.0f) continue;
+                ++floor;
+                found += wallColours.count(r.at(x, y)) > 0;
+            }
+        return std::make_pair(floor, found);
+    };
+    const auto [floorPlain, foundPlain] = reused(runRtr(src));
+    const auto [floorHybrid, foundHybrid] = reused(runRtr(src, {{"hybrid", true}}));
+    CHECK(floorPlain > 50);
+    CHECK(foundPlain <= floorPlain / 20);
+    CHECK(foundHybrid >= floorHybrid / 2);
 }
 
 }  // namespace fp
