@@ -41,15 +41,30 @@ std::string base64(const std::string& bytes) {
 }
 
 // Error measures are roots here even when the config writes none of their outputs; the ports
-// they compare are kept for the report's images and the error decomposition.
-std::vector<std::string> errorDumps(const GraphDesc& graph) {
+// they compare are kept for the report's images and the error decomposition. `sets` ("PASS.X=V",
+// the config's "set" then the command line's and the setting's) may rebind what they compare
+// (--set ERROR.source=…): the rebound source is kept, and the one it replaced is not, so the
+// method it fed is culled.
+std::vector<std::string> errorDumps(const GraphDesc& graph, const std::vector<std::string>& sets) {
+    std::map<std::string, std::string> rebound;  // "error.port" → source
+    for (const auto& [target, value] : graph.sets.items())
+        if (value.is_string())
+            rebound[target] = value.get<std::string>();
+    for (const std::string& s : sets)
+        if (const auto eq = s.find('='); eq != std::string::npos)
+            rebound[s.substr(0, eq)] = s.substr(eq + 1);
     std::vector<std::string> dumps;
     for (const NodeDesc* n : errorMeasureNodes(graph)) {
         dumps.push_back(n->name + ".heat");
-        for (const char* port : {"source", "reference"})
-            if (auto it = n->inputs.find(port);
-                it != n->inputs.end() && it->second.rfind("capture:", 0) != 0)
-                dumps.push_back(it->second);
+        for (const char* port : {"source", "reference"}) {
+            std::string source;
+            if (auto r = rebound.find(n->name + "." + port); r != rebound.end())
+                source = r->second;
+            else if (auto it = n->inputs.find(port); it != n->inputs.end())
+                source = it->second;
+            if (!source.empty() && source.rfind("capture:", 0) != 0)
+                dumps.push_back(source);
+        }
     }
     return dumps;
 }
@@ -120,8 +135,9 @@ void addBareRayLoops(const Plan& plan,
         }
         return TimingStats::of(seconds);
     };
-    for (const auto& [pass, rays] : perPass) {
-        const std::string of = perPass.size() > 1 ? " (" + pass + ")" : "";
+    for (const auto& traced : perPass) {
+        const RayScene::RayLog& rays = traced.second;
+        const std::string of = perPass.size() > 1 ? " (" + traced.first + ")" : "";
         struct Loop {
             int width;
             bool closestHits;
@@ -165,6 +181,8 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     for (const auto& [name, value] : point)
         (isCvarName(name) ? sessionOptions.cvars : sessionOptions.sets)
             .push_back(name + "=" + value);
+    for (const auto& d : errorDumps(mProbe.config().graph, sessionOptions.sets))
+        sessionOptions.dumps.push_back(d);
     const RunSetup session(mProbe, sessionOptions);
     // A setting's own warnings (a swept cvar that the config's params shadow), each said once.
     for (const auto& w : session.plan().warnings)
@@ -377,8 +395,6 @@ Bencher::Bencher(const BenchOptions& options) : mOptions(options), mProbe(option
         if (mWarned.insert(w.pointer + ": " + w.message).second)
             logWarning(w.pointer + ": " + w.message);
     mBase = options.session;
-    for (const auto& d : errorDumps(mProbe.config().graph))
-        mBase.dumps.push_back(d);
 }
 
 BenchResult Bencher::emptyResult() const {

@@ -70,7 +70,7 @@ public:
 private:
     BenchOptions mOptions;
     RunSetup mProbe;
-    SetupOptions mBase;  //!< the command line, plus the error_measure ports as dumps
+    SetupOptions mBase;  //!< the command line (each setting adds its error_measure ports as dumps)
     std::optional<ErrorBreakdown> mDecomposer;
     bool mDecomposerChecked = false;
     std::set<std::string> mMeasuredBuffers;  //!< what the measured frame's capture holds

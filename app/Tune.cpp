@@ -194,6 +194,25 @@ std::string systemSettings(const SweepPoint& point) {
     return s;
 }
 
+std::string methodSettings(const TunedSetting& t) {
+    if (std::all_of(t.point.begin(), t.point.end(),
+                    [](const auto& axis) { return isCvarName(axis.first); }))
+        return "";
+    std::string s;
+    std::set<std::string> said;
+    for (const PassTiming& p : t.setting.passes)
+        for (const PassType& type : builtinPasses().types()) {
+            if (type.id != p.type || !said.insert(type.id).second)
+                continue;
+            if (!type.roles.unrealSwitch.empty())
+                s += fmt::format("; the method {} runs: {}\n", type.id, type.roles.unrealSwitch);
+            else if (type.roles.framepassOwn)
+                s += fmt::format("; the method {} runs is framepass's own: no Unreal setting gives it\n",
+                                 type.id);
+        }
+    return s;
+}
+
 nlohmann::json TuneResult::pointJson(const SweepPoint& point) {
     nlohmann::json cvars = nlohmann::json::object(), params = nlohmann::json::object();
     for (const auto& [name, value] : point)
@@ -226,6 +245,7 @@ nlohmann::json TuneResult::toJson(const std::string& config) const {
     if (choice) {
         j["choice"] = settingJson(tried[*choice]);
         j["systemSettings"] = systemSettings(tried[*choice].point);
+        j["methodSettings"] = methodSettings(tried[*choice]);
         if (!tieNote.empty()) j["tie"] = tieNote;
     } else {
         j["mostAccurate"] = settingJson(tried[mostAccurate]);

@@ -55,4 +55,9 @@ TuneResult tune(const TuneOptions& options);
 /// The point's cvars as an Unreal .ini section.
 std::string systemSettings(const SweepPoint& point);
 
+/// Where a setting's point sets more than cvars (a parameter, or an error's source picking a
+/// method): the Unreal setting that turns on each method the setting runs, as .ini comment lines
+/// ("; the method: r.RayTracing.GlobalIllumination=1"), or that a method is framepass's own.
+std::string methodSettings(const TunedSetting& setting);
+
 }  // namespace fp::app

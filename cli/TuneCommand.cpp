@@ -60,6 +60,7 @@ Command addTuneCommand(CLI::App& app) {
                 if (!app::isCvarName(name))
                     std::cout << fmt::format("; framepass only (no Unreal cvar): --set {}={}\n",
                                              name, value);
+            std::cout << app::methodSettings(c);
             return 0;
         }
         const auto& m = r.tried[r.mostAccurate];

@@ -77,6 +77,11 @@ struct PassRoles {
     std::map<std::string, std::string> oracleFor;
     /// Traces rays through RayScene: bench replays them in bare Embree loops.
     bool tracesRays = false;
+    /// A method Unreal turns on with one setting ("r.RayTracing.GlobalIllumination=1"): tune
+    /// names it when its search chose among methods. Empty for the rest.
+    std::string unrealSwitch;
+    /// framepass's own method, which no Unreal setting gives (tune says so).
+    bool framepassOwn = false;
 };
 
 struct PassIO {

@@ -179,8 +179,9 @@ public:
                     // PASS.INPUT=SOURCE on a name that is no parameter rebinds that input (bench
                     // and tune sweep which method feeds an error measure so); checked below,
                     // once the pass's ports are known.
+                    const std::string name = k;  // a lambda may not capture a structured binding
                     const bool isParam = std::any_of(n.type->params.begin(), n.type->params.end(),
-                                                     [&](const ParamInfo& p) { return p.name == k; });
+                                                     [&](const ParamInfo& p) { return p.name == name; });
                     if (!isParam && v.is_string()) {
                         maybeInputs[k] = {v.get<std::string>(), it->second.where.at(k)};
                         continue;

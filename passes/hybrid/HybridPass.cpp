@@ -47,6 +47,7 @@ ParamSpec<HybridParams> HybridPass::paramSpec() {
 
 PassIO HybridPass::describe() const {
     PassIO io;
+    io.roles.framepassOwn = true;
     io.roles.tracesRays = true;  // bench replays its rays in bare Embree loops
     io.inputs = {
         gbuffer::depthInput(),

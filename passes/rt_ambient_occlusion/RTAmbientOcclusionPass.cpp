@@ -81,6 +81,7 @@ ParamSpec<RTAmbientOcclusionParams> RTAmbientOcclusionPass::paramSpec() {
 
 PassIO RTAmbientOcclusionPass::describe() const {
     PassIO io;
+    io.roles.unrealSwitch = "r.RayTracing.AmbientOcclusion=1";
     io.roles.tracesRays = true;  // bench replays its rays in a bare Embree loop
     io.inputs = {
         gbuffer::depthInput(),

@@ -71,6 +71,7 @@ ParamSpec<RTGlobalIlluminationParams> RTGlobalIlluminationPass::paramSpec() {
 
 PassIO RTGlobalIlluminationPass::describe() const {
     PassIO io;
+    io.roles.unrealSwitch = "r.RayTracing.GlobalIllumination=1";  // brute force
     io.roles.tracesRays = true;  // bench replays its rays in bare Embree loops
     io.inputs = {
         gbuffer::depthInput(),

@@ -64,6 +64,7 @@ ParamSpec<RTReflectionsParams> RTReflectionsPass::paramSpec() {
 
 PassIO RTReflectionsPass::describe() const {
     PassIO io;
+    io.roles.unrealSwitch = "r.RayTracing.Reflections=1";
     io.roles.tracesRays = true;  // bench replays its rays in bare Embree loops
     io.inputs = {
         gbuffer::depthInput(),

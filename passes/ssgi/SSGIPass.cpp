@@ -53,6 +53,7 @@ Extent SSGIPass::traceExtent(Extent frame, bool halfRes) {
 
 PassIO SSGIPass::describe() const {
     PassIO io;
+    io.roles.unrealSwitch = "r.SSGI.Enable=1";  // 4.27 (UE5: r.DynamicGlobalIlluminationMethod=2)
     io.roles.raysParam = "rays";  // the error breakdown's converged rung raises it
     io.inputs = {
         gbuffer::depthInput(),
