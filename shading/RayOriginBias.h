@@ -3,6 +3,7 @@
 // algorithms §9.2): towards the camera by max(1e-4·distance, bias), then along the normal by a bias
 // that runs from `maxBias` (a ray grazing the surface, N·L = 0) down to `minBias` (a ray along
 // the normal); `backSide` pushes into the surface instead (a transmissive pixel lit from behind).
+#include "foundation/Camera.h"
 #include "foundation/HostDevice.h"
 #include "foundation/Math.h"
 
@@ -30,6 +31,26 @@ FP_HD inline Vec3f biasedRayOrigin(const Vec3f& p, const Vec3f& toEye, float eye
     const float nb = maxBias + (minBias - maxBias) * (NoL < 0.0f ? 0.0f : (NoL > 1.0f ? 1.0f : NoL));
     o += n * (backSide ? -nb : nb);
     return o;
+}
+
+/// A pixel's surface as a ray-traced pass starts from it, rebuilt from its linear depth in double:
+/// its position relative to the ray scene's origin (`eyeOffset`: the eye relative to that
+/// origin), the unit vector to the eye and the distance to it.
+struct PixelSurface {
+    Vec3f p, toEye;
+    float eyeDistance;
+};
+FP_HD inline PixelSurface pixelSurface(const CameraView& cam, const Vec3d& eyeOffset, int x, int y,
+                                       double depth) {
+    const Vec3d offset = cam.translatedFromPixel(x, y, depth);
+    const double eyeDistance = length(offset);
+    return {Vec3f(eyeOffset + offset), Vec3f(-offset / eyeDistance), float(eyeDistance)};
+}
+
+/// biasedRayOrigin from a pixel's surface, with a pass's biases.
+FP_HD inline Vec3f biasedRayOrigin(const PixelSurface& s, const Vec3f& n, float NoL,
+                                   const RayBias& bias) {
+    return biasedRayOrigin(s.p, s.toEye, s.eyeDistance, n, NoL, bias.max, bias.min);
 }
 
 }  // namespace fp

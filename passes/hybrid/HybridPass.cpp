@@ -113,10 +113,7 @@ void HybridPass::execute(PassContext& ctx) {
                 ++work.pixels;
                 // The fallback rays' common origin: the pixel's surface as the RT passes leave it.
                 const double d = f.depth.at(x, y);
-                const Vec3d offset = cam.translatedFromPixel(x, y, d);
-                const Vec3f p(eyeOffset + offset);
-                const double eyeDistance = length(offset);
-                const Vec3f toEye(-offset / eyeDistance);
+                const PixelSurface surface = pixelSurface(cam, eyeOffset, x, y, d);
                 const Vec3f n{f.normal[0].at(x, y), f.normal[1].at(x, y), f.normal[2].at(x, y)};
                 Rng rng = Rng::fromKey(rngKey, x, y);
                 ssgi::PixelTrace trace;
@@ -142,8 +139,7 @@ void HybridPass::execute(PassContext& ctx) {
                     ++work.fallback;
                     const Vec3f dir = normalize(Vec3f(cam.right) * L.x + Vec3f(cam.up) * L.y +
                                                 Vec3f(cam.forward) * L.z);
-                    const Vec3f org = biasedRayOrigin(p, toEye, float(eyeDistance), n,
-                                                      dot(n, dir), bias.max, bias.min);
+                    const Vec3f org = biasedRayOrigin(surface, n, dot(n, dir), bias);
                     const DiffusePath path =
                         traceDiffusePath(paths, org, dir, 0.0f, rng, work.rays, work.shadowRays);
                     if (path.firstHit < 0.0f) continue;  // left the scene: no light, as a miss

@@ -149,10 +149,7 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
                     ++skipped;
                     continue;
                 }
-                const Vec3d offset = cam.translatedFromPixel(x, y, d);
-                const Vec3f p(eyeOffset + offset);
-                const double eyeDistance = length(offset);
-                const Vec3f toEye(-offset / eyeDistance);
+                const PixelSurface surface = pixelSurface(cam, eyeOffset, x, y, d);
                 const Vec3f n{normal.plane(0).at(x, y), normal.plane(1).at(x, y),
                               normal.plane(2).at(x, y)};
                 Rng rng = Rng::fromKey(rngKey, x, y);
@@ -161,8 +158,7 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
                     // A cosine ray about the GBuffer normal from the biased position (§12.2).
                     const float u = rng.nextFloat(), v = rng.nextFloat();
                     const Vec3f dir = cosineHemisphere(n, u, v);
-                    const Vec3f org = biasedRayOrigin(p, toEye, float(eyeDistance), n, dot(n, dir),
-                                                      bias.max, bias.min);
+                    const Vec3f org = biasedRayOrigin(surface, n, dot(n, dir), bias);
                     const DiffusePath path =
                         traceDiffusePath(paths, org, dir, tMin, rng, rays, shadowRays);
                     sums.radiance += path.radiance;

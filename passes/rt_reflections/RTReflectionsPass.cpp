@@ -139,10 +139,8 @@ void RTReflectionsPass::execute(PassContext& ctx) {
                     ++skipped;
                     continue;
                 }
-                const Vec3d offset = cam.translatedFromPixel(x, y, d);
-                const Vec3f p(eyeOffset + offset);
-                const double eyeDistance = length(offset);
-                const Vec3f V(-offset / eyeDistance);
+                const PixelSurface surface = pixelSurface(cam, eyeOffset, x, y, d);
+                const Vec3f& V = surface.toEye;
                 const Vec3f N{normal.plane(0).at(x, y), normal.plane(1).at(x, y),
                               normal.plane(2).at(x, y)};
                 Rng rng = Rng::fromKey(rngKey, x, y);
@@ -163,8 +161,7 @@ void RTReflectionsPass::execute(PassContext& ctx) {
                     }
                     const float NoL = dot(N, L);
                     if (NoL < 0.0f) L = normalize(L - N * (2.0f * NoL));  // mirrored back above
-                    const Vec3f org = biasedRayOrigin(p, V, float(eyeDistance), N, dot(N, L),
-                                                      bias.max, bias.min);
+                    const Vec3f org = biasedRayOrigin(surface, N, dot(N, L), bias);
                     ++rays;
                     const RayHit hit = rs.intersect(org, L, 0.0f, std::numeric_limits<float>::infinity());
                     if (!hit.hit) {
