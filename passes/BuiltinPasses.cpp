@@ -1,13 +1,16 @@
 // The explicit list of built-in pass types (architecture anchors B3): one line per pass.
+#include "passes/ao_denoise/AODenoisePass.h"
 #include "passes/camera_velocity/CameraVelocityPass.h"
 #include "framework/PassRegistry.h"
 #include "passes/deferred_lighting/DeferredLightingPass.h"
 #include "passes/diffuse_indirect_composite/DiffuseIndirectCompositePass.h"
 #include "passes/display/DisplayPass.h"
 #include "passes/error_measure/ErrorMeasurePass.h"
+#include "passes/gi_denoise/GIDenoisePass.h"
 #include "passes/hybrid/HybridPass.h"
 #include "passes/hzb/HZBPass.h"
 #include "passes/prev_color_reduction/PrevColorReductionPass.h"
+#include "passes/reflection_denoise/ReflectionDenoisePass.h"
 #include "passes/reflection_environment/ReflectionEnvironmentPass.h"
 #include "passes/rt_ambient_occlusion/RTAmbientOcclusionPass.h"
 #include "passes/rt_global_illumination/RTGlobalIlluminationPass.h"
@@ -57,6 +60,18 @@ const PassRegistry& builtinPasses() {
                                         "ray-traced diffuse global illumination, Unreal 4.27's "
                                         "brute force: cosine paths through Embree, the lights "
                                         "sampled at every hit (algorithms §12.2)");
+        r.add<AODenoisePass>("ao_denoise",
+                             "the AO denoiser after rt_ambient_occlusion: hit-distance-sized "
+                             "bilateral reconstruction, pre-convolutions, temporal accumulation "
+                             "(algorithms §12.5)");
+        r.add<GIDenoisePass>("gi_denoise",
+                             "the diffuse-and-AO denoiser after rt_global_illumination: "
+                             "hit-distance-sized bilateral reconstruction, pre-convolution, "
+                             "temporal accumulation (algorithms §12.5)");
+        r.add<ReflectionDenoisePass>("reflection_denoise",
+                                     "the reflection denoiser after rt_reflections: kernels the "
+                                     "size of the reflected lobe, temporal accumulation "
+                                     "(algorithms §12.5)");
         r.add<ShadowDenoisePass>("shadow_denoise",
                                  "penumbra-aware spatial shadow denoiser: blur "
                                  "radius from occluder distance and light size "
@@ -89,6 +104,9 @@ const PassRegistry& builtinPasses() {
         r.recognise("r.DynamicGlobalIlluminationMethod", 2,
                     "UE5 GI method: framepass's chain is 2 (screen-space GI); Lumen (1) is not "
                     "emulated");
+        r.recognise("r.AmbientOcclusion.Denoiser.PreConvolution.KernelSpreadFactor", 4,
+                    "ao_denoise sizes its spatial stages from the rays' hit distance instead "
+                    "(algorithms §12.5)");
         r.recognise("r.RayTracing.Shadows", 1,
                     "shadows are ray traced (rt_shadows) whenever the chain has the light step");
         r.recognise("r.RayTracing.Shadows.EnableTwoSidedGeometry", 1,

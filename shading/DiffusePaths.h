@@ -5,6 +5,8 @@
 // cosine bounce with the hit's diffuse colour as throughput. rt_global_illumination starts its
 // paths from the GBuffer; the hybrid continues a screen-space ray that found nothing with one.
 #include "foundation/Environment.h"
+#include "foundation/FloatToInt.h"
+#include "foundation/ShadingModel.h"
 #include "foundation/Random.h"
 #include "foundation/RayScene.h"
 #include "shading/DirectLighting.h"
@@ -31,6 +33,13 @@ struct DiffusePath {
     Vec3f radiance;
     float firstHit = -1.0f;
 };
+
+/// The colour a GBuffer pixel's diffuse light is multiplied by: BaseColor·(1 − Metallic), or the
+/// stored base colour itself for a subsurface-profile pixel (algorithms §12.2).
+inline Vec3f gbufferDiffuseColor(const Vec3f& baseColor, float metallic, float shadingModel) {
+    const bool profile = truncToInt(shadingModel, 0, 255) == kSubsurfaceProfile;
+    return profile ? baseColor : baseColor * (1.0f - metallic);
+}
 
 /// The path along org + t·dir, t from tMin; `rays` and `shadowRays` count what it traced.
 DiffusePath traceDiffusePath(const DiffusePathSetup& c, Vec3f org, Vec3f dir, float tMin, Rng& rng,

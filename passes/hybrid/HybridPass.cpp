@@ -15,11 +15,12 @@ namespace fp {
 namespace {
 
 constexpr uint32_t kSeed = 0x48594252u;    // "HYBR"
+constexpr uint32_t kOnwardSeed = 0x4F4E5744u;  // "ONWD"
 
 // Work counted per tile.
 struct HybridWork {
     uint64_t pixels = 0, skipped = 0, onScreen = 0, fallback = 0, fallbackHits = 0, rays = 0,
-             shadowRays = 0, hzbSamples = 0;
+             shadowRays = 0, hzbSamples = 0, continued = 0;
 };
 
 }  // namespace
@@ -39,6 +40,12 @@ ParamSpec<HybridParams> HybridPass::paramSpec() {
     s.add("nextEventEstimationSamples", &Params::nextEventEstimationSamples,
           "light samples (one light picked uniformly, one shadow ray) at each fallback hit")
         .range(0, 64);
+    s.add("continueOnScreen", &Params::continueOnScreen,
+          "an on-screen hit keeps last frame's colour there and continues as a scene path for "
+          "maxBounces − 1 more bounces, from the hit pixel's surface: for captures whose colour "
+          "holds direct light only (framepass's own and Blender's), where the screen gives one "
+          "bounce; off when last frame's colour already holds GI (an engine's), which it would "
+          "count twice");
     s.add("normalBias", &Params::normalBias,
           "largest normal/camera bias of a fallback ray's origin, cm (at N·L = 0)")
         .range(0.01, 1e6);
@@ -59,6 +66,10 @@ PassIO HybridPass::describe() const {
          .kind = PortKind::Color,
          .doc = "last frame's colour, reprojected and reduced to 5 mips: what on-screen hits read"},
     };
+    if (mParams.continueOnScreen) {
+        io.inputs.push_back(gbuffer::baseColorInput("continueOnScreen: the hit's diffuse colour"));
+        io.inputs.push_back(gbuffer::metallicInput("DiffuseColor = BaseColor·(1 − Metallic)"));
+    }
     io.outputs = {
         {.name = ssgi::kDiffuse,
          .channels = {"R", "G", "B"},
@@ -98,7 +109,36 @@ void HybridPass::execute(PassContext& ctx) {
     paths.bounces = mParams.maxBounces;
     paths.nee = mParams.nextEventEstimationSamples;
     const uint32_t rngKey = Rng::frameKey(ctx.frame().number, kSeed);
+    const uint32_t onwardKey = Rng::frameKey(ctx.frame().number, kOnwardSeed);
     const bool wantDistance = bool(f.hitDistance);
+
+    // continueOnScreen: the paths after an on-screen hit, from the hit pixel's GBuffer surface.
+    const bool continuing = mParams.continueOnScreen && mParams.maxBounces > 1;
+    DiffusePathSetup onward = paths;
+    onward.bounces = mParams.maxBounces - 1;
+    const Image* baseColor = continuing ? &ctx.input(gbuffer::kBaseColor)->image() : nullptr;
+    const Plane* metallic = continuing ? &ctx.input(gbuffer::kMetallic)->image().plane(0) : nullptr;
+    const int W = f.depth.width, H = f.depth.height;
+    auto continuePath = [&](const RayPoint& hit, Rng& rng, HybridWork& work) -> Vec3f {
+        // The hit's half-resolution position, on the full-resolution GBuffer.
+        const int px = std::clamp(int(hit.hx * 2.0f), 0, W - 1);
+        const int py = std::clamp(int(hit.hy * 2.0f), 0, H - 1);
+        const double d = f.depth.at(px, py);
+        if (!isLitSurface(d, f.shadingModel.at(px, py)))
+            return {};
+        const Vec3f diffuseColor = gbufferDiffuseColor(
+            {baseColor->plane(0).at(px, py), baseColor->plane(1).at(px, py),
+             baseColor->plane(2).at(px, py)},
+            metallic->at(px, py), f.shadingModel.at(px, py));
+        const Vec3f hn = normalize(
+            Vec3f{f.normal[0].at(px, py), f.normal[1].at(px, py), f.normal[2].at(px, py)});
+        const float u = rng.nextFloat(), v = rng.nextFloat();
+        const Vec3f dir = cosineHemisphere(hn, u, v);
+        const Vec3f org = biasedRayOrigin(pixelSurface(cam, eyeOffset, px, py, d), hn, dot(hn, dir), bias);
+        ++work.continued;
+        const DiffusePath path = traceDiffusePath(onward, org, dir, 0.0f, rng, work.rays, work.shadowRays);
+        return diffuseColor * path.radiance;
+    };
 
     forEachTile(f.ao.width, f.ao.height, [&](const Tile& t) {
         HybridWork work;
@@ -116,6 +156,9 @@ void HybridPass::execute(PassContext& ctx) {
                 const PixelSurface surface = pixelSurface(cam, eyeOffset, x, y, d);
                 const Vec3f n{f.normal[0].at(x, y), f.normal[1].at(x, y), f.normal[2].at(x, y)};
                 Rng rng = Rng::fromKey(rngKey, x, y);
+                // The continued paths draw from their own sequence, so the fallback rays are
+                // the same with continueOnScreen as without.
+                Rng onwardRng = Rng::fromKey(onwardKey, x, y);
                 ssgi::PixelTrace trace;
                 unsigned hzbSamples = 0;
                 for (int r = 0; r < f.setup.rays; ++r) {
@@ -128,9 +171,20 @@ void HybridPass::execute(PassContext& ctx) {
                         const int hitSample = marchHzb(f.setup.hzb, steps, f.setup.steps,
                                                        f.setup.levelStep, level, hzbSamples);
                         if (hitSample >= 0) {
-                            trace.add(ssgi::shadeHit(f.setup, start, steps, hitSample, level,
-                                                     wantDistance));
                             ++work.onScreen;
+                            if (!continuing) {
+                                trace.add(ssgi::shadeHit(f.setup, start, steps, hitSample, level,
+                                                         wantDistance));
+                                continue;
+                            }
+                            // Last frame's colour at the hit, plus the hit surface's diffuse
+                            // colour × one cosine path of the bounces after it (§12.3).
+                            const RayPoint hit = rayPointAt(steps, float(hitSample));
+                            float c[3];
+                            ssgi::hitColor(f.setup, hit, level, c);
+                            const Vec3f more = continuePath(hit, onwardRng, work);
+                            c[0] += more.x, c[1] += more.y, c[2] += more.z;
+                            trace.add(ssgi::weighHit(f.setup, start, hit, c, wantDistance));
                             continue;
                         }
                     }
@@ -166,6 +220,7 @@ void HybridPass::execute(PassContext& ctx) {
         ctx.addWork("onScreenRays", work.onScreen);
         ctx.addWork("fallbackRays", work.fallback);
         ctx.addWork("fallbackHits", work.fallbackHits);
+        ctx.addWork("continuedHits", work.continued);
         ctx.addWork("sceneRays", work.rays);
         ctx.addWork("shadowRays", work.shadowRays);
         ctx.addWork("hzbSamples", work.hzbSamples);

@@ -5,7 +5,9 @@
 // (it leaves the screen, passes behind surfaces, or ends without a hit) is traced again through
 // the scene's geometry and its hit shaded as `rt_global_illumination` shades one: the lights
 // sampled with shadow rays, no emission, `maxBounces` diffuse bounces. Lumen's screen traces
-// before its ray-traced fallback are the precedent. CPU, one ray at a time.
+// before its ray-traced fallback are the precedent. With `continueOnScreen`, an on-screen hit
+// also continues as a scene path for the bounces last frame's colour lacks, where that colour
+// holds direct light only (a capture's). CPU, one ray at a time.
 #include "framework/Params.h"
 #include "framework/Pass.h"
 
@@ -17,6 +19,7 @@ struct HybridParams {
     int maxBounces = 1;     //!< hits a fallback path shades
     int nextEventEstimationSamples = 2;  //!< light samples at each fallback hit
     float normalBias = 0.1f;  //!< cm (min 0.01): the fallback ray's origin, as the RT passes
+    bool continueOnScreen = false;  //!< on-screen hits continue as paths of maxBounces − 1
 };
 
 class HybridPass final : public PassWithParams<HybridParams> {

@@ -138,9 +138,7 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
                 const float m = metallic.at(x, y);
                 const Vec3f albedo{baseColor.plane(0).at(x, y), baseColor.plane(1).at(x, y),
                                    baseColor.plane(2).at(x, y)};
-                // A subsurface-profile pixel's diffuse colour is its stored base colour.
-                const bool profile = truncToInt(model.at(x, y), 0, 255) == kSubsurfaceProfile;
-                const Vec3f diffuseColor = profile ? albedo : albedo * (1.0f - m);
+                const Vec3f diffuseColor = gbufferDiffuseColor(albedo, m, model.at(x, y));
                 if (!isLitSurface(d, model.at(x, y)) ||
                     ue::luma(diffuseColor.x, diffuseColor.y, diffuseColor.z) < mParams.diffuseThreshold) {
                     for (int ch = 0; ch < 3; ++ch) diffuse.plane(ch).at(x, y) = 0.0f;

@@ -142,6 +142,22 @@ struct RayTrace {
     double distance = 0;
 };
 
+// algorithms §4.7: the colour `c` a ray brings from `hit` (last frame's colour there; the hybrid
+// may add to it), Karis-weighted, and (when wanted) the distance to the hit.
+FP_HD inline RayTrace weighHit(const TraceSetup& s,
+                               const PixelStart& p,
+                               const RayPoint& hit,
+                               const float c[3],
+                               bool wantDistance) {
+    RayTrace t;
+    const float karis = 1.0f / (1.0f + ue::luma(c[0], c[1], c[2]));
+    for (int ch = 0; ch < 3; ++ch)
+        t.weighted[ch] = c[ch] * karis;
+    t.hit = true;
+    t.measured = wantDistance && viewDistanceToHit(s, p, hit, t.distance);
+    return t;
+}
+
 // algorithms §4.7 for a ray that hit at sample `hitSample` having reached mip level `level`:
 // last frame's colour there, Karis-weighted, and (when wanted) the distance to the hit.
 FP_HD inline RayTrace shadeHit(const TraceSetup& s,
@@ -150,16 +166,10 @@ FP_HD inline RayTrace shadeHit(const TraceSetup& s,
                                int hitSample,
                                float level,
                                bool wantDistance) {
-    RayTrace t;
     const RayPoint hit = rayPointAt(steps, float(hitSample));
     float c[3];
     hitColor(s, hit, level, c);
-    const float karis = 1.0f / (1.0f + ue::luma(c[0], c[1], c[2]));
-    for (int ch = 0; ch < 3; ++ch)
-        t.weighted[ch] = c[ch] * karis;
-    t.hit = true;
-    t.measured = wantDistance && viewDistanceToHit(s, p, hit, t.distance);
-    return t;
+    return weighHit(s, p, hit, c, wantDistance);
 }
 
 // algorithms §4.4–4.7 for ray `r` of a traced pixel, one ray at a time: the scalar reference that

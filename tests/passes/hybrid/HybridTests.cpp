@@ -112,4 +112,48 @@ TEST_CASE("hybrid: a wall whose sunlit floor is off screen gathers it through th
     CHECK(expected > 0.03);
 }
 
+TEST_CASE("hybrid: continueOnScreen adds the hit's diffuse colour × the bounces after it") {
+    // floorAndWall's surfaces glow but are black (albedo 0): a continued path adds 0 × its light,
+    // so the result is the plain hybrid's, bit for bit, with every on-screen hit continued.
+    Scene black = test::floorAndWall();
+    black.lights.push_back(test::sun({0.3, -1, 0.2}));
+    auto src = test::captureToMemory(black, test::wallCamera(32));
+    std::map<std::string, uint64_t> plainWork, work;
+    const auto plain = run(src, "hybrid", {{"quality", 1}, {"maxBounces", 3}}, &plainWork);
+    const auto continued =
+        run(src, "hybrid", {{"quality", 1}, {"maxBounces", 3}, {"continueOnScreen", true}}, &work);
+    CHECK(work.at("onScreenRays") > 0);
+    CHECK(work.at("continuedHits") == work.at("onScreenRays"));
+    CHECK(work.at("sceneRays") > plainWork.at("sceneRays"));
+    for (int c = 0; c < 3; ++c)
+        CHECK(test::sameBits(continued.at("hybrid.diffuse").image().plane(c),
+                             plain.at("hybrid.diffuse").image().plane(c)));
+
+    // Grey (albedo 0.5) and sunlit: the continued paths bring light the screen's one bounce
+    // lacks. They draw their own random numbers, so the fallback rays are the same and only
+    // adds: no pixel loses light (Karis weighting and its resolve are increasing), the frame gains.
+    Scene grey = black;
+    grey.materials[0] = test::lambert(0.5f, test::kGlow);
+    auto greySrc = test::captureToMemory(grey, test::wallCamera(32));
+    const auto greyPlain = run(greySrc, "hybrid", {{"quality", 1}, {"maxBounces", 3}});
+    const auto greyContinued =
+        run(greySrc, "hybrid", {{"quality", 1}, {"maxBounces", 3}, {"continueOnScreen", true}});
+    double gained = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const float a = greyPlain.at("hybrid.diffuse").image().plane(0).at(x, y);
+            const float b = greyContinued.at("hybrid.diffuse").image().plane(0).at(x, y);
+            CHECK(b >= a);
+            gained += b - a;
+        }
+    CHECK(gained > 0.0);
+
+    // One bounce leaves nothing to continue: the option changes nothing.
+    const auto one = run(greySrc, "hybrid", {{"quality", 1}, {"continueOnScreen", true}}, &work);
+    const auto oneBounce = run(greySrc, "hybrid", {{"quality", 1}});
+    CHECK(work.at("continuedHits") == 0);
+    CHECK(test::sameBits(one.at("hybrid.diffuse").image().plane(0),
+                         oneBounce.at("hybrid.diffuse").image().plane(0)));
+}
+
 }  // namespace fp

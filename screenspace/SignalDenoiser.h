@@ -1,0 +1,90 @@
+#pragma once
+// The screen-space denoiser's stages for the ray-traced signals (algorithms §12.5): one framework,
+// three presets, as Unreal runs its AmbientOcclusion, DiffuseAndAmbientOcclusion and Reflections
+// signals — a reconstruction, pre-convolutions, a temporal accumulation and a history
+// convolution, each stage a bilateral gather over the stage before it. Its kernels are sized by
+// the rays' hit distance: a signal varies over a surface about as fast as the things its rays hit
+// are near (for reflections, times the lobe's width), so a far hit allows a wide blur and a near
+// one keeps it tight.
+#include "foundation/Camera.h"
+#include "foundation/Image.h"
+#include "framework/Pass.h"
+#include "screenspace/Reprojection.h"
+#include "screenspace/Surface.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace fp::ssd {
+
+inline constexpr const char* kHitDistance = "hitDistance";
+constexpr int kMaxSignalChannels = 4;
+/// Unreal clamps the reconstruction samples to [1, 56] (its sample sets' length).
+constexpr int kMaxReconstructionSamples = 56;
+/// The widest kernel of any stage, pixels (framepass's choice: §12.5).
+constexpr float kMaxKernelPixels = 8.0f;
+
+/// How a pixel's kernel radius follows from its hit distance (§12.5).
+enum class Footprint {
+    Diffuse,   //!< radius = the hit distance (AO, diffuse GI)
+    Specular,  //!< radius = the hit distance × the GGX lobe's width α = roughness²
+};
+
+/// A preset's stages (Unreal's per-signal cvars set them).
+struct Stages {
+    Footprint footprint = Footprint::Diffuse;
+    int reconstructionSamples = 16;   //!< taps besides the centre, clamped to [1, 56]
+    int preConvolutions = 1;          //!< further 8-tap gathers over the reconstruction
+    bool temporalAccumulation = true;
+    float targetSamples = 4096.0f;    //!< the history's sample count is capped here
+    int historyConvolutionSamples = 1;
+    float historyConvolutionSpread = 3.0f;  //!< its taps' disc radius, pixels
+};
+
+/// One frame's inputs. The signal is 1 to 4 planes of one size, the frame's.
+struct Inputs {
+    std::vector<const Plane*> signal;
+    const Plane* hitDistance = nullptr;  //!< scene units; −1 no hit, < −1.5 no ray traced (kept)
+    const Plane* roughness = nullptr;    //!< Footprint::Specular only
+    SurfaceInputs gbuffer;
+    const Texture* velocity = nullptr;   //!< optional motion for the reprojection
+    CameraView camera;
+    int64_t frameNumber = 0;
+    /// Last frame's state (stateChannels()) and camera; null without a usable history.
+    const Image* history = nullptr;
+    const CameraView* historyCamera = nullptr;
+};
+
+/// What each stage did, for the pass's work counters.
+struct Counts {
+    uint64_t pixels = 0, skippedPixels = 0, historyPixels = 0;
+};
+
+/// The state a temporal preset keeps between frames: the signal (4 channels, unused ones 0), its
+/// sample count, and the surface (view depth, normal) that next frame's validation compares with.
+const std::vector<std::string>& stateChannels();
+
+/// Runs the stages, writing `out` (as many planes as the signal, the frame's size) and, when
+/// `state` is given, the state for the next frame. Pixels with no surface or no ray keep their
+/// input.
+Counts denoise(const Stages& stages,
+               const Inputs& in,
+               const std::vector<Plane*>& out,
+               Image* state);
+
+/// The inputs every denoising pass declares besides its signal: the rays' hit distance, the
+/// GBuffer's depth, normal and shading model (roughness too for reflections), optional velocity.
+std::vector<PortSpec> denoiserInputs(Footprint footprint);
+
+/// A denoising pass's execute: the planes of `signalPorts` (in order) make the signal; reads the
+/// `hitDistance` input, the GBuffer's depth, normal, shading model (and roughness for
+/// reflections), the optional velocity and the pass's history; writes each signal port's
+/// denoised output of the same name, keeps the next state when accumulating, and adds the work
+/// counters (pixels, skippedPixels, historyPixels). Not `enabled` (the denoiser cvar at 0), the
+/// raw signal goes through.
+void denoisePorts(PassContext& ctx,
+                  const Stages& stages,
+                  const std::vector<std::string>& signalPorts,
+                  bool enabled);
+
+}  // namespace fp::ssd
