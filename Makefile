@@ -61,7 +61,9 @@ demo: build
 	$(FRAMEPASS) bench examples/glossy/bench.json --capture out/demo/glossy/glossy.exr --runs 3 \
 	    --sweep r.SSR.Quality=0..4 --set ssr.postProcessQuality=100 --html out/demo/glossy.html | grep -v '^Progress'
 	$(FRAMEPASS) bench examples/cornell/beyond.json --runs 1 --html out/demo/beyond.html | grep -v '^Progress'
-	$(FRAMEPASS) bench examples/glossy/beyond.json --runs 1 --html out/demo/beyond_reflections.html | grep -v '^Progress'
+	$(FRAMEPASS) bench examples/glossy/beyond.json --runs 1 --html out/demo/beyond_glossy.html | grep -v '^Progress'
+	$(FRAMEPASS) capture examples/hard/scene.json -o out/demo/hard/hard.exr --truth | grep -v '^ '
+	$(FRAMEPASS) bench examples/hard/beyond.json --runs 1 --html out/demo/beyond_hard.html | grep -v '^Progress'
 	@echo "framepass wrote:"; find out/demo -type f | sort | sed 's/^/  /'
 	@echo "The look-dev workbench on this capture (docs/serve.md):"
 	@echo "  $(FRAMEPASS) serve examples/cornell/bench.json --open"

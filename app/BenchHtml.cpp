@@ -380,7 +380,9 @@ img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
         h << "<h2>Why the error is what it is</h2>\n<p class=\"meta\">Each error taken apart "
              "along a ladder of images from the result to its reference: the same chain "
              "converged (noise), framepass's screen-space oracle (Unreal's approximation), the "
-             "one-bounce truth (the screen-space limit), the full truth (multi-bounce). A step's "
+             "one-bounce truth (the screen-space limit), the full truth (multi-bounce); for "
+             "ray-traced GI, converged (noise), every bounce (the bounces not traced), the full "
+             "truth (the light the pass leaves out). A step's "
              "share is Σ d·e / Σ e² (d: the step's difference, e: the total's), so the shares "
              "add up to 100 % and the biases to the total bias; a negative share is a step that "
              "cancels part of the others.</p>\n";

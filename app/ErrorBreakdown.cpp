@@ -56,7 +56,22 @@ constexpr StepKind kSteps[] = {
      "Truth.DiffuseIndirectOneBounce to judge the pass on what it can see"},
 };
 
-// The nearest screen-space tracer (a pass that declares its rays parameter, not the oracle)
+// The ray-traced ladder's steps: result → converged → every bounce → full truth.
+constexpr StepKind kRayTracedSteps[] = {
+    {"noise", "noise",
+     "more paths a pixel (the pass's samplesPerPixel), the denoiser or more frames of its "
+     "temporal accumulation reduce it"},
+    {"bounces not traced", "the light of the bounces not traced",
+     "the paths stop after maxBounces (r.RayTracing.GlobalIllumination.MaxBounces); more bounces "
+     "add it, each about one more ray and its light samples a path"},
+    {"left out", "light the pass leaves out",
+     "Unreal's ray-traced GI shades its hits diffuse only (a mirror or glossy surface a GI ray "
+     "sees reflects nothing), adds no emission at them (an emitter lights nothing) and no sky on "
+     "its first ray (the sky light's diffuse term is another pass's); no setting of the pass adds "
+     "it (where a denoiser follows the pass, its blur is here too)"},
+};
+
+// The nearest tracer (a pass that declares its rays parameter, not the oracle)
 // upstream of step `from`, itself included; null when there is none.
 const PlanStep* upstreamTracer(const Plan& plan, int from) {
     std::vector<int> queue = {from};
@@ -95,8 +110,6 @@ std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
                                                       const std::set<std::string>& available) {
     std::vector<DecompositionTarget> targets;
     const PassType* oracle = oracleType();
-    if (!oracle)
-        return targets;
     for (const PlanStep& step : plan.steps) {
         if (!step.io.roles.measuresError)
             continue;
@@ -105,8 +118,7 @@ std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
         if (source.fromCapture || !reference.fromCapture)
             continue;
         const PlanStep* tracer = upstreamTracer(plan, source.step);
-        const auto port = oracle->roles.oracleFor.find(reference.buffer);
-        if (!tracer || port == oracle->roles.oracleFor.end())
+        if (!tracer)
             continue;
         DecompositionTarget t;
         t.errorNode = step.name;
@@ -114,13 +126,25 @@ std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
         t.reference = reference.key;
         t.tracer = tracer->name;
         t.tracerRays = tracer->io.roles.raysParam;
-        t.oracleType = oracle->id;
-        t.oracleRays = oracle->roles.raysParam;
-        t.oraclePort = port->second;
-        // Against the full truth, the one-bounce truth is a rung of its own when the oracle
-        // estimates it too.
-        if (reference.buffer == kFull && oracle->roles.oracleFor.count(kOneBounce))
-            t.truths.push_back(std::string("capture:") + kOneBounce);
+        t.tracerBounces = tracer->io.roles.bouncesParam;
+        if (!t.tracerBounces.empty()) {
+            // A ray-traced GI pass: its own ladder, to the full truth only.
+            if (reference.buffer != kFull)
+                continue;
+        } else {
+            if (!oracle)
+                continue;
+            const auto port = oracle->roles.oracleFor.find(reference.buffer);
+            if (port == oracle->roles.oracleFor.end())
+                continue;
+            t.oracleType = oracle->id;
+            t.oracleRays = oracle->roles.raysParam;
+            t.oraclePort = port->second;
+            // Against the full truth, the one-bounce truth is a rung of its own when the oracle
+            // estimates it too.
+            if (reference.buffer == kFull && oracle->roles.oracleFor.count(kOneBounce))
+                t.truths.push_back(std::string("capture:") + kOneBounce);
+        }
         t.truths.push_back(reference.key);
         if (!std::all_of(t.truths.begin(), t.truths.end(), [&](const std::string& k) {
                 return available.count(k.substr(8)) > 0;
@@ -157,9 +181,10 @@ ErrorBreakdown::ErrorBreakdown(const RunSetup& probe,
 const Image& ErrorBreakdown::oracle(const std::string& port) {
     if (auto it = mOracle.find(port); it != mOracle.end())
         return it->second;
-    // Every port the targets read, traced together once.
+    // Every port the screen-space targets read, traced together once.
     io::RunConfig config = chainWithoutOutputs(mProbe.config());
-    const DecompositionTarget& first = mTargets.front();
+    const DecompositionTarget& first = *std::find_if(
+        mTargets.begin(), mTargets.end(), [](const auto& t) { return !t.oracleType.empty(); });
     config.graph.nodes = {
         {kOracleNode, first.oracleType, {{first.oracleRays, mRays}}, {}, "/decomposition"}};
     config.graph.lightTemplates.clear();
@@ -167,6 +192,8 @@ const Image& ErrorBreakdown::oracle(const std::string& port) {
     options.config = mProbe.config().path;
     options.frames = std::to_string(mFrame);
     for (const auto& t : mTargets) {
+        if (t.oracleType.empty())
+            continue;
         const std::string key = std::string(kOracleNode) + "." + t.oraclePort;
         if (std::find(options.dumps.begin(), options.dumps.end(), key) == options.dumps.end())
             options.dumps.push_back(key);
@@ -177,16 +204,20 @@ const Image& ErrorBreakdown::oracle(const std::string& port) {
     sink.keep = true;
     executePlan(session.plan(), mSource, sink);
     for (const auto& t : mTargets)
-        mOracle[t.oraclePort] = sink.images.at(std::string(kOracleNode) + "." + t.oraclePort);
+        if (!t.oracleType.empty())
+            mOracle[t.oraclePort] = sink.images.at(std::string(kOracleNode) + "." + t.oraclePort);
     return mOracle.at(port);
 }
 
 std::map<std::string, Image> ErrorBreakdown::converged(const SetupOptions& setting,
                                                         const std::string& tracerRays,
+                                                        int raysPerSeed,
+                                                        const std::vector<std::string>& extraSets,
                                                         const std::vector<std::string>& sources) {
     SetupOptions options = setting;
     options.dumps = sources;
-    options.sets.push_back(fmt::format("{}={}", tracerRays, mRays));
+    options.sets.push_back(fmt::format("{}={}", tracerRays, raysPerSeed));
+    options.sets.insert(options.sets.end(), extraSets.begin(), extraSets.end());
     const RunSetup session(mProbe, chainWithoutOutputs(mProbe.config()), options);
     std::map<std::string, Image> sum;
     const int64_t first = mSource.frameInfo().number;
@@ -220,23 +251,41 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
                                 const std::map<std::string, Image>& kept,
                                 const std::string& label,
                                 std::vector<ErrorNodeResult>& errors) {
-    // One converged chain per tracer serves every error whose source it feeds.
-    std::map<std::string, std::vector<std::string>> sourcesByTracer;
+    // One converged chain per tracer serves every error whose source it feeds; a ray-traced
+    // tracer's "every bounce" rung is a second one.
+    struct Tracer {
+        std::string rays, bounces;  // "pass.param"
+        std::vector<std::string> sources;
+    };
+    std::map<std::string, Tracer> tracers;
     for (const ErrorNodeResult& e : errors)
         for (const auto& t : mTargets)
             if (t.errorNode == e.name) {
-                auto& list = sourcesByTracer[t.tracer + "." + t.tracerRays];
-                if (std::find(list.begin(), list.end(), t.source) == list.end())
-                    list.push_back(t.source);
+                Tracer& tr = tracers[t.tracer];
+                tr.rays = t.tracer + "." + t.tracerRays;
+                tr.bounces = t.tracerBounces.empty() ? "" : t.tracer + "." + t.tracerBounces;
+                if (std::find(tr.sources.begin(), tr.sources.end(), t.source) == tr.sources.end())
+                    tr.sources.push_back(t.source);
             }
-    std::map<std::string, Image> convergedBySource;
-    for (const auto& [tracerRays, sources] : sourcesByTracer) {
+    std::map<std::string, Image> convergedBySource, allBouncesBySource;
+    // A ray-traced tracer's paths are split over the frame seeds (mRays paths in all, as the
+    // screen-space tracer's converged rung averages mRays rays of each seed: its noise is the
+    // seed's pattern, not only the ray count).
+    const int raysPerSeed = std::max(1, mRays / kFrameSeeds);
+    for (const auto& [name, tr] : tracers) {
+        const bool rayTraced = !tr.bounces.empty();
+        const int rays = rayTraced ? raysPerSeed : mRays;
         logInfo(fmt::format("error decomposition, {}: {} converged ({} at {} rays, {} frame "
                             "seeds)",
-                            label, fmt::join(sources, " and "),
-                            tracerRays.substr(0, tracerRays.rfind('.')), mRays,
-                            kFrameSeeds));
-        convergedBySource.merge(converged(options, tracerRays, sources));
+                            label, fmt::join(tr.sources, " and "), name, rays, kFrameSeeds));
+        convergedBySource.merge(converged(options, tr.rays, rays, {}, tr.sources));
+        if (rayTraced) {
+            logInfo(fmt::format("error decomposition, {}: {} at {} bounces", label,
+                                fmt::join(tr.sources, " and "), kAllBounces));
+            allBouncesBySource.merge(converged(options, tr.rays, rays,
+                                               {fmt::format("{}={}", tr.bounces, kAllBounces)},
+                                               tr.sources));
+        }
     }
     for (ErrorNodeResult& e : errors) {
         const auto t = std::find_if(mTargets.begin(), mTargets.end(), [&](const auto& t) {
@@ -244,8 +293,11 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
         });
         if (t == mTargets.end())
             continue;
-        const auto conv = convergedBySource.find(t->source);
-        // The rungs: this setting's result (its last timed run), converged, oracle, truths.
+        const bool rayTraced = !t->tracerBounces.empty();
+        const StepKind* kinds = rayTraced ? kRayTracedSteps : kSteps;
+        const Image& conv = convergedBySource.at(t->source);
+        // The rungs: this setting's result (its last timed run), converged, then the oracle
+        // (screen space) or every bounce (ray traced), then the truths.
         const Image& result = kept.at(t->source);
         const int channels = result.channelCount();
         std::vector<Texture> truths;
@@ -253,10 +305,25 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
             truths.push_back(mSource.loadBuffer(key.substr(8), channels));
         const Image& reference = truths.back().image();
         std::vector<LadderRung> ladder = {{&result, isHalf(result, reference)},
-                                          {&conv->second, isHalf(conv->second, reference)},
-                                          {&oracle(t->oraclePort), false}};
+                                          {&conv, isHalf(conv, reference)}};
+        std::vector<std::string> rungNames = {
+            t->source,
+            rayTraced ? fmt::format("{} converged ({}.{}={}, {} frame seeds)", t->source, t->tracer,
+                                    t->tracerRays, raysPerSeed, kFrameSeeds)
+                      : fmt::format("{} converged ({}.{}={}, {} frame seeds)", t->source, t->tracer,
+                                    t->tracerRays, mRays, kFrameSeeds)};
+        if (rayTraced) {
+            const Image& all = allBouncesBySource.at(t->source);
+            ladder.push_back({&all, isHalf(all, reference)});
+            rungNames.push_back(fmt::format("{} converged at {}.{}={}", t->source, t->tracer,
+                                            t->tracerBounces, kAllBounces));
+        } else {
+            ladder.push_back({&oracle(t->oraclePort), false});
+            rungNames.push_back(fmt::format("{}.{} ({} rays)", t->oracleType, t->oraclePort, mRays));
+        }
         for (const Texture& truth : truths)
             ladder.push_back({&truth.image(), false});
+        rungNames.insert(rungNames.end(), t->truths.begin(), t->truths.end());
         std::optional<Image> mask;
         if (!t->depth.empty())
             mask = notSkyMask(mSource.loadBuffer(t->depth.substr(8), 1).image(),
@@ -266,18 +333,9 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
         ErrorDecompositionResult d;
         d.rmse = stats.rmse;
         d.bias = stats.bias;
-        const std::vector<std::string> rungNames = [&] {
-            std::vector<std::string> n = {
-                t->source,
-                fmt::format("{} converged ({}.{}={}, {} frame seeds)", t->source, t->tracer, t->tracerRays,
-                            mRays, kFrameSeeds),
-                fmt::format("{}.{} ({} rays)", t->oracleType, t->oraclePort, mRays)};
-            n.insert(n.end(), t->truths.begin(), t->truths.end());
-            return n;
-        }();
         std::size_t dominant = 0;
         for (std::size_t k = 0; k < stats.steps.size(); ++k) {
-            d.steps.push_back({kSteps[k].name, rungNames[k], rungNames[k + 1],
+            d.steps.push_back({kinds[k].name, rungNames[k], rungNames[k + 1],
                                stats.steps[k].rmse, stats.steps[k].bias, stats.steps[k].share});
             if (stats.steps[k].share > stats.steps[dominant].share)
                 dominant = k;
@@ -288,10 +346,10 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
         for (std::size_t k = 0; k < stats.steps.size(); ++k)
             if (stats.steps[k].share <= -0.005)  // what prints as 0 % cancels nothing
                 cancels += fmt::format("{}{} cancels {:.0f} %", cancels.empty() ? "; " : ", ",
-                                       kSteps[k].name, -100.0 * stats.steps[k].share);
+                                       kinds[k].name, -100.0 * stats.steps[k].share);
         d.sentence = fmt::format("Most of the error is {} ({:.0f} % of the squared error{}): {}.",
-                                 kSteps[dominant].phrase, 100.0 * stats.steps[dominant].share,
-                                 cancels, kSteps[dominant].remedy);
+                                 kinds[dominant].phrase, 100.0 * stats.steps[dominant].share,
+                                 cancels, kinds[dominant].remedy);
         e.decomposition = std::move(d);
     }
 }

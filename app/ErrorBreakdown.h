@@ -6,6 +6,10 @@
 //   seeds: what is left is the algorithm, not its noise) → framepass's screen_space_oracle (the
 //   best any screen-space method does with this depth and colour) → the one-bounce truth (what the
 //   screen cannot see) → the full truth (what bounced more than once).
+// For a ray-traced GI pass (PassRoles::bouncesParam) the ladder is its own:
+//   result → converged (many paths) → every bounce (the paths' bounce count raised) → the truth
+//   (what is left is the light the pass leaves out: emitters its rays see, the sky on the first
+//   ray).
 // The ladder stops at the error_measure's reference; the maths is decomposeError's.
 #include "app/BenchResult.h"
 #include "app/BenchSources.h"
@@ -26,6 +30,7 @@ struct DecompositionTarget {
     std::string errorNode, source, reference;  //!< the error_measure and its two inputs' keys
     std::string tracer;      //!< the screen-space pass upstream of the source
     std::string tracerRays;  //!< its rays-per-pixel parameter (PassRoles::raysParam)
+    std::string tracerBounces;  //!< a ray-traced tracer's bounce parameter ("" = screen-space)
     std::string oracleType, oracleRays;  //!< the oracle's pass type and its rays parameter
     std::string oraclePort;  //!< the oracle's output for the same quantity (PassRoles::oracleFor)
     std::vector<std::string> truths;  //!< capture:Truth.* rungs after the oracle, ending at reference
@@ -62,13 +67,20 @@ public:
 
     /// Frame seeds the converged chain is averaged over: every value of Unreal's frame index mod 8.
     static constexpr int kFrameSeeds = 8;
+    /// The bounce count of a ray-traced ladder's "every bounce" rung: at the Cornell box's albedo
+    /// the light after the eighth bounce is −0.0003 of its full GI (algorithms §12.2).
+    static constexpr int kAllBounces = 8;
 
 private:
     const Image& oracle(const std::string& port);
     /// The chain with `tracerRays` ("pass.param") at mRays rays, each of `sources` averaged over
     /// the frame seeds.
+    /// A ray-traced tracer takes mRays / kFrameSeeds paths per seed (mRays in all); `extraSets`
+    /// ("PASS.PARAM=V") change the chain further.
     std::map<std::string, Image> converged(const SetupOptions& options,
                                            const std::string& tracerRays,
+                                           int raysPerSeed,
+                                           const std::vector<std::string>& extraSets,
                                            const std::vector<std::string>& sources);
 
     const RunSetup& mProbe;

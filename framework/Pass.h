@@ -68,13 +68,17 @@ struct PassRoles {
     /// through addMetric: a bench setting's error. An optional "depth" input with the
     /// "skyDistance" parameter leaves the sky out.
     bool measuresError = false;
-    /// A screen-space tracer whose noise this integer parameter sets (its rays per pixel): the
-    /// breakdown's converged rung runs the chain with it raised.
+    /// A tracer whose noise this integer parameter sets (its rays per pixel): the breakdown's
+    /// converged rung runs the chain with it raised.
     std::string raysParam;
     /// A screen-space oracle (the best any screen-space method does with the frame's depth and
     /// colour): per capture truth layer, the output that estimates the same quantity. Its ray
     /// count is raysParam.
     std::map<std::string, std::string> oracleFor;
+    /// A ray-traced GI pass: its paths' bounce count. With raysParam, the breakdown's ladder for
+    /// it has no screen-space rungs: converged (raysParam raised), every bounce (this raised),
+    /// the truth — what is left is light the pass leaves out.
+    std::string bouncesParam;
     /// Traces rays through RayScene: bench replays them in bare Embree loops.
     bool tracesRays = false;
     /// A method Unreal turns on with one setting ("r.RayTracing.GlobalIllumination=1"): tune

@@ -73,6 +73,8 @@ PassIO RTGlobalIlluminationPass::describe() const {
     PassIO io;
     io.roles.unrealSwitch = "r.RayTracing.GlobalIllumination=1";  // brute force
     io.roles.tracesRays = true;  // bench replays its rays in bare Embree loops
+    io.roles.raysParam = "samplesPerPixel";  // the error breakdown's ray-traced ladder
+    io.roles.bouncesParam = "maxBounces";
     io.inputs = {
         gbuffer::depthInput(),
         gbuffer::normalInput(),

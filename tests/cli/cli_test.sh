@@ -42,7 +42,7 @@ JSON
 cat > "$DIR/rt_noscene.json" <<JSON
 { "version": 1, "engine": "ue4.27-raytracing", "capture": "cornell.exr" }
 JSON
-check "the ray-traced preset composites RTGI, RTAO and RTR, no SSGI or SSR" bash -c "'$FP' plan '$DIR/rt.json' > '$DIR/rt_plan.txt' && grep -q 'diffuse←rt_global_illumination.diffuse' '$DIR/rt_plan.txt' && grep -q 'ao←rt_ambient_occlusion.ao' '$DIR/rt_plan.txt' && grep -q 'reflection←rt_reflections.reflection' '$DIR/rt_plan.txt' && ! grep -q '(ssgi)' '$DIR/rt_plan.txt' && ! grep -q '(ssr)' '$DIR/rt_plan.txt' && '$FP' run '$DIR/rt.json' -o '$DIR/rt_out' >/dev/null && test -f '$DIR/rt_out/raytraced.0001.exr' && test -f '$DIR/rt_out/final.0001.png'"
+check "the ray-traced preset composites RTGI, RTAO and RTR through their denoisers, no SSGI or SSR" bash -c "'$FP' plan '$DIR/rt.json' > '$DIR/rt_plan.txt' && grep -q 'diffuse←gi_denoise.diffuse' '$DIR/rt_plan.txt' && grep -q 'ao←ao_denoise.ao' '$DIR/rt_plan.txt' && grep -q 'reflection←reflection_denoise.reflection' '$DIR/rt_plan.txt' && grep -q 'diffuse←rt_global_illumination.diffuse' '$DIR/rt_plan.txt' && grep -q 'hitDistance←rt_ambient_occlusion.hitDistance' '$DIR/rt_plan.txt' && ! grep -q '(ssgi)' '$DIR/rt_plan.txt' && ! grep -q '(ssr)' '$DIR/rt_plan.txt' && '$FP' run '$DIR/rt.json' -o '$DIR/rt_out' >/dev/null && test -f '$DIR/rt_out/raytraced.0001.exr' && test -f '$DIR/rt_out/denoised.0001.exr' && test -f '$DIR/rt_out/final.0001.png'"
 check "bench replays each ray-traced pass's rays through its own bare loops (the Cornell box's rough walls give rt_reflections none)" bash -c "'$FP' bench '$DIR/rt.json' --runs 1 --warmup 0 > '$DIR/rt_bench.txt' && grep -q 'bare loop rtcIntersect1 (rt_global_illumination)' '$DIR/rt_bench.txt' && grep -q 'bare loop rtcOccluded8 (rt_ambient_occlusion)' '$DIR/rt_bench.txt' && grep -q 'bare loop rtcOccluded8 (rt_shadows_ceiling)' '$DIR/rt_bench.txt'"
 cat > "$DIR/methods.json" <<JSON
 { "version": 1, "capture": "cornell.exr", "scene": "$SRC/examples/cornell/scene.json",
@@ -187,6 +187,28 @@ for name, steps in ((\"vs_full\", [\"noise\", \"approximation\", \"screen-space 
     assert t[\"steps\"][0][\"rmse\"] > 0 and t[\"steps\"][-1][\"to\"] == e[\"reference\"], t
     assert t[\"sentence\"].startswith(\"Most of the error is \"), t
 '"
+cat > "$DIR/rtgi_bench.json" <<JSON
+{ "version": 1, "capture": "truth.exr", "scene": "$SRC/examples/cornell/scene.json",
+  "passes": [ { "name": "rt_global_illumination", "type": "rt_global_illumination", "params": { "samplesPerPixel": 1, "maxBounces": 2 } },
+              { "name": "rtgi_vs_full", "type": "error_measure",
+                "inputs": { "source": "rt_global_illumination.diffuse", "reference": "capture:Truth.DiffuseIndirectFull" } } ],
+  "outputs": {} }
+JSON
+# A ray-traced GI error has its own ladder: noise, the bounces not traced, what the pass leaves out.
+# Its arithmetic telescopes as the screen-space one's; and at maxBounces = 8 (the ladder's "every
+# bounce" rung) the converged and every-bounce chains are the same chain, so that step is 0 exactly.
+check "bench takes a ray-traced GI error apart: noise, bounces not traced, left out" bash -c "set -o pipefail; for b in 2 8; do '$FP' bench '$DIR/rtgi_bench.json' --set rt_global_illumination.maxBounces=\$b --runs 1 --warmup 0 --decompose-rays 16 --json 2>/dev/null | python3 -c '
+import json, sys
+d = json.load(sys.stdin)
+e = d[\"settings\"][0][\"errors\"][0]; t = e[\"decomposition\"]
+assert [s[\"name\"] for s in t[\"steps\"]] == [\"noise\", \"bounces not traced\", \"left out\"], t
+assert abs(sum(s[\"bias\"] for s in t[\"steps\"]) - t[\"bias\"]) < 1e-9, t
+assert abs(sum(s[\"share\"] for s in t[\"steps\"]) - 1) < 1e-9, t
+assert abs(t[\"rmse\"] - e[\"metrics\"][\"rmse\"]) <= 1e-9 * e[\"metrics\"][\"rmse\"], (t, e)
+bounces = t[\"steps\"][1]
+assert (bounces[\"rmse\"] == 0) == (sys.argv[1] == \"8\"), t
+if sys.argv[1] == \"2\": assert bounces[\"bias\"] < 0, t  # the light of bounces 3 to 8 is missing
+' \$b || exit 1; done"
 check "bench --decompose-rays 0 leaves the decomposition out" bash -c "'$FP' bench '$DIR/ssgi_bench.json' --runs 1 --warmup 0 --decompose-rays 0 --json 2>/dev/null > '$DIR/nodec.json' && grep -q '\"rmse\"' '$DIR/nodec.json' && ! grep -q decomposition '$DIR/nodec.json'"
 check "the bench report draws the decomposition" bash -c "'$FP' bench '$DIR/ssgi_bench.json' --runs 1 --warmup 0 --decompose-rays 8 --html '$DIR/dec.html' >/dev/null 2>&1 && grep -q 'Why the error is what it is' '$DIR/dec.html' && grep -q 'class=\"decomposition\"' '$DIR/dec.html'"
 
