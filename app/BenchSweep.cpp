@@ -169,6 +169,16 @@ void addBareRayLoops(const Plan& plan,
                 {"bare loop rtcIntersect1" + of, kBareLoopType, "rays", rays.closestRays.size(),
                  timed([&] { return timeBareClosestHit(scene, rays.closestRays, hits); })});
         }
+        // Every ray of the pass, its shadow rays too, as a closest-hit query one at a time: the
+        // yardstick of a pass that mixes the two kinds (docs/commands.md, bench).
+        if (!rays.closestRays.empty() && !rays.rays.empty()) {
+            std::vector<Ray> every = rays.closestRays;
+            every.insert(every.end(), rays.rays.begin(), rays.rays.end());
+            uint64_t hits = 0;
+            setting.passes.push_back(
+                {"bare loop rtcIntersect1, every ray" + of, kBareLoopType, "rays", every.size(),
+                 timed([&] { return timeBareClosestHit(scene, every, hits); })});
+        }
     }
 }
 
