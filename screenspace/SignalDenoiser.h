@@ -8,11 +8,13 @@
 // one keeps it tight.
 #include "foundation/Camera.h"
 #include "foundation/Image.h"
+#include "framework/Params.h"
 #include "framework/Pass.h"
 #include "screenspace/Reprojection.h"
 #include "screenspace/Surface.h"
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace fp::ssd {
@@ -71,6 +73,64 @@ Counts denoise(const Stages& stages,
                const Inputs& in,
                const std::vector<Plane*>& out,
                Image* state);
+
+/// Unreal's console variables of one signal's denoiser.
+struct DenoiserCvars {
+    const char* selector;  //!< 0 off, 1 the default denoiser, 2 a third-party one
+    const char* prefix;    //!< the signal's settings: PREFIX.ReconstructionSamples, …
+};
+
+/// The parameters of a denoising pass, declared once for the three: each pass's own Params
+/// struct holds `denoiser`, `reconstructionSamples`, `preConvolution`, `temporalAccumulation`
+/// and, where its signal has a history convolution, `historyConvolutionSamples` and
+/// `historyConvolutionSpread`, with its signal's defaults.
+template <class P>
+ParamSpec<P> denoiserParamSpec(const DenoiserCvars& cvars) {
+    const std::string prefix = cvars.prefix;
+    ParamSpec<P> s;
+    s.add("denoiser", &P::denoiser, "0 passes the raw signal through; 1 (and 2) denoise")
+        .range(0, 2)
+        .cvar(cvars.selector);
+    s.add("reconstructionSamples", &P::reconstructionSamples,
+          "taps of the spatial reconstruction (Unreal clamps them to 1–56)")
+        .range(1, kMaxReconstructionSamples)
+        .cvar(prefix + ".ReconstructionSamples");
+    s.add("preConvolution", &P::preConvolution, "8-tap pre-convolution passes after it")
+        .range(0, 8)
+        .cvar(prefix + ".PreConvolution");
+    s.add("temporalAccumulation", &P::temporalAccumulation, "accumulate across frames")
+        .needsHistory()
+        .cvar(prefix + ".TemporalAccumulation");
+    if constexpr (requires { &P::historyConvolutionSamples; }) {
+        s.add("historyConvolutionSamples", &P::historyConvolutionSamples,
+              "taps of the history convolution, the post filter after the accumulation (0: none)")
+            .range(0, kMaxReconstructionSamples)
+            .cvar(prefix + ".HistoryConvolution.SampleCount");
+        s.add("historyConvolutionSpread", &P::historyConvolutionSpread,
+              "the history convolution's radius, pixels")
+            .range(0.0, 64.0)
+            .cvar(prefix + ".HistoryConvolution.KernelSpreadFactor");
+    }
+    return s;
+}
+
+/// The stages a denoising pass's parameters ask for (denoiserParamSpec's members).
+template <class P>
+Stages stagesOf(const P& p, Footprint footprint, float targetSamples) {
+    Stages s;
+    s.footprint = footprint;
+    s.reconstructionSamples = p.reconstructionSamples;
+    s.preConvolutions = p.preConvolution;
+    s.temporalAccumulation = p.temporalAccumulation;
+    s.targetSamples = targetSamples;
+    if constexpr (requires { p.historyConvolutionSamples; }) {
+        s.historyConvolutionSamples = p.historyConvolutionSamples;
+        s.historyConvolutionSpread = p.historyConvolutionSpread;
+    } else {
+        s.historyConvolutionSamples = 0;
+    }
+    return s;
+}
 
 /// The inputs every denoising pass declares besides its signal: the rays' hit distance, the
 /// GBuffer's depth, normal and shading model (roughness too for reflections), optional velocity.
