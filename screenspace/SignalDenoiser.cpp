@@ -246,7 +246,17 @@ Counts denoise(const Stages& stages,
     const int W = in.gbuffer.depth.width(), H = in.gbuffer.depth.height();
     for (const Plane* p : in.signal)
         FP_CHECK(p->width() == W && p->height() == H,
-                 "the signal is {}×{} but the frame is {}×{}", p->width(), p->height(), W, H);
+                 "the signal is {}×{} but the frame is {}×{} (a half-resolution trace cannot be "
+                 "denoised here)", p->width(), p->height(), W, H);
+    FP_CHECK(in.hitDistance->width() == W && in.hitDistance->height() == H,
+             "hitDistance is {}×{} but the frame is {}×{}", in.hitDistance->width(),
+             in.hitDistance->height(), W, H);
+    FP_CHECK(!in.roughness || (in.roughness->width() == W && in.roughness->height() == H),
+             "roughness is {}×{} but the frame is {}×{}", in.roughness ? in.roughness->width() : 0,
+             in.roughness ? in.roughness->height() : 0, W, H);
+    FP_CHECK(!in.velocity || (in.velocity->image().width() == W && in.velocity->image().height() == H),
+             "velocity is {}×{} but the frame is {}×{}", in.velocity ? in.velocity->image().width() : 0,
+             in.velocity ? in.velocity->image().height() : 0, W, H);
 
     Frame f{stages,
             in,

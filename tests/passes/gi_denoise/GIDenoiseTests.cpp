@@ -2,6 +2,7 @@
 // variance of a noisy constant falls at least as a 17-sample mean's and further over frames, the
 // mean stays, nothing crosses a crease, a hit at the surface itself allows no blur, and pixels
 // with no ray are neither changed nor read.
+#include "foundation/Error.h"
 #include "tests/support/NoisySignal.h"
 #include "tests/support/TestScenes.h"
 
@@ -142,6 +143,23 @@ TEST_CASE("a hit at the surface itself allows no blur; pixels with no ray pass t
             else
                 CHECK(got.at(x, y) <= 0.75f);
         }
+}
+
+TEST_CASE("a signal or hit distance of another size is an error, not a read past the plane") {
+    // A half-resolution trace (ssgi.halfRes) bound to the denoiser: its planes are smaller than
+    // the GBuffer the kernels walk.
+    const int w = 32, h = 32;
+    auto src = test::captureToMemory(test::floorScene(), floorCamera(w, h));
+    std::mt19937 rng(9);
+    src.buffers["Truth.NoisyDiffuse"] = test::noisyConstant(w, h, {"R", "G", "B"}, rng);
+    src.buffers["Truth.NoisyAO"] = test::noisyConstant(w, h, {"Y"}, rng);
+    src.buffers["Truth.HitDistance"] = filled(w / 2, h / 2, 1e6f);
+    CHECK_THROWS_WITH_AS(test::runChain(src, kChain, {"gi_denoise.diffuse"}),
+                         doctest::Contains("hitDistance is 16×16 but the frame is 32×32"), Error);
+    src.buffers["Truth.HitDistance"] = filled(w, h, 1e6f);
+    src.buffers["Truth.NoisyAO"] = test::noisyConstant(w / 2, h / 2, {"Y"}, rng);
+    CHECK_THROWS_WITH_AS(test::runChain(src, kChain, {"gi_denoise.diffuse"}),
+                         doctest::Contains("the signal is 16×16 but the frame is 32×32"), Error);
 }
 
 TEST_CASE("denoiser 0 passes the raw signal through") {
