@@ -194,6 +194,30 @@ std::string systemSettings(const SweepPoint& point) {
     return s;
 }
 
+std::string systemSettings(const TunedSetting& t) {
+    // A cvar of the grid whose passes the chosen chain does not run (SSGI's quality beside a
+    // ray-traced method) would read as part of the answer: say that it sets nothing instead.
+    static const CvarTable cvars(builtinPasses());
+    std::set<std::string> ran;
+    for (const PassTiming& p : t.setting.passes)
+        ran.insert(p.type);
+    std::string s = "[SystemSettings]\n", idle;
+    for (const auto& [name, value] : t.point) {
+        if (!isCvarName(name))
+            continue;
+        const std::vector<std::string> targets = cvars.targets(name);
+        const bool read = targets.empty() || std::any_of(targets.begin(), targets.end(),
+                                                         [&](const auto& type) {
+                                                             return ran.count(type) > 0;
+                                                         });
+        if (read)
+            s += name + "=" + value + "\n";
+        else
+            idle += fmt::format("; {}={} left out: no pass of this chain reads it\n", name, value);
+    }
+    return s + idle;
+}
+
 std::string methodSettings(const TunedSetting& t) {
     if (std::all_of(t.point.begin(), t.point.end(),
                     [](const auto& axis) { return isCvarName(axis.first); }))
@@ -244,7 +268,7 @@ nlohmann::json TuneResult::toJson(const std::string& config) const {
     }
     if (choice) {
         j["choice"] = settingJson(tried[*choice]);
-        j["systemSettings"] = systemSettings(tried[*choice].point);
+        j["systemSettings"] = systemSettings(tried[*choice]);
         j["methodSettings"] = methodSettings(tried[*choice]);
         if (!tieNote.empty()) j["tie"] = tieNote;
     } else {

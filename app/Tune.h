@@ -54,6 +54,9 @@ TuneResult tune(const TuneOptions& options);
 
 /// The point's cvars as an Unreal .ini section.
 std::string systemSettings(const SweepPoint& point);
+/// The same for a tuned setting; a cvar that no pass of the setting's chain reads
+/// (its method's chain has none of its passes) is a comment line saying so.
+std::string systemSettings(const TunedSetting& setting);
 
 /// Where a setting's point sets more than cvars (a parameter, or an error's source picking a
 /// method): the Unreal setting that turns on each method the setting runs, as .ini comment lines

@@ -55,7 +55,7 @@ Command addTuneCommand(CLI::App& app) {
             std::cout << fmt::format("cheapest setting that meets {}: {} ({:.2f} ms, {} {:.5g})\n",
                                      r.bound(), c.setting.label, c.frameMs(), r.target.metric,
                                      c.value)
-                      << app::systemSettings(c.point);
+                      << app::systemSettings(c);
             for (const auto& [name, value] : c.point)
                 if (!app::isCvarName(name))
                     std::cout << fmt::format("; framepass only (no Unreal cvar): --set {}={}\n",

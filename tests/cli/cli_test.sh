@@ -58,6 +58,7 @@ check "--set PASS.INPUT=SOURCE rebinds an input, and the method it leaves is cul
 check "a --set on neither a parameter nor an input is an error" expect_exit 2 "gi" "$FP" plan "$DIR/methods.json" --set gi.sorce=rtgi.diffuse
 check "tune searches across methods through an error's source" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=ssgi.diffuse,rtgi.diffuse --runs 1 --warmup 0 2>/dev/null | grep -q 'cheapest setting that meets'"
 check "tune names the Unreal setting of the method it chose" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=rtgi.diffuse --sweep rtgi.samplesPerPixel=1,2 --runs 1 --warmup 0 2>/dev/null | grep -q '; the method rt_global_illumination runs: r.RayTracing.GlobalIllumination=1'"
+check "tune leaves out a cvar the chosen method's chain does not read" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=rtgi.diffuse --sweep r.SSGI.Quality=1,4 --runs 1 --warmup 0 2>/dev/null > '$DIR/tune_idle.txt' && grep -q '^; r.SSGI.Quality=[14] left out: no pass of this chain reads it' '$DIR/tune_idle.txt' && ! grep -q '^r.SSGI.Quality=' '$DIR/tune_idle.txt'"
 check "the ray-traced preset without a scene says it needs one" expect_exit 2 "a pass needs the scene; name the scene JSON" "$FP" run "$DIR/rt_noscene.json" -o "$DIR/rt_none"
 cat > "$DIR/rt_bad.json" <<JSON
 { "version": 1, "engine": "ue4.27-raytrace", "capture": "cornell.exr" }
