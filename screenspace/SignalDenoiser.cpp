@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 
 namespace fp::ssd {
 
@@ -35,35 +36,24 @@ struct Frame {
     SurfaceGrid surfaces;
     Plane radius;  // kernel radius, pixels; kNoRay where the pixel passes through
     uint32_t frameMod8;
+    // A signal traced at a lower resolution (a ray-traced pass's screen percentage): each texel
+    // stands for the top-left pixel of its upscale × upscale block (fullResPixel).
+    int upscale = 1;
+    int traceWidth = 0, traceHeight = 0;
+    std::optional<SurfaceGrid> traceSurfaces;  // the texels' surfaces, when upscale > 1
 
     bool carriesSignal(int x, int y) const { return radius.at(x, y) >= 0.0f; }
-};
-
-// §12.5: the pixel's kernel radius from its hit distance — the distance itself for diffuse
-// signals, × α for reflections — in pixels of its own world size, clamped to [1, 16]; a miss
-// (nothing near) takes the widest kernel, a mirror (α → 0) none.
-float kernelRadius(const Frame& f, int x, int y) {
-    const Surface& s = f.surfaces.at(x, y);
-    const float hit = f.in.hitDistance->at(x, y);
-    if (!s.valid || hit < -1.5f)
-        return kNoRay;
-    float width = 1.0f;
-    if (f.stages.footprint == Footprint::Specular) {
-        const float r = std::clamp(f.in.roughness->at(x, y), 0.0f, 1.0f);
-        width = r * r;
+    const Surface& texelSurface(int tx, int ty) const {
+        return traceSurfaces ? traceSurfaces->at(tx, ty) : surfaces.at(tx, ty);
     }
-    const float world = hit < 0.0f ? 1e30f : hit;
-    return std::clamp(world * width / std::max(s.radius, 1e-12f), 0.0f, kMaxKernelPixels) *
-           (width > 0.0f ? 1.0f : 0.0f);
-}
-
-// Reflections compare lobes too: a neighbour of another roughness reflects another blur
-// (framepass's weight, §12.5).
-float lobeWeight(const Frame& f, int x, int y, int nx, int ny) {
-    if (f.stages.footprint != Footprint::Specular)
-        return 1.0f;
-    return saturate(1.0f - 4.0f * std::fabs(f.in.roughness->at(x, y) - f.in.roughness->at(nx, ny)));
-}
+    // A texel whose ray was traced (a surface, and a hit distance above −1.5).
+    bool texelCarries(int tx, int ty) const {
+        return texelSurface(tx, ty).valid && in.hitDistance->at(tx, ty) >= -1.5f;
+    }
+    PixelCoord texelPixel(int tx, int ty) const {
+        return fullResPixel(tx, ty, upscale, width, height);
+    }
+};
 
 struct Offset {
     float x, y;
@@ -78,6 +68,92 @@ std::vector<Offset> vogelDisc(int taps) {
         disc[i] = {d * std::cos(kGoldenAngle * float(i)), d * std::sin(kGoldenAngle * float(i))};
     }
     return disc;
+}
+
+// §12.5: the pixel's kernel radius from its hit distance — the distance itself for diffuse
+// signals, × α for reflections — in pixels of its own world size, clamped to [1, 16]; a miss
+// (nothing near) takes the widest kernel, a mirror (α → 0) none.
+float kernelRadius(const Frame& f, int x, int y) {
+    const Surface& s = f.surfaces.at(x, y);
+    if (!s.valid)
+        return kNoRay;
+    const int tx = std::min(x / f.upscale, f.traceWidth - 1);
+    const int ty = std::min(y / f.upscale, f.traceHeight - 1);
+    const float hit = f.in.hitDistance->at(tx, ty);
+    // At full resolution a pixel without a ray keeps its value; upscaled, its neighbours fill it.
+    if (hit < -1.5f)
+        return f.upscale == 1 ? kNoRay : kMaxKernelPixels;
+    float width = 1.0f;
+    if (f.stages.footprint == Footprint::Specular) {
+        const float r = std::clamp(f.in.roughness->at(x, y), 0.0f, 1.0f);
+        width = r * r;
+    }
+    const float world = hit < 0.0f ? 1e30f : hit;
+    const float radius =
+        std::clamp(world * width / std::max(s.radius, 1e-12f), 0.0f, kMaxKernelPixels) *
+        (width > 0.0f ? 1.0f : 0.0f);
+    // Upscaling, the reconstruction must reach the texels around the pixel's own.
+    return std::max(radius, float(f.upscale - 1));
+}
+
+// Reflections compare lobes too: a neighbour of another roughness reflects another blur
+// (framepass's weight, §12.5).
+float lobeWeight(const Frame& f, int x, int y, int nx, int ny) {
+    if (f.stages.footprint != Footprint::Specular)
+        return 1.0f;
+    return saturate(1.0f - 4.0f * std::fabs(f.in.roughness->at(x, y) - f.in.roughness->at(nx, ny)));
+}
+
+// The reconstruction of a signal traced at 1/upscale resolution, at every full-resolution pixel
+// (Unreal's denoiser upscales in this stage): the texel under the pixel and those under the
+// Vogel taps around it, each weighed by the bilateral test of its own surface (the pixel it was
+// traced at) against the pixel's; where none passes, the texel under the pixel as it is.
+void upscaleGather(const Frame& f, const std::vector<const Plane*>& src,
+                   const std::vector<Plane*>& dst, int taps) {
+    const std::vector<Offset> disc = vogelDisc(taps);
+    forEachTile(f.width, f.height, [&](const Tile& t) {
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                if (!f.carriesSignal(x, y)) {
+                    for (int c = 0; c < f.channels; ++c)
+                        dst[c]->at(x, y) = 0.0f;
+                    continue;
+                }
+                const Surface& ref = f.surfaces.at(x, y);
+                float sum[kMaxSignalChannels] = {};
+                float weight = 0.0f;
+                auto add = [&](int px, int py) {
+                    if (px < 0 || py < 0 || px >= f.width || py >= f.height)
+                        return;
+                    const int tx = std::min(px / f.upscale, f.traceWidth - 1);
+                    const int ty = std::min(py / f.upscale, f.traceHeight - 1);
+                    if (!f.texelCarries(tx, ty))
+                        return;
+                    const Surface& s = f.texelSurface(tx, ty);
+                    const PixelCoord at = f.texelPixel(tx, ty);
+                    const float w =
+                        bilateralWeight(ref, s, std::min(ref.radius, s.radius) * kBilateralScale) *
+                        lobeWeight(f, x, y, at.x, at.y);
+                    if (!(w > 0.0f))
+                        return;
+                    for (int c = 0; c < f.channels; ++c)
+                        sum[c] += w * src[c]->at(tx, ty);
+                    weight += w;
+                };
+                add(x, y);
+                const float r = f.radius.at(x, y);
+                const float turn = kTwoPi * ue::interleavedGradientNoise(float(x) + 0.5f,
+                                                                         float(y) + 0.5f, f.frameMod8);
+                const float c0 = r * std::cos(turn), s0 = r * std::sin(turn);
+                for (int i = 0; i < taps; ++i)
+                    add(int(std::floor(float(x) + 0.5f + c0 * disc[i].x - s0 * disc[i].y)),
+                        int(std::floor(float(y) + 0.5f + s0 * disc[i].x + c0 * disc[i].y)));
+                const int tx = std::min(x / f.upscale, f.traceWidth - 1);
+                const int ty = std::min(y / f.upscale, f.traceHeight - 1);
+                for (int c = 0; c < f.channels; ++c)
+                    dst[c]->at(x, y) = weight > 0.0f ? sum[c] / weight : src[c]->at(tx, ty);
+            }
+    });
 }
 
 // One bilateral gather: the centre and `taps` taps on a Vogel disc of radius `radius` pixels,
@@ -228,6 +304,13 @@ std::vector<Plane*> planes(Image& image) {
 
 }  // namespace
 
+int upscaleOf(Extent frame, Extent signal) {
+    for (int k = 1; k <= 4; ++k)
+        if (signal.width == (frame.width + k - 1) / k && signal.height == (frame.height + k - 1) / k)
+            return k;
+    return 0;
+}
+
 const std::vector<std::string>& stateChannels() {
     static const std::vector<std::string> names = {"R", "G", "B", "A", "N", "D", "NX", "NY", "NZ"};
     return names;
@@ -244,13 +327,17 @@ Counts denoise(const Stages& stages,
     FP_CHECK(stages.footprint != Footprint::Specular || in.roughness,
              "the reflection denoiser needs the GBuffer's roughness");
     const int W = in.gbuffer.depth.width(), H = in.gbuffer.depth.height();
+    const int upscale = upscaleOf({W, H}, {in.signal[0]->width(), in.signal[0]->height()});
+    FP_CHECK(upscale > 0,
+             "the signal is {}×{}: neither the frame's {}×{} nor its 1/2, 1/3 or 1/4 (a ray-traced "
+             "pass's screen percentage)", in.signal[0]->width(), in.signal[0]->height(), W, H);
+    const int TW = in.signal[0]->width(), TH = in.signal[0]->height();
     for (const Plane* p : in.signal)
-        FP_CHECK(p->width() == W && p->height() == H,
-                 "the signal is {}×{} but the frame is {}×{} (a half-resolution trace cannot be "
-                 "denoised here)", p->width(), p->height(), W, H);
-    FP_CHECK(in.hitDistance->width() == W && in.hitDistance->height() == H,
-             "hitDistance is {}×{} but the frame is {}×{}", in.hitDistance->width(),
-             in.hitDistance->height(), W, H);
+        FP_CHECK(p->width() == TW && p->height() == TH, "the signal's planes are {}×{} and {}×{}", TW,
+                 TH, p->width(), p->height());
+    FP_CHECK(in.hitDistance->width() == TW && in.hitDistance->height() == TH,
+             "hitDistance is {}×{} but the signal is {}×{}", in.hitDistance->width(),
+             in.hitDistance->height(), TW, TH);
     FP_CHECK(!in.roughness || (in.roughness->width() == W && in.roughness->height() == H),
              "roughness is {}×{} but the frame is {}×{}", in.roughness ? in.roughness->width() : 0,
              in.roughness ? in.roughness->height() : 0, W, H);
@@ -266,6 +353,12 @@ Counts denoise(const Stages& stages,
             SurfaceGrid(in.camera, in.gbuffer, {W, H}, 1, NormalRead::Normalised),
             Plane(W, H),
             ue::frameIndexMod8(in.frameNumber)};
+    f.upscale = upscale;
+    f.traceWidth = TW;
+    f.traceHeight = TH;
+    if (upscale > 1)
+        f.traceSurfaces.emplace(in.camera, in.gbuffer, Extent{TW, TH}, upscale,
+                                NormalRead::Normalised);
     std::atomic<uint64_t> pixels{0}, skipped{0};
     forEachTile(W, H, [&](const Tile& t) {
         uint64_t n = 0, s = 0;
@@ -283,7 +376,10 @@ Counts denoise(const Stages& stages,
     std::vector<std::string> names(channels, "S");
     Image a(W, H, names), b(W, H, names);
     const int taps = std::clamp(stages.reconstructionSamples, 1, kMaxReconstructionSamples);
-    gather(f, in.signal, planes(a), taps, 0, false, 0.0f);
+    if (upscale > 1)
+        upscaleGather(f, in.signal, planes(a), taps);
+    else
+        gather(f, in.signal, planes(a), taps, 0, false, 0.0f);
     Image* cur = &a;
     Image* next = &b;
     for (int i = 0; i < stages.preConvolutions; ++i) {
@@ -346,10 +442,16 @@ void denoisePorts(PassContext& ctx,
             out.push_back(&result.plane(c));
         }
     }
-    if (!enabled) {
+    if (!enabled) {  // the raw signal, point-upsampled where it was traced at a lower resolution
+        const Extent traced{in.signal[0]->width(), in.signal[0]->height()};
+        const int k = upscaleOf(size, traced);
+        FP_CHECK(k > 0, "the signal is {}×{}: neither the frame's {}×{} nor its 1/2, 1/3 or 1/4",
+                 traced.width, traced.height, size.width, size.height);
         for (std::size_t c = 0; c < out.size(); ++c)
             for (int y = 0; y < size.height; ++y)
-                std::copy_n(in.signal[c]->row(y), size.width, out[c]->row(y));
+                for (int x = 0; x < size.width; ++x)
+                    out[c]->at(x, y) = in.signal[c]->at(std::min(x / k, traced.width - 1),
+                                                        std::min(y / k, traced.height - 1));
         return;
     }
     in.hitDistance = &ctx.input(kHitDistance)->image().plane(0);

@@ -43,10 +43,12 @@ struct Stages {
     float historyConvolutionSpread = 3.0f;  //!< its taps' disc radius, pixels
 };
 
-/// One frame's inputs. The signal is 1 to 4 planes of one size, the frame's.
+/// One frame's inputs. The signal is 1 to 4 planes of one size: the frame's, or its 1/2, 1/3 or
+/// 1/4 (a screen percentage; the reconstruction upscales it, each texel standing for the top-left
+/// pixel of its block).
 struct Inputs {
     std::vector<const Plane*> signal;
-    const Plane* hitDistance = nullptr;  //!< scene units; −1 no hit, < −1.5 no ray traced (kept)
+    const Plane* hitDistance = nullptr;  //!< the signal's size; scene units; −1 no hit, < −1.5 no ray
     const Plane* roughness = nullptr;    //!< Footprint::Specular only
     SurfaceInputs gbuffer;
     const Texture* velocity = nullptr;   //!< optional motion for the reprojection
@@ -61,6 +63,10 @@ struct Inputs {
 struct Counts {
     uint64_t pixels = 0, skippedPixels = 0, historyPixels = 0;
 };
+
+/// How many frame pixels a signal texel spans along each axis: k when `signal` is the frame's
+/// extent divided by k (rounded up) for k = 1..4 (a ray-traced pass's screen percentage), else 0.
+int upscaleOf(Extent frame, Extent signal);
 
 /// The state a temporal preset keeps between frames: the signal (4 channels, unused ones 0), its
 /// sample count, and the surface (view depth, normal) that next frame's validation compares with.

@@ -10,6 +10,7 @@
 #include "foundation/UnrealRandom.h"
 #include "framework/PassPorts.h"
 #include "screenspace/GBuffer.h"
+#include "screenspace/Surface.h"
 #include "shading/DiffusePaths.h"
 #include "shading/RayOriginBias.h"
 
@@ -66,7 +67,21 @@ ParamSpec<RTGlobalIlluminationParams> RTGlobalIlluminationPass::paramSpec() {
     s.add("normalBias", &Params::normalBias, "largest normal/camera bias, cm (at N·L = 0)")
         .range(0.01, 1e6)
         .cvar("r.RayTracing.NormalBias");
+    s.add("screenPercentage", &Params::screenPercentage,
+          "traces one pixel of each k×k block, k = int(100 / this) (Unreal's default 50 applies "
+          "with its denoiser, which upscales: gi_denoise does); 100 traces every pixel")
+        .range(25.0, 100.0)
+        .cvar("r.RayTracing.GlobalIllumination.ScreenPercentage");
     return s;
+}
+
+int RTGlobalIlluminationPass::upscale() const {
+    return std::clamp(int(100.0f / mParams.screenPercentage + 1e-4f), 1, 4);
+}
+
+std::vector<Extent> RTGlobalIlluminationPass::outputExtents(std::string_view, Extent frame) const {
+    const int k = upscale();
+    return {{(frame.width + k - 1) / k, (frame.height + k - 1) / k}};
 }
 
 PassIO RTGlobalIlluminationPass::describe() const {
@@ -101,7 +116,9 @@ PassIO RTGlobalIlluminationPass::describe() const {
 }
 
 void RTGlobalIlluminationPass::execute(PassContext& ctx) {
-    const Extent size = ctx.frame().extent;
+    const Extent frame = ctx.frame().extent;
+    const int k = upscale();
+    const Extent size = outputExtents(kDiffuse, frame).front();
     Image& diffuse = ctx.output(kDiffuse, {size}).image();
     Plane& ao = ctx.output(kAo, {size}).image().plane(0);
     Plane& hitDistance = ctx.output(kHitDistance, {size}).image().plane(0);
@@ -136,12 +153,14 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
         uint64_t rays = 0, shadowRays = 0, pixels = 0, skipped = 0;
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
-                const double d = depth.at(x, y);
-                const float m = metallic.at(x, y);
-                const Vec3f albedo{baseColor.plane(0).at(x, y), baseColor.plane(1).at(x, y),
-                                   baseColor.plane(2).at(x, y)};
-                const Vec3f diffuseColor = gbufferDiffuseColor(albedo, m, model.at(x, y));
-                if (!isLitSurface(d, model.at(x, y)) ||
+                // Texel (x, y) traces from the top-left pixel of its k × k block.
+                const auto [px, py] = fullResPixel(x, y, k, frame.width, frame.height);
+                const double d = depth.at(px, py);
+                const float m = metallic.at(px, py);
+                const Vec3f albedo{baseColor.plane(0).at(px, py), baseColor.plane(1).at(px, py),
+                                   baseColor.plane(2).at(px, py)};
+                const Vec3f diffuseColor = gbufferDiffuseColor(albedo, m, model.at(px, py));
+                if (!isLitSurface(d, model.at(px, py)) ||
                     ue::luma(diffuseColor.x, diffuseColor.y, diffuseColor.z) < mParams.diffuseThreshold) {
                     for (int ch = 0; ch < 3; ++ch) diffuse.plane(ch).at(x, y) = 0.0f;
                     ao.at(x, y) = 0.0f;
@@ -149,10 +168,10 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
                     ++skipped;
                     continue;
                 }
-                const PixelSurface surface = pixelSurface(cam, eyeOffset, x, y, d);
-                const Vec3f n{normal.plane(0).at(x, y), normal.plane(1).at(x, y),
-                              normal.plane(2).at(x, y)};
-                Rng rng = Rng::fromKey(rngKey, x, y);
+                const PixelSurface surface = pixelSurface(cam, eyeOffset, px, py, d);
+                const Vec3f n{normal.plane(0).at(px, py), normal.plane(1).at(px, py),
+                              normal.plane(2).at(px, py)};
+                Rng rng = Rng::fromKey(rngKey, px, py);
                 PixelSums sums;
                 for (int k = 0; k < spp; ++k) {
                     // A cosine ray about the GBuffer normal from the biased position (§12.2).

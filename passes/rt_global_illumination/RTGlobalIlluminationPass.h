@@ -18,6 +18,7 @@ struct RTGlobalIlluminationParams {
     bool evalSkyLight = false;  //!< a bounce ray that misses adds the sky's radiance
     float diffuseThreshold = 0.01f;  //!< pixels whose diffuse colour is darker trace nothing
     float normalBias = 0.1f;    //!< cm (min 0.01), as rt_shadows
+    float screenPercentage = 100.0f;  //!< 25–100: trace one pixel of each block (gi_denoise upscales)
 };
 
 class RTGlobalIlluminationPass final : public PassWithParams<RTGlobalIlluminationParams> {
@@ -27,6 +28,10 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
+    /// Frame pixels per traced texel along each axis: int(100 / screenPercentage), as Unreal's
+    /// UpscaleFactor (100 → 1, 50 → 2, 33 → 3, 25 → 4).
+    int upscale() const;
 };
 
 }  // namespace fp

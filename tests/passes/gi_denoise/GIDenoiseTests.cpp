@@ -145,9 +145,7 @@ TEST_CASE("a hit at the surface itself allows no blur; pixels with no ray pass t
         }
 }
 
-TEST_CASE("a signal or hit distance of another size is an error, not a read past the plane") {
-    // A half-resolution trace (ssgi.halfRes) bound to the denoiser: its planes are smaller than
-    // the GBuffer the kernels walk.
+TEST_CASE("planes of mismatched sizes are an error, not a read past the plane") {
     const int w = 32, h = 32;
     auto src = test::captureToMemory(test::floorScene(), floorCamera(w, h));
     std::mt19937 rng(9);
@@ -155,11 +153,47 @@ TEST_CASE("a signal or hit distance of another size is an error, not a read past
     src.buffers["Truth.NoisyAO"] = test::noisyConstant(w, h, {"Y"}, rng);
     src.buffers["Truth.HitDistance"] = filled(w / 2, h / 2, 1e6f);
     CHECK_THROWS_WITH_AS(test::runChain(src, kChain, {"gi_denoise.diffuse"}),
-                         doctest::Contains("hitDistance is 16×16 but the frame is 32×32"), Error);
+                         doctest::Contains("hitDistance is 16×16 but the signal is 32×32"), Error);
     src.buffers["Truth.HitDistance"] = filled(w, h, 1e6f);
     src.buffers["Truth.NoisyAO"] = test::noisyConstant(w / 2, h / 2, {"Y"}, rng);
     CHECK_THROWS_WITH_AS(test::runChain(src, kChain, {"gi_denoise.diffuse"}),
-                         doctest::Contains("the signal is 16×16 but the frame is 32×32"), Error);
+                         doctest::Contains("the signal's planes are 32×32 and 16×16"), Error);
+    // A fifth of the frame is no screen percentage a ray-traced pass traces at.
+    for (const char* name : {"Truth.NoisyDiffuse", "Truth.NoisyAO", "Truth.HitDistance"})
+        src.buffers[name] = filled(7, 7, 0.5f);
+    CHECK_THROWS_WITH_AS(test::runChain(src, kChain, {"gi_denoise.diffuse"}),
+                         doctest::Contains("neither the frame's 32×32 nor its 1/2, 1/3 or 1/4"), Error);
+}
+
+TEST_CASE("a signal traced at a lower screen percentage is upscaled to every pixel of the frame") {
+    // A constant 0.5 traced at 1/2 and 1/3 of a 33×33 frame (17² and 11² texels): every frame
+    // pixel on the plane gets exactly 0.5 (a normalised mean of equal values, scaled by a power
+    // of two), the output has the frame's size, and denoiser 0 point-upsamples it.
+    const int n = 33;
+    auto src = test::captureToMemory(test::floorScene(), floorCamera(n, n));
+    const Plane& depth = src.buffers.at("SceneDepth").plane(0);
+    for (int k : {2, 3}) {
+        const int t = (n + k - 1) / k;
+        Image diffuse(t, t, {"R", "G", "B"}, 0.5f);
+        src.buffers["Truth.NoisyDiffuse"] = diffuse;
+        src.buffers["Truth.NoisyAO"] = filled(t, t, 0.5f);
+        src.buffers["Truth.HitDistance"] = filled(t, t, 1e6f);
+        for (int denoiser : {1, 0}) {
+            const auto out = test::runChain(src, chainWith({{"denoiser", denoiser}}),
+                                            {"gi_denoise.diffuse", "gi_denoise.ao"});
+            const Plane& got = out.at("gi_denoise.diffuse").image().plane(0);
+            REQUIRE(got.width() == n);
+            REQUIRE(got.height() == n);
+            int surface = 0;
+            for (int y = 0; y < n; ++y)
+                for (int x = 0; x < n; ++x)
+                    if (std::isfinite(depth.at(x, y))) {
+                        CHECK(got.at(x, y) == 0.5f);
+                        ++surface;
+                    }
+            CHECK(surface > n * n / 2);
+        }
+    }
 }
 
 TEST_CASE("denoiser 0 passes the raw signal through") {

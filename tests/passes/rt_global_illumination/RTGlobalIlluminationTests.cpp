@@ -149,4 +149,33 @@ TEST_CASE("rt_global_illumination: 1 and 2 threads give the same bits") {
             CHECK(test::sameBits(outs[0].at(name).image().plane(c), outs[1].at(name).image().plane(c)));
 }
 
+TEST_CASE("rt_global_illumination: a screen percentage traces the top-left pixel of each block") {
+    // Texel (x, y) at 1/k resolution is the full-resolution pass's pixel (k·x, k·y), bit for bit:
+    // the same GBuffer pixel, the same random numbers (keyed by the pixel). 33 pixels leave a
+    // partial last block, whose texel stands for its pixel clamped to the frame.
+    Scene scene = test::floorScene();
+    scene.sceneUnitsPerMeter = 100.0;
+    scene.meshes.push_back(test::sphere({0, 12, 0}, 10.0, 32, 0, 2));
+    scene.lights.push_back(test::sun({0.3, -1, 0.2}));
+    const int n = 33;
+    auto src = test::captureToMemory(scene, test::topCamera({}, n));
+    const auto full = runGi(src, {{"samplesPerPixel", 2}, {"maxBounces", 2}});
+    for (auto [percent, k] : {std::pair{50.0, 2}, {40.0, 2}, {33.0, 3}, {25.0, 4}}) {
+        const auto part = runGi(src, {{"samplesPerPixel", 2}, {"maxBounces", 2},
+                                      {"screenPercentage", percent}});
+        for (const char* name : {"rt_global_illumination.diffuse", "rt_global_illumination.ao",
+                                 "rt_global_illumination.hitDistance"}) {
+            const Image& a = part.at(name).image();
+            const Image& b = full.at(name).image();
+            REQUIRE(a.width() == (n + k - 1) / k);
+            REQUIRE(a.height() == (n + k - 1) / k);
+            for (int c = 0; c < a.channelCount(); ++c)
+                for (int y = 0; y < a.height(); ++y)
+                    for (int x = 0; x < a.width(); ++x)
+                        CHECK(a.plane(c).at(x, y) ==
+                              b.plane(c).at(std::min(k * x, n - 1), std::min(k * y, n - 1)));
+        }
+    }
+}
+
 }  // namespace fp
