@@ -6,6 +6,7 @@
 #include "foundation/UnrealRandom.h"
 #include "screenspace/Bilateral.h"
 #include "screenspace/GBuffer.h"
+#include "screenspace/TraceResolution.h"
 
 #include <algorithm>
 #include <atomic>
@@ -306,7 +307,7 @@ std::vector<Plane*> planes(Image& image) {
 
 int upscaleOf(Extent frame, Extent signal) {
     for (int k = 1; k <= 4; ++k)
-        if (signal.width == (frame.width + k - 1) / k && signal.height == (frame.height + k - 1) / k)
+        if (traceExtent(frame, k) == signal)
             return k;
     return 0;
 }

@@ -11,6 +11,7 @@
 #include "framework/PassPorts.h"
 #include "screenspace/GBuffer.h"
 #include "screenspace/Surface.h"
+#include "screenspace/TraceResolution.h"
 #include "shading/DiffusePaths.h"
 #include "shading/RayOriginBias.h"
 
@@ -76,12 +77,11 @@ ParamSpec<RTGlobalIlluminationParams> RTGlobalIlluminationPass::paramSpec() {
 }
 
 int RTGlobalIlluminationPass::upscale() const {
-    return std::clamp(int(100.0f / mParams.screenPercentage + 1e-4f), 1, 4);
+    return screenPercentageUpscale(mParams.screenPercentage);
 }
 
 std::vector<Extent> RTGlobalIlluminationPass::outputExtents(std::string_view, Extent frame) const {
-    const int k = upscale();
-    return {{(frame.width + k - 1) / k, (frame.height + k - 1) / k}};
+    return {traceExtent(frame, upscale())};
 }
 
 PassIO RTGlobalIlluminationPass::describe() const {

@@ -9,6 +9,8 @@
 #include "foundation/Tiles.h"
 #include "framework/PassPorts.h"
 #include "screenspace/GBuffer.h"
+#include "screenspace/Surface.h"
+#include "screenspace/TraceResolution.h"
 #include "shading/DirectLighting.h"
 #include "shading/RayOriginBias.h"
 
@@ -59,7 +61,16 @@ ParamSpec<RTReflectionsParams> RTReflectionsPass::paramSpec() {
           "takes `sceneColor` there (this frame's lit colour) instead of being shaded, and shaded "
           "hits take the camera's view vector")
         .cvar("r.RayTracing.Reflections.Hybrid");
+    s.add("screenPercentage", &Params::screenPercentage,
+          "traces one pixel of each k×k block, k = int(100 / this) (reflection_denoise upscales); "
+          "100, Unreal's default, traces every pixel")
+        .range(25.0, 100.0)
+        .cvar("r.RayTracing.Reflections.ScreenPercentage");
     return s;
+}
+
+std::vector<Extent> RTReflectionsPass::outputExtents(std::string_view, Extent frame) const {
+    return {traceExtent(frame, screenPercentageUpscale(mParams.screenPercentage))};
 }
 
 PassIO RTReflectionsPass::describe() const {
@@ -93,7 +104,9 @@ PassIO RTReflectionsPass::describe() const {
 }
 
 void RTReflectionsPass::execute(PassContext& ctx) {
-    const Extent size = ctx.frame().extent;
+    const Extent frame = ctx.frame().extent;
+    const int upscale = screenPercentageUpscale(mParams.screenPercentage);
+    const Extent size = traceExtent(frame, upscale);
     Image& reflection = ctx.output(kReflection, {size}).image();
     Plane& hitDistance = ctx.output(kHitDistance, {size}).image().plane(0);
     const RayScene& rs = ctx.scene();
@@ -129,21 +142,23 @@ void RTReflectionsPass::execute(PassContext& ctx) {
         uint64_t rays = 0, shadowRays = 0, pixels = 0, skipped = 0, skyRays = 0, screenHits = 0;
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
-                const double d = depth.at(x, y);
-                const float roughness = roughnessPlane.at(x, y);
+                // Texel (x, y) traces from the top-left pixel of its block (§12.2's convention).
+                const auto [px, py] = fullResPixel(x, y, upscale, frame.width, frame.height);
+                const double d = depth.at(px, py);
+                const float roughness = roughnessPlane.at(px, py);
                 const float fade = roughnessFade(roughness, maxRoughness);
-                if (!isLitSurface(d, model.at(x, y)) || truncToInt(model.at(x, y), 0, 255) == kHair ||
+                if (!isLitSurface(d, model.at(px, py)) || truncToInt(model.at(px, py), 0, 255) == kHair ||
                     fade <= 0.0f) {
                     for (int c = 0; c < 4; ++c) reflection.plane(c).at(x, y) = 0.0f;
                     hitDistance.at(x, y) = -2.0f;
                     ++skipped;
                     continue;
                 }
-                const PixelSurface surface = pixelSurface(cam, eyeOffset, x, y, d);
+                const PixelSurface surface = pixelSurface(cam, eyeOffset, px, py, d);
                 const Vec3f& V = surface.toEye;
-                const Vec3f N{normal.plane(0).at(x, y), normal.plane(1).at(x, y),
-                              normal.plane(2).at(x, y)};
-                Rng rng = Rng::fromKey(rngKey, x, y);
+                const Vec3f N{normal.plane(0).at(px, py), normal.plane(1).at(px, py),
+                              normal.plane(2).at(px, py)};
+                Rng rng = Rng::fromKey(rngKey, px, py);
                 Vec3f sum;
                 double distanceSum = 0;
                 int hits = 0, sawSky = 0;
@@ -179,8 +194,8 @@ void RTReflectionsPass::execute(PassContext& ctx) {
                         // behind the depth buffer there: the lit colour of that pixel, point
                         // sampled, no shading.
                         const CameraView::Projection pr = cam.projectOffset(Vec3d(hitPoint), rs.origin());
-                        if (pr.depth > 0.0 && pr.px >= 0.0 && pr.py >= 0.0 && pr.px < size.width &&
-                            pr.py < size.height) {
+                        if (pr.depth > 0.0 && pr.px >= 0.0 && pr.py >= 0.0 && pr.px < frame.width &&
+                            pr.py < frame.height) {
                             const int hx = int(pr.px), hy = int(pr.py);
                             const double there = depth.at(hx, hy);
                             if (std::isfinite(there) && pr.depth - there < hybridDepth) {

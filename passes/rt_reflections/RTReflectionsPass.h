@@ -23,6 +23,7 @@ struct RTReflectionsParams {
     /// r.RayTracing.Reflections.Hybrid: a hit that lands on screen within 5 cm of the depth
     /// buffer takes this frame's lit colour there instead of being shaded.
     bool hybrid = false;
+    float screenPercentage = 100.0f;  //!< 25–100: trace one pixel of each block (the denoiser upscales)
 };
 
 class RTReflectionsPass final : public PassWithParams<RTReflectionsParams> {
@@ -32,6 +33,7 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
 
 private:
     // The sky light as the reflections see it: its cubemap (a miss) and SH (a hit's diffuse).

@@ -110,6 +110,38 @@ TEST_CASE("rt_reflections: under an open sky a mirror shows the sky, and the fad
     CHECK(none.at("rt_reflections.hitDistance").image().plane(0).at(8, 12) == -2.0f);
 }
 
+TEST_CASE("rt_reflections: a screen percentage traces the top-left pixel of each block") {
+    // Texel (x, y) at 1/k resolution is the full-resolution pass's pixel (k·x, k·y), bit for bit,
+    // Unreal's hybrid included (its hits are projected onto the frame, not onto the texels).
+    Scene s;
+    s.materials.push_back(mirror());
+    s.materials[0].roughness = 0.3f;
+    s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 1000.0, 0, 1));
+    s.meshes.push_back(test::sphere({0, 8, 0}, 6.0, 24, 0, 2));
+    s.lights.push_back(test::sun({0.3, -1, 0.2}));
+    s.environment.sky.enabled = true;
+    s.environment.sky.color = {0.25f, 0.5f, 1.0f};
+    const int n = 17;
+    auto src = test::captureToMemory(s, camera({0, 20, -40}, {0, 0, 0}, n, n, 40.0));
+    for (bool hybrid : {false, true}) {
+        const auto full = runRtr(src, {{"samplesPerPixel", 2}, {"hybrid", hybrid}});
+        for (auto [percent, k] : {std::pair{50.0, 2}, {25.0, 4}}) {
+            const auto part = runRtr(src, {{"samplesPerPixel", 2}, {"hybrid", hybrid},
+                                           {"screenPercentage", percent}});
+            for (const char* name : {"rt_reflections.reflection", "rt_reflections.hitDistance"}) {
+                const Image& a = part.at(name).image();
+                const Image& b = full.at(name).image();
+                REQUIRE(a.width() == (n + k - 1) / k);
+                for (int c = 0; c < a.channelCount(); ++c)
+                    for (int y = 0; y < a.height(); ++y)
+                        for (int x = 0; x < a.width(); ++x)
+                            CHECK(a.plane(c).at(x, y) ==
+                                  b.plane(c).at(std::min(k * x, n - 1), std::min(k * y, n - 1)));
+            }
+        }
+    }
+}
+
 TEST_CASE("rt_reflections: a light's visible shape is reflected by its light, not as emission") {
     // A mirror floor under a glowing quad: as a plain emissive surface its emission is what the
     // mirror shows; marked as a light's shape (Mesh::shapeOf) it adds nothing, the light's own
