@@ -1,5 +1,7 @@
 #include "io/OutputWriter.h"
 
+#include <algorithm>
+
 #include "io/FramePattern.h"
 #include "io/PngWriter.h"
 #include "foundation/Error.h"
@@ -69,10 +71,28 @@ void OutputWriter::write(const OutputDesc& output, const std::vector<OutputLayer
     bool anyMips = false;
     for (const auto& l : layers) anyMips |= l.texture->mipCount() > 1;
     if (!anyMips) {
-        ExrPart part{"rgba", {}};
-        for (const auto& l : layers)
-            part.layers.push_back({l.name, &l.texture->image(), half(l)});
-        parts.push_back(std::move(part));
+        // Layers of one size share a part; one traced at a lower resolution (SSGI's half
+        // resolution, a ray-traced pass's screen percentage) goes to a part of its size, named
+        // after its first layer. The largest part comes first, as "rgba": the file's display
+        // window is the frame's.
+        for (const auto& l : layers) {
+            const Image& img = l.texture->image();
+            auto part = std::find_if(parts.begin(), parts.end(), [&](const ExrPart& p) {
+                return p.layers.front().image->width() == img.width() &&
+                       p.layers.front().image->height() == img.height();
+            });
+            if (part == parts.end()) {
+                parts.push_back({l.name, {}});
+                part = parts.end() - 1;
+            }
+            part->layers.push_back({l.name, &img, half(l)});
+        }
+        auto area = [](const ExrPart& p) {
+            return std::size_t(p.layers.front().image->width()) * p.layers.front().image->height();
+        };
+        std::stable_sort(parts.begin(), parts.end(),
+                         [&](const ExrPart& a, const ExrPart& b) { return area(a) > area(b); });
+        parts.front().name = "rgba";
     } else {
         // Mip levels differ in size, so each gets a part of its own: "<layer>.mip<k>".
         for (const auto& l : layers)
