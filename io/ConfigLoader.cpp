@@ -55,7 +55,8 @@ const JsonObjectShape kExrShape = {
      {"colorPrecision", K::String, "how colour layers of outputs and dumps are stored (data layers are always float32)",
       {}, {}, {"half", "float"}}}};
 
-const std::vector<std::string> kEngines = {"ue4.27", "ue5", "ue4.27-raytracing"};
+const std::vector<std::string> kEngines = {"ue4.27", "ue5", "ue4.27-raytracing",
+                                           "framepass-hybrid"};
 
 nlohmann::json readJsonFile(const std::string& path) {
     return io::readJsonFile(path, "config");
@@ -227,7 +228,7 @@ const JsonObjectShape& configShape() {
         "A chain of Unreal's lighting passes on a capture (docs/config.md).",
         {{"version", K::Integer, "1", 1, 1, {}, nullptr, nullptr, true},
          {"engine", K::String, "a config without passes runs configs/<engine>.json", {}, {},
-          {"ue4.27", "ue5", "ue4.27-raytracing"}},
+          kEngines},
          {"device", K::String, "where the passes with a CUDA kernel run (--device)", {}, {},
           {"cpu", "cuda"}},
          {"capture", K::String, "capture EXR or frame pattern (####, %04d, @@@, shot.1-10#.exr)"},

@@ -66,7 +66,11 @@ check "the ray-traced preset without a scene says it needs one" expect_exit 2 "a
 cat > "$DIR/rt_bad.json" <<JSON
 { "version": 1, "engine": "ue4.27-raytrace", "capture": "cornell.exr" }
 JSON
-check "an unknown engine lists the known ones" expect_exit 2 "known: ue4.27, ue5, ue4.27-raytracing" "$FP" plan "$DIR/rt_bad.json"
+cat > "$DIR/hybrid_preset.json" <<JSON
+{ "version": 1, "engine": "framepass-hybrid", "capture": "cornell.exr", "scene": "$SRC/examples/cornell/scene.json" }
+JSON
+check "the hybrid preset composites the hybrid through the GI denoiser, no SSGI" bash -c "'$FP' plan '$DIR/hybrid_preset.json' > '$DIR/hy_plan.txt' && grep -q 'diffuse←hybrid_denoise.diffuse' '$DIR/hy_plan.txt' && grep -q 'hybrid_denoise (gi_denoise)' '$DIR/hy_plan.txt' && ! grep -q '(ssgi)' '$DIR/hy_plan.txt' && grep -q '(ssr)' '$DIR/hy_plan.txt' && '$FP' run '$DIR/hybrid_preset.json' -o '$DIR/hy_out' >/dev/null && test -f '$DIR/hy_out/hybrid.0001.exr' && test -f '$DIR/hy_out/final.0001.png'"
+check "an unknown engine lists the known ones" expect_exit 2 "known: ue4.27, ue5, ue4.27-raytracing, framepass-hybrid" "$FP" plan "$DIR/rt_bad.json"
 cat > "$DIR/lights_only.json" <<JSON
 { "version": 1, "capture": "cornell.exr", "scene": "$SRC/examples/cornell/scene.json",
   "passes": [ { "name": "light", "type": "deferred_lighting", "params": { "light": "ceiling" } } ],
