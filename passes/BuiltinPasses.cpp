@@ -8,6 +8,7 @@
 #include "passes/error_measure/ErrorMeasurePass.h"
 #include "passes/gi_denoise/GIDenoisePass.h"
 #include "passes/hybrid/HybridPass.h"
+#include "passes/hybrid_reflections/HybridReflectionsPass.h"
 #include "passes/hzb/HZBPass.h"
 #include "passes/prev_color_reduction/PrevColorReductionPass.h"
 #include "passes/reflection_denoise/ReflectionDenoisePass.h"
@@ -56,6 +57,11 @@ const PassRegistry& builtinPasses() {
                           "framepass's own: SSGI's rays marched on screen, those it cannot "
                           "finish traced through the scene and shaded as RTGI shades them "
                           "(algorithms §12.3)");
+        r.add<HybridReflectionsPass>("hybrid_reflections",
+                                     "framepass's own: SSR's rays marched and read on screen "
+                                     "exactly as `ssr`, those the screen cannot finish traced "
+                                     "through the scene and lit as rt_reflections lights its hits "
+                                     "(algorithms §12.3)");
         r.add<RTGlobalIlluminationPass>("rt_global_illumination",
                                         "ray-traced diffuse global illumination, Unreal 4.27's "
                                         "brute force: cosine paths through Embree, the lights "

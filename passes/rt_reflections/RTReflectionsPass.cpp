@@ -13,6 +13,7 @@
 #include "screenspace/TraceResolution.h"
 #include "shading/DirectLighting.h"
 #include "shading/RayOriginBias.h"
+#include "shading/ReflectionHits.h"
 
 #include <algorithm>
 #include <cmath>
@@ -110,16 +111,8 @@ void RTReflectionsPass::execute(PassContext& ctx) {
     Image& reflection = ctx.output(kReflection, {size}).image();
     Plane& hitDistance = ctx.output(kHitDistance, {size}).image().plane(0);
     const RayScene& rs = ctx.scene();
-    const SkyLight& skyLight = rs.scene().environment.sky;
-    if (skyLight.enabled && (!mSky || mSky->source != &skyLight)) {
-        auto sky = std::make_shared<Sky>();
-        sky->source = &skyLight;
-        sky->cube = Cubemap::render(Cubemap::kSkyLightSize,
-                                    [&](const Vec3f& d) { return skyLight.radiance(d); });
-        sky->sh = sky->cube.projectSH();
-        mSky = std::move(sky);
-    }
-    const Sky* sky = skyLight.enabled ? mSky.get() : nullptr;
+    mSky = ReflectedSky::of(rs.scene().environment.sky, mSky);
+    const ReflectedSky* sky = mSky.get();
     const DirectLighting lighting(rs, 1);
     const CameraView& cam = ctx.frame().camera.current;
     const float cm = float(rs.scene().centimetre());
@@ -181,7 +174,7 @@ void RTReflectionsPass::execute(PassContext& ctx) {
                     const RayHit hit = rs.intersect(org, L, 0.0f, std::numeric_limits<float>::infinity());
                     if (!hit.hit) {
                         if (sky) {
-                            sum += sky->cube.sample(L, sky->cube.mipForRoughness(roughness));
+                            sum += sky->miss(L, roughness);
                             ++sawSky;
                         }
                         continue;
@@ -207,20 +200,11 @@ void RTReflectionsPass::execute(PassContext& ctx) {
                             }
                         }
                     }
-                    SurfacePoint s = surfaceAt(rs, hit, org, L);
                     // Hybrid: shaded hits look from the camera, so both kinds match (knowingly
                     // wrong for the specular term, as in Unreal).
-                    if (sceneColor) s.toViewer = normalize(Vec3f(eyeOffset) - hitPoint);
-                    // The hit as Unreal's material hit shader lights it: the lights (the view
-                    // vector the ray's), its emission, and its diffuse colour × the sky light's
-                    // SH irradiance (the precomputed indirect light framepass has). A light's
-                    // visible shape sends no emission here: its reflection is the light's own
-                    // specular, which deferred_lighting adds (algorithms §12.4).
-                    Vec3f radiance = rs.scene().emissionTowardsSurfaces(hit.mesh) +
-                                     lighting.shade(s, rng, shadowRays, shadowed);
-                    if (sky) radiance += s.brdf.diffuseColor * sky->sh.diffuse(s.normal);
-                    sum += Vec3f{std::max(radiance.x, 0.0f), std::max(radiance.y, 0.0f),
-                                 std::max(radiance.z, 0.0f)};
+                    const Vec3f fromCamera = normalize(Vec3f(eyeOffset) - hitPoint);
+                    sum += shadeReflectionHit(rs, lighting, hit, org, L, sky, rng, shadowRays,
+                                              shadowed, sceneColor ? &fromCamera : nullptr);
                 }
                 const float scale = fade / float(spp);
                 reflection.plane(0).at(x, y) = sum.x * scale;

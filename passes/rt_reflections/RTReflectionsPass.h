@@ -6,14 +6,12 @@
 // reflection_environment takes it in SSR's place and applies EnvBRDF. CPU, through Embree.
 #include "framework/Params.h"
 #include "framework/Pass.h"
-#include "shading/Cubemap.h"
-#include "shading/SphericalHarmonics.h"
+#include "shading/ReflectionHits.h"
 
 #include <memory>
 
 namespace fp {
 
-struct SkyLight;
 
 struct RTReflectionsParams {
     int samplesPerPixel = -1;   //!< −1: the post-process volume's 1
@@ -36,13 +34,7 @@ public:
     std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
 
 private:
-    // The sky light as the reflections see it: its cubemap (a miss) and SH (a hit's diffuse).
-    struct Sky {
-        const SkyLight* source = nullptr;
-        Cubemap cube;
-        SH3 sh;
-    };
-    std::shared_ptr<const Sky> mSky;
+    std::shared_ptr<const ReflectedSky> mSky;  // made once per sky light
 };
 
 }  // namespace fp

@@ -126,9 +126,19 @@ FP_HD inline RaySample shadeHit(const Frame& f, const RaySteps& steps, float tim
     return s;
 }
 
+/// What a ray the screen cannot finish brings: in Unreal's SSR, nothing. (framepass's reflection
+/// hybrid passes a callable of the same shape that traces the ray through the scene.)
+struct NoFallback {
+    FP_HD RaySample operator()(int, int, const Vec3f&, float) const { return {}; }
+};
+
 /// One pixel (x, y): skipped (unlit, sky, too rough) or its rays traced, the outputs written
 /// and the work added to `counts` (indexed by Counter). Outputs stay 0 where a pixel is skipped.
-FP_HD inline void ssrPixel(const Frame& f, int x, int y, unsigned long long* counts) {
+/// A ray whose march leaves the screen or ends without a hit asks `fallback(x, y, L, roughness)`
+/// (L the world direction) for its sample.
+template <class Fallback = NoFallback>
+FP_HD inline void ssrPixel(const Frame& f, int x, int y, unsigned long long* counts,
+                           const Fallback& fallback = {}) {
     const double d = f.depth.at(x, y);
     const float modelValue = f.shadingModel.at(x, y);
     if (!isLitSurface(d, modelValue)) {
@@ -177,10 +187,11 @@ FP_HD inline void ssrPixel(const Frame& f, int x, int y, unsigned long long* cou
         const Vec3f Lview{float(dot(Vec3d(L), cam.right)), float(dot(Vec3d(L), cam.up)),
                           float(dot(Vec3d(L), cam.forward))};
         RaySteps raySteps;
-        if (!screenRaySteps(g, o, Lview, kToleranceScale, raySteps)) continue;
         float level, time = 0.0f;
-        if (marchHzb(g.hzb, raySteps, steps, levelStep, level, hzbSamples, &time) < 0) continue;
-        const RaySample s = shadeHit(f, raySteps, time);
+        const bool onScreen =
+            screenRaySteps(g, o, Lview, kToleranceScale, raySteps) &&
+            marchHzb(g.hzb, raySteps, steps, levelStep, level, hzbSamples, &time) >= 0;
+        const RaySample s = onScreen ? shadeHit(f, raySteps, time) : fallback(x, y, L, roughness);
         if (!s.hit) continue;
         ++hits;
         distanceSum += float(length(s.offset - pd));
@@ -255,9 +266,9 @@ void copyPlanes(const Pixels& pixels, const From (&from)[4], const PlaneSpan (&t
 
 /// The whole pass through `ports` (HostPorts or DevicePorts) on `pixels` (CpuPixels or
 /// CudaPixels), its work reported to `ctx`.
-template <class Ports, class Pixels>
+template <class Ports, class Pixels, class Fallback = NoFallback>
 void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const SSRQuality& quality,
-         float maxRoughness, float intensity, bool temporal) {
+         float maxRoughness, float intensity, bool temporal, const Fallback& fallback = {}) {
     const auto& depth = ports.input(gbuffer::kDepth)->image();
     const int W = depth.width(), H = depth.height();
     const std::vector<Extent> frameExtent = {{W, H}};
@@ -314,7 +325,8 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const SSRQu
     for (int c = 0; c < 4; ++c) f.out[c] = spanOf((temporal ? traced : out).image().plane(c));
 
     const auto counts = pixels.template forEach<kCounterCount>(
-        W, H, [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& n) { ssrPixel(f, x, y, n.value); },
+        W, H,
+        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& n) { ssrPixel(f, x, y, n.value, fallback); },
         "ssr");
     ctx.addWork("pixels", counts[kTraced]);
     ctx.addWork("skippedPixels", counts[kSkipped]);

@@ -14,33 +14,6 @@ using ssr::kHitMask;
 using ssr::kReflection;
 }  // namespace
 
-ParamSpec<SSRParams> SSRPass::paramSpec() {
-    ParamSpec<SSRParams> s;
-    s.add("quality", &Params::quality,
-          "0 off; 1 Low (8 steps, 1 mirror ray), 2 Medium (16, 1 mirror), 3 High (8 steps × 4 GGX "
-          "rays), 4 Epic (12 × 12); capped by postProcessQuality")
-        .range(0, 4)
-        .cvar("r.SSR.Quality");
-    s.add("postProcessQuality", &Params::postProcessQuality,
-          "post-process ScreenSpaceReflectionQuality: ≥ 80 allows Epic, ≥ 60 High, ≥ 40 Medium "
-          "(Unreal's default 50 caps SSR at Medium)")
-        .range(0, 100);
-    s.add("maxRoughness", &Params::maxRoughness,
-          "post-process ScreenSpaceReflectionMaxRoughness: the fade reaches 0 here (half of it "
-          "below High); rougher pixels are skipped")
-        .range(0.01, 1.0)
-        .cvar("r.SSR.MaxRoughness");
-    s.add("intensity", &Params::intensity,
-          "post-process ScreenSpaceReflectionIntensity (percent); below 1 SSR is off")
-        .range(0.0, 100.0);
-    s.add("temporal", &Params::temporal,
-          "smooth the reflection across frames: last frame's, reprojected and clamped to this "
-          "frame's 3×3 neighbourhood, moves 1/8 of the way to this frame's")
-        .needsHistory()
-        .cvar("r.SSR.Temporal");
-    return s;
-}
-
 SSRQuality SSRPass::effectiveQuality(int cvar, int postProcessQuality, float intensity) {
     return ssr::effectiveQuality(cvar, postProcessQuality, intensity);
 }

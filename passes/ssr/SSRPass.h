@@ -30,7 +30,11 @@ struct SSRQuality {
 
 class SSRPass final : public PassWithParams<SSRParams> {
 public:
-    static ParamSpec<Params> paramSpec();
+    static ParamSpec<Params> paramSpec() { return paramSpecOf<Params>(); }
+    /// SSR's parameters declared for `P`: SSRParams, or a struct extending it (the reflection
+    /// hybrid's), so both declare them once.
+    template <class P>
+    static ParamSpec<P> paramSpecOf();
     using PassWithParams::PassWithParams;
 
     PassIO describe() const override;
@@ -44,5 +48,34 @@ public:
     /// ssr::roughnessFade (SSRKernel.h): the fade of §5.2; ≤ 0 skips the pixel.
     static float roughnessFade(float roughness, float maxRoughness, int qualityLevel);
 };
+
+
+template <class P>
+ParamSpec<P> SSRPass::paramSpecOf() {
+    ParamSpec<P> s;
+    s.add("quality", &P::quality,
+          "0 off; 1 Low (8 steps, 1 mirror ray), 2 Medium (16, 1 mirror), 3 High (8 steps × 4 GGX "
+          "rays), 4 Epic (12 × 12); capped by postProcessQuality")
+        .range(0, 4)
+        .cvar("r.SSR.Quality");
+    s.add("postProcessQuality", &P::postProcessQuality,
+          "post-process ScreenSpaceReflectionQuality: ≥ 80 allows Epic, ≥ 60 High, ≥ 40 Medium "
+          "(Unreal's default 50 caps SSR at Medium)")
+        .range(0, 100);
+    s.add("maxRoughness", &P::maxRoughness,
+          "post-process ScreenSpaceReflectionMaxRoughness: the fade reaches 0 here (half of it "
+          "below High); rougher pixels are skipped")
+        .range(0.01, 1.0)
+        .cvar("r.SSR.MaxRoughness");
+    s.add("intensity", &P::intensity,
+          "post-process ScreenSpaceReflectionIntensity (percent); below 1 SSR is off")
+        .range(0.0, 100.0);
+    s.add("temporal", &P::temporal,
+          "smooth the reflection across frames: last frame's, reprojected and clamped to this "
+          "frame's 3×3 neighbourhood, moves 1/8 of the way to this frame's")
+        .needsHistory()
+        .cvar("r.SSR.Temporal");
+    return s;
+}
 
 }  // namespace fp

@@ -1,0 +1,116 @@
+#include "passes/hybrid_reflections/HybridReflectionsPass.h"
+
+#include "framework/PassPorts.h"
+#include "passes/ssr/SSRKernel.h"
+#include "screenspace/GBuffer.h"
+#include "shading/DirectLighting.h"
+#include "shading/RayOriginBias.h"
+
+#include <atomic>
+#include <bit>
+#include <limits>
+
+namespace fp {
+
+namespace {
+
+constexpr uint32_t kSeed = 0x48524546u;  // "HREF"
+// A fallback ray that saw the sky: its distance, as rt_reflections writes it (Unreal's).
+constexpr double kSkyDistance = 1e20;
+
+enum FallbackCounter { kFallbackRays, kFallbackHits, kSkyRays, kShadowRays, kFallbackCounters };
+
+// SSR's fallback (ssr::ssrPixel): the ray the screen could not finish, traced from the pixel's
+// surface through the scene and lit as rt_reflections lights its hits (algorithms §12.3).
+struct SceneFallback {
+    const RayScene* scene;
+    const DirectLighting* lighting;
+    const ReflectedSky* sky;
+    CameraView cam;
+    Vec3d eyeOffset;  // the camera relative to the scene's origin
+    RayBias bias;
+    uint32_t rngKey;
+    bool shadowed;
+    const Plane* depth;
+    const Image* normal;
+    std::atomic<uint64_t>* counts;  // FallbackCounter
+
+    ssr::RaySample operator()(int x, int y, const Vec3f& L, float roughness) const {
+        counts[kFallbackRays].fetch_add(1, std::memory_order_relaxed);
+        const PixelSurface surface = pixelSurface(cam, eyeOffset, x, y, depth->at(x, y));
+        const Vec3f N = normalize(
+            Vec3f{normal->plane(0).at(x, y), normal->plane(1).at(x, y), normal->plane(2).at(x, y)});
+        const Vec3f org = biasedRayOrigin(surface, N, dot(N, L), bias);
+        const Vec3f eyeToOrigin = org - Vec3f(eyeOffset);
+        ssr::RaySample s;
+        const RayHit hit = scene->intersect(org, L, 0.0f, std::numeric_limits<float>::infinity());
+        if (!hit.hit) {
+            if (!sky)
+                return s;  // nothing: the sample's share of the coverage is the captures'
+            counts[kSkyRays].fetch_add(1, std::memory_order_relaxed);
+            const Vec3f c = sky->miss(L, roughness);
+            s = {true, {c.x, c.y, c.z}, 1.0f, Vec3d(eyeToOrigin) + Vec3d(L) * kSkyDistance};
+            return s;
+        }
+        counts[kFallbackHits].fetch_add(1, std::memory_order_relaxed);
+        // Each ray its own light samples: the key takes the direction's bits.
+        Rng rng = Rng::fromKey(rngKey ^ std::bit_cast<uint32_t>(L.x) ^ (std::bit_cast<uint32_t>(L.y) << 1), x, y);
+        uint64_t shadowRays = 0;
+        const Vec3f c = shadeReflectionHit(*scene, *lighting, hit, org, L, sky, rng, shadowRays, shadowed);
+        counts[kShadowRays].fetch_add(shadowRays, std::memory_order_relaxed);
+        s = {true, {c.x, c.y, c.z}, 1.0f, Vec3d(eyeToOrigin + L * hit.t)};
+        return s;
+    }
+};
+
+}  // namespace
+
+ParamSpec<HybridReflectionsParams> HybridReflectionsPass::paramSpec() {
+    ParamSpec<HybridReflectionsParams> s = SSRPass::paramSpecOf<HybridReflectionsParams>();
+    s.add("normalBias", &Params::normalBias, "a fallback ray's origin bias, cm, as rt_reflections'")
+        .range(0.01, 1e6)
+        .cvar("r.RayTracing.Reflections.NormalBias");
+    s.add("shadows", &Params::shadows,
+          "0: a fallback hit's lights unshadowed; otherwise one shadow ray a light, as "
+          "rt_reflections' hard shadows")
+        .range(0, 2)
+        .cvar("r.RayTracing.Reflections.Shadows");
+    return s;
+}
+
+PassIO HybridReflectionsPass::describe() const {
+    // SSR's ports, all of them: its rays are SSR's.
+    PassIO io = SSRPass(mParams).describe();
+    io.roles.framepassOwn = true;
+    io.roles.tracesRays = true;  // bench replays its fallback rays in bare Embree loops
+    io.needsScene = true;
+    return io;
+}
+
+void HybridReflectionsPass::execute(PassContext& ctx) {
+    const RayScene& rs = ctx.scene();
+    mSky = ReflectedSky::of(rs.scene().environment.sky, mSky);
+    const DirectLighting lighting(rs, 1);
+    const CameraView& cam = ctx.frame().camera.current;
+    std::atomic<uint64_t> counts[kFallbackCounters] = {};
+    SceneFallback fallback{&rs,
+                           &lighting,
+                           mSky.get(),
+                           cam,
+                           cam.position - rs.origin(),
+                           RayBias::fromCm(mParams.normalBias, float(rs.scene().centimetre())),
+                           Rng::frameKey(ctx.frame().number, kSeed),
+                           mParams.shadows != 0,
+                           &ctx.input(gbuffer::kDepth)->image().plane(0),
+                           &ctx.input(gbuffer::kNormal)->image(),
+                           counts};
+    ssr::run(ctx, HostPorts{ctx}, CpuPixels{},
+             ssr::effectiveQuality(mParams.quality, mParams.postProcessQuality, mParams.intensity),
+             mParams.maxRoughness, mParams.intensity, mParams.temporal, fallback);
+    ctx.addWork("fallbackRays", counts[kFallbackRays]);
+    ctx.addWork("fallbackHits", counts[kFallbackHits]);
+    ctx.addWork("skyRays", counts[kSkyRays]);
+    ctx.addWork("shadowRays", counts[kShadowRays]);
+}
+
+}  // namespace fp

@@ -1,0 +1,35 @@
+#pragma once
+// ★ framepass's own, not one of Unreal's passes: screen-space reflections that fall back to the
+// scene (algorithms §12.3). Every ray is SSR's — drawn, marched through the HZB and, where it hits
+// on screen, read from last frame's colour exactly as `ssr` does. A ray the march cannot finish
+// (it leaves the screen or ends without a hit) is traced through the scene's geometry in the same
+// direction and its hit lit as `rt_reflections` lights one (the lights with shadow rays, the
+// hit's emission, the sky's SH), or the sky's cubemap on a miss. The reverse of Unreal's
+// r.RayTracing.Reflections.Hybrid, which traces first. CPU, one ray at a time.
+#include "framework/Params.h"
+#include "framework/Pass.h"
+#include "passes/ssr/SSRPass.h"
+#include "shading/ReflectionHits.h"
+
+#include <memory>
+
+namespace fp {
+
+struct HybridReflectionsParams : SSRParams {
+    float normalBias = 0.1f;  //!< cm (min 0.01): a fallback ray's origin, as rt_reflections'
+    int shadows = 1;          //!< 0: the fallback hits' lights unshadowed
+};
+
+class HybridReflectionsPass final : public PassWithParams<HybridReflectionsParams> {
+public:
+    static ParamSpec<Params> paramSpec();
+    using PassWithParams::PassWithParams;
+
+    PassIO describe() const override;
+    void execute(PassContext& ctx) override;
+
+private:
+    std::shared_ptr<const ReflectedSky> mSky;  // made once per sky light
+};
+
+}  // namespace fp

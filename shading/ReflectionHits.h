@@ -1,0 +1,42 @@
+#pragma once
+// What a reflection ray traced through the scene brings back (algorithms §12.4), shared by
+// rt_reflections and the reflection hybrid: at its closest hit, the hit lit as Unreal's material
+// hit shader lights it; on a miss, the sky light's prefiltered cubemap.
+#include "foundation/Environment.h"
+#include "foundation/Random.h"
+#include "foundation/RayScene.h"
+#include "shading/Cubemap.h"
+#include "shading/DirectLighting.h"
+#include "shading/SphericalHarmonics.h"
+
+#include <cstdint>
+#include <memory>
+
+namespace fp {
+
+/// The sky light as reflection rays see it: its cubemap (a miss) and its SH (a hit's diffuse).
+struct ReflectedSky {
+    const SkyLight* source = nullptr;
+    Cubemap cube;
+    SH3 sh;
+
+    /// `cached` when it was made from `sky`, else a new one (rendered at Cubemap::kSkyLightSize
+    /// and projected); null when the sky light is off.
+    static std::shared_ptr<const ReflectedSky> of(const SkyLight& sky,
+                                                  std::shared_ptr<const ReflectedSky> cached);
+    /// What a ray along L that hits nothing sees, for a surface of `roughness`.
+    Vec3f miss(const Vec3f& L, float roughness) const {
+        return cube.sample(L, cube.mipForRoughness(roughness));
+    }
+};
+
+/// The radiance a reflection ray along L from `org` brings from its closest hit `hit`: every light
+/// with one shadow ray (when `shadowed`), the hit's emission (a light's visible shape sends none:
+/// its reflection is the light's own specular), and its diffuse colour × the sky's SH irradiance;
+/// clamped to ≥ 0. `viewer` (non-null) replaces the ray's view vector (Unreal's hybrid shades
+/// from the camera).
+Vec3f shadeReflectionHit(const RayScene& scene, const DirectLighting& lighting, const RayHit& hit,
+                         const Vec3f& org, const Vec3f& L, const ReflectedSky* sky, Rng& rng,
+                         uint64_t& shadowRays, bool shadowed, const Vec3f* viewer = nullptr);
+
+}  // namespace fp
