@@ -307,11 +307,8 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
         std::vector<LadderRung> ladder = {{&result, isHalf(result, reference)},
                                           {&conv, isHalf(conv, reference)}};
         std::vector<std::string> rungNames = {
-            t->source,
-            rayTraced ? fmt::format("{} converged ({}.{}={}, {} frame seeds)", t->source, t->tracer,
-                                    t->tracerRays, raysPerSeed, kFrameSeeds)
-                      : fmt::format("{} converged ({}.{}={}, {} frame seeds)", t->source, t->tracer,
-                                    t->tracerRays, mRays, kFrameSeeds)};
+            t->source, fmt::format("{} converged ({}.{}={}, {} frame seeds)", t->source, t->tracer,
+                                   t->tracerRays, rayTraced ? raysPerSeed : mRays, kFrameSeeds)};
         if (rayTraced) {
             const Image& all = allBouncesBySource.at(t->source);
             ladder.push_back({&all, isHalf(all, reference)});

@@ -42,6 +42,7 @@ struct Frame {
     int upscale = 1;
     int traceWidth = 0, traceHeight = 0;
     std::optional<SurfaceGrid> traceSurfaces;  // the texels' surfaces, when upscale > 1
+    VelocityView velocity;                     // the optional motion the history reprojects by
 
     bool carriesSignal(int x, int y) const { return radius.at(x, y) >= 0.0f; }
     const Surface& texelSurface(int tx, int ty) const {
@@ -53,6 +54,10 @@ struct Frame {
     }
     PixelCoord texelPixel(int tx, int ty) const {
         return fullResPixel(tx, ty, upscale, width, height);
+    }
+    // The texel a frame pixel lies in.
+    PixelCoord coveringTexel(int x, int y) const {
+        return {std::min(x / upscale, traceWidth - 1), std::min(y / upscale, traceHeight - 1)};
     }
 };
 
@@ -71,16 +76,21 @@ std::vector<Offset> vogelDisc(int taps) {
     return disc;
 }
 
+// The pixel under disc offset `o` turned and scaled by (cosine, sine) × radius about pixel (x, y).
+PixelCoord tapPixel(int x, int y, float cosR, float sinR, const Offset& o) {
+    return {int(std::floor(float(x) + 0.5f + cosR * o.x - sinR * o.y)),
+            int(std::floor(float(y) + 0.5f + sinR * o.x + cosR * o.y))};
+}
+
 // §12.5: the pixel's kernel radius from its hit distance — the distance itself for diffuse
-// signals, × α for reflections — in pixels of its own world size, clamped to [1, 16]; a miss
-// (nothing near) takes the widest kernel, a mirror (α → 0) none.
+// signals, × α for reflections — in pixels of its own world size, clamped to [0, 8]; a miss
+// (nothing near) takes the widest kernel, a mirror (α → 0) none; upscaling, at least k − 1.
 float kernelRadius(const Frame& f, int x, int y) {
     const Surface& s = f.surfaces.at(x, y);
     if (!s.valid)
         return kNoRay;
-    const int tx = std::min(x / f.upscale, f.traceWidth - 1);
-    const int ty = std::min(y / f.upscale, f.traceHeight - 1);
-    const float hit = f.in.hitDistance->at(tx, ty);
+    const PixelCoord t = f.coveringTexel(x, y);
+    const float hit = f.in.hitDistance->at(t.x, t.y);
     // At full resolution a pixel without a ray keeps its value; upscaled, its neighbours fill it.
     if (hit < -1.5f)
         return f.upscale == 1 ? kNoRay : kMaxKernelPixels;
@@ -126,8 +136,7 @@ void upscaleGather(const Frame& f, const std::vector<const Plane*>& src,
                 auto add = [&](int px, int py) {
                     if (px < 0 || py < 0 || px >= f.width || py >= f.height)
                         return;
-                    const int tx = std::min(px / f.upscale, f.traceWidth - 1);
-                    const int ty = std::min(py / f.upscale, f.traceHeight - 1);
+                    const auto [tx, ty] = f.coveringTexel(px, py);
                     if (!f.texelCarries(tx, ty))
                         return;
                     const Surface& s = f.texelSurface(tx, ty);
@@ -146,13 +155,14 @@ void upscaleGather(const Frame& f, const std::vector<const Plane*>& src,
                 const float turn = kTwoPi * ue::interleavedGradientNoise(float(x) + 0.5f,
                                                                          float(y) + 0.5f, f.frameMod8);
                 const float c0 = r * std::cos(turn), s0 = r * std::sin(turn);
-                for (int i = 0; i < taps; ++i)
-                    add(int(std::floor(float(x) + 0.5f + c0 * disc[i].x - s0 * disc[i].y)),
-                        int(std::floor(float(y) + 0.5f + s0 * disc[i].x + c0 * disc[i].y)));
-                const int tx = std::min(x / f.upscale, f.traceWidth - 1);
-                const int ty = std::min(y / f.upscale, f.traceHeight - 1);
+                for (int i = 0; i < taps; ++i) {
+                    const PixelCoord p = tapPixel(x, y, c0, s0, disc[i]);
+                    add(p.x, p.y);
+                }
+                const PixelCoord under = f.coveringTexel(x, y);
                 for (int c = 0; c < f.channels; ++c)
-                    dst[c]->at(x, y) = weight > 0.0f ? sum[c] / weight : src[c]->at(tx, ty);
+                    dst[c]->at(x, y) =
+                        weight > 0.0f ? sum[c] / weight : src[c]->at(under.x, under.y);
             }
     });
 }
@@ -182,9 +192,7 @@ void gather(const Frame& f, const std::vector<const Plane*>& src, const std::vec
                 const float c = r * std::cos(turn), sn = r * std::sin(turn);
                 float weight = 1.0f;
                 for (int i = 0; i < taps; ++i) {
-                    const Offset& o = disc[i];
-                    const int nx = int(std::floor(float(x) + 0.5f + c * o.x - sn * o.y));
-                    const int ny = int(std::floor(float(y) + 0.5f + sn * o.x + c * o.y));
+                    const auto [nx, ny] = tapPixel(x, y, c, sn, disc[i]);
                     if ((nx == x && ny == y) || nx < 0 || ny < 0 || nx >= f.width ||
                         ny >= f.height || !f.carriesSignal(nx, ny))
                         continue;
@@ -245,9 +253,8 @@ bool accumulate(const Frame& f, const std::vector<const Plane*>& cur, const Imag
     const Surface& ref = f.surfaces.at(x, y);
     if (history && f.carriesSignal(x, y)) {
         const double depth = f.in.gbuffer.depth.at(x, y);
-        const VelocityView velocity = velocityViewOf(f.in.velocity);
         const PreviousPixel prev =
-            reprojectPixelAtDepth(f.in.camera, x, y, depth, velocity, *f.in.historyCamera);
+            reprojectPixelAtDepth(f.in.camera, x, y, depth, f.velocity, *f.in.historyCamera);
         const Image& h = *history;
         if (prev.onScreen({f.width, f.height})) {
             const int hx = std::clamp(int(prev.u), 0, f.width - 1);
@@ -354,6 +361,7 @@ Counts denoise(const Stages& stages,
             SurfaceGrid(in.camera, in.gbuffer, {W, H}, 1, NormalRead::Normalised),
             Plane(W, H),
             ue::frameIndexMod8(in.frameNumber)};
+    f.velocity = velocityViewOf(in.velocity);
     f.upscale = upscale;
     f.traceWidth = TW;
     f.traceHeight = TH;

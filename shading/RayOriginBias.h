@@ -40,11 +40,15 @@ struct PixelSurface {
     Vec3f p, toEye;
     float eyeDistance;
 };
-FP_HD inline PixelSurface pixelSurface(const CameraView& cam, const Vec3d& eyeOffset, int x, int y,
-                                       double depth) {
-    const Vec3d offset = cam.translatedFromPixel(x, y, depth);
+/// The same from the surface's offset from the eye (cam.translatedFromPixel), where the caller
+/// has it already.
+FP_HD inline PixelSurface pixelSurfaceAt(const Vec3d& eyeOffset, const Vec3d& offset) {
     const double eyeDistance = length(offset);
     return {Vec3f(eyeOffset + offset), Vec3f(-offset / eyeDistance), float(eyeDistance)};
+}
+FP_HD inline PixelSurface pixelSurface(const CameraView& cam, const Vec3d& eyeOffset, int x, int y,
+                                       double depth) {
+    return pixelSurfaceAt(eyeOffset, cam.translatedFromPixel(x, y, depth));
 }
 
 /// biasedRayOrigin from a pixel's surface, with a pass's biases.

@@ -2,7 +2,6 @@
 
 #include "framework/PassPorts.h"
 #include "passes/ssr/SSRKernel.h"
-#include "screenspace/GBuffer.h"
 #include "shading/DirectLighting.h"
 #include "shading/RayOriginBias.h"
 
@@ -26,21 +25,16 @@ struct SceneFallback {
     const RayScene* scene;
     const DirectLighting* lighting;
     const ReflectedSky* sky;
-    CameraView cam;
     Vec3d eyeOffset;  // the camera relative to the scene's origin
     RayBias bias;
     uint32_t rngKey;
     bool shadowed;
-    const Plane* depth;
-    const Image* normal;
     std::atomic<uint64_t>* counts;  // FallbackCounter
 
-    ssr::RaySample operator()(int x, int y, const Vec3f& L, float roughness) const {
+    ssr::RaySample operator()(int x, int y, const Vec3d& offset, const Vec3f& N, const Vec3f& L,
+                              float roughness) const {
         counts[kFallbackRays].fetch_add(1, std::memory_order_relaxed);
-        const PixelSurface surface = pixelSurface(cam, eyeOffset, x, y, depth->at(x, y));
-        const Vec3f N = normalize(
-            Vec3f{normal->plane(0).at(x, y), normal->plane(1).at(x, y), normal->plane(2).at(x, y)});
-        const Vec3f org = biasedRayOrigin(surface, N, dot(N, L), bias);
+        const Vec3f org = biasedRayOrigin(pixelSurfaceAt(eyeOffset, offset), N, dot(N, L), bias);
         const Vec3f eyeToOrigin = org - Vec3f(eyeOffset);
         ssr::RaySample s;
         const RayHit hit = scene->intersect(org, L, 0.0f, std::numeric_limits<float>::infinity());
@@ -96,13 +90,10 @@ void HybridReflectionsPass::execute(PassContext& ctx) {
     SceneFallback fallback{&rs,
                            &lighting,
                            mSky.get(),
-                           cam,
                            cam.position - rs.origin(),
                            RayBias::fromCm(mParams.normalBias, float(rs.scene().centimetre())),
                            Rng::frameKey(ctx.frame().number, kSeed),
                            mParams.shadows != 0,
-                           &ctx.input(gbuffer::kDepth)->image().plane(0),
-                           &ctx.input(gbuffer::kNormal)->image(),
                            counts};
     ssr::run(ctx, HostPorts{ctx}, CpuPixels{},
              ssr::effectiveQuality(mParams.quality, mParams.postProcessQuality, mParams.intensity),

@@ -202,7 +202,8 @@ void RTReflectionsPass::execute(PassContext& ctx) {
                     }
                     // Hybrid: shaded hits look from the camera, so both kinds match (knowingly
                     // wrong for the specular term, as in Unreal).
-                    const Vec3f fromCamera = normalize(Vec3f(eyeOffset) - hitPoint);
+                    const Vec3f fromCamera =
+                        sceneColor ? normalize(Vec3f(eyeOffset) - hitPoint) : Vec3f{};
                     sum += shadeReflectionHit(rs, lighting, hit, org, L, sky, rng, shadowRays,
                                               shadowed, sceneColor ? &fromCamera : nullptr);
                 }

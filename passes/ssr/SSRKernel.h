@@ -129,13 +129,16 @@ FP_HD inline RaySample shadeHit(const Frame& f, const RaySteps& steps, float tim
 /// What a ray the screen cannot finish brings: in Unreal's SSR, nothing. (framepass's reflection
 /// hybrid passes a callable of the same shape that traces the ray through the scene.)
 struct NoFallback {
-    FP_HD RaySample operator()(int, int, const Vec3f&, float) const { return {}; }
+    FP_HD RaySample operator()(int, int, const Vec3d&, const Vec3f&, const Vec3f&, float) const {
+        return {};
+    }
 };
 
 /// One pixel (x, y): skipped (unlit, sky, too rough) or its rays traced, the outputs written
 /// and the work added to `counts` (indexed by Counter). Outputs stay 0 where a pixel is skipped.
-/// A ray whose march leaves the screen or ends without a hit asks `fallback(x, y, L, roughness)`
-/// (L the world direction) for its sample.
+/// A ray whose march leaves the screen or ends without a hit asks `fallback(x, y, offset, N, L,
+/// roughness)` for its sample: the pixel, its surface as an offset from the eye, its unit normal,
+/// the ray's world direction.
 template <class Fallback = NoFallback>
 FP_HD inline void ssrPixel(const Frame& f, int x, int y, unsigned long long* counts,
                            const Fallback& fallback = {}) {
@@ -191,7 +194,7 @@ FP_HD inline void ssrPixel(const Frame& f, int x, int y, unsigned long long* cou
         const bool onScreen =
             screenRaySteps(g, o, Lview, kToleranceScale, raySteps) &&
             marchHzb(g.hzb, raySteps, steps, levelStep, level, hzbSamples, &time) >= 0;
-        const RaySample s = onScreen ? shadeHit(f, raySteps, time) : fallback(x, y, L, roughness);
+        const RaySample s = onScreen ? shadeHit(f, raySteps, time) : fallback(x, y, pd, N, L, roughness);
         if (!s.hit) continue;
         ++hits;
         distanceSum += float(length(s.offset - pd));

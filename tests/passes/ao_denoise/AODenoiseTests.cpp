@@ -18,9 +18,7 @@ TEST_CASE("ao_denoise lowers the variance of a noisy AO mask and keeps its mean"
     auto src = test::captureToMemory(test::floorScene(), cam);
     std::mt19937 rng(17);
     const Image ao = test::noisyConstant(w, h, {"Y"}, rng);
-    Image hit(w, h, {"Y"});
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) hit.plane(0).at(x, y) = 1e6f;  // nothing near: widest kernels
+    const Image hit(w, h, {"Y"}, 1e6f);  // nothing near: the widest kernels
     src.buffers["Truth.NoisyAO"] = ao;
     src.buffers["Truth.HitDistance"] = hit;
     const auto out = test::runChain(

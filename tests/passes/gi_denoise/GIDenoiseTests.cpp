@@ -35,13 +35,6 @@ FrameCamera floorCamera(int w, int h) {
     return cam;
 }
 
-Image filled(int w, int h, float value) {
-    Image image(w, h, {"Y"});
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) image.plane(0).at(x, y) = value;
-    return image;
-}
-
 }  // namespace
 
 TEST_SUITE("gi_denoise") {
@@ -61,7 +54,7 @@ TEST_CASE("the variance of a noisy constant falls below a 17-sample mean's; fram
         const Image diffuse = test::noisyConstant(w, h, {"R", "G", "B"}, rng);
         src.buffers["Truth.NoisyDiffuse"] = diffuse;
         src.buffers["Truth.NoisyAO"] = test::noisyConstant(w, h, {"Y"}, rng);
-        src.buffers["Truth.HitDistance"] = filled(w, h, 1e6f);  // far hits: the widest kernels
+        src.buffers["Truth.HitDistance"] = Image(w, h, {"Y"}, 1e6f);  // far hits: the widest kernels
         const auto out = test::runChain(src, kChain, {"gi_denoise.diffuse", "gi_denoise.ao"}, &history);
         const auto in = test::windowStats(diffuse.plane(0), border);
         const auto got = test::windowStats(out.at("gi_denoise.diffuse").image().plane(0), border);
@@ -91,8 +84,8 @@ TEST_CASE("nothing crosses a crease: a floor of 1 beside a wall of 0 stays exact
         for (int x = 0; x < n; ++x)
             for (int c = 0; c < 3; ++c) diffuse.plane(c).at(x, y) = instance.at(x, y) == 1 ? 1.0f : 0.0f;
     src.buffers["Truth.NoisyDiffuse"] = diffuse;
-    src.buffers["Truth.NoisyAO"] = filled(n, n, 1.0f);
-    src.buffers["Truth.HitDistance"] = filled(n, n, 1e6f);
+    src.buffers["Truth.NoisyAO"] = Image(n, n, {"Y"}, 1.0f);
+    src.buffers["Truth.HitDistance"] = Image(n, n, {"Y"}, 1e6f);
     const auto out = test::runChain(src, kChain, {"gi_denoise.diffuse"});
     // The floor's normal is perpendicular to the wall's: the bilateral weight is 0 across.
     int floorPixels = 0, wallPixels = 0;
@@ -114,7 +107,7 @@ TEST_CASE("a hit at the surface itself allows no blur; pixels with no ray pass t
     const Image diffuse = test::noisyConstant(w, h, {"R", "G", "B"}, rng);
     src.buffers["Truth.NoisyDiffuse"] = diffuse;
     src.buffers["Truth.NoisyAO"] = test::noisyConstant(w, h, {"Y"}, rng);
-    src.buffers["Truth.HitDistance"] = filled(w, h, 0.0f);
+    src.buffers["Truth.HitDistance"] = Image(w, h, {"Y"}, 0.0f);
     // Hit distance 0: the hit-sized stages have radius 0. (The history convolution's radius is
     // fixed in pixels, so it is turned off here.)
     auto out =
@@ -151,16 +144,16 @@ TEST_CASE("planes of mismatched sizes are an error, not a read past the plane") 
     std::mt19937 rng(9);
     src.buffers["Truth.NoisyDiffuse"] = test::noisyConstant(w, h, {"R", "G", "B"}, rng);
     src.buffers["Truth.NoisyAO"] = test::noisyConstant(w, h, {"Y"}, rng);
-    src.buffers["Truth.HitDistance"] = filled(w / 2, h / 2, 1e6f);
+    src.buffers["Truth.HitDistance"] = Image(w / 2, h / 2, {"Y"}, 1e6f);
     CHECK_THROWS_WITH_AS(test::runChain(src, kChain, {"gi_denoise.diffuse"}),
                          doctest::Contains("hitDistance is 16×16 but the signal is 32×32"), Error);
-    src.buffers["Truth.HitDistance"] = filled(w, h, 1e6f);
+    src.buffers["Truth.HitDistance"] = Image(w, h, {"Y"}, 1e6f);
     src.buffers["Truth.NoisyAO"] = test::noisyConstant(w / 2, h / 2, {"Y"}, rng);
     CHECK_THROWS_WITH_AS(test::runChain(src, kChain, {"gi_denoise.diffuse"}),
                          doctest::Contains("the signal's planes are 32×32 and 16×16"), Error);
     // A fifth of the frame is no screen percentage a ray-traced pass traces at.
     for (const char* name : {"Truth.NoisyDiffuse", "Truth.NoisyAO", "Truth.HitDistance"})
-        src.buffers[name] = filled(7, 7, 0.5f);
+        src.buffers[name] = Image(7, 7, {"Y"}, 0.5f);
     CHECK_THROWS_WITH_AS(test::runChain(src, kChain, {"gi_denoise.diffuse"}),
                          doctest::Contains("neither the frame's 32×32 nor its 1/2, 1/3 or 1/4"), Error);
 }
@@ -176,8 +169,8 @@ TEST_CASE("a signal traced at a lower screen percentage is upscaled to every pix
         const int t = (n + k - 1) / k;
         Image diffuse(t, t, {"R", "G", "B"}, 0.5f);
         src.buffers["Truth.NoisyDiffuse"] = diffuse;
-        src.buffers["Truth.NoisyAO"] = filled(t, t, 0.5f);
-        src.buffers["Truth.HitDistance"] = filled(t, t, 1e6f);
+        src.buffers["Truth.NoisyAO"] = Image(t, t, {"Y"}, 0.5f);
+        src.buffers["Truth.HitDistance"] = Image(t, t, {"Y"}, 1e6f);
         for (int denoiser : {1, 0}) {
             const auto out = test::runChain(src, chainWith({{"denoiser", denoiser}}),
                                             {"gi_denoise.diffuse", "gi_denoise.ao"});
@@ -204,7 +197,7 @@ TEST_CASE("denoiser 0 passes the raw signal through") {
     const Image ao = test::noisyConstant(w, h, {"Y"}, rng);
     src.buffers["Truth.NoisyDiffuse"] = diffuse;
     src.buffers["Truth.NoisyAO"] = ao;
-    src.buffers["Truth.HitDistance"] = filled(w, h, 1e6f);
+    src.buffers["Truth.HitDistance"] = Image(w, h, {"Y"}, 1e6f);
     const auto out = test::runChain(src, chainWith({{"denoiser", 0}}),
                                     {"gi_denoise.diffuse", "gi_denoise.ao"});
     for (int c = 0; c < 3; ++c)

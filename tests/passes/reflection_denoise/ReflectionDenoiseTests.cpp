@@ -20,9 +20,7 @@ std::map<std::string, Texture> denoiseReflections(float roughness, const Image& 
     cam.current = CameraView::lookAt({0, 40, -10}, {0, 0, 10}, {0, 1, 0}, 60.0, w, h, 1.0);
     cam.previous = cam.current;
     auto src = test::captureToMemory(s, cam);
-    Image hit(w, h, {"Y"});
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) hit.plane(0).at(x, y) = 1e6f;
+    const Image hit(w, h, {"Y"}, 1e6f);  // nothing near: the widest kernels
     src.buffers["Truth.NoisyReflection"] = reflection;
     src.buffers["Truth.HitDistance"] = hit;
     return test::runChain(src,
