@@ -4,9 +4,11 @@ JOBS ?= $(shell nproc)
 DEBIAN_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimageio-tools \
     libopenexr-dev libopencolorio-dev libembree-dev libtbb-dev libcli11-dev nlohmann-json3-dev \
     doctest-dev libfmt-dev libhwy-dev libtinygltf-dev libtinyobjloader-dev fonts-dejavu-core chromium python3 \
-    python3-jsonschema help2man graphviz pybind11-dev python3-dev python3-numpy python3-pytest \
+    python3-jsonschema help2man zsh fish graphviz pybind11-dev python3-dev python3-numpy python3-pytest \
     libcpp-httplib-dev
 FRAMEPASS = $(BUILD_DIR)/cli/framepass
+# Extra cmake arguments, e.g. CMAKE_ARGS=-DFP_WERROR=ON (CI: every warning of gcc and clang is an error).
+CMAKE_ARGS ?=
 # make fuzz: the libFuzzer targets of fuzz/ under ASan + UBSan, each run FUZZ_SECONDS from its
 # seed corpus with a fixed seed (so CI's short run is the start of a long local one).
 FUZZ_PACKAGES = clang libclang-rt-14-dev
@@ -14,7 +16,7 @@ FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS = ConfigFuzz CaptureFuzz SidecarFuzz ObjFuzz GltfFuzz ServeRequestFuzz
 
-.PHONY: demo test deps build fuzz bench stability
+.PHONY: demo results test deps build fuzz bench stability
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
@@ -33,7 +35,7 @@ deps:
 	  else echo "framepass's browser test needs node: sudo apt-get install -y nodejs npm"; exit 1; fi; }
 
 build: deps
-	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
 demo: build
@@ -48,6 +50,15 @@ demo: build
 	    --html out/demo/bench.html | grep -v '^Progress'
 	$(FRAMEPASS) tune examples/cornell/bench.json --target 'ssgi_vs_one_bounce<=0.035' \
 	    --sweep r.SSGI.Quality=1..4 --sweep r.SSGI.HalfRes=0,1 --runs 1 | grep -v '^Progress'
+	@echo "framepass wrote:"; find out/demo -type f | sort | sed 's/^/  /'
+	@echo "The look-dev workbench on this capture (docs/serve.md):"
+	@echo "  $(FRAMEPASS) serve examples/cornell/bench.json --open"
+	@echo "The rest of the captures and benches behind docs/results/: make results"
+
+# make results: make demo, then the captures and benches behind docs/results/ (ssgi, shadows,
+# reflections, beyond) into out/demo/: a 4-frame sequence, the oracle, the shadows, the glossy room
+# and the hard scene, and the ray-traced passes and the hybrid against SSGI on all three captures.
+results: demo
 	$(FRAMEPASS) capture examples/cornell/scene.json -o 'out/demo/seq/cornell.####.exr' --frames 1-4 \
 	    --truth --truth-spp 64 | grep -v '^ '
 	$(FRAMEPASS) bench examples/cornell/bench.json --capture 'out/demo/seq/cornell.####.exr' --frames 1-4 \
@@ -65,11 +76,11 @@ demo: build
 	$(FRAMEPASS) capture examples/hard/scene.json -o out/demo/hard/hard.exr --truth | grep -v '^ '
 	$(FRAMEPASS) bench examples/hard/beyond.json --runs 1 --html out/demo/beyond_hard.html | grep -v '^Progress'
 	@echo "framepass wrote:"; find out/demo -type f | sort | sed 's/^/  /'
-	@echo "The look-dev workbench on this capture (docs/serve.md):"
-	@echo "  $(FRAMEPASS) serve examples/cornell/bench.json --open"
 
+# ctest reports a suite that cannot run here (no Slurm, no GPU, no Chromium) as skipped; ctest.xml
+# (JUnit) lists what ran and what skipped, for .ci/run.
 test: build
-	cd $(BUILD_DIR) && ctest --output-on-failure
+	cd $(BUILD_DIR) && ctest --output-on-failure --output-junit ctest.xml
 
 # make bench: the 1080p speed table of docs/results/speed-1080p.md (captures out/bench/ once; BENCH_RUNS timed runs).
 BENCH_RUNS ?= 3
@@ -84,7 +95,7 @@ stability: build
 fuzz: deps
 	@missing=$$(for p in $(FUZZ_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
 	if [ -n "$$missing" ]; then apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; fi
-	cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DFP_FUZZ=ON
+	cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DFP_FUZZ=ON $(CMAKE_ARGS)
 	cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(FUZZ_TARGETS)
 	@for t in $(FUZZ_TARGETS); do \
 	  seeds=fuzz/corpus/$$(echo $$t | sed 's/Fuzz$$//' | tr A-Z a-z); \

@@ -292,6 +292,35 @@ std::string decompositionSection(const BenchResult& r, const std::string& errorN
     return h.str();
 }
 
+// What the plan said about the error measures (a truth of another definition than the judged
+// pass's, app/TruthDefinitions.h), once per measure and message, with the settings it holds for
+// when not all of them.
+std::string measureWarnings(const BenchResult& r) {
+    std::vector<std::pair<std::string, std::string>> order;  // (measure, message)
+    std::map<std::pair<std::string, std::string>, std::vector<std::string>> settings;
+    for (const auto& s : r.settings)
+        for (const auto& e : s.errors)
+            for (const auto& w : e.warnings) {
+                auto& labels = settings[{e.name, w}];
+                if (labels.empty()) order.push_back({e.name, w});
+                labels.push_back(s.label);
+            }
+    if (order.empty()) return "";
+    std::ostringstream h;
+    h << "<div class=\"warnings\"><p class=\"meta\"><b>Warnings</b> about the error measures "
+         "(also said on the command line):</p><ul>\n";
+    for (const auto& key : order) {
+        const auto& labels = settings[key];
+        h << "<li class=\"warning\"><b>" << escape(key.first) << "</b>: " << escape(key.second);
+        if (labels.size() < r.settings.size())
+            h << " <span class=\"meta\">(" << escape(fmt::format("{}", fmt::join(labels, "; ")))
+              << ")</span>";
+        h << "</li>\n";
+    }
+    h << "</ul></div>\n";
+    return h.str();
+}
+
 }  // namespace
 
 std::string benchHtml(const BenchResult& r) {
@@ -304,6 +333,7 @@ th{background:#f2f2f2}td.l,th.l{text-align:left}tr.front td{background:#fff4ea}
 figure{display:inline-block;margin:0 12px 12px 0}figcaption{font-size:12px;color:#555}
 img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
 .meta{color:#555;font-size:13px}
+.warnings li{color:#8a4b00;font-size:13px;margin:2px 0}
 .scale{font-size:12px;color:#555;display:flex;align-items:center;gap:4px;margin-top:2px}
 .scale .bar{display:inline-block;width:160px;height:10px;border:1px solid #ccc}
 </style></head><body>
@@ -363,6 +393,7 @@ img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
         h << "<p class=\"meta\">Error: the first error_measure pass of the chain ("
           << escape(r.settings.front().errors.empty() ? "" : r.settings.front().errors.front().name)
           << "). Pareto: no other setting is both faster and more accurate.</p>\n";
+    h << measureWarnings(r);
     h << plot(r) << "\n";
     if (const std::string seq = sequencePlot(r); !seq.empty())
         h << "<h2>Error over the sequence</h2>\n<p class=\"meta\">The first error_measure's RMSE "

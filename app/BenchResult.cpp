@@ -105,6 +105,8 @@ nlohmann::json BenchResult::toJson() const {
                 sj["errors"].back()["rmseByFrame"] = e.rmseByFrame;
             if (e.decomposition)
                 sj["errors"].back()["decomposition"] = e.decomposition->toJson();
+            if (!e.warnings.empty())
+                sj["errors"].back()["warnings"] = e.warnings;
         }
         if (s.hasError()) sj["pareto"] = s.pareto;
         j["settings"].push_back(sj);

@@ -25,7 +25,7 @@ struct PassTiming {
     std::string name, type, unit;  //!< unit: the work counter that measures throughput
     uint64_t work = 0;             //!< of one run
     TimingStats seconds;
-    std::optional<TimingStats> gpuSeconds;  //!< passes run on the GPU: kernel time (CUDA events)
+    std::optional<TimingStats> gpuSeconds{};  //!< passes run on the GPU: kernel time (CUDA events)
     bool measuresError = false;  //!< an error measure (PassRoles): not part of the chain's time
     double throughput() const { return seconds.median > 0 ? double(work) / seconds.median : 0; }
 };
@@ -57,6 +57,9 @@ struct ErrorNodeResult {
     std::vector<double> rmseByFrame;
     ErrorImages images;
     std::optional<ErrorDecompositionResult> decomposition;
+    /// The plan's warnings about this measure: a truth of another definition
+    /// (app/TruthDefinitions.h), and the like.
+    std::vector<std::string> warnings;
 };
 
 struct BenchSetting {

@@ -281,6 +281,8 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
         if (!step.io.roles.measuresError)
             continue;
         ErrorNodeResult e = errorNodeResult(step, last.passes[s]);
+        for (const auto& w : plan.warnings)
+            if (w.pointer == step.pointer) e.warnings.push_back(w.message);
         if (auto it = rmseByFrame.find(s); it != rmseByFrame.end())
             e.rmseByFrame = it->second;
         if (!opt.html.empty())

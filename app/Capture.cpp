@@ -2,6 +2,7 @@
 #include "app/Capture.h"
 
 #include "app/Invocation.h"
+#include "app/TruthDefinitions.h"
 #include "io/ExrWriter.h"
 #include "io/FramePattern.h"
 #include "io/SafeFiles.h"
@@ -42,6 +43,7 @@ void captureScene(const CaptureOptions& opt, std::ostream& out) {
     auto seconds = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
+    const std::string fingerprint = io::sceneFingerprint(sf);
     int lastProgress = -1;
     for (std::size_t i = 0; i < frames.size(); ++i) {
         const int frame = frames[i];
@@ -62,7 +64,13 @@ void captureScene(const CaptureOptions& opt, std::ostream& out) {
         io::ExrMetadata meta;
         meta.camera = camera;
         meta.frame = frame;
-        meta.strings["framepass:scene"] = opt.scene;
+        // The scene, relative to the capture, and its fingerprint: a run whose chain traces rays
+        // and whose config names no scene takes this one (RunSetup).
+        meta.strings["framepass:scene"] =
+            std::filesystem::absolute(opt.scene)
+                .lexically_proximate(std::filesystem::absolute(pattern.path(frame)).parent_path())
+                .string();
+        meta.strings["framepass:sceneFingerprint"] = fingerprint;
         meta.strings["framepass:software"] = "framepass capture";
         if (opt.half)
             meta.strings["framepass:storage"] = opt.floatDepth ? "half, depth float32" : "half";
@@ -101,7 +109,10 @@ void captureScene(const CaptureOptions& opt, std::ostream& out) {
                                                          : fmt::format("{:.2f} %", 100.0 * rel));
             }
             meta.strings["framepass:truthSamplesPerPixel"] = std::to_string(opt.truthSpp);
-            meta.strings["framepass:truthAoRadius"] = fmt::format("{}", ts.aoRadius);
+            // What each truth measures (its AO radius, its bounces): a measure or compare
+            // against a layer of another definition says so (app/TruthDefinitions.h).
+            for (const auto& [name, value] : truthDefinitionAttributes(ts.aoRadius, ts.maxBounces))
+                meta.strings[name] = value;
         }
         const std::string path = pattern.path(frame);
         io::writeExr(path, parts, meta);

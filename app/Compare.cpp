@@ -3,6 +3,7 @@
 #include "app/Compare.h"
 
 #include "app/Invocation.h"
+#include "app/TruthDefinitions.h"
 
 #include "io/CaptureFiles.h"
 #include "io/CaptureSource.h"
@@ -280,6 +281,7 @@ nlohmann::json CompareResult::toJson(const CompareOptions& opt) const {
     j["a"] = {{"file", opt.a}, {"layer", layerA}};
     j["b"] = {{"file", opt.b}, {"layer", layerB}};
     j["mask"] = maskNote;
+    if (!warnings.empty()) j["warnings"] = warnings;
     if (!opt.heatmap.empty())
         j["heatmap"] = {{"exr", opt.heatmap}, {"png", pngPathFor(opt.heatmap)}, {"scale", heatScale}};
     return j;
@@ -288,6 +290,9 @@ nlohmann::json CompareResult::toJson(const CompareOptions& opt) const {
 ErrorStats compareImages(const Image& a, const Image& b, const Image* mask,
                          const Image* referenceStdErr, double tolerance, const std::string& nameA,
                          const std::string& nameB, Image* absError) {
+    // NaN passes every comparison with it, so a NaN tolerance would put no pixel over it.
+    if (!(std::isfinite(tolerance) && tolerance >= 0.0))
+        throw UsageError(fmt::format("the tolerance must be a finite number ≥ 0, not {}", tolerance));
     checkSameShape(a, b, nameA, nameB);
     if (mask && (mask->width() != a.width() || mask->height() != a.height()))
         throw UsageError(fmt::format("the mask is {}×{}, the images are {}×{}", mask->width(),
@@ -325,6 +330,13 @@ CompareResult compareFiles(const CompareOptions& opt) {
     const std::string nameA = fmt::format("{}[{}]", opt.a, displayName(layerA));
     const std::string nameB = fmt::format("{}[{}]", opt.b, displayName(layerB));
     checkSameShape(imgA, imgB, nameA, nameB);
+    // Two truths of different definitions (AO radius, bounces) as their headers record them.
+    if (a.exr && b.exr)
+        for (auto& w : truthDefinitionMismatch(nameA, layerA, readTruthDefinitions(a.exr->header()),
+                                               nameB, layerB, readTruthDefinitions(b.exr->header()))) {
+            logWarning(w);
+            result.warnings.push_back(std::move(w));
+        }
     std::optional<Image> stdErr;
     if (b.exr)
         for (const auto& l : io::listLayers(*b.exr))

@@ -32,6 +32,9 @@ struct CompareResult {
     std::string layerA, layerB;  //!< as resolved
     std::string maskNote;        //!< which pixels counted, in words
     float heatScale = 0;         //!< top of the heat map's colour map (with a heat map)
+    /// The two layers were made to measure different things (their files record truths of
+    /// different definitions: an AO radius, bounces; app/TruthDefinitions.h). Also logged.
+    std::vector<std::string> warnings;
     /// What `compare --json` prints.
     nlohmann::json toJson(const CompareOptions& options) const;
 };

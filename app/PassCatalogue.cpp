@@ -6,6 +6,9 @@
 
 #include <fmt/ranges.h>
 
+#include <algorithm>
+#include <cctype>
+
 namespace fp::app {
 
 namespace {
@@ -87,7 +90,7 @@ std::string passReferenceMarkdown(const nlohmann::json& all) {
                                   p["optional"].get<bool>() ? ", optional" : "",
                                   p["default"].get<std::string>().empty()
                                       ? ""
-                                      : "`" + p["default"].get<std::string>() + "`",
+                                      : fmt::format("`{}`", p["default"].get<std::string>()),
                                   cell(p["doc"].get<std::string>()));
             }
         }
@@ -96,7 +99,7 @@ std::string passReferenceMarkdown(const nlohmann::json& all) {
             for (const auto& p : t["params"]) {
                 std::vector<std::string> cvars;
                 for (const auto& c : t["cvars"])
-                    if (c["param"] == p["name"]) cvars.push_back("`" + c["cvar"].get<std::string>() + "`");
+                    if (c["param"] == p["name"]) cvars.push_back(fmt::format("`{}`", c["cvar"].get<std::string>()));
                 md += fmt::format(
                     "| `{}` | {} | `{}` | {} | {} | {} |\n", p["name"].get<std::string>(),
                     p["type"].get<std::string>(), p["default"].dump(),
@@ -105,6 +108,118 @@ std::string passReferenceMarkdown(const nlohmann::json& all) {
                     fmt::join(cvars, ", "), cell(p["doc"].get<std::string>()));
             }
         }
+    }
+    return md;
+}
+
+namespace {
+// A parameter's value as a cvar is written: booleans as Unreal's 0/1, floats at float precision.
+std::string cvarValue(const nlohmann::json& v, const std::string& type) {
+    if (v.is_boolean()) return v.get<bool>() ? "1" : "0";
+    if (type == "float" && v.is_number()) return fmt::format("{}", v.get<float>());
+    if (v.is_number()) return fmt::format("{}", v.get<double>());
+    if (v.is_string()) return v.get<std::string>();
+    return v.dump();
+}
+
+// What a parameter accepts, as a cvar: its range, its choices, or 0/1.
+std::string cvarValues(const nlohmann::json& target) {
+    const std::string type = target["type"].get<std::string>();
+    if (type == "bool") return "0, 1";
+    if (target.contains("min"))
+        return fmt::format("{} … {}", cvarValue(target["min"], type),
+                           cvarValue(target["max"], type));
+    if (target.contains("choices")) {
+        std::vector<std::string> c;
+        for (const auto& v : target["choices"]) c.push_back(fmt::format("`{}`", v.get<std::string>()));
+        return fmt::format("{}", fmt::join(c, ", "));
+    }
+    return "any " + type;
+}
+
+// One cell for every target: the text once when they agree, else each with its pass.
+template <class F>
+std::string perTarget(const nlohmann::json& sets, F text) {
+    std::vector<std::string> each;
+    for (const auto& t : sets) each.push_back(text(t));
+    if (std::all_of(each.begin(), each.end(), [&](const std::string& e) { return e == each[0]; }))
+        return each.empty() ? "" : each[0];
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < each.size(); ++i)
+        out.push_back(fmt::format("{} ({})", each[i], sets[i]["pass"].get<std::string>()));
+    return fmt::format("{}", fmt::join(out, "; "));
+}
+}  // namespace
+
+nlohmann::json cvarCatalogue() {
+    const PassRegistry& reg = builtinPasses();
+    const CvarTable table(reg);
+    std::vector<std::string> names = table.names();
+    auto lower = [](std::string s) {
+        for (auto& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+        return s;
+    };
+    std::stable_sort(names.begin(), names.end(), [&](const std::string& a, const std::string& b) {
+        return lower(a) < lower(b);
+    });
+    nlohmann::json all = nlohmann::json::array();
+    for (const auto& name : names) {
+        nlohmann::json sets = nlohmann::json::array();
+        nlohmann::json entry = {{"cvar", name}};
+        for (const auto& m : table.all()) {
+            if (m.cvar != name) continue;
+            if (m.passType.empty()) {
+                entry["value"] = m.emulatedValue;
+                entry["note"] = m.note;
+                continue;
+            }
+            const PassType* type = reg.find(m.passType);
+            const auto p = std::find_if(type->params.begin(), type->params.end(),
+                                        [&](const ParamInfo& i) { return i.name == m.param; });
+            nlohmann::json t = {{"pass", m.passType},   {"param", m.param},
+                                {"type", p->type},      {"default", p->defaultValue},
+                                {"doc", p->doc}};
+            if (p->min) t["min"] = *p->min;
+            if (p->max) t["max"] = *p->max;
+            if (!p->choices.empty()) t["choices"] = p->choices;
+            sets.push_back(t);
+        }
+        entry["emulated"] = !sets.empty();
+        if (!sets.empty()) entry["sets"] = sets;
+        all.push_back(entry);
+    }
+    return all;
+}
+
+// docs/config.md's cvar table (tests/docs/check_docs.py checks the committed section matches).
+std::string cvarReferenceMarkdown(const nlohmann::json& cvars) {
+    std::string md =
+        "| cvar | sets | values | default | emulated | meaning |\n"
+        "|---|---|---|---|---|---|\n";
+    for (const auto& c : cvars) {
+        const std::string name = fmt::format("`{}`", c["cvar"].get<std::string>());
+        if (!c["emulated"].get<bool>()) {
+            const nlohmann::json& v = c["value"];
+            md += fmt::format("| {} | | {} | | no | {} |\n", name,
+                              v.is_null() ? "any value warns"
+                                          : fmt::format("`{}` (another value warns)",
+                                                        cvarValue(v, "")),
+                              cell(c["note"].get<std::string>()));
+            continue;
+        }
+        const nlohmann::json& sets = c["sets"];
+        std::vector<std::string> targets;
+        for (const auto& t : sets)
+            targets.push_back(fmt::format("`{}.{}`", t["pass"].get<std::string>(),
+                                          t["param"].get<std::string>()));
+        md += fmt::format(
+            "| {} | {} | {} | {} | yes | {} |\n", name, fmt::join(targets, ", "),
+            perTarget(sets, [](const nlohmann::json& t) { return cvarValues(t); }),
+            perTarget(sets,
+                      [](const nlohmann::json& t) {
+                          return fmt::format("`{}`", cvarValue(t["default"], t["type"].get<std::string>()));
+                      }),
+            cell(sets[0]["doc"].get<std::string>()));
     }
     return md;
 }

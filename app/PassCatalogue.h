@@ -19,4 +19,13 @@ nlohmann::json passCatalogue();
 /// The catalogue (or part of it) as the Markdown pass reference.
 std::string passReferenceMarkdown(const nlohmann::json& types);
 
+/// Every cvar framepass knows (CvarTable: the parameters' declarations plus the recognised,
+/// not emulated ones), in name order: {"cvar", "emulated", "sets": [{"pass", "param", "type",
+/// "default", "min", "max", "choices", "doc"}]} for an emulated one, {"cvar", "emulated": false,
+/// "value" (the value framepass runs as; null: none), "note"} for the others
+/// (`framepass passes --cvars --json`).
+nlohmann::json cvarCatalogue();
+/// The cvar table of docs/config.md (`framepass passes --cvars --markdown`).
+std::string cvarReferenceMarkdown(const nlohmann::json& cvars);
+
 }  // namespace fp::app

@@ -6,6 +6,7 @@
 #include "app/MemoryLimit.h"
 #include "io/CaptureReadAhead.h"
 #include "io/CaptureSource.h"
+#include "io/FramePattern.h"
 #include "io/OutputLock.h"
 #include "io/OutputWriter.h"
 #include "io/TevClient.h"
@@ -163,6 +164,22 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
         logWarning(fmt::format("{}: {}", w.pointer, w.message));
     const auto& frames = session.frames();
 
+    // A file name without a frame token would hold only the last of several frames (and two
+    // chunks of a farm run would write the same file): refused before the first frame.
+    if (frames.size() > 1)
+        for (const auto& o : plan.outputs)
+            if (!o.isDump && !io::FramePattern(o.file).hasFrameToken()) {
+                const std::filesystem::path name(o.file);
+                throw UsageError(fmt::format(
+                    "output \"{}\" has no frame token (#### or %04d) but this run writes {} "
+                    "frames, so each frame would overwrite the last; name it \"{}\" (or run one "
+                    "frame with --frames)",
+                    o.file, frames.size(),
+                    (name.parent_path() / (name.stem().string() + ".####" +
+                                           name.extension().string()))
+                        .string()));
+            }
+
     // Nothing this run writes may be one of its inputs.
     std::vector<std::string> inputs = {opt.setup.config, session.config().scene};
     for (int f : frames) {
@@ -261,7 +278,7 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
     io::CaptureReadAhead readAhead;
     auto optionsOf = [&](int frame) {
         io::CaptureSource::Options so = session.captureOptions(frame);
-        so.strict = opt.strict;
+        so.strict = opt.setup.strict;
         return so;
     };
     auto startReading = [&](int frame) {

@@ -17,7 +17,6 @@ struct RunOptions {
     SetupOptions setup;
     std::string outputDir = "out";
     std::string report;  //!< JSON report path; "-" = `out` (the frame lines then go to `err`)
-    bool strict = false;           //!< fail on bad pixels and assumed camera values
     bool continueOnError = false;  //!< attempt every frame, list the failed ones
     bool skipExisting = false;     //!< skip frames whose outputs all exist
     int warmupFrames = 0;          //!< frames before the first, run for history only

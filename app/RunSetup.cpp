@@ -1,14 +1,20 @@
 #include "app/RunSetup.h"
 
 #include "app/Invocation.h"
+#include "app/TruthDefinitions.h"
 #include "io/ExrReader.h"
 #include "io/FramePattern.h"
 #include "foundation/Error.h"
 
+#include <OpenEXR/ImfDoubleAttribute.h>
 #include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfStringAttribute.h>
 
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <iterator>
+#include <sstream>
 #include <set>
 
 namespace fp::app {
@@ -39,14 +45,73 @@ std::pair<std::string, std::string> splitCvar(const std::string& text) {
 }
 }  // namespace
 
-std::vector<std::string> readCvarsFile(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw UsageError(fmt::format("--cvars {}: cannot read the file", path));
+namespace {
+// The text of an .ini file as UTF-8. Unreal on Windows saves .ini files in UTF-8 with a
+// byte-order mark or in UTF-16 (little-endian, usually with a mark); a UTF-16 file without a
+// mark is recognised by its zero high bytes, as every ASCII key has them.
+std::string iniText(const std::string& bytes) {
+    const auto byte = [&](std::size_t i) { return (unsigned char)bytes[i]; };
+    if (bytes.size() >= 3 && byte(0) == 0xEF && byte(1) == 0xBB && byte(2) == 0xBF)
+        return bytes.substr(3);
+    bool littleEndian = true, utf16 = false;
+    std::size_t start = 0;
+    if (bytes.size() >= 2 && byte(0) == 0xFF && byte(1) == 0xFE) {
+        utf16 = true;
+        start = 2;
+    } else if (bytes.size() >= 2 && byte(0) == 0xFE && byte(1) == 0xFF) {
+        utf16 = true;
+        littleEndian = false;
+        start = 2;
+    } else if (bytes.size() >= 2 && byte(0) != 0 && byte(1) == 0) {
+        utf16 = true;
+    } else if (bytes.size() >= 2 && byte(0) == 0 && byte(1) != 0) {
+        utf16 = true;
+        littleEndian = false;
+    }
+    if (!utf16) return bytes;
+    std::string out;
+    auto unit = [&](std::size_t i) -> unsigned {
+        return littleEndian ? byte(i) | (unsigned(byte(i + 1)) << 8)
+                            : (unsigned(byte(i)) << 8) | byte(i + 1);
+    };
+    for (std::size_t i = start; i + 1 < bytes.size(); i += 2) {
+        unsigned c = unit(i);
+        if (c >= 0xD800 && c < 0xDC00 && i + 3 < bytes.size()) {  // a surrogate pair
+            const unsigned low = unit(i + 2);
+            if (low >= 0xDC00 && low < 0xE000) {
+                c = 0x10000 + ((c - 0xD800) << 10) + (low - 0xDC00);
+                i += 2;
+            }
+        }
+        if (c < 0x80) {
+            out += char(c);
+        } else if (c < 0x800) {
+            out += char(0xC0 | (c >> 6));
+            out += char(0x80 | (c & 0x3F));
+        } else if (c < 0x10000) {
+            out += char(0xE0 | (c >> 12));
+            out += char(0x80 | ((c >> 6) & 0x3F));
+            out += char(0x80 | (c & 0x3F));
+        } else {
+            out += char(0xF0 | (c >> 18));
+            out += char(0x80 | ((c >> 12) & 0x3F));
+            out += char(0x80 | ((c >> 6) & 0x3F));
+            out += char(0x80 | (c & 0x3F));
+        }
+    }
+    return out;
+}
+}  // namespace
+
+std::vector<std::string> readCvarsFile(const std::string& path, bool strict) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw UsageError(fmt::format("--cvars {}: cannot read the file", path));
+    std::istringstream in(iniText(std::string(std::istreambuf_iterator<char>(file), {})));
     // Unreal's .ini: cvars under [SystemSettings] or [ConsoleVariables] (what `tune` prints),
     // "; comments", NAME=VALUE lines. Keys of other sections are not cvars and are skipped.
     std::vector<std::string> out;
     std::string line, section;
-    std::set<std::string> skipped;
+    std::map<std::string, int> skipped;  // section → lines skipped
     for (int number = 1; std::getline(in, line); ++number) {
         const std::string t = trimmed(line);
         if (t.empty() || t[0] == ';' || t[0] == '#') continue;
@@ -58,7 +123,7 @@ std::vector<std::string> readCvarsFile(const std::string& path) {
             continue;
         }
         if (section != "SystemSettings" && section != "ConsoleVariables") {
-            skipped.insert(section.empty() ? "(before any section)" : "[" + section + "]");
+            ++skipped[section.empty() ? "(before any section)" : "[" + section + "]"];
             continue;
         }
         const auto eq = t.find('=');
@@ -67,10 +132,18 @@ std::vector<std::string> readCvarsFile(const std::string& path) {
                                          number, t));
         out.push_back(trimmed(t.substr(0, eq)) + "=" + trimmed(t.substr(eq + 1)));
     }
-    for (const auto& s : skipped)
-        logWarning(fmt::format("--cvars {}: lines of {} skipped: cvars are read from "
+    for (const auto& [where, lines] : skipped)
+        logWarning(fmt::format("--cvars {}: {} line{} of {} skipped: cvars are read from "
                                "[SystemSettings] and [ConsoleVariables]",
-                               path, s));
+                               path, lines, lines == 1 ? "" : "s", where));
+    if (out.empty()) {
+        const std::string why = fmt::format(
+            "--cvars {}: 0 cvars read (no NAME=VALUE line under [SystemSettings] or "
+            "[ConsoleVariables])",
+            path);
+        if (strict) throw UsageError(why + "; --strict makes this an error");
+        logWarning(why);
+    }
     return out;
 }
 
@@ -82,7 +155,7 @@ RunSetup::RunSetup(const SetupOptions& o)
                    ? io::CaptureProfile::fromJson(mConfig.profile, o.config + ": /profile")
                    : io::CaptureProfile::load(o.profile)) {
     for (const auto& file : o.cvarFiles)
-        for (auto& c : readCvarsFile(file)) mFileCvars.push_back(std::move(c));
+        for (auto& c : readCvarsFile(file, o.strict)) mFileCvars.push_back(std::move(c));
     if (!o.capture.empty())
         mConfig.capture = o.capture;
     if (o.memoryCapture) {
@@ -102,6 +175,30 @@ RunSetup::RunSetup(const SetupOptions& o)
                                          mConfig.previous, mFrames.size()));
         if (!std::filesystem::exists(mConfig.previous) && mProfile.filePattern().empty())
             throw UsageError(fmt::format("--previous {}: no such file", mConfig.previous));
+        // A profile whose last-frame buffers come from the capture itself would never open the
+        // file: refused rather than ignored.
+        std::vector<std::string> fromPrevious, lastFrameBuffers;
+        for (const auto& [buffer, alternatives] : mProfile.buffers())
+            for (const auto& m : alternatives)
+                if (!m.previousFrame.empty()) {
+                    fromPrevious.push_back(buffer);
+                    break;
+                }
+        if (fromPrevious.empty())
+            throw UsageError(fmt::format(
+                "--previous {}: the profile '{}' reads no buffer from a previous frame's file "
+                "(its PrevSceneColor, TAAHistory and PrevSceneDepth come from the capture "
+                "itself), so the file would be ignored; leave --previous out, or choose a "
+                "profile that maps a buffer with \"previousFrame\" (blender, blender-direct)",
+                mConfig.previous, mProfile.name()));
+        // Opened now, through the profile, so a file that is no capture fails before a frame.
+        try {
+            if (!openCapture(mConfig.previous))
+                throw UsageError(fmt::format("no such capture"));
+        } catch (const Error& e) {
+            throw UsageError(fmt::format("--previous {}: not a capture the profile '{}' can read: {}",
+                                         mConfig.previous, mProfile.name(), e.what()));
+        }
     }
     // Several frames of one file: each frame reads the same pixels (and temporal passes
     // accumulate one image), which is rarely what a frame list means.
@@ -185,13 +282,31 @@ void RunSetup::plan(const SetupOptions& o) {
             header->extent = files->extent();
             header->availableBuffers = files->availableBuffers();
             header->truthChannels = files->truthChannels();
+            header->truthDefinitions = readTruthDefinitions(files->primary().header());
             // A single capture keeps the frame number it was captured at.
             const auto* f =
                 files->primary().header().findTypedAttribute<Imf::IntAttribute>("framepass:frame");
             header->frame = f ? f->value() : 1;
+            if (const auto* u = files->primary().header().findTypedAttribute<Imf::DoubleAttribute>(
+                    "framepass:sceneUnitsPerMeter"))
+                header->unitsPerMeter = u->value();
+            const auto* scene =
+                files->primary().header().findTypedAttribute<Imf::StringAttribute>("framepass:scene");
+            const auto* fingerprint = files->primary().header().findTypedAttribute<Imf::StringAttribute>(
+                "framepass:sceneFingerprint");
+            if (scene && !scene->value().empty()) {
+                header->scene = (std::filesystem::path(first).parent_path() / scene->value())
+                                    .lexically_normal()
+                                    .string();
+                if (fingerprint) header->sceneFingerprint = fingerprint->value();
+            }
         }
         mHeader = std::move(header);
     }
+    // The capture's units (its header's, as the camera reader takes them, else its profile's),
+    // so that a scene in other units is converted when read.
+    mInputs->setCaptureUnitsPerMeter(mHeader->unitsPerMeter ? mHeader->unitsPerMeter
+                                                            : mProfile.sceneUnitsPerMeter());
     if (mHeader->exists) {
         mExtent = mHeader->extent;
         inputs.availableBuffers = mHeader->availableBuffers;
@@ -201,14 +316,15 @@ void RunSetup::plan(const SetupOptions& o) {
     } else if (mFrames.empty()) {
         mFrames = {1};
     }
-    // The light templates repeat per light of the scene: its lights are read (not its meshes).
-    if (!mConfig.graph.lightTemplates.empty() && mInputs->hasScene())
-        inputs.lightNames = lightNames(mInputs->lights());
-    try {
-        mPlan = makePlan(mConfig.graph, builtinPasses(), inputs);
-    } catch (const UsageError& e) {
-        throw UsageError(fmt::format("{}: {}", o.config, e.what()), o.config, e.problems());
-    }
+    makeChainPlan(inputs, o.config);
+    // A chain that traces rays, a config without a scene, a capture that says its scene: that
+    // scene, planned again (its lights expand the light templates, as if the config named it).
+    if (mPlan.needsScene && !mInputs->hasScene() && adoptCaptureScene(o.config))
+        makeChainPlan(inputs, o.config);
+    // An error_measure against a truth of another definition (rt_ambient_occlusion's radius
+    // against the capture's Truth.AO radius, SSGI's any-distance AO) says so.
+    for (auto& w : truthDefinitionWarnings(mPlan, mHeader->truthDefinitions))
+        mPlan.warnings.push_back(std::move(w));
     // A bad $OCIO, display or view fails now, before the first frame, not once per frame after
     // the chain ran.
     if (mPlan.needsColorConfig) {
@@ -231,6 +347,40 @@ void RunSetup::plan(const SetupOptions& o) {
 
 std::string RunSetup::capturePath(int frame) const {
     return io::FramePattern(mConfig.capture).path(frame);
+}
+
+void RunSetup::makeChainPlan(PlanInputs inputs, const std::string& configPath) {
+    // The light templates repeat per light of the scene: its lights are read (not its meshes).
+    if (!mConfig.graph.lightTemplates.empty() && mInputs->hasScene())
+        inputs.lightNames = lightNames(mInputs->lights());
+    try {
+        mPlan = makePlan(mConfig.graph, builtinPasses(), inputs);
+    } catch (const UsageError& e) {
+        throw UsageError(fmt::format("{}: {}", configPath, e.what()), configPath, e.problems());
+    }
+}
+
+bool RunSetup::adoptCaptureScene(const std::string& configPath) {
+    if (!mHeader || mHeader->scene.empty()) return false;
+    if (!std::filesystem::exists(mHeader->scene))
+        throw UsageError(fmt::format(
+            "{}: a pass traces rays through the scene, and the config names no \"scene\"; the "
+            "capture was made from {}, which is not there: add \"scene\": \"path/to/scene.json\"",
+            configPath, mHeader->scene));
+    mConfig.scene = mHeader->scene;
+    const std::optional<double> units = mInputs->captureUnitsPerMeter();
+    mInputs = std::make_shared<SessionInputs>(configPath, mConfig);
+    mInputs->setCaptureUnitsPerMeter(units);
+    logInfo(fmt::format("the config names no \"scene\": using {}, the scene the capture was made "
+                        "from",
+                        mHeader->scene));
+    if (!mHeader->sceneFingerprint.empty() &&
+        io::sceneFingerprint(io::loadScene(mHeader->scene, io::SceneParts::LightsAndCameras)) !=
+            mHeader->sceneFingerprint)
+        logWarning(fmt::format("{} (or its geometry) changed since the capture was made; the "
+                               "first frame checks that it still lines up with the capture",
+                               mHeader->scene));
+    return true;
 }
 
 std::string RunSetup::previousCapturePath(int frame) const {
@@ -268,6 +418,7 @@ io::CaptureSource::Options RunSetup::captureOptions(int frame) const {
     if (inputs->hasScene())  // without a scene there is no sky light (and it is no error)
         o.environment = [inputs]() -> const Environment& { return inputs->environment(); };
     o.colorConfig = [inputs]() { return inputs->colorConfig(); };
+    o.alignment = mAlignment;
     return o;
 }
 

@@ -29,6 +29,9 @@ struct SetupOptions {
     std::string profile;  //!< NAME or FILE.json; overrides the config's "profile"
     std::string previous;  //!< the previous frame's capture; overrides the config's "previous"
     bool allowUnknownCvars = false;  //!< an unknown cvar is a warning, not an error
+    /// Fail on NaN/Inf/negative input pixels, assumed camera values and a --cvars file that
+    /// gives no cvar, instead of sanitizing, assuming or warning (run's --strict).
+    bool strict = false;
     std::string device;              //!< cpu or cuda; "" = the config's "device"
     bool runEveryPass = false;       //!< cull no pass (PlanOverrides::runEveryPass)
     bool dumpsOnly = false;          //!< write only the dumps (PlanOverrides::dumpsOnly)
@@ -36,8 +39,10 @@ struct SetupOptions {
     std::shared_ptr<const io::MemoryCapture> memoryCapture;
 };
 
-/// The cvars of an Unreal .ini file as NAME=VALUE (its [SystemSettings] and [ConsoleVariables]).
-std::vector<std::string> readCvarsFile(const std::string& path);
+/// The cvars of an Unreal .ini file as NAME=VALUE (its [SystemSettings] and [ConsoleVariables]),
+/// in UTF-8 (with or without a byte-order mark) or UTF-16 (either byte order; Unreal on Windows
+/// writes both). A file that gives no cvar is an error when `strict`, else a warning.
+std::vector<std::string> readCvarsFile(const std::string& path, bool strict = false);
 
 class RunSetup {
 public:
@@ -92,9 +97,22 @@ private:
         Extent extent;
         std::set<std::string> availableBuffers;
         std::map<std::string, int> truthChannels;
+        /// What each truth layer measures (app/TruthDefinitions.h: layer → quantity → value).
+        std::map<std::string, std::map<std::string, double>> truthDefinitions;
         int frame = 1;
+        std::optional<double> unitsPerMeter;  //!< the header's framepass:sceneUnitsPerMeter
+        /// The scene `framepass capture` made it from (resolved against the capture's folder)
+        /// and that scene's fingerprint then (io::sceneFingerprint); empty when not recorded.
+        std::string scene, sceneFingerprint;
     };
+    /// Makes mPlan from mConfig (the scene's light names expanding the light templates).
+    void makeChainPlan(PlanInputs inputs, const std::string& configPath);
+    /// A chain that traces rays with no "scene" in its config takes the scene the capture
+    /// records; false when it records none.
+    bool adoptCaptureScene(const std::string& configPath);
     std::shared_ptr<const CaptureHeader> mHeader;
+    /// The scene checked against the capture once for every frame of this setup.
+    std::shared_ptr<io::SceneAlignmentCheck> mAlignment = std::make_shared<io::SceneAlignmentCheck>();
     std::vector<int> mFrames;
     Extent mExtent;
     Plan mPlan;

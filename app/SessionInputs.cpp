@@ -1,5 +1,6 @@
 #include "app/SessionInputs.h"
 
+#include "app/Invocation.h"
 #include "io/CaptureSource.h"
 #include "reference/ReflectionCaptureRenderer.h"
 
@@ -11,9 +12,20 @@ namespace fp::app {
 io::SceneFile& SessionInputs::description() {
     if (!mScene) {
         if (mScenePath.empty())
-            throw UsageError(fmt::format("{}: /scene: a pass needs the scene; name the scene JSON",
+            throw UsageError(fmt::format("{}: /scene: a pass needs the scene; name the scene JSON "
+                                         "with \"scene\" (the capture records none)",
                                          mConfigPath));
         mScene = io::loadScene(mScenePath, io::SceneParts::LightsAndCameras);
+        // Both sides say their units: the scene is brought into the capture's.
+        if (mCaptureUnitsPerMeter && mScene->unitsDeclared &&
+            mScene->scene.sceneUnitsPerMeter != *mCaptureUnitsPerMeter) {
+            logInfo(fmt::format("{}: the scene is in {} units per metre and the capture in {}: "
+                                "scaled by {}",
+                                mScenePath, mScene->scene.sceneUnitsPerMeter,
+                                *mCaptureUnitsPerMeter,
+                                *mCaptureUnitsPerMeter / mScene->scene.sceneUnitsPerMeter));
+            mScene->convertUnits(*mCaptureUnitsPerMeter);
+        }
     }
     return *mScene;
 }

@@ -26,6 +26,10 @@ public:
           mOcioPath(config.ocioConfig) {}
 
     bool hasScene() const { return !mScenePath.empty(); }
+    /// The capture's units, when its profile or header says them: a scene JSON that declares
+    /// other units is converted into these when read. Call before the scene is first read.
+    void setCaptureUnitsPerMeter(std::optional<double> units) { mCaptureUnitsPerMeter = units; }
+    std::optional<double> captureUnitsPerMeter() const { return mCaptureUnitsPerMeter; }
     /// The scene with its geometry. Throws fp::UsageError when the config names no scene.
     const io::SceneFile& scene();
     /// The scene's lights, in order; the geometry is not read for them unless it holds them.
@@ -46,6 +50,7 @@ private:
     io::SceneFile& description();
     std::string mConfigPath, mScenePath, mOcioPath;
     std::optional<io::SceneFile> mScene;
+    std::optional<double> mCaptureUnitsPerMeter;
     std::mutex mRaySceneMutex;
     std::shared_ptr<const RayScene> mRayScene;  // the last made, around mRayScene->origin()
     OCIO_NAMESPACE::ConstConfigRcPtr mColorConfig;

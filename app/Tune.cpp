@@ -390,7 +390,7 @@ TuneResult tune(const TuneOptions& opt) {
     for (TunedSetting& t : tried)
         if (t.value < mostAccurate->value)
             mostAccurate = &t;
-        if (!choice && opt.bench.decomposeRays > 0) {
+    if (!choice && opt.bench.decomposeRays > 0) {
         BenchSetting again = bencher.measure(mostAccurate->point, true);
         for (const auto& e : again.errors)
             if (e.name == target.error && e.decomposition)

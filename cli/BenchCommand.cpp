@@ -94,7 +94,8 @@ Command addBenchCommand(CLI::App& app) {
     sub->add_option("--sweep", opt->sweeps,
                     "vary a cvar or PASS.PARAM: NAME=V1,V2,... or NAME=A..B; several make a grid");
     sub->add_flag("--json", opt->json, "print the results as JSON");
-    sub->add_option("--html", opt->html, "write a self-contained HTML report here");
+    sub->add_option("--html", opt->html, "write a self-contained HTML report here")
+        ->check(nonEmptyPath());
     addDecomposeRaysOption(*sub, opt->decomposeRays,
                            "rays per pixel of the error decomposition's oracle and converged "
                            "tracer (default 256); 0 leaves the decomposition out");

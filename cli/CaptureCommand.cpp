@@ -1,6 +1,7 @@
 // framepass capture: render a canonical capture of a scene (app/Capture.h does the work).
 #include "app/Capture.h"
 #include "cli/Commands.h"
+#include "cli/Flags.h"
 
 #include <iostream>
 
@@ -12,7 +13,9 @@ Command addCaptureCommand(CLI::App& app) {
         "capture", "render a canonical capture (every GBuffer buffer, SceneColor, previous frame, "
                    "velocity) from a scene JSON");
     sub->add_option("scene", opt->scene, "scene JSON naming a .gltf/.glb/.obj")->required();
-    sub->add_option("-o,--output", opt->output, "output EXR (#### / %04d for sequences)")->required();
+    sub->add_option("-o,--output", opt->output, "output EXR (#### / %04d for sequences)")
+        ->required()
+        ->check(nonEmptyPath());
     sub->add_option("--width", opt->width, "width in pixels (default: the scene's resolution)")
         ->check(CLI::Range(1, 16384));
     sub->add_option("--height", opt->height, "height in pixels")->check(CLI::Range(1, 16384));

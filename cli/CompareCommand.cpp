@@ -1,6 +1,7 @@
 // framepass compare: error of one image against a reference (app/Compare.h does the work).
 #include "app/Compare.h"
 #include "cli/Commands.h"
+#include "cli/Flags.h"
 #include "foundation/Error.h"
 
 #include <algorithm>
@@ -44,7 +45,8 @@ Command addCompareCommand(CLI::App& app) {
         ->check(CLI::NonNegativeNumber);
     sub->add_flag("--json", opt->json, "print the statistics as JSON");
     sub->add_option("--heatmap", opt->heatmap,
-                    "write |A−B| as an EXR heat map here, plus a .png preview next to it");
+                    "write |A−B| as an EXR heat map here, plus a .png preview next to it")
+        ->check(nonEmptyPath());
     sub->add_option("--heat-max", opt->heatMax,
                     "error at the top of the colour map (default: the 99th percentile)")
         ->check(CLI::PositiveNumber);
@@ -72,6 +74,9 @@ Command addCompareCommand(CLI::App& app) {
                                      "0.01))\n",
                                      stats.rmse, stats.relMse, stats.smape, stats.mae, stats.bias,
                                      stats.maxError, 100.0 * stats.overTolerance, stats.tolerance);
+            if (stats.nonFinitePixels > 0)
+                std::cout << fmt::format("  non-finite      {} pixels (NaN or inf in A or B)\n",
+                                         stats.nonFinitePixels);
             if (stats.noiseRmse)
                 std::cout << fmt::format(
                     "  reference noise {:.6g} RMSE ({}): {}\n", *stats.noiseRmse,
@@ -86,6 +91,16 @@ Command addCompareCommand(CLI::App& app) {
             if (!opt->heatmap.empty())
                 std::cout << fmt::format("heat map: {} and {} (top of the colour map = {:.4g})\n",
                                          opt->heatmap, app::heatmapPngPath(opt->heatmap), scale);
+        }
+        if (stats.nonFinitePixels > 0)
+            std::cerr << fmt::format("framepass: warning: {} pixels hold a NaN or an infinity in "
+                                     "A or B; they count as over tolerance, max error is inf, and "
+                                     "the other figures are over the {} finite pixels\n",
+                                     stats.nonFinitePixels, stats.pixels - stats.nonFinitePixels);
+        if (opt->maxRmse >= 0 && stats.nonFinitePixels > 0) {
+            std::cerr << fmt::format("framepass: {} non-finite pixels fail --max-rmse {}\n",
+                                     stats.nonFinitePixels, opt->maxRmse);
+            return int(ExitCode::FrameFailed);
         }
         if (opt->maxRmse >= 0 && stats.rmse > opt->maxRmse) {
             std::cerr << fmt::format("framepass: RMSE {:.6g} is above --max-rmse {}\n", stats.rmse,

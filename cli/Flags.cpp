@@ -7,6 +7,15 @@
 
 namespace fp::cli {
 
+const CLI::Validator& nonEmptyPath() {
+    static const CLI::Validator check(
+        [](std::string& value) {
+            return value.empty() ? std::string("an empty path names no file or folder") : std::string();
+        },
+        "PATH");
+    return check;
+}
+
 void addSetupOptions(CLI::App& sub, app::SetupOptions& o) {
     sub.add_option("config", o.config, "run config (JSON)")->required();
     sub.add_option("--cvar", o.cvars,
@@ -25,7 +34,8 @@ void addSetupOptions(CLI::App& sub, app::SetupOptions& o) {
     sub.add_option("--previous", o.previous,
                    "the previous frame's capture, for a single capture that is not a numbered "
                    "sequence (cur.exr with prev.exr): temporal passes reproject it (overrides the "
-                   "config's \"previous\")");
+                   "config's \"previous\")")
+        ->check(nonEmptyPath());
     sub.add_option("--profile", o.profile,
                    "capture profile, a name or FILE.json (overrides the config's \"profile\")");
     sub.add_option("--device", o.device,

@@ -10,6 +10,10 @@
 
 namespace fp::cli {
 
+/// A path option's check: an empty value names no file (`-o ''` would write into the working
+/// folder, `--report ''` would be ignored), so it is a usage error.
+const CLI::Validator& nonEmptyPath();
+
 /// The config argument, --cvar, --cvars, --set, --dump, --frames, --capture, --previous,
 /// --profile, --device and --allow-unknown-cvars.
 void addSetupOptions(CLI::App& sub, app::SetupOptions& options);

@@ -89,7 +89,8 @@ Command addPlanCommand(CLI::App& app) {
     sub->add_flag("--json", opt->json, "machine-readable output");
     sub->add_option("--dot", opt->dot,
                     "write the resolved chain as a Graphviz graph (passes and ports, CPU blue, GPU "
-                    "green, culled passes grey) to FILE, or - for stdout (dot -Tsvg renders it)");
+                    "green, culled passes grey) to FILE, or - for stdout (dot -Tsvg renders it)")
+        ->check(nonEmptyPath());
 
     return [opt]() {
         const RunSetup session(opt->session);
@@ -103,6 +104,14 @@ Command addPlanCommand(CLI::App& app) {
         j["profile"] = session.profile().name();
         const auto files = session.openCapture(
             session.frames().empty() ? "" : session.capturePath(session.frames().front()));
+        // plan works before a capture exists (a farm plans first), but says that it does not.
+        j["captureOnDisk"] = bool(files);
+        if (!files)
+            logWarning(fmt::format(
+                "the capture {} is not on disk: its channels are not checked and peak memory is "
+                "not known; 'framepass run' would stop here",
+                session.frames().empty() ? session.config().capture
+                                         : session.capturePath(session.frames().front())));
         for (auto& r : j["captureReads"])
             r["channels"] = files ? files->describe(r["buffer"].get<std::string>())
                                   : std::vector<std::string>{"(capture not on disk yet)"};

@@ -15,14 +15,16 @@ Command addRunCommand(CLI::App& app) {
     auto opt = std::make_shared<app::RunOptions>();
     CLI::App* sub = app.add_subcommand("run", "run the chain and write the requested outputs");
     addSetupOptions(*sub, opt->setup);
-    sub->add_option("-o,--output-dir", opt->outputDir, "folder for outputs (default: out)");
+    sub->add_option("-o,--output-dir", opt->outputDir, "folder for outputs (default: out)")
+        ->check(nonEmptyPath());
     sub->add_option("--report", opt->report,
                     "write a JSON report (atomically, even when a frame fails or the run is "
                     "stopped): per-frame status, per-pass time and work counts, every input "
-                    "file; - = stdout (the frame lines then go to stderr)");
-    sub->add_flag("--strict", opt->strict,
-                  "fail on NaN/Inf/negative input pixels and on assumed camera values instead "
-                  "of sanitizing or assuming");
+                    "file; - = stdout (the frame lines then go to stderr)")
+        ->check(nonEmptyPath());
+    sub->add_flag("--strict", opt->setup.strict,
+                  "fail on NaN/Inf/negative input pixels, on assumed camera values and on a "
+                  "--cvars file that gives no cvar, instead of sanitizing, assuming or warning");
     sub->add_option("--warmup-frames", opt->warmupFrames,
                     "run N frames before the first one (writing nothing) so temporal passes "
                     "start with history: a chunked farm run then equals a sequential one")

@@ -3,6 +3,7 @@
 // ContactSheet. Colour goes through the OCIO display transform the display pass uses; data is
 // mapped over its own range, printed on the tile (metrics/BufferPreview.h).
 #include "cli/Commands.h"
+#include "cli/Flags.h"
 #include "io/CaptureFiles.h"
 #include "io/CaptureProfile.h"
 #include "io/CaptureSource.h"
@@ -69,7 +70,7 @@ Command addSheetCommand(CLI::App& app) {
         "every buffer of a capture (or every layer of every EXR in a folder, e.g. a "
         "run's dumps) as a labelled tile of one PNG contact sheet");
     sub->add_option("input", opt->input, "capture EXR, or a folder of EXRs")->required();
-    sub->add_option("-o,--output", opt->output, "the PNG to write")->required();
+    sub->add_option("-o,--output", opt->output, "the PNG to write")->required()->check(nonEmptyPath());
     sub->add_option("--profile", opt->profile,
                     "capture profile (NAME or FILE.json, default canonical) through which a "
                     "capture's buffers are read");

@@ -3,6 +3,7 @@
 #include "foundation/Error.h"
 #include "foundation/Limits.h"
 #include "foundation/Suggest.h"
+#include "io/SafeFiles.h"
 
 #include <fmt/ranges.h>
 
@@ -16,9 +17,31 @@
 #include <memory>
 #include <thread>
 
+#include <unistd.h>
+
 namespace {
+// Writes a number into `out` (async-signal-safe: no formatting library); returns the length.
+int formatCount(int n, char* out) {
+    char digits[12];
+    int len = 0;
+    do digits[len++] = char('0' + n % 10);
+    while ((n /= 10) > 0 && len < 11);
+    for (int i = 0; i < len; ++i) out[i] = digits[len - 1 - i];
+    return len;
+}
+
 extern "C" void onStopSignal(int signal) {
-    if (fp::app::stopSignal() != 0) {  // asked twice: stop now
+    if (fp::app::stopSignal() != 0) {  // asked twice: stop now, saying so, leaving no temporary
+        const int removed = fp::io::removeInFlightTemporaries();
+        char line[160];
+        int n = 0;
+        auto put = [&](const char* text) {
+            while (*text && n < int(sizeof line) - 1) line[n++] = *text++;
+        };
+        put("framepass: a second stop signal: stopping at once, without the safe point; ");
+        n += formatCount(removed, line + n);
+        put(removed == 1 ? " temporary file removed\n" : " temporary files removed\n");
+        [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, line, std::size_t(n));
         std::signal(signal, SIG_DFL);
         std::raise(signal);
     }
@@ -84,7 +107,29 @@ int main(int argc, char** argv) {
         std::vector<std::string> names;
         for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
         std::string hint;
-        for (int i = 1; i < argc; ++i) {
+        // A mistyped option (--ouput): the nearest option of the command it was given to.
+        const CLI::App* named = nullptr;
+        for (int i = 1; i < argc && !named; ++i)
+            for (const CLI::App* sub : app.get_subcommands({}))
+                if (sub->get_name() == argv[i]) named = sub;
+        std::vector<std::string> optionNames;
+        for (const CLI::App* owner : {static_cast<const CLI::App*>(&app), named})
+            if (owner)
+                for (const CLI::Option* o : owner->get_options())
+                    for (const std::string& l : o->get_lnames()) optionNames.push_back("--" + l);
+        for (int i = 1; i < argc && hint.empty(); ++i) {
+            std::string word = argv[i];
+            if (word.rfind("--", 0) != 0 || word == "--") continue;
+            word = word.substr(0, word.find('='));
+            if (std::find(optionNames.begin(), optionNames.end(), word) == optionNames.end()) {
+                const std::string guess = fp::didYouMean(word, optionNames);
+                if (!guess.empty())
+                    hint = fmt::format("\n'{}' is not an option of {}{}", word,
+                                       named ? "'framepass " + named->get_name() + "'" : "framepass",
+                                       guess);
+            }
+        }
+        for (int i = 1; i < argc && hint.empty(); ++i) {
             const std::string word = argv[i];
             if (word.empty() || word[0] == '-') {
                 if (word == "--threads") ++i;  // its value

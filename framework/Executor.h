@@ -50,9 +50,9 @@ public:
 struct PassReport {
     std::string name, type;
     double seconds = 0;                //!< wall time (on the GPU: launch to finish, host side)
-    std::optional<double> gpuSeconds;  //!< GPU steps: the kernels' time from CUDA events
-    std::map<std::string, uint64_t> work;
-    std::map<std::string, double> metrics;  //!< what error_measure-like passes measured
+    std::optional<double> gpuSeconds{};  //!< GPU steps: the kernels' time from CUDA events
+    std::map<std::string, uint64_t> work{};
+    std::map<std::string, double> metrics{};  //!< what error_measure-like passes measured
     /// Not executed: its outputs came from a StepCache (seconds is then 0; work and metrics are
     /// those of the run that made them).
     bool reused = false;

@@ -9,9 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-
+#include <functional>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -34,8 +35,18 @@ class ParamSpec {
 public:
     using Member = std::variant<bool T::*, int T::*, float T::*, std::string T::*>;
 
-    ParamSpec& add(std::string name, Member member, std::string doc) {
-        mEntries.push_back({std::move(name), member, std::move(doc), {}, {}, {}, {}, false});
+    /// `member` may be one of a base of T (a pass whose parameters extend another's).
+    template <class M, class Base>
+        requires std::is_base_of_v<Base, T>
+    ParamSpec& add(std::string name, M Base::*member, std::string doc) {
+        M T::*m = member;
+        // Its reader and writer are made here, for the member types T has, so that no code
+        // accesses T through a pointer to a member type it does not have (GCC warns of such code).
+        auto read = [m](const T& params) { return nlohmann::json(params.*m); };
+        auto write = [m](T& params, const Entry& e, const nlohmann::json& v, const std::string& at,
+                         Diagnostics& diag) { assign(params.*m, e, v, at, diag); };
+        mEntries.push_back({std::move(name), Member(m), std::move(doc), {}, {}, {}, {}, false,
+                            std::move(read), std::move(write)});
         return *this;
     }
     /// An Unreal console variable that sets the last added parameter (a config's "cvars" or
@@ -87,9 +98,7 @@ public:
                 diag.error(at, "unknown parameter '" + key + "'" + didYouMean(key, names()));
                 continue;
             }
-            // (A named reference: clang 14 cannot capture a structured binding.)
-            const nlohmann::json& given = value;
-            std::visit([&](auto member) { assign(out.*member, *e, given, at, diag); }, e->member);
+            e->write(out, *e, value, at, diag);
         }
         return out;
     }
@@ -97,7 +106,7 @@ public:
     nlohmann::json toJson(const T& params) const {
         nlohmann::json j = nlohmann::json::object();
         for (const auto& e : mEntries)
-            std::visit([&](auto member) { j[e.name] = params.*member; }, e.member);
+            j[e.name] = e.read(params);
         return j;
     }
 
@@ -107,12 +116,8 @@ public:
         for (const auto& e : mEntries) {
             ParamInfo info{e.name, "", e.doc, {}, e.min, e.max, e.choices, e.cvars,
                            e.needsHistory};
-            std::visit(
-                [&](auto member) {
-                    info.defaultValue = defaults.*member;
-                    info.type = typeName(defaults.*member);
-                },
-                e.member);
+            info.defaultValue = e.read(defaults);
+            info.type = std::visit([](auto member) { return typeName(member); }, e.member);
             list.push_back(std::move(info));
         }
         return list;
@@ -127,6 +132,11 @@ private:
         std::vector<std::string> choices;
         std::vector<std::string> cvars;
         bool needsHistory = false;
+        std::function<nlohmann::json(const T&)> read;  //!< the member's value in a T
+        /// Sets the member of a T from a JSON value, checked as `assign` checks it.
+        std::function<void(T&, const Entry&, const nlohmann::json&, const std::string&,
+                           Diagnostics&)>
+            write;
     };
 
     const Entry* find(const std::string& key) const {
@@ -136,10 +146,10 @@ private:
         return nullptr;
     }
 
-    static const char* typeName(bool) { return "bool"; }
-    static const char* typeName(int) { return "int"; }
-    static const char* typeName(float) { return "float"; }
-    static const char* typeName(const std::string&) { return "string"; }
+    static const char* typeName(bool T::*) { return "bool"; }
+    static const char* typeName(int T::*) { return "int"; }
+    static const char* typeName(float T::*) { return "float"; }
+    static const char* typeName(std::string T::*) { return "string"; }
 
     static void checkRange(double v, const Entry& e, const std::string& at, Diagnostics& diag) {
         if ((e.min && v < *e.min) || (e.max && v > *e.max))

@@ -47,18 +47,20 @@ enum class Device { Cpu, Cuda };
 enum class PortKind { Color, Data };
 
 /// One input or output port. Written with designated initialisers:
-/// `{.name = kDepth, .channels = {"Z"}, .captureDefault = "SceneDepth", .doc = "…"}`.
+/// `{.name = kDepth, .channels = {"Z"}, .captureDefault = "SceneDepth", .doc = "…"}`. The members
+/// a declaration may leave out have default initialisers (`{}`): GCC's -Wmissing-field-initializers
+/// warns of any left out that has none.
 struct PortSpec {
     std::string name;
     std::vector<std::string> channels;  //!< channel suffixes, e.g. {"R","G","B"} or {"Z"}
     PortKind kind = PortKind::Data;
     bool optional = false;       //!< an unbound optional input reaches the pass as nullptr
-    std::string captureDefault;  //!< inputs: the capture buffer read when the config binds none
-    std::string doc;
+    std::string captureDefault{};  //!< inputs: the capture buffer read when the config binds none
+    std::string doc{};
     /// Optional inputs the config leaves unbound: the capture buffer bound instead on a frame
     /// whose camera has no previous camera (the first frame of a Blender sequence), so motion
     /// comes from the capture's own velocity rather than from a camera it does not have.
-    std::string captureWhenNoPreviousCamera;
+    std::string captureWhenNoPreviousCamera{};
 };
 
 /// What the application's error tools (bench's error breakdown and its bare ray loop) need to

@@ -274,10 +274,9 @@ public:
         for (const auto& out : mPlan.outputs)
             for (std::size_t k = 0; k < out.sources.size(); ++k) {
                 SourceRef ref;
-                const std::string where =
-                    out.isDump
-                        ? out.pointer
-                        : out.pointer + (out.sources.size() > 1 ? "/" + std::to_string(k) : "");
+                const std::string where = !out.isDump && out.sources.size() > 1
+                                              ? fmt::format("{}/{}", out.pointer, k)
+                                              : out.pointer;
                 if (!resolveSource(out.sources[k], where, 0, ref))
                     continue;
                 if (!ref.fromCapture)

@@ -175,6 +175,8 @@ bool CaptureFiles::hasChannels(const BufferMapping& m) const {
     for (const auto& group : m.groups)
         for (const auto& spec : group)
             if (!channel(m, spec)) return false;
+    for (const auto& spec : m.overrideWhere)
+        if (!channel(m, spec)) return false;
     return true;
 }
 
@@ -182,7 +184,7 @@ const BufferMapping* CaptureFiles::mappingFor(const std::string& buffer) const {
     const auto* list = mProfile.mappings(buffer);
     if (!list) return nullptr;
     for (const auto& m : *list) {
-        if (!m.constant.empty()) return &m;
+        if (!m.constant.empty() && m.overrideWhere.empty()) return &m;
         if (!m.previousFrame.empty()) {
             if (mappingFor(m.previousFrame)) return &m;
             continue;
@@ -234,9 +236,15 @@ std::vector<std::string> CaptureFiles::describe(const std::string& buffer) const
                 out.push_back(buffer + "." + s);
         return out;
     }
-    if (!m->constant.empty()) return {fmt::format("constant {}", fmt::join(m->constant, ","))};
-    if (!m->previousFrame.empty()) return {"frame N-1 " + m->previousFrame};
     std::vector<std::string> out;
+    if (!m->overrideWhere.empty())
+        out.push_back(fmt::format("{} where {} > 0, else", fmt::join(m->overrideValue, ","),
+                                  fmt::join(m->overrideWhere, "|")));
+    if (!m->constant.empty()) {
+        out.push_back(fmt::format("constant {}", fmt::join(m->constant, ",")));
+        return out;
+    }
+    if (!m->previousFrame.empty()) return {"frame N-1 " + m->previousFrame};
     for (const auto& group : m->groups)
         for (const auto& spec : group)
             out.push_back((m->file.empty() ? "" : m->file + ":") +
@@ -283,6 +291,7 @@ Image CaptureFiles::read(const std::string& buffer, int channels, std::vector<st
         for (int c = 0; c < img.channelCount(); ++c)
             for (int y = 0; y < size.height; ++y)
                 std::fill_n(img.plane(c).row(y), size.width, m->constant[std::size_t(c)]);
+        applyOverride(*m, buffer, img);
         return img;
     }
     ExrReader& file = *reader(m->file);
@@ -355,7 +364,28 @@ Image CaptureFiles::read(const std::string& buffer, int channels, std::vector<st
             for (int x = 0; x < size.width; ++x) row[x] = row[x] * s + o;
         }
     }
+    applyOverride(*m, buffer, img);
     return img;
+}
+
+void CaptureFiles::applyOverride(const BufferMapping& m, const std::string& buffer, Image& img) {
+    if (m.overrideWhere.empty()) return;
+    std::vector<const ExrChannel*> found;
+    for (const auto& spec : m.overrideWhere) {
+        const ExrChannel* ch = channel(m, spec);
+        FP_CHECK(ch, "{}: buffer '{}' needs channel '{}', which the file does not have",
+                 mCapturePath, buffer, spec);
+        found.push_back(ch);
+    }
+    const Image where = reader(m.file)->read(found, m.overrideWhere);
+    for (int y = 0; y < img.height(); ++y)
+        for (int x = 0; x < img.width(); ++x) {
+            bool hit = false;
+            for (int c = 0; c < where.channelCount(); ++c) hit = hit || where.plane(c).at(x, y) > 0.0f;
+            if (hit)
+                for (int c = 0; c < img.channelCount(); ++c)
+                    img.plane(c).at(x, y) = m.overrideValue[std::size_t(c)];
+        }
 }
 
 std::vector<std::string> CaptureFiles::readLog() const {

@@ -61,6 +61,8 @@ private:
     /// The file channel a profile channel name stands for ({camera} substituted), or nullptr.
     const ExrChannel* channel(const BufferMapping& m, const std::string& spec) const;
     bool hasChannels(const BufferMapping& m) const;
+    /// Sets the pixels that m.overrideWhere marks to m.overrideValue.
+    void applyOverride(const BufferMapping& m, const std::string& buffer, Image& img);
     /// Throws fp::Error naming `buffer` unless `ch`'s part covers exactly the capture's pixels.
     void checkCoversCapture(const ExrReader& file, const ExrChannel& ch,
                             const std::string& buffer) const;

@@ -71,7 +71,8 @@ std::vector<std::string> channelList(const nlohmann::json& j, const std::string&
 
 const std::set<std::string> kMappingKeys = {"channels", "sum",   "constant",      "previousFrame",
                                             "scale",    "offset", "skyAbove",     "normalEncoding",
-                                            "file",     "assumption", "doc", "warning"};
+                                            "file",     "assumption", "doc", "warning",
+                                            "override"};
 
 BufferMapping parseMapping(const nlohmann::json& j, const std::string& buffer, bool multiFile,
                            const std::string& where) {
@@ -150,6 +151,12 @@ BufferMapping parseMapping(const nlohmann::json& j, const std::string& buffer, b
             if (!multiFile) fail(at, "'file' needs the profile's \"files\" pattern");
             if (!v.is_string() || v.get<std::string>().empty()) fail(at, "expected a file key");
             m.file = v.get<std::string>();
+        } else if (key == "override") {
+            if (!v.is_object() || v.size() != 2 || !v.contains("where") || !v.contains("value"))
+                fail(at, "expected {\"where\": [channels], \"value\": the buffer's value there}");
+            m.overrideWhere = channelList(v["where"], buffer, 0, at + "/where");
+            if (m.overrideWhere.empty()) fail(at + "/where", "expected one or more channels");
+            m.overrideValue = numbers(v["value"], width, at + "/value");
         } else if (key == "assumption" || key == "doc" || key == "warning") {
             if (!v.is_string()) fail(at, "expected text");
             if (key == "assumption") m.assumption = v.get<std::string>();

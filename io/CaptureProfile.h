@@ -26,6 +26,11 @@ struct BufferMapping {
     /// group its own term.
     std::vector<int> termOf;
     std::vector<float> constant;  //!< non-empty: the buffer is this value everywhere
+    /// "override": pixels where any of these channels is > 0 take `overrideValue` instead
+    /// (Blender's emitters: ShadingModel 0, unlit, where the Emit pass is non-zero). The
+    /// mapping is usable only when the capture has these channels too.
+    std::vector<std::string> overrideWhere;
+    std::vector<float> overrideValue;
     std::vector<float> scale, offset;  //!< per channel: v·scale + offset (sign flips included)
     float skyAbove = std::numeric_limits<float>::infinity();  //!< depth ≥ this (raw) is sky
     Normals normals = Normals::Signed;  //!< Unorm: n = 2v − 1; Auto: whichever is unit length

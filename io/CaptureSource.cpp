@@ -1,5 +1,7 @@
 #include "io/CaptureSource.h"
 
+#include "foundation/SceneAlignment.h"
+
 #include "io/CameraIO.h"
 #include "io/ConfigLoader.h"
 #include "foundation/Error.h"
@@ -287,6 +289,36 @@ const RayScene& SceneBackedSource::scene() {
         mRayScene = mOptions.rayScene
                         ? mOptions.rayScene(origin)
                         : std::make_shared<const RayScene>(mOptions.scene().scene, origin);
+        if (mOptions.alignment) {
+            SceneAlignmentCheck& check = *mOptions.alignment;
+            std::call_once(check.once, [&] {
+                const FrameInfo info = frameInfo();
+                if (!info.hasCamera) return;  // the pass that needs one says so
+                const Image depth = loadBuffer("SceneDepth", 1).image();
+                const SceneAlignment a = measureSceneAlignment(
+                    *mRayScene, info.camera.current, depth,
+                    alignmentStep(depth.width(), depth.height()));
+                if (a.agreeingFraction() >= 0.9) return;
+                // Is it units? The unit factors, each at a quarter of the rays.
+                const SceneAlignment units = bestUnitScale(
+                    *mRayScene, info.camera.current, depth,
+                    alignmentStep(depth.width(), depth.height(), 1024));
+                const SceneFile& sf = mOptions.scene();
+                const std::string why = describeMisalignment(
+                    a, units,
+                    (sf.unitsDeclared ? sf.unitsAsWritten : info.camera.sceneUnitsPerMeter) /
+                        units.scale);
+                // Half the pixels is far beyond edges and thin geometry: a wrong scene.
+                if (a.agreeingFraction() < 0.5)
+                    check.error = fmt::format("{} ({})", why, sf.path);
+                else
+                    check.warning = fmt::format("{} ({}): the ray-traced passes see a scene that "
+                                                "differs from the capture there",
+                                                why, sf.path);
+            });
+            if (!check.error.empty()) throw UsageError(check.error);
+            if (!check.warning.empty()) sceneNote(check.warning);
+        }
     }
     return *mRayScene;
 }

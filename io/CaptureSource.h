@@ -12,6 +12,7 @@
 #include <atomic>
 #include <functional>
 #include <map>
+#include <mutex>
 #include <memory>
 #include <string>
 
@@ -34,6 +35,15 @@ struct SanitizeCounts {
 /// Returns what it changed. Every capture, on disk or in memory, goes through it.
 SanitizeCounts sanitizeBuffer(const std::string& buffer, Image& image);
 
+/// Whether the scene lines up with the capture (foundation/SceneAlignment.h), measured once on
+/// the first frame that traces rays and shared by the frames of a run: a scene that does not is
+/// an error on every frame, never a silently dark one.
+struct SceneAlignmentCheck {
+    std::once_flag once;
+    std::string error;    //!< non-empty: most camera rays disagree with the capture's depth
+    std::string warning;  //!< non-empty: some do (a partial scene, moved objects)
+};
+
 /// How to open one frame of a capture, and where its scene and OCIO config come from.
 struct CaptureOptions {
     std::string path;  //!< the capture file of this frame (multi-file profiles: its base)
@@ -50,6 +60,8 @@ struct CaptureOptions {
     std::function<OCIO_NAMESPACE::ConstConfigRcPtr()> colorConfig;  //!< loads on first call
     bool strict = false;  //!< bad input pixels and assumed values are errors
     bool firstInSequence = true;
+    /// Checks the scene against this capture before the first ray (null: not checked).
+    std::shared_ptr<SceneAlignmentCheck> alignment;
 };
 
 /// What every capture source shares beyond its pixels: the scene's BVH (built on first use around
@@ -63,6 +75,8 @@ public:
 
 protected:
     explicit SceneBackedSource(CaptureOptions options) : mOptions(std::move(options)) {}
+    /// Something the reader of this frame should know (CaptureSource: its notes).
+    virtual void sceneNote(const std::string&) {}
     CaptureOptions mOptions;
 
 private:
@@ -98,6 +112,7 @@ public:
 
 private:
     void note(const std::string& text);
+    void sceneNote(const std::string& text) override { note(text); }
     Image readPreviousFrame(const std::string& buffer, const BufferMapping& m, int channels);
     CaptureFiles mFiles;
     std::unique_ptr<CaptureFiles> mPrevious;

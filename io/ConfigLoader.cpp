@@ -262,7 +262,7 @@ std::string configDirectory() {
 
 nlohmann::json parseCliValue(const std::string& text) {
     try {
-        return parseJsonLimited(text, "'" + text.substr(0, 40) + "'");
+        return parseJsonLimited(text, fmt::format("'{}'", text.substr(0, 40)));
     } catch (const UsageError& e) {
         // Text that is not JSON is a string; JSON too deep to trust is an error.
         if (std::string(e.what()).find("nested more than") != std::string::npos)

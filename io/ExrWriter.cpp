@@ -128,6 +128,7 @@ void writeExr(const std::string& path, const std::vector<ExrPart>& parts,
     FP_CHECK(!parts.empty(), "{}: nothing to write", path);
     createParentFolder(path);
     const std::string tmp = temporaryPathFor(path);
+    const InFlightTemporary inFlight(tmp);
     const bool multiPart = parts.size() > 1;
     std::vector<PartBuffers> buffers(parts.size());
     try {

@@ -37,8 +37,8 @@ struct JsonField {
     std::string name;
     JsonKind kind = JsonKind::Any;
     std::string doc;
-    std::optional<double> min, max;
-    std::vector<std::string> choices;
+    std::optional<double> min{}, max{};
+    std::vector<std::string> choices{};
     const JsonObjectShape* object = nullptr;  //!< Object, ObjectArray, ObjectMap, StringOrObject
     const JsonObjectShape* alternative = nullptr;  //!< ObjectArray: items may be either shape
     bool required = false;

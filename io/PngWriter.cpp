@@ -29,6 +29,7 @@ void writePng(const std::string& path, const Image& rgb) {
             }
     createParentFolder(path);
     const std::string tmp = temporaryPathFor(path);
+    const InFlightTemporary inFlight(tmp);
     auto out = OIIO::ImageOutput::create("png");
     FP_CHECK(out, "{}: OpenImageIO has no PNG writer", path);
     OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);

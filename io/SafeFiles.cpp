@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
@@ -54,6 +55,39 @@ void createParentFolder(const std::string& path) {
                                 ec.message()));
 }
 
+namespace {
+// A fixed table rather than a container: a signal handler may read it at any moment, so it holds
+// no pointer to heap memory and a slot becomes readable (state 2) only once its path is whole.
+constexpr int kInFlightSlots = 256;
+constexpr std::size_t kInFlightPathMax = 4096;
+std::atomic<int> gInFlightState[kInFlightSlots];  // 0 free, 1 being filled, 2 readable
+char gInFlightPath[kInFlightSlots][kInFlightPathMax];
+}  // namespace
+
+InFlightTemporary::InFlightTemporary(const std::string& tmp) {
+    if (tmp.size() >= kInFlightPathMax) return;
+    for (int i = 0; i < kInFlightSlots; ++i) {
+        int expected = 0;
+        if (gInFlightState[i].compare_exchange_strong(expected, 1)) {
+            std::memcpy(gInFlightPath[i], tmp.c_str(), tmp.size() + 1);
+            gInFlightState[i].store(2);
+            slot_ = i;
+            return;
+        }
+    }
+}
+
+InFlightTemporary::~InFlightTemporary() {
+    if (slot_ >= 0) gInFlightState[slot_].store(0);
+}
+
+int removeInFlightTemporaries() noexcept {
+    int removed = 0;
+    for (int i = 0; i < kInFlightSlots; ++i)
+        if (gInFlightState[i].load() == 2 && ::unlink(gInFlightPath[i]) == 0) ++removed;
+    return removed;
+}
+
 void removeTemporary(const std::string& tmp) {
     std::error_code ec;
     fs::remove(tmp, ec);  // on a read-only file system the temporary was never made
@@ -96,6 +130,7 @@ void writeTextAtomically(const std::string& path, const std::string& text) {
         throw Error(fmt::format("{}: exists and is not a regular file; not writing over it", path));
     createParentFolder(path);
     const std::string tmp = temporaryPathFor(path);
+    const InFlightTemporary inFlight(tmp);
     // POSIX calls rather than a stream, so a failure carries its reason (ENOSPC, EROFS, EDQUOT).
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0)

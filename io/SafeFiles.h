@@ -27,6 +27,23 @@ void createParentFolder(const std::string& path);
 /// that made the caller give up is the one to report.
 void removeTemporary(const std::string& tmp);
 
+/// Marks a temporary as being written for as long as it lives, so that a second stop signal,
+/// which ends the process at once, can still remove it (removeInFlightTemporaries).
+class InFlightTemporary {
+public:
+    explicit InFlightTemporary(const std::string& tmp);
+    ~InFlightTemporary();
+    InFlightTemporary(const InFlightTemporary&) = delete;
+    InFlightTemporary& operator=(const InFlightTemporary&) = delete;
+
+private:
+    int slot_ = -1;  //!< -1: the registry was full or the path too long; not removable then
+};
+
+/// Unlinks every temporary an InFlightTemporary marks and returns how many. Async-signal-safe
+/// (a fixed table and unlink only): the second-signal handler calls it.
+int removeInFlightTemporaries() noexcept;
+
 /// Writes `text` to `path` atomically. A target that exists but is not a regular file
 /// (/proc/version, a folder) is an error, not "written".
 void writeTextAtomically(const std::string& path, const std::string& text);

@@ -23,6 +23,9 @@ nlohmann::json ErrorStats::toJson() const {
     j["pixels"] = pixels;
     j["maskedPixels"] = maskedPixels;
     j["tolerance"] = tolerance;
+    j["nonFinitePixels"] = nonFinitePixels;
+    // JSON has no infinity: a max error made infinite by a NaN or inf pixel is null.
+    if (!std::isfinite(maxError)) j["maxError"] = nullptr;
     if (noiseRmse) j["noiseLimited"] = noiseLimited();
     return j;
 }
@@ -79,6 +82,9 @@ ErrorStats finishError(const ErrorSums& total, double tolerance, bool hasSigma) 
     r.pixels = total.pixels;
     r.maskedPixels = total.masked;
     r.tolerance = tolerance;
+    r.nonFinitePixels = total.nonFinite;
+    if (total.pixels > 0) r.overTolerance = double(total.over) / double(total.pixels);
+    if (total.nonFinite > 0) r.maxError = std::numeric_limits<double>::infinity();
     if (total.values == 0) return r;
     const double n = double(total.values);
     r.rmse = std::sqrt(total.sq / n);
@@ -86,8 +92,7 @@ ErrorStats finishError(const ErrorSums& total, double tolerance, bool hasSigma) 
     r.smape = total.smape / n;
     r.mae = total.abs / n;
     r.bias = total.bias / n;
-    r.maxError = total.max;
-    r.overTolerance = double(total.over) / double(total.pixels);
+    if (total.nonFinite == 0) r.maxError = total.max;
     if (hasSigma) r.noiseRmse = std::sqrt(total.noise / n);
     return r;
 }

@@ -43,6 +43,9 @@ struct ErrorStats {
     double rmse = 0, relMse = 0, smape = 0, mae = 0, bias = 0, maxError = 0;
     double overTolerance = 0;
     double tolerance = 0;
+    /// Pixels where A or B holds a NaN or an infinity: each is over any tolerance and makes
+    /// `maxError` +inf (null in JSON); the other figures are over the finite pixels only.
+    uint64_t nonFinitePixels = 0;
     std::optional<double> noiseRmse;  //!< the reference's own noise, when known
 
     /// True when the measured error is within twice the reference's noise.
@@ -78,7 +81,7 @@ void checkComparable(ImageShape result, ImageShape reference, const ImageShape* 
 /// the GPU sums each row of a tile in lanes (ErrorMeasurePass.cu): the same per-value terms, added
 /// in another order.
 struct ErrorSums {
-    unsigned long long pixels = 0, masked = 0, values = 0, over = 0;
+    unsigned long long pixels = 0, masked = 0, values = 0, over = 0, nonFinite = 0;
     double sq = 0, rel = 0, smape = 0, abs = 0, bias = 0, max = 0, noise = 0;
 
     FP_HD void add(const ErrorSums& o) {
@@ -86,6 +89,7 @@ struct ErrorSums {
         masked += o.masked;
         values += o.values;
         over += o.over;
+        nonFinite += o.nonFinite;
         sq += o.sq;
         rel += o.rel;
         smape += o.smape;
@@ -108,6 +112,8 @@ struct ErrorPixelInputs {
 };
 
 /// Adds pixel (x, y) to `sum` and returns its mean |e| over the channels (0 outside the mask).
+/// A pixel with a NaN or an infinity in A or B is counted apart (`nonFinite`), over tolerance,
+/// left out of the sums (one NaN would make every figure NaN) and returned as +inf.
 FP_HD inline float measurePixel(const ErrorPixelInputs& in, int x, int y, ErrorSums& sum) {
     if (in.mask.data && !(in.mask.at(x, y) > 0.0f)) {
         ++sum.masked;
@@ -115,6 +121,12 @@ FP_HD inline float measurePixel(const ErrorPixelInputs& in, int x, int y, ErrorS
     }
     ++sum.pixels;
     const int ax = in.halfSource ? x / 2 : x, ay = in.halfSource ? y / 2 : y;
+    for (int c = 0; c < in.channels; ++c)
+        if (!std::isfinite(in.a[c].at(ax, ay)) || !std::isfinite(in.b[c].at(x, y))) {
+            ++sum.nonFinite;
+            ++sum.over;
+            return INFINITY;
+        }
     double pixelAbs = 0;
     bool over = false;
     for (int c = 0; c < in.channels; ++c) {

@@ -13,7 +13,9 @@ float heatScale(const Image& absError, const Image* mask) {
     std::vector<float> v;
     for (int y = 0; y < absError.height(); ++y)
         for (int x = 0; x < absError.width(); ++x)
-            if (!mask || mask->plane(0).at(x, y) > 0.0f) v.push_back(absError.plane(0).at(x, y));
+            // A non-finite pixel (drawn at the top of the map) does not set the scale.
+            if ((!mask || mask->plane(0).at(x, y) > 0.0f) && std::isfinite(absError.plane(0).at(x, y)))
+                v.push_back(absError.plane(0).at(x, y));
     if (v.empty()) return 0.0f;
     auto it = v.begin() + std::min(v.size() - 1, std::size_t(0.99 * double(v.size())));
     std::nth_element(v.begin(), it, v.end());

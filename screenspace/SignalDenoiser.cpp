@@ -41,8 +41,8 @@ struct Frame {
     // stands for the top-left pixel of its upscale × upscale block (fullResPixel).
     int upscale = 1;
     int traceWidth = 0, traceHeight = 0;
-    std::optional<SurfaceGrid> traceSurfaces;  // the texels' surfaces, when upscale > 1
-    VelocityView velocity;                     // the optional motion the history reprojects by
+    std::optional<SurfaceGrid> traceSurfaces{};  // the texels' surfaces, when upscale > 1
+    VelocityView velocity{};                     // the optional motion the history reprojects by
 
     bool carriesSignal(int x, int y) const { return radius.at(x, y) >= 0.0f; }
     const Surface& texelSurface(int tx, int ty) const {

@@ -47,12 +47,12 @@ struct Stages {
 /// 1/4 (a screen percentage; the reconstruction upscales it, each texel standing for the top-left
 /// pixel of its block).
 struct Inputs {
-    std::vector<const Plane*> signal;
+    std::vector<const Plane*> signal{};
     const Plane* hitDistance = nullptr;  //!< the signal's size; scene units; −1 no hit, < −1.5 no ray
     const Plane* roughness = nullptr;    //!< Footprint::Specular only
     SurfaceInputs gbuffer;
     const Texture* velocity = nullptr;   //!< optional motion for the reprojection
-    CameraView camera;
+    CameraView camera{};
     int64_t frameNumber = 0;
     /// Last frame's state (stateChannels()) and camera; null without a usable history.
     const Image* history = nullptr;

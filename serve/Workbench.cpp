@@ -166,7 +166,9 @@ std::vector<std::string> Workbench::merged(
     const std::vector<std::pair<std::string, std::string>>& changes) {
     std::vector<std::string> out = list;
     for (const auto& [name, value] : changes) {
-        std::erase_if(out, [&](const std::string& s) { return s.substr(0, s.find('=')) == name; });
+        // (A named reference: clang 14 cannot capture a structured binding.)
+        const std::string& key = name;
+        std::erase_if(out, [&](const std::string& s) { return s.substr(0, s.find('=')) == key; });
         out.push_back(name + "=" + value);
     }
     return out;

@@ -28,7 +28,8 @@ EnvBRDFTerms integrateEnvBRDF(float NoVf, float roughness, int samples) {
         const double phi = 2.0 * kPi * e1;
         const double cosTheta = std::sqrt((1.0 - e2) / (1.0 + (a2 - 1.0) * e2));
         const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
-        const double Hx = sinTheta * std::cos(phi), Hy = sinTheta * std::sin(phi), Hz = cosTheta;
+        // H's y is not needed: V has none (only VoH and H's z enter below).
+        const double Hx = sinTheta * std::cos(phi), Hz = cosTheta;
         const double VoH = Vx * Hx + Vz * Hz;
         const double Lz = 2.0 * VoH * Hz - Vz;  // L = reflect(−V, H); only its z is needed
         const double NoL = std::clamp(Lz, 0.0, 1.0), NoH = std::clamp(Hz, 0.0, 1.0);

@@ -397,6 +397,20 @@ FrameCamera SceneFile::cameraForFrame(int64_t frame, Extent extent) const {
     return fc;
 }
 
+namespace {
+// A light in scene units ×k: its placement and size scale; so does a point or spot light's
+// radiant intensity (×k²), whose irradiance I·cosθ/r² has r in scene units.
+void scaleLight(Light& l, double k) {
+    if (k == 1.0) return;
+    l.position = l.position * k;
+    l.radius = float(l.radius * k);
+    l.halfU = l.halfU * k;
+    l.halfV = l.halfV * k;
+    l.attenuationRadius *= k;
+    if (l.type == LightType::Point || l.type == LightType::Spot) l.intensity = float(l.intensity * k * k);
+}
+}  // namespace
+
 SceneFile loadScene(const std::string& path, SceneParts parts) {
     const nlohmann::json j = readJsonFile(path, "scene");
     if (!j.is_object())
@@ -414,8 +428,10 @@ SceneFile loadScene(const std::string& path, SceneParts parts) {
         fail(path, "/geometry", "'" + ext + "' is not .gltf, .glb or .obj");
     sf.mGeometryFile = geometry.string();
 
-    if (j.contains("sceneUnitsPerMeter"))
-        sf.scene.sceneUnitsPerMeter = num(j["sceneUnitsPerMeter"], path, "/sceneUnitsPerMeter");
+    sf.unitsDeclared = j.contains("sceneUnitsPerMeter");
+    if (sf.unitsDeclared)
+        sf.unitsAsWritten = sf.scene.sceneUnitsPerMeter =
+            num(j["sceneUnitsPerMeter"], path, "/sceneUnitsPerMeter");
     if (!(sf.scene.sceneUnitsPerMeter > 0.0f))
         fail(path, "/sceneUnitsPerMeter", "expected a number > 0");
     if (j.contains("offset"))
@@ -509,12 +525,32 @@ void SceneFile::loadGeometry() {
     // The offset moves the whole scene in double precision.
     for (auto& m : scene.meshes)
         for (auto& p : m.positions)
-            p += offset;
-    for (auto& l : scene.lights)
+            p = (p + offset) * mUnitScale;
+    for (auto& l : scene.lights) {
         l.position += offset;
+        scaleLight(l, mUnitScale);
+    }
     scene.lights.insert(scene.lights.end(), jsonLights.begin(), jsonLights.end());
     mGeometryLoaded = true;
     markLightShapes();
+}
+
+void SceneFile::convertUnits(double targetUnitsPerMeter) {
+    FP_CHECK(targetUnitsPerMeter > 0.0, "scene units per metre must be positive");
+    const double k = targetUnitsPerMeter / scene.sceneUnitsPerMeter;
+    if (k == 1.0) return;
+    mUnitScale *= k;
+    for (auto& m : scene.meshes)
+        for (auto& p : m.positions) p = p * k;
+    for (auto& l : scene.lights) scaleLight(l, k);
+    for (auto& c : scene.environment.captures) {
+        c.position = c.position * k;
+        c.radius *= k;
+        c.extent = c.extent * k;
+        c.transitionDistance *= k;
+        c.offset = c.offset * k;
+    }
+    scene.sceneUnitsPerMeter = targetUnitsPerMeter;
 }
 
 void SceneFile::markLightShapes() {
@@ -544,6 +580,23 @@ void SceneFile::markLightShapes() {
             fail(path, where, fmt::format("no mesh named '{}' in {}", l.shape, mGeometryFile) +
                                   didYouMean(l.shape, meshNames));
     }
+}
+
+std::string sceneFingerprint(const SceneFile& scene) {
+    std::uint64_t hash = 0xcbf29ce484222325ull;
+    for (const std::string& file : {scene.path, scene.geometryFile()}) {
+        std::ifstream in(file, std::ios::binary);
+        FP_CHECK(in, "{}: cannot read it to fingerprint the scene", file);
+        char buffer[1 << 16];
+        while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+            for (std::streamsize i = 0; i < in.gcount(); ++i) {
+                hash ^= (unsigned char)buffer[i];
+                hash *= 0x100000001b3ull;
+            }
+            if (!in) break;
+        }
+    }
+    return fmt::format("{:016x}", hash);
 }
 
 }  // namespace fp::io

@@ -34,6 +34,15 @@ public:
     Vec3d cameraMotion;
     Vec3d offset;
 
+    /// The scene JSON gives "sceneUnitsPerMeter" (otherwise 100 is assumed), and its value.
+    bool unitsDeclared = false;
+    double unitsAsWritten = 100.0;
+    /// Rescales the scene into `targetUnitsPerMeter` (a capture's units): geometry (now or when
+    /// it is read), lights (positions, extents, radii; point and spot intensities ×k², as their
+    /// irradiance falls with distance in scene units) and reflection captures. The scene JSON's
+    /// cameras are left as written: a run takes its camera from the capture.
+    void convertUnits(double targetUnitsPerMeter);
+
     /// Reads the meshes (and materials) of the geometry file, once; `scene.meshes` is empty
     /// before. Throws fp::Error like loadScene.
     void loadGeometry();
@@ -47,6 +56,7 @@ private:
     nlohmann::json mMaterialOverrides;  //!< "materials" of the scene JSON, applied to the geometry
     std::size_t mJsonLightCount = 0;    //!< the last lights of scene.lights came from the JSON
     bool mGeometryLoaded = false;
+    double mUnitScale = 1.0;  //!< convertUnits' factor, applied to geometry read after it
     std::optional<float> mSmoothAngleDegrees;  //!< "smoothAngleDegrees": OBJ normals smoothed
     /// Sets Mesh::shapeOf from each JSON light's "shape" once both are loaded.
     void markLightShapes();
@@ -54,5 +64,10 @@ private:
 
 /// Throws fp::Error naming the file (and the JSON pointer, mesh or accessor) on bad input.
 SceneFile loadScene(const std::string& path, SceneParts parts = SceneParts::All);
+
+/// A fingerprint of a scene as it is on disk: FNV-1a (64 bits, hex) over its JSON's bytes and
+/// its geometry file's. A capture records it beside the scene's path, so a run that takes the
+/// scene from the capture knows whether the file changed since.
+std::string sceneFingerprint(const SceneFile& scene);
 
 }  // namespace fp::io

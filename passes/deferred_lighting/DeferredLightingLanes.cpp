@@ -130,7 +130,7 @@ void shadeRect(const RectGrid& grid, const PixelLanes& in, LaneSums& out) {
         reached = hn::Or(reached, inFront);
     }
     store3(sum, out);
-    HWY_ALIGN float reachedLanes[kMaxLanes];
+    HWY_ALIGN float reachedLanes[kMaxLanes] = {};  // lanes past the vector's stay "not reached"
     hn::StoreU(hn::IfThenElseZero(reached, hn::Set(d, 1.0f)), d, reachedLanes);
     for (int i = 0; i < in.count; ++i)
         out.reached[i] = reachedLanes[i] != 0.0f;

@@ -43,9 +43,9 @@ ParamSpec<HybridParams> HybridPass::paramSpec() {
     s.add("continueOnScreen", &Params::continueOnScreen,
           "an on-screen hit keeps last frame's colour there and continues as a scene path for "
           "maxBounces − 1 more bounces, from the hit pixel's surface: for captures whose colour "
-          "holds direct light only (framepass's own and Blender's), where the screen gives one "
-          "bounce; off when last frame's colour already holds GI (an engine's), which it would "
-          "count twice");
+          "holds direct light only (framepass's own, the blender-direct profile's), where the "
+          "screen gives one bounce; off when last frame's colour already holds GI (an engine's, "
+          "the blender profile's Cycles Combined), which it would count twice");
     s.add("normalBias", &Params::normalBias,
           "largest normal/camera bias of a fallback ray's origin, cm (at N·L = 0)")
         .range(0.01, 1e6);

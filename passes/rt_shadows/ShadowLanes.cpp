@@ -241,7 +241,8 @@ HWY_INLINE void lightSample(const ShadowLightShape& l, const V3& o, V u, V v, V3
         return;
     }
     case LightType::Point:
-    case LightType::Spot: {
+    case LightType::Spot:
+    default: {  // as sampleLight (ShadowRayGenerator.h): neither directional nor rect
         const V3 toCentre = sub3(splat(l.position), o);
         const V dist = length3(toCentre);
         const V3 L = div3(toCentre, dist);

@@ -62,7 +62,11 @@ check "a --set on neither a parameter nor an input is an error" expect_exit 2 "g
 check "tune searches across methods through an error's source" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=ssgi.diffuse,rtgi.diffuse --runs 1 --warmup 0 2>/dev/null | grep -q 'cheapest setting that meets'"
 check "tune names the Unreal setting of the method it chose" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=rtgi.diffuse --sweep rtgi.samplesPerPixel=1,2 --runs 1 --warmup 0 2>/dev/null | grep -q '; the method rt_global_illumination runs: r.RayTracing.GlobalIllumination=1'"
 check "tune leaves out a cvar the chosen method's chain does not read" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=rtgi.diffuse --sweep r.SSGI.Quality=1,4 --runs 1 --warmup 0 2>/dev/null > '$DIR/tune_idle.txt' && grep -q '^; r.SSGI.Quality=[14] left out: no pass of this chain reads it' '$DIR/tune_idle.txt' && ! grep -q '^r.SSGI.Quality=' '$DIR/tune_idle.txt'"
-check "the ray-traced preset without a scene says it needs one" expect_exit 2 "a pass needs the scene; name the scene JSON" "$FP" run "$DIR/rt_noscene.json" -o "$DIR/rt_none"
+check "the ray-traced preset without a scene takes the one the capture was made from" \
+    bash -c "'$FP' run '$DIR/rt_noscene.json' -o '$DIR/rt_none' 2>'$DIR/rt_none.log' >/dev/null && grep -q 'using .*examples/cornell/scene.json, the scene the capture was made from' '$DIR/rt_none.log' && cmp '$DIR/rt_none/raytraced.0001.exr' '$DIR/rt_out/raytraced.0001.exr'"
+mkdir -p "$DIR/elsewhere" && cp "$DIR/cornell.exr" "$DIR/elsewhere/cornell.exr"
+check "a capture whose recorded scene is not there: the error names the \"scene\" key" \
+    expect_exit 2 'which is not there: add "scene"' "$FP" run "$DIR/rt_noscene.json" --capture "$DIR/elsewhere/cornell.exr" -o "$DIR/rt_none2"
 cat > "$DIR/rt_bad.json" <<JSON
 { "version": 1, "engine": "ue4.27-raytrace", "capture": "cornell.exr" }
 JSON
@@ -133,6 +137,7 @@ fi
 check "an unknown device is a usage error" expect_exit 2 "--device: tpu not in {cpu,cuda}" "$FP" plan "$DIR/config.json" --device tpu
 check "passes documents every type" bash -c "'$FP' passes | grep -q prev_color_reduction && '$FP' passes hzb | grep -q halfPrecision"
 check "an unknown pass type gets a suggestion" expect_exit 2 "did you mean 'display'?" "$FP" passes dispaly
+check "passes --cvars lists the cvars, of one type with TYPE" bash -c "'$FP' passes --cvars | grep -q '^r.SSGI.Enable .*not emulated' && '$FP' passes ssgi --cvars | grep -q '^r.SSGI.Quality .*ssgi.quality = 4' && ! '$FP' passes ssgi --cvars | grep -q r.SSR.Quality"
 check "the hard-case glTF scene captures (10^7 from the origin)" "$FP" capture "$SRC/examples/hard/scene.json" -o "$DIR/hard.exr" --width 64 --height 64
 check "outputs never overwrite an input" bash -c "cp '$DIR/cornell.exr' '$DIR/final.0001.png'; cat > '$DIR/self.json' <<J
 { \"version\": 1, \"capture\": \"final.0001.png\" }
@@ -146,6 +151,22 @@ check "compare of a layer with itself is exact" bash -c "'$FP' compare '$DIR/tru
 check "compare reports the reference's noise floor and writes a heat map" bash -c "'$FP' compare '$DIR/truth.exr' '$DIR/truth.exr' --layer Truth.DiffuseIndirectOneBounce --ref-layer Truth.DiffuseIndirectFull --heatmap '$DIR/heat.exr' > '$DIR/cmp.txt' && grep -q 'reference noise' '$DIR/cmp.txt' && test -s '$DIR/heat.png' && '$FP' inspect '$DIR/heat.exr' | grep -q 'Heat.R'"
 check "compare names the layers when one is missing" expect_exit 2 "did you mean 'Truth.AO'?" "$FP" compare "$DIR/truth.exr" "$DIR/truth.exr" --layer Truth.A0
 check "compare --max-rmse fails a comparison above it" expect_exit 1 "above --max-rmse" "$FP" compare "$DIR/truth.exr" "$DIR/truth.exr" --layer Truth.DiffuseIndirectOneBounce --ref-layer Truth.DiffuseIndirectFull --max-rmse 0.000001
+# A measure against a truth of another definition says so (issue 46): the header records the AO
+# radius; Unreal's RTAO (200 cm) against truth.exr's 1 m Truth.AO names the settings that match,
+# and against a 2 m truth says nothing.
+check "capture records the truth's definition in the header" bash -c "'$FP' capture '$SRC/examples/cornell/scene.json' -o '$DIR/ao2m.exr' --width 48 --height 48 --truth --truth-spp 2 --truth-ao-radius 2 >/dev/null && head -c 65536 '$DIR/ao2m.exr' | grep -aq 'framepass:truth.AO.radius' && head -c 65536 '$DIR/truth.exr' | grep -aq 'framepass:truth.AOAnyDistance.radius'"
+for c in truth ao2m; do cat > "$DIR/rtao_$c.json" <<JSON
+{ "version": 1, "capture": "$c.exr", "scene": "$SRC/examples/cornell/scene.json",
+  "passes": [ { "name": "rt_ambient_occlusion", "type": "rt_ambient_occlusion" },
+              { "name": "rtao_vs_truth", "type": "error_measure",
+                "inputs": { "source": "rt_ambient_occlusion.ao", "reference": "capture:Truth.AO" } } ],
+  "outputs": { "rtao.####.exr": "rtao_vs_truth.absError" } }
+JSON
+done
+check "error_measure of RTAO at 200 cm against a 1 m Truth.AO warns, naming the matching settings" bash -c "'$FP' plan '$DIR/rtao_truth.json' 2>&1 | grep 'rtao_vs_truth judges rt_ambient_occlusion.ao' | grep 'set rt_ambient_occlusion.radius=100' | grep -q -- '--truth-ao-radius 2'"
+check "the same measure at the truth's radius says nothing" bash -c "! '$FP' plan '$DIR/rtao_truth.json' --set rt_ambient_occlusion.radius=100 2>&1 | grep -q 'another definition' && ! '$FP' plan '$DIR/rtao_ao2m.json' 2>&1 | grep -q 'another definition'"
+check "bench lists the warning with its error measure, in JSON and HTML" bash -c "'$FP' bench '$DIR/rtao_truth.json' --runs 1 --warmup 0 --json --html '$DIR/rtao.html' 2>/dev/null | python3 -c 'import json,sys; e=json.load(sys.stdin)[\"settings\"][0][\"errors\"][0]; assert any(\"radius=100\" in w for w in e[\"warnings\"]), e' && grep -q 'set rt_ambient_occlusion.radius=100' '$DIR/rtao.html'"
+check "compare warns that two Truth.AO layers of different radii measure different things" bash -c "'$FP' compare '$DIR/truth.exr' '$DIR/ao2m.exr' --layer Truth.AO --mask none 2>&1 >/dev/null | grep -q 'counts occluders within 1 m but .* counts occluders within 2 m'; r=\$?; [ \$r = 0 ] || exit 1; ! '$FP' compare '$DIR/truth.exr' '$DIR/truth.exr' --layer Truth.AO 2>&1 | grep -q 'different things'"
 cat > "$DIR/bench.json" <<JSON
 { "version": 1, "capture": "truth.exr",
   "passes": [ { "name": "hzb", "type": "hzb" },
@@ -343,7 +364,7 @@ check "a config on stdin (-), its paths relative to the working directory" bash 
 check "--report - prints the report as the only thing on stdout" bash -c "set -o pipefail; '$FP' run '$DIR/config.json' -o '$DIR/rstd' --report - 2>/dev/null | python3 -c 'import json, sys; r = json.load(sys.stdin); assert r[\"frames\"][0][\"status\"] == \"ok\", r[\"frames\"]'"
 check "cvar names in any case and \"NAME VALUE\" as the console takes them" bash -c "'$FP' plan '$DIR/config.json' --cvar 'r.ssgi.quality 2' | grep -q 'quality=2'"
 printf '; tune wrote this\n[SystemSettings]\nr.SSGI.Quality=3\n[/Script/Engine.RendererSettings]\nr.SSGI.Quality=1\n' > "$DIR/tuned.ini"
-check "--cvars reads [SystemSettings] of an Unreal .ini and skips other sections, saying so" bash -c "'$FP' plan '$DIR/config.json' --cvars '$DIR/tuned.ini' > '$DIR/ini.txt' 2> '$DIR/ini.err' && grep -q 'quality=3' '$DIR/ini.txt' && grep -q 'lines of \[/Script/Engine.RendererSettings\] skipped' '$DIR/ini.err'"
+check "--cvars reads [SystemSettings] of an Unreal .ini and skips other sections, saying so" bash -c "'$FP' plan '$DIR/config.json' --cvars '$DIR/tuned.ini' > '$DIR/ini.txt' 2> '$DIR/ini.err' && grep -q 'quality=3' '$DIR/ini.txt' && grep -q '1 line of \[/Script/Engine.RendererSettings\] skipped' '$DIR/ini.err'"
 check "--cvar wins over --cvars" bash -c "'$FP' plan '$DIR/config.json' --cvars '$DIR/tuned.ini' --cvar r.SSGI.Quality=1 2>/dev/null | grep -q 'quality=1'"
 check "tune's [SystemSettings] snippet reads back in" bash -c "'$FP' tune '$DIR/ssgi_bench.json' --target 'vs_full<=1' --sweep r.SSGI.Quality=1,2 --runs 1 2>/dev/null | sed -n '/^\[SystemSettings\]/,/^\$/p' > '$DIR/tune.ini' && grep -q '^r.SSGI.Quality=' '$DIR/tune.ini' && '$FP' plan '$DIR/config.json' --cvars '$DIR/tune.ini' > /dev/null"
 check "plan --dot writes the chain as a Graphviz graph, culled passes greyed" bash -c "'$FP' plan '$DIR/reduced_only.json' --dot '$DIR/chain.dot' > /dev/null && grep -q '\"hzb\":\"out_furthest\" -> \"prev_color_reduction\":\"in_furthestHzb\"' '$DIR/chain.dot' && grep -q '\"ssgi\" \[shape=box, style=\"filled,dashed\"' '$DIR/chain.dot' && grep -q '^}' '$DIR/chain.dot'"
@@ -369,8 +390,41 @@ complete_words() {  # complete_words WORD...: what bash completion offers for th
 }
 check "bash completion: commands" bash -c "[ \"\$($(declare -f complete_words); BUILD='$BUILD'; complete_words framepass ru)\" = run ]"
 check "bash completion: a subcommand's options" bash -c "$(declare -f complete_words); BUILD='$BUILD'; complete_words framepass run cfg.json --warm | grep -qx -- '--warmup-frames'"
-check "bash completion: cvar names after --cvar, pass parameters after --set" bash -c "$(declare -f complete_words); BUILD='$BUILD'; complete_words framepass run cfg.json --cvar r.SSGI.Qu | grep -q 'r.SSGI.Quality=' && complete_words framepass plan cfg.json --set ssgi_denoise.temp | grep -q 'ssgi_denoise.temporalAccumulation='"
+check "bash completion: cvar names after --cvar, pass parameters after --set" bash -c "$(declare -f complete_words); BUILD='$BUILD'; complete_words framepass run cfg.json --cvar r.SSGI.Qu | grep -q 'r.SSGI.Quality=' && complete_words '$FP' plan '$DIR/config.json' --set ssgi_denoise.temp | grep -q 'ssgi_denoise.temporalAccumulation='"
 check "the man page is made from --help" bash -c "grep -q '^.TH FRAMEPASS' '$BUILD/cli/framepass.1' && grep -q 'tune' '$BUILD/cli/framepass.1'"
+
+# Completion after --set and --dump: the names of the chain the config resolves to (the preset's
+# light template expanded: rt_shadows_ceiling, never the type's rt_shadows), for bash, zsh and fish;
+# the zsh and fish scripts parse; the man page has every command, the exit codes and examples.
+check "completion --names: the chain's own passes, its parameters, inputs and ports" bash -c "'$FP' plan '$DIR/rt.json' --json > '$DIR/rt_plan.json' 2>/dev/null && '$FP' completion --names '$DIR/rt.json' > '$DIR/rt_names.txt' && python3 - '$DIR/rt_plan.json' '$DIR/rt_names.txt' <<'PY'
+import json, sys
+plan = json.load(open(sys.argv[1])); names = open(sys.argv[2]).read().split()
+passes = {s['name'] for s in plan['steps']} | {c['name'] for c in plan['culled']}
+assert {n.split('.')[0] for n in names} == passes, ({n.split('.')[0] for n in names} ^ passes)
+for s in plan['steps']:
+    for p in s['params']: assert f\"{s['name']}.{p}=\" in names, (s['name'], p)
+    for p in s['inputs']: assert f\"{s['name']}.{p}=\" in names, (s['name'], p)
+    for o in s['outputs']: assert f\"{s['name']}.{o}\" in names, (s['name'], o)
+assert 'rt_shadows_ceiling.shadow' in names and not any(n.startswith('rt_shadows.') for n in names)
+PY"
+check "every name --names offers for --dump is one the chain takes (and rt_shadows.shadow is not)" bash -c "'$FP' plan '$DIR/rt.json' --dump rt_shadows_ceiling.shadow > /dev/null 2>&1 && ! '$FP' plan '$DIR/rt.json' --dump rt_shadows.shadow > /dev/null 2>&1 && for n in \$(grep -v '=\$' '$DIR/rt_names.txt'); do '$FP' -q plan '$DIR/rt.json' --dump \$n > /dev/null || { echo \"--dump \$n fails\"; exit 1; }; done"
+check "completion --names of a config that does not plan is a usage error" expect_exit 2 "framepass error" "$FP" completion --names "$DIR/no_such_config.json"
+check "bash completion: --set and --dump offer the config's chain" bash -c "$(declare -f complete_words); BUILD='$BUILD'; complete_words '$FP' plan '$DIR/rt.json' --dump rt_sh | tr ' ' '\n' > '$DIR/bash_dump.txt' && grep -qx 'rt_shadows_ceiling.shadow' '$DIR/bash_dump.txt' && ! grep -q '^rt_shadows\.' '$DIR/bash_dump.txt' && complete_words '$FP' run '$DIR/rt.json' -o out --set rt_shadows_c | grep -q 'rt_shadows_ceiling.light=' && [ -z \"\$(complete_words '$FP' run --set rt_sh)\" ]"
+for shell in zsh fish; do
+    check "completion $shell: the build's script is what the command prints" bash -c "'$FP' completion $shell | cmp - '$BUILD/cli/framepass.$shell'"
+    if command -v $shell > /dev/null; then
+        check "completion $shell: $shell -n parses the script" $shell -n "$BUILD/cli/framepass.$shell"
+    else
+        echo "skip completion $shell: $shell -n (no $shell here: apt-get install $shell)"
+    fi
+done
+if command -v zsh > /dev/null; then
+    check "completion zsh: --set and --dump offer the config's chain" bash -c "zsh -fc 'compdef() { :; }; source \"\$1\"; words=(\"\$2\" plan \"\$3\" --dump \"\"); CURRENT=5; _framepass_names' _ '$BUILD/cli/framepass.zsh' '$FP' '$DIR/rt.json' | grep -qx 'rt_shadows_ceiling.shadow' && zsh -fc 'compdef() { :; }; source \"\$1\"; words=(\"\$2\" --threads 2 run \"\$3\" -o out --set \"\"); CURRENT=8; _framepass_names' _ '$BUILD/cli/framepass.zsh' '$FP' '$DIR/rt.json' | grep -qx 'rt_shadows_ceiling.light='"
+fi
+if command -v fish > /dev/null; then
+    check "completion fish: commands, options, and the config's chain after --set and --dump" env FP="$FP" SCRIPT="$BUILD/cli/framepass.fish" CFG="$DIR/rt.json" bash -c "fish --no-config -c 'function framepass; \"\$FP\" \$argv; end; source \"\$SCRIPT\"; complete -C\"framepass ru\"; complete -C\"framepass run \$CFG --warm\"; complete -C\"framepass plan \$CFG --dump rt_sh\"; complete -C\"framepass plan \$CFG --set rt_shadows_c\"' > '$DIR/fish.txt' && grep -q '^run' '$DIR/fish.txt' && grep -q '^--warmup-frames' '$DIR/fish.txt' && grep -q '^rt_shadows_ceiling.shadow' '$DIR/fish.txt' && grep -q '^rt_shadows_ceiling.light=' '$DIR/fish.txt' && ! grep -q '^rt_shadows\.' '$DIR/fish.txt'"
+fi
+check "the man page: a section per command, exit status, examples, no '???' (help2man under UTF-8)" bash -c "page='$BUILD/cli/framepass.1'; ! grep -q '???' \"\$page\" && grep -q 'framepass \\\\(em re\\\\-run\\|framepass — re' \"\$page\" && grep -q '^.SH \"EXIT STATUS\"' \"\$page\" && grep -q '^.SH EXAMPLES' \"\$page\" && grep -q '^.B 143\\|130, 143' \"\$page\" && for c in \$('$FP' --help | sed -n '/^Subcommands:/,\$p' | grep -o '^  [a-z]*'); do grep -q \"^.SS \\\"framepass \$c\\\"\" \"\$page\" || { echo \"no section for \$c\"; exit 1; }; done"
 check "dot renders plan --dot" bash -c "command -v dot >/dev/null || { echo 'no dot (apt-get install graphviz)'; exit 1; }; dot -Tsvg '$DIR/chain.dot' -o '$DIR/chain.svg' && grep -q '<svg' '$DIR/chain.svg'"
 check "cmake --install puts the binary, the completion, the man page and the configs in place" bash -c "cmake --install '$BUILD' --prefix '$DIR/prefix' > /dev/null &&
     test -x '$DIR/prefix/bin/framepass' && test -f '$DIR/prefix/share/bash-completion/completions/framepass' &&

@@ -2,14 +2,15 @@
 # The Slurm job array of examples/slurm on a real, single-node Slurm started here (as root, on
 # localhost, with munge): three array tasks of two frames each, every task warming up on the
 # frames before its chunk, must write the bytes of one sequential run. Skipped, saying why, where
-# Slurm or root is missing. Usage: slurm_test.sh FRAMEPASS SOURCE_DIR SCRATCH
+# Slurm or root is missing (exit 77, ctest's SKIP_RETURN_CODE).
+# Usage: slurm_test.sh FRAMEPASS SOURCE_DIR SCRATCH
 set -u
 source "$(cd "$(dirname "$0")" && pwd)/checks.sh"
 FP="$1"; SRC="$2"; DIR="$3/slurm"
 for tool in slurmctld slurmd sbatch sinfo munged; do
-    command -v "$tool" >/dev/null || { echo "skipped: no $tool (apt-get install slurm-wlm munge)"; exit 0; }
+    command -v "$tool" >/dev/null || { echo "skipped: no $tool (apt-get install slurm-wlm munge)"; exit 77; }
 done
-[ "$(id -u)" = 0 ] || { echo "skipped: starting a Slurm cluster needs root"; exit 0; }
+[ "$(id -u)" = 0 ] || { echo "skipped: starting a Slurm cluster needs root"; exit 77; }
 rm -rf "$DIR"; mkdir -p "$DIR/state" "$DIR/spool"; DIR="$(cd "$DIR" && pwd)"; cd "$DIR"
 
 # munge: the Debian package made a key; start the daemon unless one runs.

@@ -1,11 +1,15 @@
 #!/usr/bin/env python3
 """The documentation against the code: docs/passes.md is what `framepass passes --markdown`
-prints, docs/schema/*.schema.json what `framepass schema` prints; every option of every command appears in docs/commands.md; the README stays under 20 KB;
+prints, docs/config.md's cvar table (between its GENERATED markers) what `framepass passes
+--cvars --markdown` prints, docs/schema/*.schema.json what `framepass schema` prints; every option of every command appears in docs/commands.md; the README stays under 20 KB;
 every relative link in README.md and docs/ names a file that exists; every section the code
 cites (`algorithms §N.M`, or a bare `§N.M`) is a heading of docs/algorithms.md, and no file
 cites a document outside the repository.
 
-    check_docs.py FRAMEPASS SOURCE_DIR
+    check_docs.py FRAMEPASS SOURCE_DIR [--write]
+
+--write rewrites the generated documents (the pass reference, the cvar table, the schemas)
+from FRAMEPASS instead of reporting them stale.
 """
 import os
 import re
@@ -13,6 +17,7 @@ import subprocess
 import sys
 
 fp, src = sys.argv[1], sys.argv[2]
+write = "--write" in sys.argv[3:]
 failures = []
 
 
@@ -22,14 +27,33 @@ def run(*args):
 
 # 1. The pass reference is generated, never edited by hand.
 committed = open(os.path.join(src, "docs/passes.md")).read()
-if run("passes", "--markdown") != committed:
+if write:
+    open(os.path.join(src, "docs/passes.md"), "w").write(run("passes", "--markdown"))
+elif run("passes", "--markdown") != committed:
     failures.append("docs/passes.md differs from `framepass passes --markdown` "
                     "(regenerate: framepass passes --markdown > docs/passes.md)")
+
+# 1a. So is docs/config.md's cvar table, every cvar framepass knows: the text between its markers.
+config_path = os.path.join(src, "docs/config.md")
+config_md = open(config_path).read()
+section = re.search(r"(<!-- BEGIN GENERATED: framepass passes --cvars --markdown[^\n]*-->\n)(.*?)"
+                    r"(<!-- END GENERATED -->)", config_md, re.S)
+cvar_table = run("passes", "--cvars", "--markdown")
+if not section:
+    failures.append("docs/config.md has no generated cvar table (<!-- BEGIN GENERATED: framepass "
+                    "passes --cvars --markdown … --> … <!-- END GENERATED -->)")
+elif write:
+    open(config_path, "w").write(config_md[:section.end(1)] + cvar_table + config_md[section.start(3):])
+elif section.group(2) != cvar_table:
+    failures.append("docs/config.md's cvar table differs from `framepass passes --cvars --markdown` "
+                    "(regenerate: python3 tests/docs/check_docs.py build/cli/framepass . --write)")
 
 # 1b. The JSON Schemas of configs and scenes are generated too.
 for document in ("config", "scene"):
     path = os.path.join(src, f"docs/schema/{document}.schema.json")
-    if not os.path.exists(path) or run("schema", document) != open(path).read():
+    if write:
+        open(path, "w").write(run("schema", document))
+    elif not os.path.exists(path) or run("schema", document) != open(path).read():
         failures.append(f"docs/schema/{document}.schema.json differs from `framepass schema {document}` "
                         f"(regenerate: framepass schema {document} > docs/schema/{document}.schema.json)")
 

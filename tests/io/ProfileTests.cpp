@@ -231,6 +231,44 @@ TEST_SUITE("io") {
             UsageError);
     }
 
+    TEST_CASE("blender: an emitting pixel is unlit (ShadingModel 0), without an Emit pass a warning") {
+        // A 3×1 Cycles layout: an emission-shader light in the middle pixel, a half-covered
+        // light edge on the right (Emit averaged over the pixel), a lit wall on the left.
+        const std::string path = scratch("blender_emit.exr");
+        writeExr(path, 3, 1, {"ViewLayer.Emit.R", "ViewLayer.Emit.G", "ViewLayer.Emit.B"},
+                 [](int x, int, int) -> float { return x == 0 ? 0.0f : x == 1 ? 10.0f : 0.01f; },
+                 OIIO::TypeDesc::FLOAT);
+        const auto blender = io::CaptureProfile::load("blender");
+        io::CaptureFiles files(path, blender);
+        std::vector<std::string> notes;
+        const Image sm = files.read("ShadingModel", 1, notes);
+        CHECK(sm.plane(0).at(0, 0) == 1.0f);  // Default Lit
+        CHECK(sm.plane(0).at(1, 0) == 0.0f);  // Unlit: no pass lights it
+        CHECK(sm.plane(0).at(2, 0) == 0.0f);
+        CHECK(notes.empty());
+        CHECK(files.describe("ShadingModel").front() ==
+              "0 where ViewLayer.Emit.R|ViewLayer.Emit.G|ViewLayer.Emit.B > 0, else");
+        // blender-direct takes its buffers from blender: the same rule.
+        io::CaptureFiles direct(path, io::CaptureProfile::load("blender-direct"));
+        CHECK(direct.read("ShadingModel", 1, notes).plane(0).at(1, 0) == 0.0f);
+
+        // No Emit pass: every pixel Default Lit, said as an assumption.
+        const std::string bare = scratch("blender_no_emit.exr");
+        writeExr(bare, 2, 1, {"ViewLayer.Depth.Z"}, [](int, int, int) { return 1.0f; },
+                 OIIO::TypeDesc::FLOAT);
+        io::CaptureFiles noEmit(bare, blender);
+        std::vector<std::string> bareNotes;
+        CHECK(noEmit.read("ShadingModel", 1, bareNotes).plane(0).at(1, 0) == 1.0f);
+        CHECK(hasNote(bareNotes, "no Emit pass"));
+        // The override's shape is checked like any mapping.
+        CHECK_THROWS_WITH_AS(
+            io::CaptureProfile::fromJson(
+                {{"buffers", {{"ShadingModel", {{"constant", 1}, {"override", {{"where", {"e.R"}}}}}}}}},
+                "/p"),
+            doctest::Contains("/p/buffers/ShadingModel/override: expected {\"where\""),
+            UsageError);
+    }
+
     TEST_CASE("a part that does not cover the capture's pixels is an error naming its buffer") {
         // One part per buffer, as framepass capture and Movie Render Queue write them: a
         // SceneColor part of 24×24 (or 96×96) in a 48×48 capture once read past its planes.

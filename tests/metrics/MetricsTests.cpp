@@ -71,6 +71,28 @@ TEST_CASE("identical images have zero error; sign of the bias follows a − b") 
     CHECK(measureError({&c, &b, nullptr, nullptr, 0.0}).bias == doctest::Approx(-0.25));
 }
 
+TEST_CASE("a NaN or an infinity is an error of the largest kind, never within tolerance") {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    const Image allNan = fromValues({nan, nan, nan, nan}, 2, 2), two = fromValues({2, 2, 2, 2}, 2, 2);
+    Image abs(2, 2, {"Y"});
+    const ErrorStats s = measureError({&allNan, &two, nullptr, nullptr, 0.1}, &abs);
+    CHECK(s.pixels == 4);
+    CHECK(s.nonFinitePixels == 4);
+    CHECK(s.overTolerance == 1.0);
+    CHECK(std::isinf(s.maxError));
+    CHECK(std::isinf(abs.plane(0).at(0, 0)));
+    // One bad pixel of each kind, in A and in B; the finite pixels keep their figures.
+    const Image a = fromValues({1, nan, 3, 1}, 2, 2), b = fromValues({1, 1, 1, inf}, 2, 2);
+    const ErrorStats m = measureError({&a, &b, nullptr, nullptr, 0.1});
+    CHECK(m.nonFinitePixels == 2);
+    CHECK(m.overTolerance == doctest::Approx(0.75));  // the two bad ones and |3 − 1|
+    CHECK(m.rmse == doctest::Approx(std::sqrt(4.0 / 2)));  // over (1 − 1) and (3 − 1)
+    CHECK(std::isinf(m.maxError));
+    CHECK(m.toJson()["maxError"].is_null());  // JSON has no infinity
+    CHECK(m.toJson()["nonFinitePixels"] == 2);
+}
+
 TEST_CASE("mismatched sizes and channel counts are errors") {
     const Image a(2, 2, {"Y"}), b(3, 2, {"Y"}), c(2, 2, {"R", "G", "B"});
     CHECK_THROWS_AS(measureError({&a, &b, nullptr, nullptr, 0.1}), Error);

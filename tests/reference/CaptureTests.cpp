@@ -121,9 +121,11 @@ TEST_CASE("the capture is bit-identical with 1 and 2 threads") {
         return GBufferRenderer(scene, cam, {}).render().buffers;
     };
     const auto one = render(1), two = render(2);
-    for (const auto& [name, img] : one)
+    for (const auto& [layer, img] : one) {
+        const std::string& name = layer;  // (clang 14 cannot capture a structured binding)
         for (int c = 0; c < img.channelCount(); ++c)
             CHECK_MESSAGE(test::sameBits(img.plane(c), two.at(name).plane(c)), name);
+    }
 }
 
 }

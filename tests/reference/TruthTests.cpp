@@ -394,8 +394,9 @@ TEST_CASE("the same seed gives the same truth bit for bit, on 1 or 2 threads") {
         b = renderTruth(s, cam, 8);
     }
     REQUIRE(a.layers.size() == b.layers.size());
-    for (const auto& [name, img] : a.layers)
+    for (const auto& [layer, img] : a.layers)
         for (int c = 0; c < img.channelCount(); ++c) {
+            const std::string& name = layer;  // (clang 14 cannot capture a structured binding)
             CAPTURE(name);
             CHECK(test::sameBits(img.plane(c), b.layers.at(name).plane(c)));
         }

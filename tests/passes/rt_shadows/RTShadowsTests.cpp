@@ -60,7 +60,10 @@ TEST_CASE("transmission through a slab is exp(−density·thickness)") {
     // A subsurface slab (model 2) 1 m × 1 m, `thickness` cm deep, faces the camera; the sun shines
     // through it from behind. Its pixels' shadow rays are blocked by the slab itself, and the
     // inverted ray measures the slab: T = exp(0.05·ln(1 − opacity)·d) = (1 − opacity)^(0.05·d).
-    for (const auto& [opacity, thickness] : {std::pair{0.5f, 20.0}, std::pair{0.9f, 10.0}}) {
+    for (const auto& slab : {std::pair{0.5f, 20.0}, std::pair{0.9f, 10.0}}) {
+        // (Named variables: clang 14 cannot capture a structured binding, as INFO does.)
+        const float opacity = slab.first;
+        const double thickness = slab.second;
         Scene s;
         s.sceneUnitsPerMeter = 100.0;
         Material m = test::lambert(0.5f);

@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# Inputs that used to give a wrong answer with exit 0, each now converted, refused or reported:
+# a scene in other units than its capture (converted when both say their units, an error that
+# names the likely cause when they do not line up), an output name without a frame token over
+# several frames, an .ini in UTF-8 with a byte-order mark or in UTF-16, a --previous that the
+# profile would ignore, empty paths, a mistyped option, NaN in compare, plan on a missing capture.
+# Usage: wrong_answers_test.sh FRAMEPASS SOURCE_DIR SCRATCH
+set -u
+source "$(cd "$(dirname "$0")" && pwd)/checks.sh"
+FP="$1"; SRC="$2"; DIR="$3/wrong_answers"
+rm -rf "$DIR"; mkdir -p "$DIR"; DIR="$(cd "$DIR" && pwd)"
+CORNELL="$SRC/examples/cornell"
+
+check "capture the Cornell box (millimetres) at 64×64" "$FP" capture "$CORNELL/scene.json" -o "$DIR/cornell.exr" --width 64 --height 64
+
+# --- 1. Units. The same box written in metres: geometry and lights ×1/1000, and it says so. ---
+mkdir -p "$DIR/metres"
+awk '$1 == "v" { printf "v %.9g %.9g %.9g\n", $2 / 1000, $3 / 1000, $4 / 1000; next } { print }' \
+    "$CORNELL/cornell.obj" > "$DIR/metres/cornell.obj"
+cp "$CORNELL/cornell.mtl" "$DIR/metres/"
+python3 - "$CORNELL/scene.json" "$DIR/metres" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+for light in scene["lights"]:
+    for key in ("position", "halfU", "halfV"):
+        light[key] = [v / 1000 for v in light[key]]
+scene["sceneUnitsPerMeter"] = 1
+json.dump(scene, open(sys.argv[2] + "/declared.json", "w"))
+del scene["sceneUnitsPerMeter"]  # undeclared: read as Unreal's 100 per metre
+json.dump(scene, open(sys.argv[2] + "/undeclared.json", "w"))
+PY
+# The millimetre box moved 15 cm up and 30 cm back: another place, as a wrong scene is.
+python3 -c "import json, sys; s = json.load(open(sys.argv[1])); s['geometry'] = sys.argv[2]; s['offset'] = [0, 150, 300]; json.dump(s, open(sys.argv[3], 'w'))" \
+    "$CORNELL/scene.json" "$CORNELL/cornell.obj" "$DIR/moved_scene.json"
+config() {  # config NAME SCENE: the ray-traced chain on the millimetre capture
+    printf '{ "version": 1, "engine": "ue4.27-raytracing", "capture": "%s", "scene": "%s" }\n' \
+        "$DIR/cornell.exr" "$2" > "$DIR/$1.json"
+}
+config mm "$CORNELL/scene.json"
+config declared "$DIR/metres/declared.json"
+config undeclared "$DIR/metres/undeclared.json"
+config moved "$DIR/moved_scene.json"
+check "the scene in millimetres runs" "$FP" run "$DIR/mm.json" -o "$DIR/mm" --report "$DIR/mm/report.json"
+check "a scene declared in metres is converted to the capture's millimetres and says so" \
+    expect_exit 0 "the capture in 1000: scaled by 1000" "$FP" run "$DIR/declared.json" -o "$DIR/declared" --report "$DIR/declared/report.json"
+# Converted, it traces the same geometry: the lit frame is the millimetre scene's up to the
+# float rounding of positions ×1/1000 ×1000 (a shadow ray's hit may flip at an edge: 1e-3).
+check "the converted scene lights the frame as the millimetre one" \
+    "$FP" compare "$DIR/declared/lit.0001.exr" "$DIR/mm/lit.0001.exr" --max-rmse 1e-3
+check "and its shadow rays hit the scene (not zero rays, not an all-black GI)" \
+    bash -c "python3 -c \"import json,sys; r=json.load(open('$DIR/declared/report.json')); p=[q for f in r['frames'] for q in f['passes'] if q['name'].startswith('rt_shadows')]; sys.exit(0 if p and p[0]['work']['rays'] > 0 else 1)\""
+check "a scene in metres that does not say so is an error naming the units and the setting" \
+    expect_exit 2 'Most likely units: scaled by 1000 the scene lines up' "$FP" run "$DIR/undeclared.json" -o "$DIR/undeclared"
+check "and names the units to declare" grep -q '"sceneUnitsPerMeter": 1 ' "$DIR/out.log"
+check "a scene in another place is an error before any output is written" \
+    bash -c "'$FP' run '$DIR/moved.json' -o '$DIR/moved' > '$DIR/moved.log' 2>&1; test \$? = 2 && grep -q 'does not line up with the capture' '$DIR/moved.log' && ! ls '$DIR/moved'/*.exr 2>/dev/null"
+
+# --- 3. An output without a frame token over several frames. ---
+check "capture two frames" "$FP" capture "$CORNELL/scene.json" -o "$DIR/seq/c.####.exr" --frames 1-2 --width 32 --height 32
+printf '{ "version": 1, "capture": "%s", "outputs": { "x.exr": "ssgi.diffuse" } }\n' "$DIR/seq/c.####.exr" > "$DIR/notoken.json"
+check "an output without #### over two frames is refused before the first frame" \
+    bash -c "'$FP' run '$DIR/notoken.json' --frames 1-2 -o '$DIR/notoken' > '$DIR/nt.log' 2>&1; test \$? = 2 && grep -q 'name it \"x.####.exr\"' '$DIR/nt.log' && ! test -e '$DIR/notoken/x.exr'"
+check "one frame of it is fine" "$FP" run "$DIR/notoken.json" -o "$DIR/notoken1" --frames 2
+
+# --- 4. .ini files as Unreal on Windows writes them. ---
+printf '[SystemSettings]\nr.SSGI.Quality=1\n' > "$DIR/plain.ini"
+printf '\xef\xbb\xbf[SystemSettings]\r\nr.SSGI.Quality=1\r\n' > "$DIR/bom.ini"
+python3 -c "open('$DIR/utf16.ini','wb').write('[SystemSettings]\r\nr.SSGI.Quality=1\r\n'.encode('utf-16'))"
+python3 -c "open('$DIR/utf16be.ini','wb').write(b'\xfe\xff' + '[ConsoleVariables]\nr.SSGI.Quality=1\n'.encode('utf-16-be'))"
+printf '[/Script/Engine.RendererSettings]\nr.SSGI.Quality=1\n' > "$DIR/none.ini"
+printf '{ "version": 1, "capture": "%s" }\n' "$DIR/cornell.exr" > "$DIR/plain.json"
+for ini in bom utf16 utf16be; do
+    check "a $ini .ini sets its cvar" bash -c "'$FP' plan '$DIR/plain.json' --cvars '$DIR/$ini.ini' --json | grep -q '\"quality\": 1'"
+done
+check "the plain .ini gives the same plan" bash -c "'$FP' plan '$DIR/plain.json' --cvars '$DIR/plain.ini' --json | grep -q '\"quality\": 1'"
+check "an .ini that gives no cvar is a warning with the count" \
+    expect_exit 0 "0 cvars read" "$FP" plan "$DIR/plain.json" --cvars "$DIR/none.ini"
+check "and an error under --strict" \
+    expect_exit 2 "--strict makes this an error" "$FP" run "$DIR/plain.json" --cvars "$DIR/none.ini" --strict -o "$DIR/strict"
+
+# --- 5. --previous with a profile that reads no previous frame. ---
+check "--previous with the canonical profile is refused, saying why" \
+    expect_exit 2 "reads no buffer from a previous frame's file" "$FP" run "$DIR/plain.json" --previous "$DIR/seq/c.0001.exr" -o "$DIR/prev"
+oiiotool --pattern constant:color=1,0,0 4x4 3 -d uint8 -o "$DIR/not_a_capture.png"
+printf '{ "version": 1, "capture": "%s", "profile": "blender" }\n' "$SRC/tests/fixtures/blender/room.0002.exr" > "$DIR/blender.json"
+check "a --previous that is no capture is refused before a frame" \
+    expect_exit 2 "not_a_capture.png" "$FP" run "$DIR/blender.json" --previous "$DIR/not_a_capture.png" -o "$DIR/prev2"
+check "a --previous the profile reads is listed in the report's inputs" \
+    bash -c "'$FP' run '$DIR/blender.json' --previous '$SRC/tests/fixtures/blender/room.0001.exr' -o '$DIR/prev3' --report '$DIR/prev3.json' >/dev/null 2>&1 && grep -q 'room.0001.exr' '$DIR/prev3.json'"
+
+# --- 17. Empty paths, a mistyped option. ---
+check "-o '' is an error" expect_exit 2 "an empty path names no file or folder" "$FP" run "$DIR/plain.json" -o ''
+check "--report '' is an error" expect_exit 2 "an empty path names no file or folder" "$FP" run "$DIR/plain.json" --report ''
+check "a mistyped option gets a did-you-mean" expect_exit 2 "(did you mean '--output-dir'?)" "$FP" run "$DIR/plain.json" --ouput-dir x
+
+# --- 18. compare and NaN; plan on a missing capture. ---
+oiiotool --pattern constant:color=nan,nan,nan 4x4 3 -d float -o "$DIR/nan.exr"
+oiiotool --pattern constant:color=2,2,2 4x4 3 -d float -o "$DIR/two.exr"
+check "an all-NaN image against a constant is 100 % over tolerance, max error inf" \
+    bash -c "'$FP' compare '$DIR/nan.exr' '$DIR/two.exr' --json > '$DIR/nan.json' && python3 -c \"import json; j=json.load(open('$DIR/nan.json')); s=j.get('stats', j); assert s['nonFinitePixels'] == 16 and s['overTolerance'] == 1.0 and s['maxError'] is None, s\""
+check "and fails --max-rmse" expect_exit 1 "non-finite pixels fail --max-rmse" "$FP" compare "$DIR/nan.exr" "$DIR/two.exr" --max-rmse 1
+check "a NaN tolerance is refused" expect_exit 2 "tolerance" "$FP" compare "$DIR/two.exr" "$DIR/two.exr" --tolerance nan
+check "plan on a missing capture says so" expect_exit 0 "is not on disk" "$FP" plan "$DIR/plain.json" --capture "$DIR/missing.exr"
+finish
