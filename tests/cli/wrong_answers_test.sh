@@ -55,6 +55,33 @@ check "and names the units to declare" grep -q '"sceneUnitsPerMeter": 1 ' "$DIR/
 check "a scene in another place is an error before any output is written" \
     bash -c "'$FP' run '$DIR/moved.json' -o '$DIR/moved' > '$DIR/moved.log' 2>&1; test \$? = 2 && grep -q 'does not line up with the capture' '$DIR/moved.log' && ! ls '$DIR/moved'/*.exr 2>/dev/null"
 
+# --- 2. Blender's emitters. framepass's capture rewritten in Cycles' layout (ViewLayer.*, its
+# Emissive as the Emit pass) and read through the blender profile (depth in the capture's mm). ---
+f="$DIR/c128.exr"
+check "capture the Cornell box at 128×128 (its light quad seen on the ceiling)" "$FP" capture "$CORNELL/scene.json" -o "$f" --width 128 --height 128
+layer() { oiiotool -i "$f" --subimage "$1" --ch "$2" -o "$DIR/bl_$1.exr"; }
+layer SceneDepth ViewLayer.Depth.Z=SceneDepth.Z && layer WorldNormal ViewLayer.Normal.X=WorldNormal.X,ViewLayer.Normal.Y=WorldNormal.Y,ViewLayer.Normal.Z=WorldNormal.Z &&
+layer BaseColor ViewLayer.BaseColor.R=BaseColor.R,ViewLayer.BaseColor.G=BaseColor.G,ViewLayer.BaseColor.B=BaseColor.B &&
+layer SceneColor ViewLayer.Combined.R=SceneColor.R,ViewLayer.Combined.G=SceneColor.G,ViewLayer.Combined.B=SceneColor.B &&
+layer Emissive ViewLayer.Emit.R=Emissive.R,ViewLayer.Emit.G=Emissive.G,ViewLayer.Emit.B=Emissive.B &&
+layer Velocity ViewLayer.Vector.X=Velocity.X,ViewLayer.Vector.Y=Velocity.Y &&
+oiiotool "$DIR"/bl_{SceneDepth,WorldNormal,BaseColor,SceneColor,Emissive,Velocity}.exr --chappend --chappend --chappend --chappend --chappend -o "$DIR/bl.exr" &&
+oiiotool "$DIR/bl_Emissive.exr" --ch R=ViewLayer.Emit.R -o "$DIR/emitters.exr"
+blender_config() {  # blender_config NAME SHADING_MODEL_MAPPING
+    printf '{ "version": 1, "capture": "bl.exr", "previous": "bl.exr", "outputs": { "gi.####.exr": "ssgi.diffuse" },
+  "profile": { "base": "blender", "sceneUnitsPerMeter": 1000,
+    "buffers": { "SceneDepth": ["ViewLayer.Depth.Z"] %s } } }\n' "$2" > "$DIR/$1.json"
+}
+blender_config emit ""
+blender_config unlit_ignored ', "ShadingModel": { "constant": 1 }'
+check "the blender profile runs SSGI on it" "$FP" run "$DIR/emit.json" -o "$DIR/emit"
+check "the profile's old mapping (every pixel Default Lit) runs too" "$FP" run "$DIR/unlit_ignored.json" -o "$DIR/unlit_ignored"
+oiiotool "$DIR/emit/gi.0001.exr" --mulc 0 -o "$DIR/nogi.exr"
+check "the emitting pixels get no GI (Unlit, as in Cycles, whose indirect light there is zero)" \
+    bash -c "'$FP' compare '$DIR/emit/gi.0001.exr' '$DIR/nogi.exr' --mask '$DIR/emitters.exr' --max-rmse 0 | grep -Eq ': ([5-9][0-9]|[1-9][0-9]{2,}) pixels \(mask'"
+check "where the old mapping wrote GI on them" \
+    expect_exit 1 "is above --max-rmse 0" "$FP" compare "$DIR/unlit_ignored/gi.0001.exr" "$DIR/nogi.exr" --mask "$DIR/emitters.exr" --max-rmse 0
+
 # --- 3. An output without a frame token over several frames. ---
 check "capture two frames" "$FP" capture "$CORNELL/scene.json" -o "$DIR/seq/c.####.exr" --frames 1-2 --width 32 --height 32
 printf '{ "version": 1, "capture": "%s", "outputs": { "x.exr": "ssgi.diffuse" } }\n' "$DIR/seq/c.####.exr" > "$DIR/notoken.json"
