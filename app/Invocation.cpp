@@ -54,8 +54,10 @@ void log(LogKind kind, const std::string& text) {
 
 std::string Invocation::commandLine() const {
     std::string line;
-    for (const auto& a : arguments)
-        line += (line.empty() ? "" : " ") + shellQuoted(a);
+    for (const auto& a : arguments) {
+        if (!line.empty()) line += ' ';
+        line += shellQuoted(a);
+    }
     return line;
 }
 

@@ -1,11 +1,14 @@
 #include "app/MemoryLimit.h"
 
+#include "app/Invocation.h"
 #include "foundation/Error.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 namespace fp::app {
@@ -44,25 +47,72 @@ uint64_t parseByteSize(const std::string& text, const std::string& flag) {
     return uint64_t(value * scale);
 }
 
-uint64_t defaultMemoryLimit() {
-    uint64_t available = 0;
-    std::ifstream meminfo("/proc/meminfo");
-    std::string key;
-    uint64_t kib = 0;
-    std::string unit;
-    while (meminfo >> key >> kib >> unit)
-        if (key == "MemAvailable:")
-            available = kib * 1024;
-    // Under a cgroup v2 limit (a Slurm job, a container) the job's own allowance is what counts.
-    std::ifstream cgroupMax("/sys/fs/cgroup/memory.max"),
-        cgroupNow("/sys/fs/cgroup/memory.current");
-    std::string maxText;
-    uint64_t current = 0;
-    if (cgroupMax >> maxText && maxText != "max" && cgroupNow >> current) {
-        const uint64_t limit = std::stoull(maxText);
-        const uint64_t left = limit > current ? limit - current : 0;
-        available = available ? std::min(available, left) : left;
+namespace {
+// The first number of a file, or nothing ("max", a missing file).
+std::optional<uint64_t> readNumber(const std::string& path) {
+    std::ifstream in(path);
+    std::string text;
+    if (!(in >> text) || text.empty() || !std::isdigit(static_cast<unsigned char>(text[0])))
+        return std::nullopt;
+    try {
+        return std::stoull(text);
+    } catch (const std::exception&) {
+        return std::nullopt;
     }
+}
+}  // namespace
+
+MemoryAllowance readMemoryAllowance(const std::string& procRoot, const std::string& cgroupRoot) {
+    MemoryAllowance a;
+    std::ifstream meminfo(procRoot + "/meminfo");
+    std::string key, unit;
+    uint64_t kib = 0;
+    while (meminfo >> key >> kib >> unit) {
+        if (key == "MemTotal:") a.physical = kib * 1024;
+        if (key == "MemAvailable:") a.available = kib * 1024;
+    }
+    auto limitAt = [&](const std::string& limitFile, const std::string& usageFile) {
+        const auto limit = readNumber(limitFile), usage = readNumber(usageFile);
+        // cgroup v1 writes a page-rounded 2^63 for "no limit".
+        if (!limit || *limit >= (uint64_t(1) << 62)) return;
+        const uint64_t left = *limit > usage.value_or(0) ? *limit - usage.value_or(0) : 0;
+        a.cgroupLeft = a.cgroupLimited ? std::min(a.cgroupLeft, left) : left;
+        a.cgroupLimited = true;
+    };
+    // /proc/self/cgroup: "0::/path" (v2) or "N:controllers:/path" per v1 hierarchy.
+    std::ifstream groups(procRoot + "/self/cgroup");
+    std::string line;
+    while (std::getline(groups, line)) {
+        const auto first = line.find(':'), second = line.find(':', first + 1);
+        if (first == std::string::npos || second == std::string::npos) continue;
+        const std::string controllers = line.substr(first + 1, second - first - 1);
+        const std::string path = line.substr(second + 1);
+        if (controllers.empty()) {  // v2: every level from the process's group up to the root
+            for (std::filesystem::path level = path;; level = level.parent_path()) {
+                const std::string dir = fmt::format(
+                    "{}{}", cgroupRoot, level.has_relative_path() ? level.string() : "");
+                limitAt(dir + "/memory.max", dir + "/memory.current");
+                if (!level.has_relative_path()) break;  // the root: done
+            }
+        } else if (fmt::format(",{},", controllers).find(",memory,") != std::string::npos) {
+            const std::string dir = cgroupRoot + "/memory" + (path == "/" ? "" : path);
+            limitAt(dir + "/memory.limit_in_bytes", dir + "/memory.usage_in_bytes");
+        }
+    }
+    // A container whose /proc/self/cgroup names no path (its namespace's root).
+    if (!a.cgroupLimited) {
+        limitAt(cgroupRoot + "/memory.max", cgroupRoot + "/memory.current");
+        limitAt(cgroupRoot + "/memory/memory.limit_in_bytes",
+                cgroupRoot + "/memory/memory.usage_in_bytes");
+    }
+    return a;
+}
+
+uint64_t defaultMemoryLimit() {
+    const MemoryAllowance a = readMemoryAllowance();
+    uint64_t available = a.available;
+    // Under a cgroup limit (a Slurm job, a container) the job's own allowance is what counts.
+    if (a.cgroupLimited) available = available ? std::min(available, a.cgroupLeft) : a.cgroupLeft;
     return available / 4 * 3;
 }
 
@@ -81,6 +131,17 @@ std::string formatBytes(uint64_t bytes) {
 void checkMemory(uint64_t peakBytes, const std::string& value, int dumps) {
     const uint64_t limit =
         value.empty() ? defaultMemoryLimit() : parseByteSize(value, "--max-memory");
+    if (!value.empty()) {
+        const MemoryAllowance a = readMemoryAllowance();
+        const uint64_t most = a.cgroupLimited && a.physical ? std::min(a.physical, a.cgroupLeft)
+                              : a.cgroupLimited        ? a.cgroupLeft
+                                                       : a.physical;
+        if (most > 0 && limit > most)
+            logWarning(fmt::format("--max-memory {} is more than this machine {} ({}): it cannot "
+                                   "keep the run out of swap or the OOM killer",
+                                   value, a.cgroupLimited ? "and its cgroup leave" : "has",
+                                   formatBytes(most)));
+    }
     if (limit == 0 || peakBytes <= limit)
         return;
     std::string lower = dumps > 0 ? fmt::format("dump fewer buffers ({} --dump now), ", dumps) : "";
