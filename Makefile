@@ -16,7 +16,7 @@ FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS = ConfigFuzz CaptureFuzz SidecarFuzz ObjFuzz GltfFuzz ServeRequestFuzz
 
-.PHONY: demo results test deps build fuzz bench stability
+.PHONY: demo results test deps build build-cli fuzz bench stability
 
 deps:
 	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
@@ -38,7 +38,12 @@ build: deps
 	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
-demo: build
+# The command line alone (no test suite, Python module or GPU check): what make demo runs.
+build-cli: deps
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target framepass
+
+demo: build-cli
 	rm -rf out/demo
 	$(FRAMEPASS) capture examples/cornell/scene.json -o out/demo/cornell.exr --truth
 	$(FRAMEPASS) sheet out/demo/cornell.exr -o out/demo/capture_sheet.png

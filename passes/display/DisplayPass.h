@@ -35,8 +35,9 @@ private:
     DisplayTransform transform(PassContext& ctx) const;
 
     // The baked transform on the GPU, made on the first frame (DisplayKernel.h); empty when the
-    // input is data or the transform mixes channels.
-    bool mLutBaked = false;
+    // input is data or the transform mixes channels. Read only by the CUDA path (DisplayPass.cu):
+    // a build without CUDA never uses it.
+    [[maybe_unused]] bool mLutBaked = false;
     DeviceTexture mDeviceLut;
 };
 
