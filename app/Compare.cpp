@@ -4,6 +4,7 @@
 
 #include "app/Invocation.h"
 #include "app/TruthDefinitions.h"
+#include "foundation/Suggest.h"
 
 #include "io/CaptureFiles.h"
 #include "io/CaptureSource.h"
@@ -23,7 +24,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -80,9 +80,7 @@ Image readImage(io::ExrReader& file, const std::string& layer,
 }
 
 bool isExr(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext == ".exr";
+    return asciiLowercase(std::filesystem::path(path).extension().string()) == ".exr";
 }
 
 // A picture that is not OpenEXR (PNG, JPEG, TIFF, …), whole, through OpenImageIO: 8-bit data

@@ -7,7 +7,6 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <cctype>
 
 namespace fp::app {
 
@@ -155,12 +154,8 @@ nlohmann::json cvarCatalogue() {
     const PassRegistry& reg = builtinPasses();
     const CvarTable table(reg);
     std::vector<std::string> names = table.names();
-    auto lower = [](std::string s) {
-        for (auto& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-        return s;
-    };
-    std::stable_sort(names.begin(), names.end(), [&](const std::string& a, const std::string& b) {
-        return lower(a) < lower(b);
+    std::stable_sort(names.begin(), names.end(), [](const std::string& a, const std::string& b) {
+        return asciiLowercase(a) < asciiLowercase(b);
     });
     nlohmann::json all = nlohmann::json::array();
     for (const auto& name : names) {

@@ -177,14 +177,10 @@ RunSetup::RunSetup(const SetupOptions& o)
             throw UsageError(fmt::format("--previous {}: no such file", mConfig.previous));
         // A profile whose last-frame buffers come from the capture itself would never open the
         // file: refused rather than ignored.
-        std::vector<std::string> fromPrevious, lastFrameBuffers;
+        bool readsPrevious = false;
         for (const auto& [buffer, alternatives] : mProfile.buffers())
-            for (const auto& m : alternatives)
-                if (!m.previousFrame.empty()) {
-                    fromPrevious.push_back(buffer);
-                    break;
-                }
-        if (fromPrevious.empty())
+            for (const auto& m : alternatives) readsPrevious = readsPrevious || !m.previousFrame.empty();
+        if (!readsPrevious)
             throw UsageError(fmt::format(
                 "--previous {}: the profile '{}' reads no buffer from a previous frame's file "
                 "(its PrevSceneColor, TAAHistory and PrevSceneDepth come from the capture "
@@ -192,13 +188,16 @@ RunSetup::RunSetup(const SetupOptions& o)
                 "profile that maps a buffer with \"previousFrame\" (blender, blender-direct)",
                 mConfig.previous, mProfile.name()));
         // Opened now, through the profile, so a file that is no capture fails before a frame.
+        std::optional<io::CaptureFiles> previous;
         try {
-            if (!openCapture(mConfig.previous))
-                throw UsageError(fmt::format("no such capture"));
+            previous = openCapture(mConfig.previous);
         } catch (const Error& e) {
             throw UsageError(fmt::format("--previous {}: not a capture the profile '{}' can read: {}",
                                          mConfig.previous, mProfile.name(), e.what()));
         }
+        if (!previous)
+            throw UsageError(fmt::format("--previous {}: no capture of the profile '{}' there",
+                                         mConfig.previous, mProfile.name()));
     }
     // Several frames of one file: each frame reads the same pixels (and temporal passes
     // accumulate one image), which is rarely what a frame list means.
@@ -375,8 +374,7 @@ bool RunSetup::adoptCaptureScene(const std::string& configPath) {
                         "from",
                         mHeader->scene));
     if (!mHeader->sceneFingerprint.empty() &&
-        io::sceneFingerprint(io::loadScene(mHeader->scene, io::SceneParts::LightsAndCameras)) !=
-            mHeader->sceneFingerprint)
+        io::sceneFingerprint(mInputs->description()) != mHeader->sceneFingerprint)
         logWarning(fmt::format("{} (or its geometry) changed since the capture was made; the "
                                "first frame checks that it still lines up with the capture",
                                mHeader->scene));

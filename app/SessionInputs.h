@@ -26,6 +26,9 @@ public:
           mOcioPath(config.ocioConfig) {}
 
     bool hasScene() const { return !mScenePath.empty(); }
+    /// The scene JSON, read once (its lights and cameras; an OBJ's meshes only when scene()
+    /// asks). Throws fp::UsageError when the config names no scene.
+    io::SceneFile& description();
     /// The capture's units, when its profile or header says them: a scene JSON that declares
     /// other units is converted into these when read. Call before the scene is first read.
     void setCaptureUnitsPerMeter(std::optional<double> units) { mCaptureUnitsPerMeter = units; }
@@ -47,7 +50,6 @@ public:
     std::vector<std::pair<std::string, std::string>> filesRead() const;
 
 private:
-    io::SceneFile& description();
     std::string mConfigPath, mScenePath, mOcioPath;
     std::optional<io::SceneFile> mScene;
     std::optional<double> mCaptureUnitsPerMeter;

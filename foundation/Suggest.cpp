@@ -37,6 +37,11 @@ std::string suggestClosest(const std::string& word, const std::vector<std::strin
     return best;
 }
 
+std::string asciiLowercase(std::string s) {
+    for (auto& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
 std::string didYouMean(const std::string& word, const std::vector<std::string>& candidates) {
     std::string s = suggestClosest(word, candidates);
     return s.empty() ? std::string() : " (did you mean '" + s + "'?)";

@@ -1,7 +1,8 @@
 #include "framework/CvarTable.h"
 
+#include "foundation/Suggest.h"
+
 #include <algorithm>
-#include <cctype>
 
 namespace fp {
 
@@ -22,13 +23,9 @@ const CvarMapping* CvarTable::find(const std::string& cvar) const {
 }
 
 std::string CvarTable::spelling(const std::string& cvar) const {
-    auto lower = [](std::string s) {
-        for (auto& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-        return s;
-    };
-    const std::string key = lower(cvar);
+    const std::string key = asciiLowercase(cvar);
     for (const auto& e : mEntries)
-        if (lower(e.cvar) == key) return e.cvar;
+        if (asciiLowercase(e.cvar) == key) return e.cvar;
     return cvar;
 }
 
