@@ -102,6 +102,17 @@ void captureScene(const CaptureOptions& opt, std::ostream& out) {
             for (const auto& name : truth.names) {
                 for (const std::string& layer : {name, name + ".StdErr"})
                     parts.push_back({layer, {{layer, &truth.layers.at(layer), false}}});
+                if (name == "Truth.ReflectedEmitter") {
+                    // A mask, not a light: say how many pixels it holds.
+                    const Plane& f = truth.layers.at(name).plane(0);
+                    int64_t seen = 0;
+                    for (int y = 0; y < f.height(); ++y)
+                        for (int x = 0; x < f.width(); ++x) seen += f.at(x, y) > 0.0f;
+                    truthLine += fmt::format("\n  {:<34} {} pixels reflect an emitter (compare "
+                                             "--mask reflected-emitter leaves them out)",
+                                             name, seen);
+                    continue;
+                }
                 const double rel = medianRelativeStdErr(
                     truth.layers.at(name), truth.layers.at(name + ".StdErr"), &mask);
                 truthLine += fmt::format("\n  {:<34} median relative standard error {}", name,

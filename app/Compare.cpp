@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -181,10 +182,13 @@ Image readSpec(ComparedFile& file, const std::string& spec, const io::CapturePro
     return readImage(exr, spec, profile);
 }
 
+constexpr const char* kReflectedEmitterLayer = "Truth.ReflectedEmitter";
+
 // --mask: which pixels count. "sky" leaves out the sky (where the profile finds SceneDepth);
 // "shading-model=N" and "id=N" keep one shading model or one object (ShadingModel, InstanceId
-// through the profile); any other word is a picture whose first channel > 0 marks the kept
-// pixels. Several masks multiply.
+// through the profile); "reflected-emitter[=F]" leaves out the pixels whose reflection lobe
+// sees an emitter (Truth.ReflectedEmitter above F, 0 by default); any other word is a picture
+// whose first channel > 0 marks the kept pixels. Several masks multiply.
 struct MaskSources {
     const std::string& a;
     const std::string& b;
@@ -244,6 +248,46 @@ Image maskOf(const std::string& spec, const MaskSources& src, float skyDistance,
         }
         note = "sky masked by SceneDepth";
         return notSkyMask(*depth, skyDistance);
+    }
+    if (spec == "reflected-emitter" || spec.rfind("reflected-emitter=", 0) == 0) {
+        float above = 0.0f;
+        if (spec.size() > 18) {
+            const std::string value = spec.substr(18);
+            char* end = nullptr;
+            above = std::strtof(value.c_str(), &end);
+            if (value.empty() || *end != '\0' || !(above >= 0.0f && above < 1.0f))
+                throw UsageError(fmt::format(
+                    "--mask {}: expected a fraction in [0, 1) after '=' (the share of the "
+                    "reflection lobe that may see an emitter)",
+                    spec));
+        }
+        std::optional<Image> seen;
+        for (const std::string* path : {&src.b, &src.a}) {
+            if (!isExr(*path)) continue;
+            ComparedFile file(*path);
+            const auto layers = io::listLayers(*file.exr);
+            if (std::any_of(layers.begin(), layers.end(), [](const io::ExrLayerInfo& l) {
+                    return l.name == kReflectedEmitterLayer;
+                })) {
+                seen = readSpec(file, kReflectedEmitterLayer, io::CaptureProfile::load("canonical"));
+                break;
+            }
+        }
+        if (!seen)
+            throw UsageError(fmt::format(
+                "--mask {}: neither file has a {} layer; `framepass capture --truth` writes it",
+                spec, kReflectedEmitterLayer));
+        Image m(seen->width(), seen->height(), {"Y"});
+        int64_t left = 0;
+        for (int y = 0; y < m.height(); ++y)
+            for (int x = 0; x < m.width(); ++x) {
+                const bool keep = seen->plane(0).at(x, y) <= above;
+                m.plane(0).at(x, y) = keep ? 1.0f : 0.0f;
+                left += !keep;
+            }
+        note = fmt::format("{} pixels whose reflection sees an emitter left out ({} > {})", left,
+                           kReflectedEmitterLayer, above);
+        return m;
     }
     ComparedFile file(spec);
     const Image picture = readSpec(file, "", io::CaptureProfile::load("canonical"));
@@ -316,9 +360,15 @@ CompareResult compareFiles(const CompareOptions& opt) {
         }
     CompareResult result;
     ComparedFile a(opt.a), b(opt.b);
-    const std::string layerA = result.layerA = opt.layer.empty() && opt.refLayer.empty() && a.exr && b.exr
-                                   ? commonLayer(*a.exr, *b.exr)
-                                   : opt.layer;
+    // No --layer: the layer both files have, or with --ref-layer the only layer of A.
+    auto onlyLayer = [](io::ExrReader& exr) {
+        const auto layers = io::listLayers(exr);
+        return layers.size() == 1 ? layers[0].name : std::string();
+    };
+    const std::string layerA = result.layerA =
+        !opt.layer.empty() || !a.exr ? opt.layer
+        : opt.refLayer.empty()       ? (b.exr ? commonLayer(*a.exr, *b.exr) : opt.layer)
+                                     : onlyLayer(*a.exr);
     const std::string layerB = result.layerB = opt.refLayer.empty() ? layerA : opt.refLayer;
     const io::CaptureProfile profileA = io::CaptureProfile::load(opt.profile);
     const io::CaptureProfile profileB =

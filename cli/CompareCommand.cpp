@@ -29,7 +29,10 @@ Command addCompareCommand(CLI::App& app) {
     sub->add_option("--mask", opt->masks,
                     "which pixels count (repeatable, masks multiply): sky (default: leave out "
                     "the sky, where the profile finds SceneDepth), none, shading-model=N, id=N "
-                    "(InstanceId), or a picture whose first channel > 0 marks the kept pixels");
+                    "(InstanceId), reflected-emitter[=F] (leave out the pixels whose reflection "
+                    "sees an emitter, from a truth capture's Truth.ReflectedEmitter; with the sky: "
+                    "--mask sky --mask reflected-emitter), or a picture whose first channel > 0 "
+                    "marks the kept pixels");
     sub->add_option("--profile", opt->profile,
                     "capture profile (NAME or FILE.json, default canonical): a --layer that names "
                     "a buffer it maps (SceneDepth, WorldNormal, …) is read through it, and it "

@@ -142,7 +142,7 @@ _framepass() {{
             COMPREPLY=($(compgen -W "all ${{names[*]}}" -- "$cur")); return ;;
         --profile|--ref-profile) COMPREPLY=($(compgen -W "{profiles}" -- "$cur") $(compgen -f -X '!*.json' -- "$cur")); return ;;
         --device) COMPREPLY=($(compgen -W "cpu cuda" -- "$cur")); return ;;
-        --mask) COMPREPLY=($(compgen -W "sky none shading-model= id=" -- "$cur") $(compgen -f -- "$cur")); return ;;
+        --mask) COMPREPLY=($(compgen -W "sky none reflected-emitter shading-model= id=" -- "$cur") $(compgen -f -- "$cur")); return ;;
     esac
     if [[ -z "$cmd" ]]; then
         COMPREPLY=($(compgen -W "$commands $global" -- "$cur")); return
@@ -234,7 +234,7 @@ _framepass() {{
         (--dump) names=(all ${{${{(f)"$(_framepass_names)"}}:#(*=|)}}); compadd -a names; return ;;
         (--profile|--ref-profile) compadd -a profiles; _files -g '*.json'; return ;;
         (--device) compadd cpu cuda; return ;;
-        (--mask) compadd sky none; compadd -S '' shading-model= id=; _files; return ;;
+        (--mask) compadd sky none reflected-emitter; compadd -S '' shading-model= id=; _files; return ;;
         (--threads) return ;;
     esac
     if [[ -z $cmd ]]; then
@@ -296,7 +296,7 @@ std::string fishOptions(const CLI::App& app, const std::string& condition, const
             else if (is("device"))
                 line += " -x -a 'cpu cuda'";
             else if (is("mask"))
-                line += " -r -a 'sky none shading-model= id='";
+                line += " -r -a 'sky none reflected-emitter shading-model= id='";
             else if (is("threads"))
                 line += " -x";
             else

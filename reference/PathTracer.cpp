@@ -103,6 +103,7 @@ Gathered PathTracer::gather(const SurfacePoint& s, ScatterLobe::Kind kind, Rng& 
     }
     out.hit = true;
     out.distance = hit.t;
+    out.mesh = int(hit.mesh);
     const SurfacePoint next = surfaceAt(mScene, hit, org, dir);
     const Vec3f atHit =
         mScene.scene().emissionTowardsSurfaces(hit.mesh) * lobeHitWeight(hit, dir, lv.pdf) +

@@ -26,6 +26,7 @@ struct Gathered {
     bool sampled = false;  //!< the lobe produced a direction above the surface
     bool hit = false;      //!< ... and it met a surface
     float distance = 0;    //!< ... at this distance
+    int mesh = -1;         //!< ... of this mesh (Scene::meshes)
 };
 
 class PathTracer {

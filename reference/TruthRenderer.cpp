@@ -55,6 +55,10 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
     const DirectLighting& lighting = tracer.lighting();
     const float aoRadius = float(mSettings.aoRadius);
     const auto& lights = mScene.lights;
+    auto isEmitter = [&](int mesh) {
+        const Vec3f& e = mScene.materials[mScene.meshes[mesh].material].emission;
+        return e.x > 0.0f || e.y > 0.0f || e.z > 0.0f;
+    };
 
     TruthResult result;
     const std::vector<std::string> rgb = {"R", "G", "B"}, y = {"Y"};
@@ -68,6 +72,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
     addLayer("Truth.AO", y);
     addLayer("Truth.AOAnyDistance", y);
     addLayer("Truth.Specular", rgb);
+    addLayer("Truth.ReflectedEmitter", y);
     addLayer("Truth.Combined", rgb);
     const std::vector<std::string> shadowNames = shadowLayerNames(mScene);
     for (const auto& n : shadowNames) addLayer(n, y);
@@ -80,6 +85,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
     const Target fullT = target("Truth.DiffuseIndirectFull");
     const Target aoT = target("Truth.AO"), specT = target("Truth.Specular");
     const Target aoAnyT = target("Truth.AOAnyDistance");
+    const Target emitterT = target("Truth.ReflectedEmitter");
     const Target combinedT = target("Truth.Combined");
     std::vector<Target> shadowT;
     for (const auto& n : shadowNames) shadowT.push_back(target(n));
@@ -101,7 +107,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                 if (!primary.hit) continue;  // sky: every layer stays 0
                 const SurfacePoint s = surfaceAt(rs, primary, Vec3f{}, dir0);
                 Rng rng(mSettings.frame, px, py, kSeedTruth);
-                PixelStats one, full, ao, aoAny, spec, combined;
+                PixelStats one, full, ao, aoAny, spec, emitter, combined;
                 std::fill(shadow.begin(), shadow.end(), PixelStats{});
                 for (int i = 0; i < N; ++i) {
                     // Diffuse indirect and AO share one cosine-distributed ray.
@@ -111,8 +117,10 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                     // A ray into the surface's own back counts as occluded.
                     ao.add(d.sampled && (!d.hit || d.distance > aoRadius) ? 1.0f : 0.0f);
                     aoAny.add(d.sampled && !d.hit ? 1.0f : 0.0f);
-                    const Vec3f specular = tracer.gather(s, ScatterLobe::Kind::Specular, rng, tileRays).full;
+                    const Gathered g = tracer.gather(s, ScatterLobe::Kind::Specular, rng, tileRays);
+                    const Vec3f& specular = g.full;
                     spec.add(specular);
+                    emitter.add(g.hit && isEmitter(g.mesh) ? 1.0f : 0.0f);
                     // The beauty: what the pixel emits, its direct light, and the two indirect
                     // lobes above (BSDF = diffuse/π + F·D·Vis, so diffuse reflection is
                     // DiffuseColor × the cosine-weighted mean).
@@ -144,6 +152,7 @@ TruthResult TruthRenderer::render(const std::function<void(int, int)>& progress)
                 ao.store(*aoT.mean, *aoT.stdErr, px, py, N);
                 aoAny.store(*aoAnyT.mean, *aoAnyT.stdErr, px, py, N);
                 spec.store(*specT.mean, *specT.stdErr, px, py, N);
+                emitter.store(*emitterT.mean, *emitterT.stdErr, px, py, N);
                 combined.store(*combinedT.mean, *combinedT.stdErr, px, py, N);
                 for (std::size_t l = 0; l < lights.size(); ++l)
                     shadow[l].store(*shadowT[l].mean, *shadowT[l].stdErr, px, py, N);

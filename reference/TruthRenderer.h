@@ -17,6 +17,11 @@
 //                                        however far the hit) estimates where it sees everything
 //   Truth.Specular                  RGB  indirect specular radiance reflected to the camera by
 //                                        the pixel's GGX lobe (Unreal's F·D·Vis), all bounces
+//   Truth.ReflectedEmitter          Y    fraction of the same lobe's rays whose first hit is an
+//                                        emitting surface (a light's visible shape or an emissive
+//                                        material): where a screen-space reflection, which reads
+//                                        the lit colour, shows a light the truth counts as that
+//                                        light's own specular (compare --mask reflected-emitter)
 //   Truth.Combined                  RGB  the path-traced beauty: emission + direct light of every
 //                                        light (diffuse and specular) + DiffuseColor ×
 //                                        DiffuseIndirectFull + Specular; what a whole chain's

@@ -40,7 +40,7 @@ DiffusePath traceDiffusePath(const DiffusePathSetup& c, Vec3f org, Vec3f dir, fl
         const RayHit hit = c.scene->intersect(org, dir, tMin, reach);
         if (!hit.hit) {
             // The first ray's sky is the sky light's own diffuse term, another pass's.
-            if (c.sky && bounce > 0) out.radiance += throughput * c.sky->radiance(dir);
+            if (c.sky && (bounce > 0 || c.skyOnFirstRay)) out.radiance += throughput * c.sky->radiance(dir);
             return out;
         }
         if (bounce == 0) {
@@ -48,7 +48,9 @@ DiffusePath traceDiffusePath(const DiffusePathSetup& c, Vec3f org, Vec3f dir, fl
             if (hit.t > c.giDistance) return out;
         }
         const SurfacePoint s = surfaceAt(*c.scene, hit, org, dir);
-        // No emission at hits: Unreal adds only the lights' light (and no lightmap).
+        // No emission at hits unless asked: Unreal adds only the lights' light (and no lightmap).
+        if (c.emissionAtHits)
+            out.radiance += throughput * c.scene->scene().emissionTowardsSurfaces(hit.mesh);
         out.radiance += throughput * sampleLights(c, s, rng, shadowRays);
         if (bounce + 1 == c.bounces) return out;
         // The next diffuse bounce: BxDF·cos/pdf = DiffuseColor.

@@ -3,7 +3,9 @@
 // surface: at each hit next event estimation (one light picked uniformly per sample, its shadow
 // ray traced), no emission at hits, the sky only for a bounce ray's miss when asked, then a
 // cosine bounce with the hit's diffuse colour as throughput. rt_global_illumination starts its
-// paths from the GBuffer; the hybrid continues a screen-space ray that found nothing with one.
+// paths from the GBuffer; the hybrid continues a screen-space ray that found nothing with one;
+// a reflection hit's traced indirect light is one (with the sky and emission Unreal's RTGI leaves
+// out, shading/ReflectionHits.h).
 #include "foundation/Environment.h"
 #include "foundation/FloatToInt.h"
 #include "foundation/ShadingModel.h"
@@ -21,6 +23,11 @@ struct DiffusePathSetup {
     const DirectLighting* lighting = nullptr;
     const std::vector<Light>* lights = nullptr;
     const SkyLight* sky = nullptr;  //!< null: a bounce ray's miss adds nothing
+    /// The first ray's miss takes the sky too (a reflection hit's indirect light); Unreal's RTGI
+    /// leaves it to the sky light's own diffuse term.
+    bool skyOnFirstRay = false;
+    /// Hits add their emission (a light's visible shape excepted); Unreal's RTGI adds none.
+    bool emissionAtHits = false;
     int bounces = 1;                //!< hits shaded per path (MaxBounces)
     int nee = 2;                    //!< light samples at each hit
     float reach = 1e30f;            //!< the first ray's length

@@ -30,13 +30,32 @@ struct ReflectedSky {
     }
 };
 
+/// How reflection hits are lit, shared by rt_reflections and hybrid_reflections' fallback.
+struct ReflectionHitLighting {
+    const RayScene* scene = nullptr;
+    const DirectLighting* lighting = nullptr;
+    const ReflectedSky* sky = nullptr;  //!< null: the sky light is off
+    bool shadowed = true;               //!< one shadow ray a light; false: every light unshadowed
+    /// The hit's diffuse indirect light. 0, Unreal's: the sky light's SH irradiance, unshadowed
+    /// (the precomputed indirect light; framepass has no lightmaps). n > 0, framepass's: traced,
+    /// one cosine path of n bounces from the hit that sees the sky only through the scene's
+    /// openings and other surfaces lit by the lights and their emission.
+    int indirectBounces = 0;
+};
+
+/// What lighting reflection hits traced, for the run report.
+struct ReflectionHitWork {
+    uint64_t shadowRays = 0;    //!< at the hits (and along the indirect paths)
+    uint64_t indirectRays = 0;  //!< the indirect paths' rays
+};
+
 /// The radiance a reflection ray along L from `org` brings from its closest hit `hit`: every light
-/// with one shadow ray (when `shadowed`), the hit's emission (a light's visible shape sends none:
-/// its reflection is the light's own specular), and its diffuse colour × the sky's SH irradiance;
-/// clamped to ≥ 0. `viewer` (non-null) replaces the ray's view vector (Unreal's hybrid shades
-/// from the camera).
-Vec3f shadeReflectionHit(const RayScene& scene, const DirectLighting& lighting, const RayHit& hit,
-                         const Vec3f& org, const Vec3f& L, const ReflectedSky* sky, Rng& rng,
-                         uint64_t& shadowRays, bool shadowed, const Vec3f* viewer = nullptr);
+/// (with one shadow ray each when `shadowed`), the hit's emission (a light's visible shape sends
+/// none: its reflection is the light's own specular), and its diffuse colour × its indirect light
+/// (above); clamped to ≥ 0. `viewer` (non-null) replaces the ray's view vector (Unreal's hybrid
+/// shades from the camera).
+Vec3f shadeReflectionHit(const ReflectionHitLighting& how, const RayHit& hit, const Vec3f& org,
+                         const Vec3f& L, Rng& rng, ReflectionHitWork& work,
+                         const Vec3f* viewer = nullptr);
 
 }  // namespace fp

@@ -4,6 +4,7 @@
 #include "foundation/Error.h"
 #include "metrics/ErrorMetrics.h"
 #include "metrics/Heatmap.h"
+#include "foundation/Tiles.h"
 
 #include <limits>
 #include <optional>
@@ -23,6 +24,11 @@ ParamSpec<ErrorMeasureParams> ErrorMeasurePass::paramSpec() {
           "> 0: measure only pixels whose roughness (input `roughness`) is at most this, e.g. "
           "SSR's cutoff; 0 = every pixel")
         .range(0, 1);
+    s.add("excludeAbove", &Params::excludeAbove,
+          "with input `exclude` bound: pixels where it is above this are left out (0: every "
+          "non-zero pixel, e.g. each pixel that reflects an emitter with "
+          "capture:Truth.ReflectedEmitter)")
+        .range(0, 1e30);
     return s;
 }
 
@@ -39,6 +45,12 @@ PassIO ErrorMeasurePass::describe() const {
                 "floor"},
         gbuffer::depthInput("sky pixels are left out", true),
     };
+    io.inputs.push_back({.name = kExclude,
+                         .channels = {},
+                         .optional = true,
+                         .doc = "pixels where its first channel is above excludeAbove are left out, "
+                                "e.g. capture:Truth.ReflectedEmitter (where a reflection shows a "
+                                "light's visible shape)"});
     if (mParams.maxRoughness > 0.0f)
         io.inputs.push_back(gbuffer::roughnessInput("pixels rougher than maxRoughness are left out"));
     io.outputs = {
@@ -64,17 +76,22 @@ void ErrorMeasurePass::execute(PassContext& ctx) {
     const Texture* sigma = ctx.input(kReferenceStdErr);
     const Texture* depth = ctx.input(gbuffer::kDepth);
     const Texture* roughness = mParams.maxRoughness > 0.0f ? ctx.input(kRoughness) : nullptr;
+    const Texture* exclude = ctx.input(kExclude);
+    for (const auto& [port, t] : {std::pair{kRoughness, roughness}, std::pair{kExclude, exclude}})
+        FP_CHECK(!t || (t->image().width() == b.width() && t->image().height() == b.height()),
+                 "error_measure: input '{}' is {}×{}, the reference {}×{}", port,
+                 t->image().width(), t->image().height(), b.width(), b.height());
+    ErrorMask select = maskThresholds();
+    if (depth) select.depth = viewOf(depth->image().plane(0));
+    if (roughness) select.roughness = viewOf(roughness->image().plane(0));
+    if (exclude) select.exclude = viewOf(exclude->image().plane(0));
     std::optional<Image> mask;
-    if (depth)
-        mask = notSkyMask(depth->image(), skyDepth());
-    if (roughness) {
-        const Plane& r = roughness->image().plane(0);
-        FP_CHECK(r.width() == b.width() && r.height() == b.height(),
-                 "the roughness is {}×{}, the reference {}×{}", r.width(), r.height(), b.width(), b.height());
-        if (!mask) mask = Image(b.width(), b.height(), {"Y"}, 1.0f);
-        for (int y = 0; y < b.height(); ++y)
-            for (int x = 0; x < b.width(); ++x)
-                if (!(r.at(x, y) <= mParams.maxRoughness)) mask->plane(0).at(x, y) = 0.0f;
+    if (select.any()) {
+        mask = Image(b.width(), b.height(), {"Y"});
+        forEachTile(b.width(), b.height(), [&](const Tile& t) {
+            for (int y = t.y0; y < t.y1; ++y)
+                for (int x = t.x0; x < t.x1; ++x) mask->plane(0).at(x, y) = select.at(x, y);
+        });
     }
     Image absError(b.width(), b.height(), {"Y"});
     ErrorInputs in;

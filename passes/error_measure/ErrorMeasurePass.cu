@@ -105,21 +105,21 @@ void ErrorMeasurePass::executeCuda(PassContext& ctx) {
         errorPixelInputs(a, b, sigma ? &sigma->image() : nullptr, mParams.tolerance,
                          isHalfResolution({a.width(), a.height()}, {W, H}));
     const DeviceTexture* roughness = mParams.maxRoughness > 0.0f ? ctx.deviceInput(kRoughness) : nullptr;
+    const DeviceTexture* exclude = ctx.deviceInput(kExclude);
+    for (const auto& [port, t] : {std::pair{kRoughness, roughness}, std::pair{kExclude, exclude}})
+        FP_CHECK(!t || (t->image().width() == W && t->image().height() == H),
+                 "error_measure: input '{}' is {}×{}, the reference {}×{}", port,
+                 t->image().width(), t->image().height(), W, H);
+    ErrorMask select = maskThresholds();
+    if (depth) select.depth = depth->image().plane(0);
+    if (roughness) select.roughness = roughness->image().plane(0);
+    if (exclude) select.exclude = exclude->image().plane(0);
     DeviceTexture mask;
-    if (depth || roughness) {
-        FP_CHECK(!roughness || (roughness->image().width() == W && roughness->image().height() == H),
-                 "the roughness is not the reference's size, {}×{}", W, H);
+    if (select.any()) {
         mask = cuda::allocate({{W, H}}, {"Y"});
-        const PlaneView d = depth ? depth->image().plane(0) : PlaneView{};
-        const PlaneView r = roughness ? roughness->image().plane(0) : PlaneView{};
         const PlaneSpan m = mask.image().plane(0);
-        const float sky = skyDepth(), maxRoughness = mParams.maxRoughness;
         CudaPixels{}.forEach<0>(
-            W, H,
-            [=] FP_HD(int x, int y, WorkCounts<0>&) {
-                const float notSky = d.data ? isNotSky(d.at(x, y), sky) : 1.0f;
-                m.at(x, y) = r.data && !(r.at(x, y) <= maxRoughness) ? 0.0f : notSky;
-            },
+            W, H, [=] FP_HD(int x, int y, WorkCounts<0>&) { m.at(x, y) = select.at(x, y); },
             "error_measure mask");
         in.mask = viewOf(m);
     }

@@ -6,6 +6,7 @@
 #include "framework/Params.h"
 #include "framework/Pass.h"
 #include "metrics/ErrorMetrics.h"
+#include "passes/error_measure/ErrorMask.h"
 
 #include <limits>
 
@@ -16,6 +17,7 @@ struct ErrorMeasureParams {
     float skyDistance = 0.0f;  //!< depths ≥ this are sky and left out; 0 = only +inf depths
     float heatScale = 0.0f;    //!< |error| at the top of the heat map; 0 = 99th percentile
     float maxRoughness = 0.0f;  //!< > 0: only pixels at most this rough are measured
+    float excludeAbove = 0.0f;  //!< with input `exclude`: pixels where it is above this are left out
 };
 
 struct ErrorStats;
@@ -35,11 +37,20 @@ public:
     static constexpr const char* kReferenceStdErr = "referenceStdErr";
     static constexpr const char* kHeat = "heat";
     static constexpr const char* kRoughness = "roughness";
+    static constexpr const char* kExclude = "exclude";
     static constexpr const char* kAbsError = "absError";
 
 private:
     /// Depths at or beyond this are sky.
     float skyDepth() const { return skyDepthFor(mParams.skyDistance); }
+    /// The mask's thresholds; each device binds its planes.
+    ErrorMask maskThresholds() const {
+        ErrorMask m;
+        m.skyDepth = skyDepth();
+        m.maxRoughness = mParams.maxRoughness;
+        m.excludeAbove = mParams.excludeAbove;
+        return m;
+    }
     /// The figures and work counts into the run report.
     void reportStats(PassContext& ctx, const ErrorStats& s) const;
 

@@ -18,6 +18,7 @@ namespace fp {
 struct HybridReflectionsParams : SSRParams {
     float normalBias = 0.1f;  //!< cm (min 0.01): a fallback ray's origin, as rt_reflections'
     int shadows = 1;          //!< 0: the fallback hits' lights unshadowed
+    int hitIndirectBounces = 0;  //!< as rt_reflections'
 };
 
 class HybridReflectionsPass final : public PassWithParams<HybridReflectionsParams> {

@@ -67,6 +67,11 @@ ParamSpec<RTReflectionsParams> RTReflectionsPass::paramSpec() {
           "100, Unreal's default, traces every pixel")
         .range(25.0, 100.0)
         .cvar("r.RayTracing.Reflections.ScreenPercentage");
+    s.add("hitIndirectBounces", &Params::hitIndirectBounces,
+          "a hit's diffuse indirect light: 0 (Unreal's) the sky light's SH irradiance, unshadowed; "
+          "n > 0 (framepass's) traced from the hit by one cosine path of n bounces, which sees "
+          "the sky only through the scene's openings and other surfaces lit by the lights")
+        .range(0, 16);
     return s;
 }
 
@@ -114,13 +119,14 @@ void RTReflectionsPass::execute(PassContext& ctx) {
     mSky = ReflectedSky::of(rs.scene().environment.sky, mSky);
     const ReflectedSky* sky = mSky.get();
     const DirectLighting lighting(rs, 1);
+    const ReflectionHitLighting hitLighting{&rs, &lighting, sky, mParams.shadows != 0,
+                                            mParams.hitIndirectBounces};
     const CameraView& cam = ctx.frame().camera.current;
     const float cm = float(rs.scene().centimetre());
     const Vec3d eyeOffset = cam.position - rs.origin();
     const int spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 1;
     const float maxRoughness =
         std::clamp(mParams.maxRoughness < 0.0f ? 0.6f : mParams.maxRoughness, 0.01f, 1.0f);
-    const bool shadowed = mParams.shadows != 0;
     const RayBias bias = RayBias::fromCm(mParams.normalBias, cm);
     const uint32_t rngKey = Rng::frameKey(ctx.frame().number, kSeed);
 
@@ -132,7 +138,8 @@ void RTReflectionsPass::execute(PassContext& ctx) {
     const float hybridDepth = kHybridDepthCm * cm;
 
     forEachTile(size.width, size.height, [&](const Tile& t) {
-        uint64_t rays = 0, shadowRays = 0, pixels = 0, skipped = 0, skyRays = 0, screenHits = 0;
+        uint64_t rays = 0, pixels = 0, skipped = 0, skyRays = 0, screenHits = 0;
+        ReflectionHitWork hitWork;
         for (int y = t.y0; y < t.y1; ++y)
             for (int x = t.x0; x < t.x1; ++x) {
                 // Texel (x, y) traces from the top-left pixel of its block (§12.2's convention).
@@ -204,8 +211,8 @@ void RTReflectionsPass::execute(PassContext& ctx) {
                     // wrong for the specular term, as in Unreal).
                     const Vec3f fromCamera =
                         sceneColor ? normalize(Vec3f(eyeOffset) - hitPoint) : Vec3f{};
-                    sum += shadeReflectionHit(rs, lighting, hit, org, L, sky, rng, shadowRays,
-                                              shadowed, sceneColor ? &fromCamera : nullptr);
+                    sum += shadeReflectionHit(hitLighting, hit, org, L, rng, hitWork,
+                                              sceneColor ? &fromCamera : nullptr);
                 }
                 const float scale = fade / float(spp);
                 reflection.plane(0).at(x, y) = sum.x * scale;
@@ -220,7 +227,8 @@ void RTReflectionsPass::execute(PassContext& ctx) {
                 ++pixels;
             }
         ctx.addWork("rays", rays);
-        ctx.addWork("shadowRays", shadowRays);
+        ctx.addWork("shadowRays", hitWork.shadowRays);
+        if (mParams.hitIndirectBounces > 0) ctx.addWork("indirectRays", hitWork.indirectRays);
         ctx.addWork("skyRays", skyRays);
         if (sceneColor) ctx.addWork("screenHits", screenHits);
         ctx.addWork("pixels", pixels);

@@ -22,6 +22,9 @@ struct RTReflectionsParams {
     /// buffer takes this frame's lit colour there instead of being shaded.
     bool hybrid = false;
     float screenPercentage = 100.0f;  //!< 25–100: trace one pixel of each block (the denoiser upscales)
+    /// A hit's diffuse indirect light: 0, Unreal's, the sky light's SH; n > 0 traced by one
+    /// cosine path of n bounces (framepass's; ReflectionHitLighting::indirectBounces).
+    int hitIndirectBounces = 0;
 };
 
 class RTReflectionsPass final : public PassWithParams<RTReflectionsParams> {

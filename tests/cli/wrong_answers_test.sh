@@ -3,7 +3,8 @@
 # a scene in other units than its capture (converted when both say their units, an error that
 # names the likely cause when they do not line up), an output name without a frame token over
 # several frames, an .ini in UTF-8 with a byte-order mark or in UTF-16, a --previous that the
-# profile would ignore, empty paths, a mistyped option, NaN in compare, plan on a missing capture.
+# profile would ignore, reflection figures carried by a reflected light, empty paths, a mistyped
+# option, NaN in compare, plan on a missing capture.
 # Usage: wrong_answers_test.sh FRAMEPASS SOURCE_DIR SCRATCH
 set -u
 source "$(cd "$(dirname "$0")" && pwd)/checks.sh"
@@ -114,6 +115,43 @@ check "a --previous that is no capture is refused before a frame" \
     expect_exit 2 "not_a_capture.png" "$FP" run "$DIR/blender.json" --previous "$DIR/not_a_capture.png" -o "$DIR/prev2"
 check "a --previous the profile reads is listed in the report's inputs" \
     bash -c "'$FP' run '$DIR/blender.json' --previous '$SRC/tests/fixtures/blender/room.0001.exr' -o '$DIR/prev3' --report '$DIR/prev3.json' >/dev/null 2>&1 && grep -q 'room.0001.exr' '$DIR/prev3.json'"
+
+# --- 8. Reflection figures off the highlight: the truth marks the pixels whose reflection sees an
+# emitter, error_measure (exclude) and compare (--mask reflected-emitter) leave them out alike, and
+# a framepass reflection method is within 0.7 × SSR's error there on the glossy and hard captures
+# (RTR with its hits' indirect light traced on the glossy room; Unreal's RTR on the hard scene). ---
+rmse_of() {  # rmse_of BENCH_JSON MEASURE
+    python3 -c "import json,sys; r=json.load(open(sys.argv[1])); print([e for e in r['settings'][0]['errors'] if e['name']==sys.argv[2]][0]['metrics']['rmse'])" "$1" "$2"
+}
+for scene in glossy hard; do
+    check "capture the $scene scene with its truth" "$FP" capture "$SRC/examples/$scene/scene.json" -o "$DIR/$scene.exr" --truth
+    check "measure every $scene method against its truth" bash -c "'$FP' bench '$SRC/examples/$scene/beyond.json' --capture '$DIR/$scene.exr' \
+        --runs 1 --decompose-rays 0 --json > '$DIR/$scene.json'"
+done
+# The glossy chain with its colour dumped in float32, so compare reads the bits error_measure saw.
+python3 -c "import json, sys; c = json.load(open(sys.argv[1])); c['scene'] = sys.argv[2]; c['exr'] = {'colorPrecision': 'float'}; json.dump(c, open(sys.argv[3], 'w'))" \
+    "$SRC/examples/glossy/beyond.json" "$SRC/examples/glossy/scene.json" "$DIR/glossy_float.json"
+check "dump SSR's glossy reflections" "$FP" run "$DIR/glossy_float.json" --capture "$DIR/glossy.exr" \
+    -o "$DIR/glossy" --dump reflection_environment.specular
+check "the glossy capture marks the pixels that reflect the ceiling light" \
+    expect_exit 0 "pixels reflect an emitter" "$FP" capture "$SRC/examples/glossy/scene.json" -o "$DIR/glossy_again.exr" --truth --width 64 --height 64
+ssr=$(rmse_of "$DIR/glossy.json" ssr_vs_specular); ssr_off=$(rmse_of "$DIR/glossy.json" ssr_vs_specular_off_emitters)
+traced_off=$(rmse_of "$DIR/glossy.json" rtr_traced_vs_specular_off_emitters)
+echo "glossy: SSR $ssr, off the emitters $ssr_off; RTR with traced hit light $traced_off"
+check "most of SSR's glossy error is on the pixels that reflect the light (all ≥ 2 × masked)" \
+    python3 -c "import sys; sys.exit(0 if $ssr >= 2 * $ssr_off else 1)"
+check "glossy, emitters masked: RTR with traced hit light ≤ 0.7 × SSR" \
+    python3 -c "import sys; sys.exit(0 if $traced_off <= 0.7 * $ssr_off else 1)"
+hard_ssr=$(rmse_of "$DIR/hard.json" ssr_vs_specular_off_emitters); hard_rtr=$(rmse_of "$DIR/hard.json" rtr_raw_vs_specular_off_emitters)
+echo "hard: SSR $hard_ssr, RTR $hard_rtr (no emitter: nothing masked)"
+check "hard, emitters masked: Unreal's RTR ≤ 0.7 × SSR" \
+    python3 -c "import sys; sys.exit(0 if $hard_rtr <= 0.7 * $hard_ssr else 1)"
+# compare's mask is error_measure's: the same pixels, the same figure (one measureError).
+check "compare --mask reflected-emitter gives error_measure's figure" \
+    bash -c "'$FP' compare '$DIR/glossy/dump/reflection_environment.specular.0001.exr' '$DIR/glossy.exr' --ref-layer Truth.Specular --mask sky --mask reflected-emitter --json > '$DIR/masked.json' && python3 -c \"import json; j=json.load(open('$DIR/masked.json')); s=j.get('stats', j); assert abs(s['rmse'] - $ssr_off) <= 1e-6 * $ssr_off, (s['rmse'], $ssr_off)\""
+check "a reflected-emitter mask without a truth capture names the command that writes one" \
+    expect_exit 2 "framepass capture --truth" "$FP" compare "$DIR/glossy/dump/reflection_environment.specular.0001.exr" \
+    "$DIR/glossy/dump/reflection_environment.specular.0001.exr" --mask reflected-emitter
 
 # --- 17. Empty paths, a mistyped option. ---
 check "-o '' is an error" expect_exit 2 "an empty path names no file or folder" "$FP" run "$DIR/plain.json" -o ''

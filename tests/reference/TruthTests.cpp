@@ -315,6 +315,54 @@ TEST_CASE("a rect light with an emissive shape is counted once: direct in Combin
     }
 }
 
+TEST_CASE("Truth.ReflectedEmitter is 1 where a mirror reflects an emitter and 0 elsewhere") {
+    // A mirror floor under an emitting square (y = 30, half-size 10, centred at z = 20), marked
+    // as a light's visible shape: the truth's specular leaves it out (the light's own specular
+    // counts it), and ReflectedEmitter marks the pixels whose lobe sees it — at roughness 0
+    // (α = 4·10⁻⁴, a cone of ~10⁻³ rad) every sample or none, away from the square's edges.
+    Scene s;
+    Material mirror;
+    mirror.baseColor = {1, 1, 1};
+    mirror.metallic = 1.0f;
+    mirror.roughness = 0.0f;
+    s.materials.push_back(mirror);
+    s.materials.push_back(lambert(0.0f, 5.0f));
+    s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 200.0, 0));
+    s.meshes.push_back(test::quad({0, 30, 20}, {1, 0, 0}, {0, 0, 1}, 10.0, 1));
+    Light l;
+    l.type = LightType::Rect;
+    l.color = {5, 5, 5};
+    l.position = {0, 30, 20};
+    l.halfU = {10, 0, 0};
+    l.halfV = {0, 0, 10};
+    s.lights.push_back(l);
+    s.meshes[1].shapeOf = 0;
+    const auto cam = camera({0, 10, -30}, {0, 0, 20}, {0, 1, 0}, 48, 36, 60.0);
+    const TruthResult r = renderTruth(s, cam, 8);
+    const Plane& seen = r.layers.at("Truth.ReflectedEmitter").plane(0);
+    const CameraView& c = cam.current;
+    int inside = 0, outside = 0;
+    for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) {
+            const Vec3d d = c.rayDirection(x, y);
+            if (d.y >= 0) continue;
+            const Vec3d p = c.position + d * (-c.position.y / d.y);  // on the floor
+            if (std::abs(p.x) > 190 || std::abs(p.z) > 190) continue;
+            const Vec3d m{d.x, -d.y, d.z};
+            const Vec3d q = p + m * (30.0 / m.y);  // the mirror ray at the square's height
+            const double margin = std::max(std::abs(q.x) - 10.0, std::abs(q.z - 20.0) - 10.0);
+            if (margin < -0.5) {
+                CHECK(seen.at(x, y) == 1.0f);
+                ++inside;
+            } else if (margin > 0.5) {
+                CHECK(seen.at(x, y) == 0.0f);
+                ++outside;
+            }
+        }
+    CHECK(inside > 40);
+    CHECK(outside > 200);
+}
+
 TEST_CASE("a point light's shadow truth is exactly 1 in light and 0 behind an occluder") {
     Scene s = test::floorScene();
     s.materials.push_back(lambert(0.5f));

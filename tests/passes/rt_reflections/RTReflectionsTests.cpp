@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <set>
+#include <tuple>
+#include <vector>
 
 namespace fp {
 
@@ -108,6 +110,62 @@ TEST_CASE("rt_reflections: under an open sky a mirror shows the sky, and the fad
     const auto none = runRtr(rough, {{"maxRoughness", 0.4}});
     CHECK(none.at("rt_reflections.reflection").image().plane(3).at(8, 12) == 0.0f);
     CHECK(none.at("rt_reflections.hitDistance").image().plane(0).at(8, 12) == -2.0f);
+}
+
+TEST_CASE("rt_reflections: a hit's traced indirect light sees the sky only where the scene opens") {
+    // A mirror floor (y = 0, half-size 10⁵) before a Lambert wall (ρ = 0.6, z = 60) under a
+    // constant sky L = 1, no lights. Unreal's hit lighting (hitIndirectBounces 0) gives the wall
+    // the sky's SH irradiance/π, unshadowed: ρ·L = 0.6 (SH holds a constant exactly). Traced, the
+    // wall's cosine hemisphere sees the sky above the horizon and the floor below it, whose
+    // diffuse colour is 0 (a metal): ρ·L·½ = 0.3, the floor's far edge lowering the horizon by
+    // under 0.06° (a 5·10⁻⁴ share). Enclosed in a black box, the traced light is exactly 0 while
+    // the SH still gives 0.6.
+    Scene s;
+    s.materials.push_back(mirror());
+    s.materials.push_back(test::lambert(0.6f));
+    s.materials.push_back(test::lambert(0.0f));
+    s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 1e5, 0, 1));    // floor y = 0
+    s.meshes.push_back(test::quad({0, 50, 60}, {1, 0, 0}, {0, 1, 0}, 50.0, 1, 2));  // wall z = 60
+    s.environment.sky.enabled = true;
+    s.environment.sky.color = {1, 1, 1};
+    const FrameCamera cam = camera({0, 20, -40}, {0, 5, 30}, 32, 24, 50.0);
+    const CameraView& c = cam.current;
+    // The floor pixels whose mirror ray meets the wall away from its edges.
+    std::vector<std::pair<int, int>> onWall;
+    for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) {
+            const Vec3d d = c.rayDirection(x, y);
+            if (d.y >= 0) continue;
+            const Vec3d p = c.position + d * (-c.position.y / d.y);
+            const Vec3d m{d.x, -d.y, d.z};
+            const Vec3d w = p + m * ((60.0 - p.z) / m.z);
+            if (m.z > 0 && std::abs(w.x) < 45 && w.y > 5 && w.y < 95) onWall.emplace_back(x, y);
+        }
+    REQUIRE(onWall.size() > 60);
+    auto meanOnWall = [&](const Scene& scene, int bounces) {
+        auto src = test::captureToMemory(scene, cam);
+        const auto out = runRtr(src, {{"samplesPerPixel", 64}, {"hitIndirectBounces", bounces}});
+        const Plane& g = out.at("rt_reflections.reflection").image().plane(1);
+        double sum = 0;
+        for (auto [x, y] : onWall) sum += g.at(x, y);
+        return sum / double(onWall.size());
+    };
+    // Unreal's: the SH, the same at every pixel (to the SH's float rounding).
+    CHECK(meanOnWall(s, 0) == doctest::Approx(0.6).epsilon(2e-3));
+    // Traced: each pixel averages 64 Bernoulli(½)·0.6 samples (σ 0.0375), the mean over the
+    // pixels ≥ 60 of them σ ≤ 0.005: within 4σ.
+    for (int bounces : {1, 3}) {
+        CAPTURE(bounces);
+        CHECK(std::abs(meanOnWall(s, bounces) - 0.3) < 0.02);
+    }
+    Scene closed = s;
+    const Vec3d X{1, 0, 0}, Y{0, 1, 0}, Z{0, 0, 1};
+    const double h = 2e5;
+    for (const auto& [centre, u, v] : {std::tuple{X * h, Y, Z}, {X * -h, Z, Y}, {Y * h, Z, X},
+                                       {Y * -h, X, Z}, {Z * h, X, Y}, {Z * -h, Y, X}})
+        closed.meshes.push_back(test::quad(centre, u, v, h, 2, 3));
+    CHECK(meanOnWall(closed, 0) == doctest::Approx(0.6).epsilon(2e-3));
+    CHECK(meanOnWall(closed, 1) == 0.0);
 }
 
 TEST_CASE("rt_reflections: a screen percentage traces the top-left pixel of each block") {
