@@ -3,6 +3,7 @@
 #include "app/Compare.h"
 
 #include "app/Invocation.h"
+#include "app/MemoryLimit.h"
 #include "app/TruthDefinitions.h"
 #include "foundation/Suggest.h"
 
@@ -352,6 +353,26 @@ ErrorStats compareImages(const Image& a, const Image& b, const Image* mask,
     return measureError(in, absError);
 }
 
+// What compareFiles will hold at once, known from A's header before a pixel is read: A and B
+// (and B's .StdErr) at A's channels, one plane a mask and |A − B|, the heat map's colour, on top
+// of the process. A picture is already read: it counts as it is.
+uint64_t compareForecast(const CompareOptions& opt, ComparedFile& a, const std::string& layerA) {
+    Extent e{};
+    int channels = 3;
+    if (a.exr) {
+        e = a.exr->extent();
+        for (const auto& l : io::listLayers(*a.exr))
+            if (l.name == layerA) channels = int(l.channels.size());
+    } else if (a.picture) {
+        e = {a.picture->width(), a.picture->height()};
+        channels = a.picture->channelCount();
+    }
+    const int masks = int(std::count_if(opt.masks.begin(), opt.masks.end(),
+                                        [](const std::string& m) { return m != "none"; }));
+    const int planes = 3 * channels + masks + 1 + (opt.heatmap.empty() ? 0 : 3);
+    return residentBytes() + imageBytes(e, planes);
+}
+
 CompareResult compareFiles(const CompareOptions& opt) {
     if (!opt.heatmap.empty())
         for (const auto& out : {opt.heatmap, pngPathFor(opt.heatmap)}) {
@@ -370,6 +391,9 @@ CompareResult compareFiles(const CompareOptions& opt) {
         : opt.refLayer.empty()       ? (b.exr ? commonLayer(*a.exr, *b.exr) : opt.layer)
                                      : onlyLayer(*a.exr);
     const std::string layerB = result.layerB = opt.refLayer.empty() ? layerA : opt.refLayer;
+    checkMemory(compareForecast(opt, a, layerA), "both images, the reference's noise, the masks, "
+                "|A − B| and the heat map, and what this process holds already",
+                opt.maxMemory, 0);
     const io::CaptureProfile profileA = io::CaptureProfile::load(opt.profile);
     const io::CaptureProfile profileB =
         opt.refProfile.empty() ? profileA : io::CaptureProfile::load(opt.refProfile);

@@ -23,6 +23,7 @@ struct CompareOptions {
     double tolerance = 0.1;
     double skyDistance = std::numeric_limits<double>::infinity();
     double heatMax = 0;  //!< the colour map's top (0 = the 99th percentile)
+    std::string maxMemory;  //!< refuse when the forecast is over this ("" = the default limit)
     double maxRmse = -1;  //!< the CLI's --max-rmse (not used here)
     bool json = false;    //!< the CLI's --json (not used here)
 };

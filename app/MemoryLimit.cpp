@@ -11,6 +11,9 @@
 #include <optional>
 #include <sstream>
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 namespace fp::app {
 
 uint64_t parseByteSize(const std::string& text, const std::string& flag) {
@@ -113,7 +116,81 @@ uint64_t defaultMemoryLimit() {
     uint64_t available = a.available;
     // Under a cgroup limit (a Slurm job, a container) the job's own allowance is what counts.
     if (a.cgroupLimited) available = available ? std::min(available, a.cgroupLeft) : a.cgroupLeft;
-    return available / 4 * 3;
+    // The limit is on the process's peak, which includes what it holds already.
+    return available ? available / 4 * 3 + residentBytes() : 0;
+}
+
+uint64_t residentBytes() {
+    // statm's second field: resident pages.
+    std::ifstream statm("/proc/self/statm");
+    uint64_t size = 0, resident = 0;
+    if (!(statm >> size >> resident)) return 0;
+    return resident * uint64_t(sysconf(_SC_PAGESIZE));
+}
+
+uint64_t peakResidentBytes() {
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+    return uint64_t(usage.ru_maxrss) * 1024;  // KiB on Linux
+}
+
+MemoryForecast forecastMemory(const Plan& plan, Extent frame, int frames, bool readAhead,
+                              bool halfColor) {
+    MemoryForecast f;
+    f.resident = residentBytes();
+    readAhead = readAhead && frames > 1;
+    f.frame = plan.estimateMemory(frame, readAhead, frames > 1);
+    if (readAhead)
+        for (const auto& r : plan.captureReads) f.readAhead += imageBytes(frame, r.channels);
+    // The writer converts a file's colour layers to half before writing (data layers and float
+    // colour are written in place); a PNG preview is 8-bit RGB.
+    auto channelsOf = [&](const std::string& key) {
+        if (key.rfind("capture:", 0) == 0) {
+            for (const auto& r : plan.captureReads)
+                if ("capture:" + r.buffer == key) return r.channels;
+            return 0;
+        }
+        const auto dot = key.rfind('.');
+        for (const PlanStep& s : plan.steps)
+            if (dot != std::string::npos && s.name == key.substr(0, dot))
+                for (const auto& o : s.io.outputs)
+                    if (o.name == key.substr(dot + 1)) return int(o.channels.size());
+        return 0;
+    };
+    const uint64_t pixels = uint64_t(frame.width) * uint64_t(frame.height);
+    for (const OutputDesc& out : plan.outputs) {
+        uint64_t bytes = 0;
+        if (out.file.ends_with(".png")) {
+            bytes = 3 * pixels;
+        } else if (halfColor) {
+            for (const auto& src : out.sources) {
+                auto kind = plan.outputKinds.find(src);
+                if (kind != plan.outputKinds.end() && kind->second == PortKind::Color)
+                    bytes += 2 * pixels * uint64_t(channelsOf(src));
+            }
+        }
+        f.writing = std::max(f.writing, bytes);
+    }
+    return f;
+}
+
+std::string describeForecast(const MemoryForecast& f) {
+    return fmt::format("{} of images, {} of pass scratch and {} of history at '{}', {} this "
+                       "process holds already, {} read ahead, {} to write a file",
+                       formatBytes(f.frame.images), formatBytes(f.frame.scratch),
+                       formatBytes(f.frame.history), f.frame.peakStep, formatBytes(f.resident),
+                       formatBytes(f.readAhead), formatBytes(f.writing));
+}
+
+nlohmann::json MemoryForecast::toJson() const {
+    return {{"totalBytes", total()},
+            {"residentBytes", resident},
+            {"imageBytes", frame.images},
+            {"scratchBytes", frame.scratch},
+            {"historyBytes", frame.history},
+            {"peakStep", frame.peakStep},
+            {"readAheadBytes", readAhead},
+            {"writingBytes", writing}};
 }
 
 std::string formatBytes(uint64_t bytes) {
@@ -128,7 +205,8 @@ std::string formatBytes(uint64_t bytes) {
 }
 
 
-void checkMemory(uint64_t peakBytes, const std::string& value, int dumps) {
+void checkMemory(uint64_t peakBytes, const std::string& breakdown, const std::string& value,
+                 int dumps) {
     const uint64_t limit =
         value.empty() ? defaultMemoryLimit() : parseByteSize(value, "--max-memory");
     if (!value.empty()) {
@@ -146,12 +224,12 @@ void checkMemory(uint64_t peakBytes, const std::string& value, int dumps) {
         return;
     std::string lower = dumps > 0 ? fmt::format("dump fewer buffers ({} --dump now), ", dumps) : "";
     throw UsageError(fmt::format(
-        "this plan needs about {} of images at its peak, more than the {} allowed ({}); nothing "
-        "was read. To lower the peak: {}ask for fewer outputs, or run on a capture at half "
-        "resolution (a quarter of the memory: oiiotool CAPTURE --resize 50% -o SMALL). To allow "
-        "it, raise --max-memory",
-        formatBytes(peakBytes), formatBytes(limit),
-        value.empty() ? "--max-memory's default, 3/4 of the memory available"
+        "this needs about {} at its peak ({}), more than the {} allowed ({}); nothing was read. "
+        "To lower the peak: {}ask for fewer outputs, or work on images at half resolution (a "
+        "quarter of the memory: oiiotool IMAGE --resize 50% -o SMALL). To allow it, raise "
+        "--max-memory",
+        formatBytes(peakBytes), breakdown, formatBytes(limit),
+        value.empty() ? "--max-memory's default: what the process holds + 3/4 of the memory available"
                       : "--max-memory " + value,
         lower));
 }

@@ -1,7 +1,14 @@
 #pragma once
-// --max-memory: the most bytes of images a run may hold at once. The planner predicts a plan's
-// peak before any pixel is read; a run whose prediction is over the limit is refused, so a farm
-// node shared with other jobs is never driven into swap or the OOM killer.
+// --max-memory: the most memory a run's process may hold at once. Before any pixel is read the
+// forecast adds what the process holds now (code, libraries, what was read) to the plan's peak
+// (images, pass scratch, histories), the next frame's capture read ahead and the largest output
+// file's copy as it is written; a run whose forecast is over the limit is refused, so a farm node
+// shared with other jobs is never driven into swap or the OOM killer. The report sets the
+// forecast beside the peak the process reached.
+#include "framework/Planner.h"
+
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
 #include <string>
 
@@ -26,17 +33,42 @@ struct MemoryAllowance {
 MemoryAllowance readMemoryAllowance(const std::string& procRoot = "/proc",
                                     const std::string& cgroupRoot = "/sys/fs/cgroup");
 
-/// The default limit: 3/4 of the memory available now (MemAvailable), capped by what the
-/// process's cgroups leave (Slurm, containers). 0 when unknown.
+/// The default limit on the process's peak: what it holds now + 3/4 of the memory available now
+/// (MemAvailable), capped by what the process's cgroups leave (Slurm, containers). 0 when
+/// unknown.
 uint64_t defaultMemoryLimit();
 
 /// "1.2 GiB"
 std::string formatBytes(uint64_t bytes);
 
+/// This process's resident memory now, and the most it has held (getrusage); 0 where unknown.
+uint64_t residentBytes();
+uint64_t peakResidentBytes();
+
+/// What a run's process will hold at its peak.
+struct MemoryForecast {
+    uint64_t resident = 0;        //!< the process before its first frame
+    Plan::MemoryEstimate frame;   //!< a frame's images, the peak step's scratch, the histories
+    uint64_t readAhead = 0;       //!< the next frame's capture buffers, read while one runs
+    uint64_t writing = 0;         //!< the largest output file's half-float copy as it is written
+    uint64_t total() const { return resident + frame.peak() + readAhead + writing; }
+    nlohmann::json toJson() const;
+};
+
+/// The forecast of `plan` on frames of `frame` pixels; `halfColor` as the writer stores colour.
+/// `frames`: how many the run computes (from the second on, the histories are held).
+MemoryForecast forecastMemory(const Plan& plan, Extent frame, int frames, bool readAhead,
+                              bool halfColor);
+
+/// "1.1 GiB of images, 96 MiB of pass scratch, …" for messages.
+std::string describeForecast(const MemoryForecast& f);
+
 /// Throws fp::UsageError when `peakBytes` is over the limit `value` asks for ("" = the default),
 /// giving both figures and what would lower the peak. A `value` above the machine's physical
 /// memory (or its cgroup's limit) is a warning: the limit then cannot keep the run out of swap
 /// or the OOM killer.
-void checkMemory(uint64_t peakBytes, const std::string& value, int dumps);
+/// `breakdown` says what the figure is made of, for the message.
+void checkMemory(uint64_t peakBytes, const std::string& breakdown, const std::string& value,
+                 int dumps);
 
 }  // namespace fp::app

@@ -200,14 +200,12 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
     wo.protectedPaths.insert(inputs.begin(), inputs.end());
     wo.protectedPaths.erase("");
     io::checkFolderWritable(opt.outputDir, "-o");
+    // Reading ahead holds the next frame's capture buffers beside this frame's images.
+    std::optional<MemoryForecast> forecast;
     if (session.extent().width > 0) {
-        // Reading ahead holds the next frame's capture buffers beside this frame's images.
-        std::size_t aheadBytes = 0;
-        if (opt.readAhead && frames.size() > 1)
-            for (const auto& r : plan.captureReads)
-                aheadBytes += std::size_t(r.channels) * sizeof(float) *
-                              std::size_t(session.extent().width) * session.extent().height;
-        checkMemory(plan.estimatePeakBytes(session.extent()) + aheadBytes, opt.maxMemory,
+        forecast = forecastMemory(plan, session.extent(),
+                                  int(frames.size()) + opt.warmupFrames, opt.readAhead, wo.halfColor);
+        checkMemory(forecast->total(), describeForecast(*forecast), opt.maxMemory,
                     int(opt.setup.dumps.size()));
     }
     const io::OutputLock lock(opt.outputDir, frames);
@@ -256,6 +254,11 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
             addInput(role, path);
         report["inputs"] = inputFiles;
         report["plan"] = plan.toJson(session.extent());
+        if (forecast) {
+            // The forecast the run was admitted on, beside the peak the process reached.
+            report["memory"] = {{"forecast", forecast->toJson()},
+                                {"peakResidentBytes", peakResidentBytes()}};
+        }
         if (reportToStdout) {
             out << report.dump(2) << "\n";
         } else {
@@ -442,6 +445,12 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
         }
     }
     report["failedFrames"] = failed;
+    if (forecast) {
+        const uint64_t peak = peakResidentBytes();
+        console << fmt::format("memory: the process peaked at {}, forecast {} ({:+.0f} %)\n",
+                               formatBytes(peak), formatBytes(forecast->total()),
+                               100.0 * (double(peak) / double(forecast->total()) - 1.0));
+    }
     writeReport();
     return {std::move(report), std::move(failed), int(frames.size())};
 }

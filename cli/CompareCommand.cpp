@@ -37,6 +37,10 @@ Command addCompareCommand(CLI::App& app) {
                     "capture profile (NAME or FILE.json, default canonical): a --layer that names "
                     "a buffer it maps (SceneDepth, WorldNormal, …) is read through it, and it "
                     "finds SceneDepth for the sky mask");
+    sub->add_option("--max-memory", opt->maxMemory,
+                    "refuse to read when the forecast peak (both images, the masks, the error "
+                    "and heat map planes, this process) is above this (8G, 512M, bytes; default "
+                    "as run's)");
     sub->add_option("--ref-profile", opt->refProfile,
                     "capture profile of B when it differs from A's, e.g. a Blender capture "
                     "against framepass's own");

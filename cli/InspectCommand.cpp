@@ -19,6 +19,8 @@
 namespace fp::cli {
 
 namespace {
+constexpr std::size_t kBandBytes = std::size_t(64) << 20;
+
 const char* typeName(Imf::PixelType t) {
     return t == Imf::HALF ? "half" : (t == Imf::FLOAT ? "float" : "uint");
 }
@@ -28,21 +30,20 @@ struct ChannelStats {
     double lo = INFINITY, hi = -INFINITY, sum = 0;
     uint64_t nan = 0, inf = 0, finite = 0;
 
-    static ChannelStats of(const Plane& plane) {
-        ChannelStats s;
+    /// Adds a band of the channel's rows.
+    void add(const Plane& plane) {
         for (int y = 0; y < plane.height(); ++y)
             for (int x = 0; x < plane.width(); ++x) {
                 const float v = plane.at(x, y);
-                if (std::isnan(v)) ++s.nan;
-                else if (std::isinf(v)) ++s.inf;
+                if (std::isnan(v)) ++nan;
+                else if (std::isinf(v)) ++inf;
                 else {
-                    s.lo = std::min(s.lo, double(v));
-                    s.hi = std::max(s.hi, double(v));
-                    s.sum += v;
-                    ++s.finite;
+                    lo = std::min(lo, double(v));
+                    hi = std::max(hi, double(v));
+                    sum += v;
+                    ++finite;
                 }
             }
-        return s;
     }
 };
 }  // namespace
@@ -82,7 +83,8 @@ Command addInspectCommand(CLI::App& app) {
             io::ExrReader reader(constReader->path());
             // A part's channels are read together: OpenEXR decompresses a part's pixel blocks
             // whole, so reading its channels one by one would decompress the part once a channel.
-            // One part at a time keeps memory at one part's planes whatever the file's size.
+            // A band of rows at a time (about kBandBytes, whole compression blocks) keeps memory
+            // bounded whatever the file's size: a 16384² capture streams through 64 MiB.
             const std::vector<io::ExrChannel>& channels = reader.channels();
             std::vector<ChannelStats> stats(channels.size());
             for (std::size_t first = 0; first < channels.size();) {
@@ -93,10 +95,16 @@ Command addInspectCommand(CLI::App& app) {
                     part.push_back(&channels[end]);
                     names.push_back(fmt::format("c{}", end - first));
                 }
-                const Image img = reader.read(part, names);
-                tbb::parallel_for(std::size_t(0), part.size(), [&](std::size_t i) {
-                    stats[first + i] = ChannelStats::of(img.plane(int(i)));
-                });
+                const auto dw = reader.header(channels[first].part).dataWindow();
+                const Extent e{dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1};
+                const std::size_t rowBytes = imageBytes(Extent{e.width, 1}, int(part.size()));
+                const int band = std::max(64, int(kBandBytes / std::max<std::size_t>(rowBytes, 1)) / 64 * 64);
+                for (int y = 0; y < e.height; y += band) {
+                    const Image img = reader.readRows(part, names, y, std::min(band, e.height - y));
+                    tbb::parallel_for(std::size_t(0), part.size(), [&](std::size_t i) {
+                        stats[first + i].add(img.plane(int(i)));
+                    });
+                }
                 first = end;
             }
             for (std::size_t i = 0; i < channels.size(); ++i) {

@@ -7,10 +7,26 @@
 #include <mutex>
 #include <new>
 
+#include <malloc.h>
+
 namespace fp {
 
 namespace {
 constexpr std::ptrdiff_t kRowAlignFloats = 16;  // 64 bytes
+
+// Images of 4 MiB and more are mapped from the system and given back when freed. glibc otherwise
+// raises its mmap threshold to the largest block freed so far (up to 32 MiB), after which a
+// frame's images come from the heaps of the worker threads' arenas, which keep what they free:
+// a run's resident memory then grew by a third over three 1024² frames (the read-ahead's buffers
+// freed in another thread's arena) and stopped matching the forecast --max-memory is checked
+// against. A fixed threshold also turns the dynamic adjustment off.
+[[maybe_unused]] const bool kLargeImagesMapped = [] {
+#ifdef M_MMAP_THRESHOLD
+    return mallopt(M_MMAP_THRESHOLD, 4 << 20) == 1;
+#else
+    return false;
+#endif
+}();
 
 std::ptrdiff_t rowStride(int width) {
     return (std::ptrdiff_t(width) + kRowAlignFloats - 1) / kRowAlignFloats * kRowAlignFloats;

@@ -105,6 +105,19 @@ struct Extent {
     bool operator==(const Extent&) const = default;
 };
 
+/// The bytes an Image of `channels` planes of extent `e` holds: each row padded to 64 bytes, as
+/// the constructor lays planes out.
+inline std::size_t imageBytes(Extent e, int channels) {
+    const std::size_t rowFloats = (std::size_t(e.width) + 15) / 16 * 16;
+    return rowFloats * std::size_t(e.height) * sizeof(float) * std::size_t(channels);
+}
+/// The same for a mip chain.
+inline std::size_t imageBytes(const std::vector<Extent>& mips, int channels) {
+    std::size_t sum = 0;
+    for (const Extent& e : mips) sum += imageBytes(e, channels);
+    return sum;
+}
+
 /// `levels` extents starting at `level0`, each half the previous (rounded down, at least 1), as
 /// GPU mip chains are sized.
 std::vector<Extent> mipChain(Extent level0, int levels);

@@ -422,6 +422,10 @@ FrameReport executePlan(const Plan& plan,
         report.passes.push_back(std::move(pr));
         writeOutputs(s);
         releaseAfter(s);
+        // Outputs the pass wrote though nobody reads them (a StepCache keeps its own share).
+        for (const auto& port : plan.steps[std::size_t(s)].io.outputs)
+            if (!plan.steps[std::size_t(s)].requestedOutputs.count(port.name))
+                store.release(plan.steps[std::size_t(s)].name + "." + port.name);
         if (progress)
             progress(s + 1, total, report.passes.back());
     };

@@ -164,6 +164,13 @@ public:
                                         bool zeroed = true) = 0;
 };
 
+/// Host memory a pass holds beyond its outputs, for the planner's forecast of a run's peak.
+struct PassMemory {
+    std::size_t scratch = 0;  //!< at most this allocated while execute() runs, freed when it returns
+    std::size_t history = 0;  //!< kept between frames (its temporal state); while the pass runs,
+                              //!< last frame's and the new one (in scratch) are both alive
+};
+
 class Pass {
 public:
     virtual ~Pass() = default;
@@ -174,6 +181,10 @@ public:
     virtual std::vector<Extent> outputExtents(std::string_view port, Extent frame) const {
         return {frame};
     }
+    /// What the CPU execute() allocates besides its outputs for a frame of `frame` pixels (the
+    /// GPU path allocates its scratch on the device). Declared by each pass that allocates
+    /// frame-sized temporaries; tests hold the forecast it feeds within 20 % of a run's peak.
+    virtual PassMemory memoryBytes(Extent /*frame*/) const { return {}; }
     /// Passes with needsColorConfig: checks what the pass will ask of the colour config (a
     /// display, a view, a colour space) when the chain is planned, so a bad name fails before
     /// the first frame instead of after the chain ran. Throws fp::Error.

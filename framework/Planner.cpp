@@ -645,10 +645,16 @@ Plan makePlan(const GraphDesc& graph, const PassRegistry& registry, const PlanIn
     return b.take();
 }
 
-std::size_t Plan::estimatePeakBytes(Extent frame) const {
+Plan::MemoryEstimate Plan::estimateMemory(Extent frame, bool preread, bool sequence) const {
     std::map<std::string, std::size_t> held;
-    std::size_t current = 0, peak = 0;
-    const std::size_t pixelBytes = sizeof(float) * std::size_t(frame.width) * frame.height;
+    std::size_t current = 0;
+    MemoryEstimate best;
+    // Every history from the start in a sequence (a step's new state replaces its old one after
+    // it; during it the new one is in its scratch); on a first frame, those kept so far.
+    std::size_t history = 0;
+    if (sequence)
+        for (const PlanStep& step : steps)
+            history += step.pass->memoryBytes(frame).history;
     auto releaseAfterStep = [&](int s) {
         for (auto it = held.begin(); it != held.end();) {
             auto r = releaseAfter.find(it->first);
@@ -661,26 +667,36 @@ std::size_t Plan::estimatePeakBytes(Extent frame) const {
         }
     };
     for (int s = 0; s < int(steps.size()); ++s) {
-        if (auto it = loadsBefore.find(s); it != loadsBefore.end())
-            for (const auto& b : it->second)
+        for (const auto& [step, buffers] : loadsBefore) {
+            if (preread ? s != 0 : step != s)
+                continue;
+            for (const auto& b : buffers)
                 for (const auto& r : captureReads)
                     if (r.buffer == b) {
-                        held["capture:" + b] = pixelBytes * r.channels;
-                        current += pixelBytes * r.channels;
+                        const std::size_t bytes = imageBytes(frame, r.channels);
+                        held["capture:" + b] = bytes;
+                        current += bytes;
                     }
+        }
+        // An output nobody reads may still be written by the pass: it lives while the step runs.
+        std::size_t transient = steps[s].pass->memoryBytes(frame).scratch;
         for (const auto& o : steps[s].io.outputs) {
-            if (!steps[s].requestedOutputs.count(o.name))
+            const std::size_t bytes =
+                imageBytes(steps[s].pass->outputExtents(o.name, frame), int(o.channels.size()));
+            if (!steps[s].requestedOutputs.count(o.name)) {
+                transient += bytes;
                 continue;
-            std::size_t bytes = 0;
-            for (const Extent& e : steps[s].pass->outputExtents(o.name, frame))
-                bytes += sizeof(float) * std::size_t(e.width) * e.height * o.channels.size();
+            }
             held[steps[s].name + "." + o.name] = bytes;
             current += bytes;
         }
-        peak = std::max(peak, current);
+        if (current + transient + history >= best.peak())
+            best = {current, transient, history, steps[s].name};
+        if (!sequence)
+            history += steps[s].pass->memoryBytes(frame).history;
         releaseAfterStep(s);
     }
-    return peak;
+    return best;
 }
 
 nlohmann::json Plan::toJson(Extent frame) const {

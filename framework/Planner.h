@@ -75,8 +75,23 @@ struct Plan {
     /// Output source key → colour or data, as resolved when the outputs were bound.
     std::map<std::string, PortKind> outputKinds;
 
-    /// Peak bytes held at once for a frame of `frame` pixels (planes, mips, capture reads).
-    std::size_t estimatePeakBytes(Extent frame) const;
+    /// The host memory a frame of `frame` pixels takes at its peak: the images held at once
+    /// (capture reads, outputs with their mips and row padding), the scratch of the step running
+    /// then (its outputs nobody reads included: they are freed after it) and the histories kept
+    /// across frames.
+    struct MemoryEstimate {
+        std::size_t images = 0;   //!< held at the peak step
+        std::size_t scratch = 0;  //!< of the peak step
+        std::size_t history = 0;  //!< the temporal passes' kept states at the peak step
+        std::string peakStep;     //!< where the peak is ("" with no steps)
+        std::size_t peak() const { return images + scratch + history; }
+    };
+    /// `preread`: the frame's capture buffers were read before it started (a run reading ahead),
+    /// so each is held from the first step, not from the step that first reads it. `sequence`:
+    /// a frame after the first, which starts with every temporal pass's history; the first holds
+    /// only the histories its earlier steps kept.
+    MemoryEstimate estimateMemory(Extent frame, bool preread = false, bool sequence = false) const;
+    std::size_t estimatePeakBytes(Extent frame) const { return estimateMemory(frame).peak(); }
     nlohmann::json toJson(Extent frame) const;
 };
 

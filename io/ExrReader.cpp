@@ -153,23 +153,35 @@ Image ExrReader::read(const std::vector<std::string>& fileChannels,
 Image ExrReader::read(const std::vector<const ExrChannel*>& found,
                       const std::vector<std::string>& names) {
     const Extent size = found.empty() ? mExtent : mPartExtents[found.front()->part];
+    return readRows(found, names, 0, size.height);
+}
+
+Image ExrReader::readRows(const std::vector<const ExrChannel*>& found,
+                          const std::vector<std::string>& names, int firstRow, int rows) {
+    const Extent whole = found.empty() ? mExtent : mPartExtents[found.front()->part];
+    FP_CHECK(firstRow >= 0 && rows >= 0 && firstRow + rows <= whole.height,
+             "{}: rows {}–{} of a part {} rows high", mPath, firstRow, firstRow + rows - 1,
+             whole.height);
+    const Extent size{whole.width, rows};
     std::vector<std::string> fileChannels;
     for (const ExrChannel* ch : found) {
         fileChannels.push_back(ch->name);
         const Extent e = mPartExtents[ch->part];
-        FP_CHECK(e == size, "{}: channel '{}' (part {}) is {}×{}, the others are {}×{}", mPath,
-                 ch->name, ch->part, e.width, e.height, size.width, size.height);
+        FP_CHECK(e == whole, "{}: channel '{}' (part {}) is {}×{}, the others are {}×{}", mPath,
+                 ch->name, ch->part, e.width, e.height, whole.width, whole.height);
     }
     Image image(size.width, size.height, names);
     std::map<int, Imf::FrameBuffer> perPart;
+    std::map<int, int> partFirstRow;  // in each part's absolute row numbers
     for (std::size_t i = 0; i < found.size(); ++i) {
         const ExrChannel* ch = found[i];
         const auto dw = mFile->header(ch->part).dataWindow();
         Plane& plane = image.plane(int(i));
         // OpenEXR addresses the slice by absolute pixel coordinates: shift the base pointer so
-        // that dataWindow.min lands on the first float of the plane.
+        // that the first row read (dataWindow.min.y + firstRow) lands on the plane's first row.
+        partFirstRow[ch->part] = dw.min.y + firstRow;
         char* base = reinterpret_cast<char*>(plane.row(0)) -
-                     (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y) * plane.stride()) *
+                     (std::ptrdiff_t(dw.min.x) + std::ptrdiff_t(dw.min.y + firstRow) * plane.stride()) *
                          std::ptrdiff_t(sizeof(float));
         perPart[ch->part].insert(ch->name, Imf::Slice(Imf::FLOAT, base, sizeof(float),
                                                       plane.stride() * sizeof(float)));
@@ -179,8 +191,7 @@ Image ExrReader::read(const std::vector<const ExrChannel*>& found,
         try {
             Imf::InputPart in(*mFile, part);
             in.setFrameBuffer(fb);
-            const auto dw = in.header().dataWindow();
-            in.readPixels(dw.min.y, dw.max.y);
+            in.readPixels(partFirstRow[part], partFirstRow[part] + rows - 1);
         } catch (const std::exception& e) {
             throw Error(fmt::format("{}: could not read channels [{}]: {}", mPath,
                                     fmt::join(fileChannels, ", "), e.what()));

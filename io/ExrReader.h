@@ -38,6 +38,10 @@ public:
     Image read(const std::vector<std::string>& fileChannels, const std::vector<std::string>& names);
     /// Same, for channels picked from channels() (names repeat across the parts of a mip chain).
     Image read(const std::vector<const ExrChannel*>& channels, const std::vector<std::string>& names);
+    /// `rows` rows of them from row `firstRow` of their data window (one part): a large file
+    /// read a band at a time.
+    Image readRows(const std::vector<const ExrChannel*>& channels,
+                   const std::vector<std::string>& names, int firstRow, int rows);
 
     /// Every channel decoded so far, in order: the proof that reads are lazy.
     const std::vector<std::string>& readLog() const { return mReadLog; }

@@ -434,6 +434,13 @@ std::vector<PortSpec> denoiserInputs(Footprint footprint) {
     return in;
 }
 
+PassMemory memoryOf(Extent frame, int channels, bool enabled, bool temporalAccumulation) {
+    if (!enabled) return {};
+    const std::size_t state = temporalAccumulation ? imageBytes(frame, int(stateChannels().size())) : 0;
+    const std::size_t grid = sizeof(Surface) * std::size_t(frame.width) * std::size_t(frame.height);
+    return {grid + imageBytes(frame, 1) + 2 * imageBytes(frame, channels) + state, state};
+}
+
 void denoisePorts(PassContext& ctx,
                   const Stages& stages,
                   const std::vector<std::string>& signalPorts,

@@ -153,4 +153,10 @@ void denoisePorts(PassContext& ctx,
                   const std::vector<std::string>& signalPorts,
                   bool enabled);
 
+/// What denoisePorts allocates for a frame of `frame` pixels and a signal of `channels`: the
+/// surface grid, the kernel radii, the two ping-pong images, the new state (and the history
+/// kept) when accumulating; nothing when not `enabled`. A signal traced at 1/k adds a grid of
+/// 1/k² (not counted: at most a quarter of the grid).
+PassMemory memoryOf(Extent frame, int channels, bool enabled, bool temporalAccumulation);
+
 }  // namespace fp::ssd

@@ -4,6 +4,7 @@
 // AO rays' closest hit, temporal accumulation, a 7-pixel history convolution.
 #include "framework/Params.h"
 #include "framework/Pass.h"
+#include "screenspace/SignalDenoiser.h"
 
 namespace fp {
 
@@ -23,6 +24,9 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    PassMemory memoryBytes(Extent frame) const override {
+        return ssd::memoryOf(frame, 1, mParams.denoiser > 0, mParams.temporalAccumulation);
+    }
 };
 
 }  // namespace fp

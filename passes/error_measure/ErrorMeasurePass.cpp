@@ -70,6 +70,12 @@ void ErrorMeasurePass::reportStats(PassContext& ctx, const ErrorStats& s) const 
     ctx.addWork("skippedPixels", s.maskedPixels);
 }
 
+PassMemory ErrorMeasurePass::memoryBytes(Extent frame) const {
+    // The mask and |error| planes, and the heat map's sorted copy of |error| (its percentile).
+    const std::size_t pixels = std::size_t(frame.width) * std::size_t(frame.height);
+    return {2 * imageBytes(frame, 1) + 3 * sizeof(float) * pixels, 0};
+}
+
 void ErrorMeasurePass::execute(PassContext& ctx) {
     const Image& b = ctx.input(kReference)->image();
     const Image& a = ctx.input(kSource)->image();

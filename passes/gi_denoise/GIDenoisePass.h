@@ -5,6 +5,7 @@
 // It denoises the irradiance and the AO together, as Unreal's does.
 #include "framework/Params.h"
 #include "framework/Pass.h"
+#include "screenspace/SignalDenoiser.h"
 
 namespace fp {
 
@@ -24,6 +25,9 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    PassMemory memoryBytes(Extent frame) const override {
+        return ssd::memoryOf(frame, 4, mParams.denoiser > 0, mParams.temporalAccumulation);
+    }
 };
 
 }  // namespace fp

@@ -85,6 +85,10 @@ PassIO HybridReflectionsPass::describe() const {
     return io;
 }
 
+PassMemory HybridReflectionsPass::memoryBytes(Extent frame) const {
+    return SSRPass(mParams).memoryBytes(frame);  // SSR's rays and SSR's history
+}
+
 void HybridReflectionsPass::execute(PassContext& ctx) {
     const RayScene& rs = ctx.scene();
     mSky = ReflectedSky::of(rs.scene().environment.sky, mSky);

@@ -28,6 +28,7 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    PassMemory memoryBytes(Extent frame) const override;
 
 private:
     std::shared_ptr<const ReflectedSky> mSky;  // made once per sky light

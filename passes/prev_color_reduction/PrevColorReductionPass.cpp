@@ -69,6 +69,11 @@ std::vector<Extent> PrevColorReductionPass::outputExtents(std::string_view, Exte
     return mipExtents(frame);
 }
 
+PassMemory PrevColorReductionPass::memoryBytes(Extent frame) const {
+    // The kernel reduces into one 5-channel chain (colour, weight, depth) before its outputs.
+    return {imageBytes(mipExtents(frame), 5), 0};
+}
+
 void PrevColorReductionPass::execute(PassContext& ctx) {
     prev_color::run(ctx, HostPorts{ctx}, CpuPixels{}, mParams);
 }

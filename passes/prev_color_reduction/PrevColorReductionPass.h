@@ -22,6 +22,7 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    PassMemory memoryBytes(Extent frame) const override;
     std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
 
     /// Mip 0 is half resolution rounded up to a multiple of 16; five mips (algorithms §3.1).

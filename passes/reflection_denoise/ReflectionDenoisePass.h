@@ -4,6 +4,7 @@
 // radius follows the reflection lobe's footprint (hit distance × α), temporal accumulation.
 #include "framework/Params.h"
 #include "framework/Pass.h"
+#include "screenspace/SignalDenoiser.h"
 
 namespace fp {
 
@@ -21,6 +22,9 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    PassMemory memoryBytes(Extent frame) const override {
+        return ssd::memoryOf(frame, 4, mParams.denoiser > 0, mParams.temporalAccumulation);
+    }
 };
 
 }  // namespace fp

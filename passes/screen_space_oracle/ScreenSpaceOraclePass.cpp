@@ -77,6 +77,13 @@ PassIO ScreenSpaceOraclePass::describe() const {
     return io;
 }
 
+PassMemory ScreenSpaceOraclePass::memoryBytes(Extent frame) const {
+    // Each pixel's tangent plane and its hit colour.
+    return {(sizeof(screen_space_oracle::TangentPlane) + sizeof(Vec3f)) * std::size_t(frame.width) *
+                std::size_t(frame.height),
+            0};
+}
+
 void ScreenSpaceOraclePass::execute(PassContext& ctx) {
     screen_space_oracle::run(ctx, HostPorts{ctx}, CpuPixels{}, mParams.rays, mParams.thickness,
                              mParams.aoRadius);

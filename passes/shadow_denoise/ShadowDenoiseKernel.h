@@ -324,4 +324,14 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const Light
         "shadow_denoise outputs");
 }
 
+/// What run() allocates on the CPU with the denoiser on: the surfaces, the occluder table and the
+/// radii (freed before the filter), then the two ping-pong images.
+inline PassMemory memoryOf(Extent frame, int denoiser) {
+    if (denoiser <= 0) return {};
+    const std::size_t pixels = std::size_t(frame.width) * std::size_t(frame.height);
+    const std::size_t table = sizeof(uint32_t) * std::size_t(frame.width + 1) * std::size_t(frame.height + 1);
+    return {std::max(sizeof(Surface) * pixels + table + imageBytes(frame, 1), 2 * imageBytes(frame, 2)),
+            0};
+}
+
 }  // namespace fp::shadow_denoise

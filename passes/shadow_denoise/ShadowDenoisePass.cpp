@@ -54,6 +54,10 @@ PassIO ShadowDenoisePass::describe() const {
     return io;
 }
 
+PassMemory ShadowDenoisePass::memoryBytes(Extent frame) const {
+    return shadow_denoise::memoryOf(frame, mParams.denoiser);
+}
+
 void ShadowDenoisePass::execute(PassContext& ctx) {
     shadow_denoise::run(ctx, HostPorts{ctx}, CpuPixels{}, namedLight(ctx.lights(), mParams.light),
                         mParams.denoiser, mParams.reconstructionSamples, mParams.preConvolution,

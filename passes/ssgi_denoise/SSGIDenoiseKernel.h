@@ -382,4 +382,14 @@ void run(PassContext& ctx,
         ports.keepHistory(std::move(state));
 }
 
+/// What run() allocates on the CPU at the trace extent: the surfaces, the reconstruction and, when
+/// accumulating, the new state (and the history kept); nothing with the denoiser off.
+inline PassMemory memoryOf(Extent trace, int denoiser, bool temporalAccumulation) {
+    if (denoiser == 0) return {};
+    const std::size_t state = temporalAccumulation ? imageBytes(trace, kHistoryChannels) : 0;
+    return {sizeof(Surface) * std::size_t(trace.width) * std::size_t(trace.height) +
+                imageBytes(trace, kReconChannels) + state,
+            state};
+}
+
 }  // namespace fp::ssgi_denoise

@@ -66,6 +66,11 @@ std::vector<Extent> SSGIDenoisePass::outputExtents(std::string_view, Extent fram
     return {traceExtent(frame, mParams.halfRes)};
 }
 
+PassMemory SSGIDenoisePass::memoryBytes(Extent frame) const {
+    return ssgi_denoise::memoryOf(traceExtent(frame, mParams.halfRes), mParams.denoiser,
+                                  mParams.temporalAccumulation);
+}
+
 void SSGIDenoisePass::execute(PassContext& ctx) {
     ssgi_denoise::run(ctx, HostPorts{ctx}, CpuPixels{}, mParams.denoiser,
                       mParams.temporalAccumulation, mParams.halfRes);

@@ -22,6 +22,7 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    PassMemory memoryBytes(Extent frame) const override;
     std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
 
     FP_PASS_HAS_CUDA_KERNEL  // SSGIDenoisePass.cu

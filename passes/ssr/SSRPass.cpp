@@ -51,6 +51,12 @@ PassIO SSRPass::describe() const {
     return io;
 }
 
+PassMemory SSRPass::memoryBytes(Extent frame) const {
+    // r.SSR.Temporal: the traced colour becomes the history.
+    const std::size_t traced = mParams.temporal ? imageBytes(frame, 4) : 0;
+    return {traced, traced};
+}
+
 void SSRPass::execute(PassContext& ctx) {
     ssr::run(ctx, HostPorts{ctx}, CpuPixels{},
              ssr::effectiveQuality(mParams.quality, mParams.postProcessQuality, mParams.intensity),

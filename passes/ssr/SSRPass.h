@@ -39,6 +39,7 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    PassMemory memoryBytes(Extent frame) const override;
 
     FP_PASS_HAS_CUDA_KERNEL  // SSRPass.cu
 

@@ -3,8 +3,8 @@
 # a scene in other units than its capture (converted when both say their units, an error that
 # names the likely cause when they do not line up), an output name without a frame token over
 # several frames, an .ini in UTF-8 with a byte-order mark or in UTF-16, a --previous that the
-# profile would ignore, reflection figures carried by a reflected light, empty paths, a mistyped
-# option, NaN in compare, plan on a missing capture.
+# profile would ignore, reflection figures carried by a reflected light, a memory forecast off the
+# process's peak, empty paths, a mistyped option, NaN in compare, plan on a missing capture.
 # Usage: wrong_answers_test.sh FRAMEPASS SOURCE_DIR SCRATCH
 set -u
 source "$(cd "$(dirname "$0")" && pwd)/checks.sh"
@@ -152,6 +152,43 @@ check "compare --mask reflected-emitter gives error_measure's figure" \
 check "a reflected-emitter mask without a truth capture names the command that writes one" \
     expect_exit 2 "framepass capture --truth" "$FP" compare "$DIR/glossy/dump/reflection_environment.specular.0001.exr" \
     "$DIR/glossy/dump/reflection_environment.specular.0001.exr" --mask reflected-emitter
+
+# --- 16. Memory. A run's forecast (what the process holds, a frame's images at the plan's peak,
+# the pass scratch, the histories, what is read ahead and written) is within 20 % of the peak the
+# process reached (getrusage): one frame of Unreal's chain at 1024², its ray-traced chain at 512²,
+# three frames read ahead at 512². compare is checked before it reads; inspect streams. ---
+check "capture the box at 1024² and a three-frame sequence at 512²" bash -c \
+    "'$FP' capture '$CORNELL/scene.json' -o '$DIR/m1024.exr' --width 1024 --height 1024 >/dev/null && \
+     '$FP' capture '$CORNELL/scene.json' -o '$DIR/mseq.####.exr' --frames 1-3 --width 512 --height 512 >/dev/null"
+printf '{ "version": 1, "engine": "ue4.27", "capture": "%s" }\n' "$DIR/m1024.exr" > "$DIR/m1024.json"
+printf '{ "version": 1, "engine": "ue4.27-raytracing", "capture": "%s", "scene": "%s" }\n' \
+    "$DIR/mseq.0001.exr" "$CORNELL/scene.json" > "$DIR/mrt.json"
+printf '{ "version": 1, "engine": "ue4.27", "capture": "%s", "frames": "1-3" }\n' "$DIR/mseq.####.exr" > "$DIR/mseq.json"
+within20() {  # within20 REPORT: the forecast within 20 % of the measured peak
+    python3 -c "import json,sys; m=json.load(open(sys.argv[1]))['memory']; f=m['forecast']['totalBytes']; p=m['peakResidentBytes']; print(f, p); sys.exit(0 if abs(f - p) <= 0.2 * p else 1)" "$1"
+}
+for run in m1024 mrt mseq; do
+    check "$run: the memory forecast is within 20 % of the process's peak" bash -c \
+        "'$FP' run '$DIR/$run.json' -o '$DIR/$run' --report '$DIR/$run.report.json' >/dev/null 2>&1 && $(declare -f within20); within20 '$DIR/$run.report.json'"
+done
+check "the run's last line sets its peak beside the forecast" \
+    expect_exit 0 "memory: the process peaked at" "$FP" run "$DIR/m1024.json" -o "$DIR/m1024b"
+check "compare refuses a comparison over --max-memory before it reads" \
+    expect_exit 2 "at its peak (both images" "$FP" compare "$DIR/m1024.exr" "$DIR/m1024.exr" --layer SceneColor --max-memory 1M
+# inspect reads a band of rows at a time: on a 4096² four-channel part (256 MiB of floats) its
+# peak stays within 128 MiB of its peak on a tiny file (a 64 MiB band and OpenEXR's buffers).
+oiiotool --pattern constant:color=0.5,0.25,1,1 4096x4096 4 -d float -o "$DIR/big.exr"
+oiiotool --pattern constant:color=0.5,0.25,1,1 16x16 4 -d float -o "$DIR/tiny.exr"
+check "inspect streams a 256 MiB part through a bounded band" python3 - "$FP" "$DIR" <<'PY'
+import resource, subprocess, sys
+fp, d = sys.argv[1], sys.argv[2]
+def peak(path):  # the child's peak resident memory, KiB (the largest child so far: tiny first)
+    subprocess.run([fp, "inspect", path, "--json"], check=True, stdout=subprocess.DEVNULL)
+    return resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+tiny = peak(d + "/tiny.exr"); big = peak(d + "/big.exr")
+print("inspect peak: tiny", tiny // 1024, "MiB, 4096² part", big // 1024, "MiB")
+sys.exit(0 if big - tiny <= 128 * 1024 else 1)
+PY
 
 # --- 17. Empty paths, a mistyped option. ---
 check "-o '' is an error" expect_exit 2 "an empty path names no file or folder" "$FP" run "$DIR/plain.json" -o ''

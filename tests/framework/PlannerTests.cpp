@@ -38,6 +38,11 @@ public:
     }
     explicit FakePass(const Params& p) : mParams(p) {}
     PassIO describe() const override { return Ports::describe(); }
+    // `quality` one-channel planes of scratch; `flag`: a two-channel history.
+    PassMemory memoryBytes(Extent frame) const override {
+        return {std::size_t(mParams.quality) * imageBytes(frame, 1),
+                mParams.flag ? imageBytes(frame, 2) : 0};
+    }
     void execute(PassContext& ctx) override {
         executed().insert(Ports::kId);
         for (const auto& o : describe().outputs)
@@ -130,6 +135,31 @@ std::string planError(const GraphDesc& g, const PlanInputs& in = {}) {
 }  // namespace
 
 TEST_SUITE("planner") {
+    TEST_CASE("the memory estimate adds the running step's scratch and the histories kept") {
+        // a reads SceneDepth (1 channel) into a.out; c reads a.out into c.out, the file. a has 2
+        // planes of scratch and a 2-channel history. P = one plane of 100×10, rows padded to 112.
+        const Extent e{100, 10};
+        const std::size_t P = 112 * 10 * sizeof(float);
+        CHECK(imageBytes(e, 1) == P);
+        const auto g = graph({node("a", "depth_reader", {}, {{"quality", 2}, {"flag", true}}),
+                              node("c", "relay", {{"in", "a.out"}}, {{"quality", 0}})},
+                             {"c.out"});
+        const Plan plan = makePlan(g, fakeRegistry(), {});
+        REQUIRE(plan.steps.size() == 2);
+        // First frame. During a: the depth, a.out and a's scratch (4P). During c: a.out, c.out
+        // and the history a kept (4P); no history yet during a.
+        const Plan::MemoryEstimate first = plan.estimateMemory(e);
+        CHECK(first.peak() == 4 * P);
+        // Later frames start with a's history: during a, 2P more (6P), the peak.
+        const Plan::MemoryEstimate later = plan.estimateMemory(e, false, true);
+        CHECK(later.peak() == 6 * P);
+        CHECK(later.peakStep == "a");
+        CHECK(later.scratch == 2 * P);
+        CHECK(later.history == 2 * P);
+        CHECK(later.images == 2 * P);
+        CHECK(plan.estimatePeakBytes(e) == first.peak());
+    }
+
     TEST_CASE("passes with no path to a requested output are culled and never run") {
         const auto g = graph({node("a", "depth_reader"), node("b", "color_reader"),
                               node("c", "relay", {{"in", "a.out"}})},
