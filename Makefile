@@ -1,14 +1,31 @@
 # The two commands of the README. Both install what is missing from Debian 12, then build.
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
-DEBIAN_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimageio-tools \
+# What building and running the command line needs (make demo), then what the tests, the Python
+# module, the docs and the browser test add (make test).
+CLI_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimageio-tools \
     libopenexr-dev libopencolorio-dev libembree-dev libtbb-dev libcli11-dev nlohmann-json3-dev \
-    doctest-dev libfmt-dev libhwy-dev libtinygltf-dev libtinyobjloader-dev fonts-dejavu-core chromium python3 \
-    python3-jsonschema help2man zsh fish graphviz pybind11-dev python3-dev python3-numpy python3-pytest \
+    doctest-dev libfmt-dev libhwy-dev libtinygltf-dev libtinyobjloader-dev fonts-dejavu-core \
     libcpp-httplib-dev
+DEBIAN_PACKAGES = $(CLI_PACKAGES) chromium python3 python3-jsonschema help2man zsh fish graphviz \
+    pybind11-dev python3-dev python3-numpy python3-pytest
 FRAMEPASS = $(BUILD_DIR)/cli/framepass
+# A recipe line piped through grep fails when framepass fails, not only when grep does.
+SHELL := /bin/bash
+.SHELLFLAGS := -o pipefail -c
 # Extra cmake arguments, e.g. CMAKE_ARGS=-DFP_WERROR=ON (CI: every warning of gcc and clang is an error).
 CMAKE_ARGS ?=
+# The CUDA backend: built where nvcc is found and a GPU answers nvidia-smi (auto), or always (on:
+# to carry the GPU check to another machine, docs/gpu.md), or never (off). Its kernels are a third
+# of a fresh build's time, useless without a GPU.
+CUDA ?= auto
+ifeq ($(CUDA),auto)
+FP_CUDA := $(shell nvidia-smi -L >/dev/null 2>&1 && echo ON || echo OFF)
+else ifeq ($(CUDA),on)
+FP_CUDA := ON
+else
+FP_CUDA := OFF
+endif
 # make fuzz: the libFuzzer targets of fuzz/ under ASan + UBSan, each run FUZZ_SECONDS from its
 # seed corpus with a fixed seed (so CI's short run is the start of a long local one).
 FUZZ_PACKAGES = clang libclang-rt-14-dev
@@ -16,10 +33,11 @@ FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS = ConfigFuzz CaptureFuzz SidecarFuzz ObjFuzz GltfFuzz ServeRequestFuzz
 
-.PHONY: demo results test deps build build-cli fuzz bench stability
+.PHONY: demo results test deps deps-cli build build-cli fuzz bench stability
 
-deps:
-	@missing=$$(for p in $(DEBIAN_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
+# Installs what is missing of the packages $(1) (as root; otherwise prints the apt-get line).
+define install_missing
+	@missing=$$(for p in $(1); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
 	if [ -n "$$missing" ]; then \
 	  if [ "$$(id -u)" = 0 ]; then \
 	    echo "Installing Debian packages:" $$missing; \
@@ -29,18 +47,25 @@ deps:
 	    echo "  sudo apt-get install -y" $$missing; exit 1; \
 	  fi; \
 	fi
+endef
+
+deps-cli:
+	$(call install_missing,$(CLI_PACKAGES))
+
+deps:
+	$(call install_missing,$(DEBIAN_PACKAGES))
 	@# node and npm, for the workbench's browser test (Playwright): Debian's, unless a node is there.
 	@command -v npm >/dev/null || { \
 	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq nodejs npm; \
 	  else echo "framepass's browser test needs node: sudo apt-get install -y nodejs npm"; exit 1; fi; }
 
 build: deps
-	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DFP_CUDA=$(FP_CUDA) $(CMAKE_ARGS)
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
 # The command line alone (no test suite, Python module or GPU check): what make demo runs.
-build-cli: deps
-	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
+build-cli: deps-cli
+	cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DFP_CUDA=$(FP_CUDA) $(CMAKE_ARGS)
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target framepass
 
 demo: build-cli
@@ -51,7 +76,7 @@ demo: build-cli
 	$(FRAMEPASS) run examples/cornell/config.json -o out/demo --report out/demo/report.json
 	$(FRAMEPASS) compare out/demo/cornell.exr out/demo/cornell.exr --layer Truth.DiffuseIndirectOneBounce \
 	    --ref-layer Truth.DiffuseIndirectFull --heatmap out/demo/one_bounce_error.exr
-	$(FRAMEPASS) bench examples/cornell/bench.json --runs 3 --sweep r.SSGI.Quality=1..4 \
+	$(FRAMEPASS) bench examples/cornell/bench.json --runs 1 --sweep r.SSGI.Quality=1..4 \
 	    --html out/demo/bench.html | grep -v '^Progress'
 	$(FRAMEPASS) tune examples/cornell/bench.json --target 'ssgi_vs_one_bounce<=0.035' \
 	    --sweep r.SSGI.Quality=1..4 --sweep r.SSGI.HalfRes=0,1 --runs 1 | grep -v '^Progress'

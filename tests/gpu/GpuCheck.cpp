@@ -157,8 +157,10 @@ Plan chainPlan(const ChainOptions& o) {
             "inputs": { "source": "ssgi_denoise.diffuse", "reference": "capture:SceneColor",
                         "referenceStdErr": "capture:BaseColor" } })"));
         passes.push_back(nlohmann::json::parse(R"(
-          { "name": "ao_vs_gbuffer", "type": "error_measure", "params": { "skyDistance": 1e6 },
-            "inputs": { "source": "ssgi_denoise.ao", "reference": "capture:GBufferAO" } })"));
+          { "name": "ao_vs_gbuffer", "type": "error_measure",
+            "params": { "skyDistance": 1e6, "excludeAbove": 0.5 },
+            "inputs": { "source": "ssgi_denoise.ao", "reference": "capture:GBufferAO",
+                        "exclude": "capture:Roughness" } })"));
         // The error breakdown's oracle, culled unless a dump asks for it.
         passes.push_back({{"name", "oracle"}, {"type", "screen_space_oracle"}, {"params", {{"rays", 16}}}});
         config["outputs"] = {{"final.####.exr", {"display.image", "gi_vs_color.heat",
