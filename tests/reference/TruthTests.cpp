@@ -205,11 +205,7 @@ TEST_CASE("a point light's irradiance I·cosθ/r² on a Lambert wall, seen in a 
     // outer cone misses the floor, so no caustic through the mirror adds to the wall; the
     // mirror cannot show the wall to itself (rays leaving the wall downwards reflect away).
     Scene s;
-    Material mirror;
-    mirror.baseColor = {1, 1, 1};
-    mirror.metallic = 1.0f;
-    mirror.roughness = 0.0f;
-    s.materials.push_back(mirror);
+    s.materials.push_back(test::mirror());
     s.materials.push_back(lambert(0.6f));
     s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 100.0, 0));  // floor y = 0
     s.meshes.push_back(test::quad({0, 50, 60}, {1, 0, 0}, {0, 1, 0}, 50.0, 1));  // wall z = 60
@@ -321,11 +317,7 @@ TEST_CASE("Truth.ReflectedEmitter is 1 where a mirror reflects an emitter and 0 
     // counts it), and ReflectedEmitter marks the pixels whose lobe sees it — at roughness 0
     // (α = 4·10⁻⁴, a cone of ~10⁻³ rad) every sample or none, away from the square's edges.
     Scene s;
-    Material mirror;
-    mirror.baseColor = {1, 1, 1};
-    mirror.metallic = 1.0f;
-    mirror.roughness = 0.0f;
-    s.materials.push_back(mirror);
+    s.materials.push_back(test::mirror());
     s.materials.push_back(lambert(0.0f, 5.0f));
     s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 200.0, 0));
     s.meshes.push_back(test::quad({0, 30, 20}, {1, 0, 0}, {0, 0, 1}, 10.0, 1));

@@ -47,6 +47,15 @@ inline Mesh sphere(const Vec3d& centre, double radius, int segments, int materia
     return m;
 }
 
+/// A perfect mirror: a metal of base colour 1 (Schlick F = 1) and roughness 0.
+inline Material mirror() {
+    Material m;
+    m.baseColor = {1, 1, 1};
+    m.metallic = 1.0f;
+    m.roughness = 0.0f;
+    return m;
+}
+
 /// A pure Lambert material (no specular lobe) of grey albedo, optionally glowing.
 inline Material lambert(float albedo, float emission = 0.0f) {
     Material m;

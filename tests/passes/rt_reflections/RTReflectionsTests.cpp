@@ -19,14 +19,6 @@ std::map<std::string, Texture> runRtr(test::MemorySource& src, nlohmann::json pa
                           {"rt_reflections.reflection", "rt_reflections.hitDistance"});
 }
 
-Material mirror() {
-    Material m;
-    m.baseColor = {1, 1, 1};
-    m.metallic = 1.0f;
-    m.roughness = 0.0f;
-    return m;
-}
-
 FrameCamera camera(const Vec3d& eye, const Vec3d& target, int w, int h, double fov) {
     FrameCamera cam;
     cam.current = CameraView::lookAt(eye, target, {0, 1, 0}, fov, w, h, 0.01);
@@ -41,7 +33,7 @@ TEST_CASE("rt_reflections: a mirror floor shows the point-lit wall's radiance") 
     // wall (ρ = 0.6) lit by a spot whose inner cone covers the tested part of the wall. A floor
     // pixel's reflection is the wall's radiance ρ/π·I·cosθ/r² at the mirrored point, coverage 1.
     Scene s;
-    s.materials.push_back(mirror());
+    s.materials.push_back(test::mirror());
     s.materials.push_back(test::lambert(0.6f));
     s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 100.0, 0, 1));  // floor y = 0
     s.meshes.push_back(test::quad({0, 50, 60}, {1, 0, 0}, {0, 1, 0}, 50.0, 1, 2));  // wall z = 60
@@ -85,7 +77,7 @@ TEST_CASE("rt_reflections: a mirror floor shows the point-lit wall's radiance") 
 
 TEST_CASE("rt_reflections: under an open sky a mirror shows the sky, and the fade sets the coverage") {
     Scene s;
-    s.materials.push_back(mirror());
+    s.materials.push_back(test::mirror());
     s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 1000.0, 0, 1));
     s.environment.sky.enabled = true;
     s.environment.sky.color = {0.25f, 0.5f, 1.0f};
@@ -121,7 +113,7 @@ TEST_CASE("rt_reflections: a hit's traced indirect light sees the sky only where
     // under 0.06° (a 5·10⁻⁴ share). Enclosed in a black box, the traced light is exactly 0 while
     // the SH still gives 0.6.
     Scene s;
-    s.materials.push_back(mirror());
+    s.materials.push_back(test::mirror());
     s.materials.push_back(test::lambert(0.6f));
     s.materials.push_back(test::lambert(0.0f));
     s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 1e5, 0, 1));    // floor y = 0
@@ -172,7 +164,7 @@ TEST_CASE("rt_reflections: a screen percentage traces the top-left pixel of each
     // Texel (x, y) at 1/k resolution is the full-resolution pass's pixel (k·x, k·y), bit for bit,
     // Unreal's hybrid included (its hits are projected onto the frame, not onto the texels).
     Scene s;
-    s.materials.push_back(mirror());
+    s.materials.push_back(test::mirror());
     s.materials[0].roughness = 0.3f;
     s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 1000.0, 0, 1));
     s.meshes.push_back(test::sphere({0, 8, 0}, 6.0, 24, 0, 2));
@@ -205,7 +197,7 @@ TEST_CASE("rt_reflections: a light's visible shape is reflected by its light, no
     // mirror shows; marked as a light's shape (Mesh::shapeOf) it adds nothing, the light's own
     // specular (deferred_lighting) being its reflection. The light itself points away.
     Scene s;
-    s.materials.push_back(mirror());
+    s.materials.push_back(test::mirror());
     s.materials.push_back(test::lambert(0.0f, 2.0f));
     s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 1000.0, 0, 1));
     s.meshes.push_back(test::quad({0, 30, 0}, {1, 0, 0}, {0, 0, 1}, 1000.0, 1, 2));  // faces down
@@ -233,7 +225,7 @@ TEST_CASE("rt_reflections: the hybrid takes the lit colour where a hit lands on 
     // capture's SceneColor of that wall pixel, bit for bit; shaded, its value is the wall's
     // radiance at the hit, which matches no pixel's stored colour exactly.
     Scene s;
-    s.materials.push_back(mirror());
+    s.materials.push_back(test::mirror());
     s.materials.push_back(test::lambert(0.6f));
     s.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 100.0, 0, 1));
     s.meshes.push_back(test::quad({0, 50, 60}, {1, 0, 0}, {0, 1, 0}, 50.0, 1, 2));
