@@ -211,6 +211,21 @@ std::optional<Image> readBuffer(const std::string& path, const io::CaptureProfil
     return files->read(buffer, 1, notes);
 }
 
+// 1 where `keep` holds for the first channel of `source`, else 0; `left` counts the zeros.
+template <typename Keep>
+Image maskWhere(const Image& source, Keep keep, int64_t* left = nullptr) {
+    Image m(source.width(), source.height(), {"Y"});
+    int64_t dropped = 0;
+    for (int y = 0; y < m.height(); ++y)
+        for (int x = 0; x < m.width(); ++x) {
+            const bool kept = keep(source.plane(0).at(x, y));
+            m.plane(0).at(x, y) = kept ? 1.0f : 0.0f;
+            dropped += !kept;
+        }
+    if (left) *left = dropped;
+    return m;
+}
+
 Image maskOf(const std::string& spec, const MaskSources& src, float skyDistance, Extent size,
              std::string& note) {
     auto keepEqual = [&](const std::string& buffer, const std::string& value) {
@@ -227,10 +242,7 @@ Image maskOf(const std::string& spec, const MaskSources& src, float skyDistance,
         if (!ids)
             throw UsageError(fmt::format("--mask {}: neither file has {} (profiles {}, {})", spec,
                                          buffer, src.profileA.name(), src.profileB.name()));
-        Image m(ids->width(), ids->height(), {"Y"});
-        for (int y = 0; y < m.height(); ++y)
-            for (int x = 0; x < m.width(); ++x)
-                m.plane(0).at(x, y) = std::lround(ids->plane(0).at(x, y)) == wanted ? 1.0f : 0.0f;
+        Image m = maskWhere(*ids, [&](float v) { return std::lround(v) == wanted; });
         note = fmt::format("only {} {}", buffer, wanted);
         return m;
     };
@@ -278,26 +290,16 @@ Image maskOf(const std::string& spec, const MaskSources& src, float skyDistance,
             throw UsageError(fmt::format(
                 "--mask {}: neither file has a {} layer; `framepass capture --truth` writes it",
                 spec, kReflectedEmitterLayer));
-        Image m(seen->width(), seen->height(), {"Y"});
         int64_t left = 0;
-        for (int y = 0; y < m.height(); ++y)
-            for (int x = 0; x < m.width(); ++x) {
-                const bool keep = seen->plane(0).at(x, y) <= above;
-                m.plane(0).at(x, y) = keep ? 1.0f : 0.0f;
-                left += !keep;
-            }
+        Image m = maskWhere(*seen, [&](float v) { return v <= above; }, &left);
         note = fmt::format("{} pixels whose reflection sees an emitter left out ({} > {})", left,
                            kReflectedEmitterLayer, above);
         return m;
     }
     ComparedFile file(spec);
     const Image picture = readSpec(file, "", io::CaptureProfile::load("canonical"));
-    Image m(picture.width(), picture.height(), {"Y"});
-    for (int y = 0; y < m.height(); ++y)
-        for (int x = 0; x < m.width(); ++x)
-            m.plane(0).at(x, y) = picture.plane(0).at(x, y) > 0.0f ? 1.0f : 0.0f;
     note = "mask " + spec;
-    return m;
+    return maskWhere(picture, [](float v) { return v > 0.0f; });
 }
 
 void checkSameShape(const Image& a, const Image& b, const std::string& nameA,

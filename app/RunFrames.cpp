@@ -200,7 +200,8 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
     wo.protectedPaths.insert(inputs.begin(), inputs.end());
     wo.protectedPaths.erase("");
     io::checkFolderWritable(opt.outputDir, "-o");
-    // Reading ahead holds the next frame's capture buffers beside this frame's images.
+    // The process's peak, forecast before a pixel is read (app/MemoryLimit.h), checked against
+    // --max-memory and reported beside the peak reached.
     std::optional<MemoryForecast> forecast;
     if (session.extent().width > 0) {
         forecast = forecastMemory(plan, session.extent(),

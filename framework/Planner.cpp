@@ -679,7 +679,8 @@ Plan::MemoryEstimate Plan::estimateMemory(Extent frame, bool preread, bool seque
                     }
         }
         // An output nobody reads may still be written by the pass: it lives while the step runs.
-        std::size_t transient = steps[s].pass->memoryBytes(frame).scratch;
+        const PassMemory own = steps[s].pass->memoryBytes(frame);
+        std::size_t transient = own.scratch;
         for (const auto& o : steps[s].io.outputs) {
             const std::size_t bytes =
                 imageBytes(steps[s].pass->outputExtents(o.name, frame), int(o.channels.size()));
@@ -693,7 +694,7 @@ Plan::MemoryEstimate Plan::estimateMemory(Extent frame, bool preread, bool seque
         if (current + transient + history >= best.peak())
             best = {current, transient, history, steps[s].name};
         if (!sequence)
-            history += steps[s].pass->memoryBytes(frame).history;
+            history += own.history;
         releaseAfterStep(s);
     }
     return best;
