@@ -33,7 +33,7 @@ FUZZ_DIR ?= build-fuzz
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS = ConfigFuzz CaptureFuzz SidecarFuzz ObjFuzz GltfFuzz ServeRequestFuzz
 
-.PHONY: demo results test deps deps-cli build build-cli fuzz bench stability
+.PHONY: demo results test deps deps-cli build build-cli fuzz bench bench-sequence stability
 
 # Installs what is missing of the packages $(1) (as root; otherwise prints the apt-get line).
 define install_missing
@@ -116,6 +116,12 @@ test: build
 BENCH_RUNS ?= 3
 bench: build
 	python3 examples/bench/bench_1080p.py --framepass $(FRAMEPASS) --runs $(BENCH_RUNS)
+
+# make bench-sequence: the shot of docs/results/sequence.md (a 1080p glossy capture of SEQUENCE_FRAMES, run
+# end to end with and without the pipeline, every pass at 2 threads and at all; --device cuda too where a GPU answers).
+SEQUENCE_FRAMES ?= 1-12
+bench-sequence: build
+	bash examples/bench/sequence_bench.sh $(FRAMEPASS) out/sequence $(SEQUENCE_FRAMES)
 
 # make stability: the half-float table of docs/results/half-float.md (captures into out/stability/ and compares every
 # pass output of half captures with the float32 capture's).

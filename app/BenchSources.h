@@ -24,6 +24,7 @@ public:
     const std::vector<Light>& lights() override { return mInner.lights(); }
     const Environment& environment() override { return mInner.environment(); }
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mInner.colorConfig(); }
+    InputSeconds inputSeconds() const override { return mInner.inputSeconds(); }
     const Texture* cached(const std::string& buffer) const {
         auto it = mCache.find(buffer);
         return it == mCache.end() ? nullptr : &it->second;
@@ -47,29 +48,6 @@ public:
         for (const auto& l : layers)
             images[l.name] = l.texture->image();
     }
-};
-
-/// Another frame number on the same capture: the frame index that seeds a pass's random numbers
-/// (Unreal's frame index mod 8), everything else from `inner`.
-class ReseededSource final : public FrameSource {
-public:
-    ReseededSource(FrameSource& inner, int64_t number) : mInner(inner), mNumber(number) {}
-    FrameInfo frameInfo() override {
-        FrameInfo info = mInner.frameInfo();
-        info.number = mNumber;
-        return info;
-    }
-    Texture loadBuffer(const std::string& buffer, int channels) override {
-        return mInner.loadBuffer(buffer, channels);
-    }
-    const RayScene& scene() override { return mInner.scene(); }
-    const std::vector<Light>& lights() override { return mInner.lights(); }
-    const Environment& environment() override { return mInner.environment(); }
-    OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mInner.colorConfig(); }
-
-private:
-    FrameSource& mInner;
-    int64_t mNumber;
 };
 
 }  // namespace fp::app

@@ -4,7 +4,6 @@
 #include "app/BenchSources.h"
 #include "app/Invocation.h"
 #include "app/Session.h"
-#include "io/CaptureSource.h"
 #include "io/ContactSheet.h"
 #include "io/PngWriter.h"
 #include "foundation/Error.h"
@@ -109,17 +108,18 @@ ErrorImages errorImages(const std::string& heat,
 // with their closest-hit queries (the same work); closest-hit rays one at a time. With more than
 // one tracing pass each loop is named after its pass.
 void addBareRayLoops(const Plan& plan,
-                     CachedSource& source,
-                     KeepingSink& sink,
+                     FrameDriver& frames,
+                     int frame,
                      const BenchOptions& opt,
                      BenchSetting& setting) {
     RayScene::RayLog log;
     std::vector<std::pair<std::string, RayScene::RayLog>> perPass;
-    const RayScene& scene = source.scene();
+    const RayScene& scene = frames.source(frame).scene();
     scene.setRayLog(&log);
-    sink.keep = false;
+    KeepingSink sink;
     // After each pass, the rays it traced move to its own log (passes run one at a time).
-    executePlan(plan, source, sink, [&](int, int, const PassReport& pass) {
+    frames.cut();
+    frames.run(plan, frame, sink, [&](int, int, const PassReport& pass) {
         if (log.rays.empty() && log.closestRays.empty())
             return;
         perPass.emplace_back(pass.name, std::move(log));
@@ -207,7 +207,8 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
         mMeasuredBuffers = capture ? capture->availableBuffers() : std::set<std::string>{};
         auto targets = decompositionTargets(session.plan(), mMeasuredBuffers);
         if (!targets.empty())
-            mDecomposer.emplace(mProbe, std::move(targets), mOptions.decomposeRays, measured);
+            mDecomposer.emplace(mProbe, mFrames, std::move(targets), mOptions.decomposeRays,
+                                measured);
     }
     const BenchOptions& opt = mOptions;
     ErrorBreakdown* decomposer = decompose && mDecomposer ? &*mDecomposer : nullptr;
@@ -226,15 +227,6 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     // A sequence (--frames) runs frame after frame with the temporal passes' history, as `run`
     // does; each frame's buffers are read once. Times are per frame; errors are the last frame's.
     const std::vector<int>& frames = session.frames();
-    std::vector<std::unique_ptr<io::CaptureSource>> captures;
-    std::vector<std::unique_ptr<CachedSource>> sources;
-    for (std::size_t i = 0; i < frames.size(); ++i) {
-        io::CaptureSource::Options co = session.captureOptions(frames[i]);
-        co.firstInSequence = i == 0;
-        captures.push_back(std::make_unique<io::CaptureSource>(co, session.profile()));
-        sources.push_back(std::make_unique<CachedSource>(*captures.back()));
-    }
-    CachedSource& source = *sources.back();
     KeepingSink sink;
 
     std::vector<std::vector<double>> stepSeconds(plan.steps.size()), stepGpuSeconds(plan.steps.size());
@@ -244,10 +236,10 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     FrameReport last;
     for (int r = 0; r < opt.warmup + opt.runs; ++r) {
         const bool lastRun = r + 1 == opt.warmup + opt.runs;
-        HistoryStore history;
+        mFrames.cut();  // each run is the sequence from its first frame
         for (std::size_t i = 0; i < frames.size(); ++i) {
             sink.keep = lastRun && i + 1 == frames.size();
-            last = executePlan(plan, *sources[i], sink, {}, frames.size() > 1 ? &history : nullptr);
+            last = mFrames.run(plan, frames[i], sink).report;
             if (r >= opt.warmup) {
                 frameSeconds.push_back(last.seconds);
                 for (std::size_t s = 0; s < last.passes.size(); ++s) {
@@ -286,14 +278,15 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
         if (auto it = rmseByFrame.find(s); it != rmseByFrame.end())
             e.rmseByFrame = it->second;
         if (!opt.html.empty())
-            e.images = errorImages(step.name + ".heat", e, source, sink, session.inputs());
+            e.images = errorImages(step.name + ".heat", e, mFrames.source(frames.back()), sink,
+                                   session.inputs());
         setting.errors.push_back(e);
     }
     if (decomposer)
         decomposer->decompose(sessionOptions, sink.images, setting.label, setting.errors);
     if (std::any_of(plan.steps.begin(), plan.steps.end(),
                     [](const PlanStep& s) { return s.io.roles.tracesRays; }))
-        addBareRayLoops(plan, source, sink, opt, setting);
+        addBareRayLoops(plan, mFrames, frames.back(), opt, setting);
     return setting;
 }
 

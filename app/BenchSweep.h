@@ -70,6 +70,8 @@ public:
 private:
     BenchOptions mOptions;
     RunSetup mProbe;
+    /// Every setting runs the frames here: their buffers are read once for the whole bench.
+    FrameDriver mFrames{mProbe, {.keep = CaptureKeeping::Every}};
     SetupOptions mBase;  //!< the command line (each setting adds its error_measure ports as dumps)
     std::optional<ErrorBreakdown> mDecomposer;
     bool mDecomposerChecked = false;

@@ -167,16 +167,9 @@ ErrorNodeResult errorNodeResult(const PlanStep& step, const PassReport& report) 
     return e;
 }
 
-ErrorBreakdown::ErrorBreakdown(const RunSetup& probe,
-                                 std::vector<DecompositionTarget> targets,
-                                 int rays,
-                                 int frame)
-    : mProbe(probe),
-      mTargets(std::move(targets)),
-      mRays(rays),
-      mFrame(frame),
-      mCapture(probe.captureOptions(frame), probe.profile()),
-      mSource(mCapture) {}
+ErrorBreakdown::ErrorBreakdown(const RunSetup& probe, FrameDriver& frames,
+                               std::vector<DecompositionTarget> targets, int rays, int frame)
+    : mProbe(probe), mTargets(std::move(targets)), mRays(rays), mFrame(frame), mFrames(frames) {}
 
 const Image& ErrorBreakdown::oracle(const std::string& port) {
     if (auto it = mOracle.find(port); it != mOracle.end())
@@ -202,7 +195,7 @@ const Image& ErrorBreakdown::oracle(const std::string& port) {
     const RunSetup session(mProbe, config, options);
     KeepingSink sink;
     sink.keep = true;
-    executePlan(session.plan(), mSource, sink);
+    mFrames.runApart(session.plan(), mFrame, sink, mFrame);
     for (const auto& t : mTargets)
         if (!t.oracleType.empty())
             mOracle[t.oraclePort] = sink.images.at(std::string(kOracleNode) + "." + t.oraclePort);
@@ -220,12 +213,10 @@ std::map<std::string, Image> ErrorBreakdown::converged(const SetupOptions& setti
     options.sets.insert(options.sets.end(), extraSets.begin(), extraSets.end());
     const RunSetup session(mProbe, chainWithoutOutputs(mProbe.config()), options);
     std::map<std::string, Image> sum;
-    const int64_t first = mSource.frameInfo().number;
     for (int k = 0; k < kFrameSeeds; ++k) {
-        ReseededSource seeded(mSource, first + k);
         KeepingSink sink;
         sink.keep = true;
-        executePlan(session.plan(), seeded, sink);
+        mFrames.runApart(session.plan(), mFrame, sink, mFrame + k);
         for (const auto& source : sources) {
             const Image& img = sink.images.at(source);
             if (k == 0) {
@@ -302,7 +293,7 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
         const int channels = result.channelCount();
         std::vector<Texture> truths;
         for (const auto& key : t->truths)
-            truths.push_back(mSource.loadBuffer(key.substr(8), channels));
+            truths.push_back(mFrames.source(mFrame).loadBuffer(key.substr(8), channels));
         const Image& reference = truths.back().image();
         std::vector<LadderRung> ladder = {{&result, isHalf(result, reference)},
                                           {&conv, isHalf(conv, reference)}};
@@ -323,7 +314,7 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
         rungNames.insert(rungNames.end(), t->truths.begin(), t->truths.end());
         std::optional<Image> mask;
         if (!t->depth.empty())
-            mask = notSkyMask(mSource.loadBuffer(t->depth.substr(8), 1).image(),
+            mask = notSkyMask(mFrames.source(mFrame).loadBuffer(t->depth.substr(8), 1).image(),
                               skyDepthFor(t->skyDistance));
         const ErrorDecompositionStats stats = decomposeError(ladder, mask ? &*mask : nullptr);
 

@@ -12,7 +12,7 @@
 //   ray).
 // The ladder stops at the error_measure's reference; the maths is decomposeError's.
 #include "app/BenchResult.h"
-#include "app/BenchSources.h"
+#include "app/FrameDriver.h"
 #include "app/RunSetup.h"
 
 #include <map>
@@ -53,9 +53,10 @@ std::vector<DecompositionTarget> decompositionTargets(const Plan& plan,
 class ErrorBreakdown {
 public:
     /// `rays`: the oracle's rays and the converged tracer's rays per frame seed; `frame`: the
-    /// frame whose error is taken apart (its capture).
-    ErrorBreakdown(const RunSetup& probe, std::vector<DecompositionTarget> targets, int rays,
-                    int frame);
+    /// frame whose error is taken apart, its capture read through `frames` (the driver that ran
+    /// it, which keeps it read).
+    ErrorBreakdown(const RunSetup& probe, FrameDriver& frames,
+                   std::vector<DecompositionTarget> targets, int rays, int frame);
 
     const std::vector<DecompositionTarget>& targets() const { return mTargets; }
     /// Adds the decomposition to every error of `errors` that has a target. `options`: the
@@ -87,8 +88,7 @@ private:
     std::vector<DecompositionTarget> mTargets;
     int mRays;
     int mFrame;
-    io::CaptureSource mCapture;
-    CachedSource mSource;
+    FrameDriver& mFrames;
     std::map<std::string, Image> mOracle;  //!< oracle port → image, made on first use
 };
 

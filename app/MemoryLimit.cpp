@@ -135,7 +135,7 @@ uint64_t peakResidentBytes() {
 }
 
 MemoryForecast forecastMemory(const Plan& plan, Extent frame, int frames, bool readAhead,
-                              bool halfColor) {
+                              bool halfColor, int writers) {
     MemoryForecast f;
     f.resident = residentBytes();
     readAhead = readAhead && frames > 1;
@@ -158,7 +158,11 @@ MemoryForecast forecastMemory(const Plan& plan, Extent frame, int frames, bool r
         return 0;
     };
     const uint64_t pixels = uint64_t(frame.width) * uint64_t(frame.height);
+    std::vector<uint64_t> files;
     for (const OutputDesc& out : plan.outputs) {
+        // Writers hold a frame's outputs until written, while the next frame computes.
+        if (writers > 0 && frames > 1)
+            for (const auto& src : out.sources) f.queued += imageBytes(frame, channelsOf(src));
         uint64_t bytes = 0;
         if (out.file.ends_with(".png")) {
             bytes = 3 * pixels;
@@ -169,17 +173,22 @@ MemoryForecast forecastMemory(const Plan& plan, Extent frame, int frames, bool r
                     bytes += 2 * pixels * uint64_t(channelsOf(src));
             }
         }
-        f.writing = std::max(f.writing, bytes);
+        files.push_back(bytes);
     }
+    // Each writer converts one file at a time: the largest files at once.
+    std::sort(files.rbegin(), files.rend());
+    for (std::size_t i = 0; i < files.size() && i < std::size_t(std::max(writers, 1)); ++i)
+        f.writing += files[i];
     return f;
 }
 
 std::string describeForecast(const MemoryForecast& f) {
     return fmt::format("{} of images, {} of pass scratch and {} of history at '{}', {} this "
-                       "process holds already, {} read ahead, {} to write a file",
+                       "process holds already, {} read ahead, {} of a frame's outputs waiting "
+                       "for the writers, {} to write files",
                        formatBytes(f.frame.images), formatBytes(f.frame.scratch),
                        formatBytes(f.frame.history), f.frame.peakStep, formatBytes(f.resident),
-                       formatBytes(f.readAhead), formatBytes(f.writing));
+                       formatBytes(f.readAhead), formatBytes(f.queued), formatBytes(f.writing));
 }
 
 nlohmann::json MemoryForecast::toJson() const {
@@ -190,6 +199,7 @@ nlohmann::json MemoryForecast::toJson() const {
             {"historyBytes", frame.history},
             {"peakStep", frame.peakStep},
             {"readAheadBytes", readAhead},
+            {"queuedBytes", queued},
             {"writingBytes", writing}};
 }
 

@@ -50,15 +50,19 @@ struct MemoryForecast {
     uint64_t resident = 0;        //!< the process before its first frame
     Plan::MemoryEstimate frame;   //!< a frame's images, the peak step's scratch, the histories
     uint64_t readAhead = 0;       //!< the next frame's capture buffers, read while one runs
-    uint64_t writing = 0;         //!< the largest output file's half-float copy as it is written
-    uint64_t total() const { return resident + frame.peak() + readAhead + writing; }
+    /// The previous frame's outputs, held by the writers while the next frame computes.
+    uint64_t queued = 0;
+    /// The half-float copies of the files being written at once (the largest, one a writer).
+    uint64_t writing = 0;
+    uint64_t total() const { return resident + frame.peak() + readAhead + queued + writing; }
     nlohmann::json toJson() const;
 };
 
 /// The forecast of `plan` on frames of `frame` pixels; `halfColor` as the writer stores colour.
-/// `frames`: how many the run computes (from the second on, the histories are held).
+/// `frames`: how many the run computes (from the second on, the histories are held);
+/// `writers`: threads writing files (RunOptions::writers).
 MemoryForecast forecastMemory(const Plan& plan, Extent frame, int frames, bool readAhead,
-                              bool halfColor);
+                              bool halfColor, int writers);
 
 /// "1.1 GiB of images, 96 MiB of pass scratch, …" for messages.
 std::string describeForecast(const MemoryForecast& f);

@@ -235,4 +235,71 @@ nlohmann::json describePassType(const std::string& id) {
     return describePassType(*t);
 }
 
+nlohmann::json cvarsOfPass(const nlohmann::json& cvars, const std::string& type) {
+    nlohmann::json mine = nlohmann::json::array();
+    for (const auto& c : cvars)
+        for (const auto& t : c.value("sets", nlohmann::json::array()))
+            if (t["pass"] == type) {
+                mine.push_back(c);
+                break;
+            }
+    return mine;
+}
+
+std::string passReferenceText(const nlohmann::json& all, bool detailed) {
+    std::string out;
+    for (const auto& t : all) {
+        out += fmt::format("{:<22} {}\n", t["type"].get<std::string>(),
+                                 t["doc"].get<std::string>());
+        if (!detailed)
+            continue;
+        for (const char* dir : {"inputs", "outputs"}) {
+            out += fmt::format("  {}:\n", dir);
+            for (const auto& p : t[dir]) {
+                const auto ch = p["channels"].get<std::vector<std::string>>();
+                out += fmt::format(
+                    "    {:<14} {:<8} {:<6}{}{} — {}\n", p["name"].get<std::string>(),
+                    ch.empty() ? "any" : fmt::format("{}", fmt::join(ch, "")),
+                    p["kind"].get<std::string>(), p["optional"].get<bool>() ? " optional" : "",
+                    p["default"].get<std::string>().empty()
+                        ? ""
+                        : " ← " + p["default"].get<std::string>(),
+                    p["doc"].get<std::string>());
+            }
+        }
+        out += "  params:\n";
+        for (const auto& p : t["params"]) {
+            std::string range;
+            if (p.contains("min"))
+                range = fmt::format(" [{}, {}]", p["min"].dump(), p["max"].dump());
+            out += fmt::format("    {:<22} {:<6} = {:<10}{} — {}\n",
+                                     p["name"].get<std::string>(), p["type"].get<std::string>(),
+                                     p["default"].dump(), range, p["doc"].get<std::string>());
+        }
+        for (const auto& c : t["cvars"])
+            out += fmt::format("  cvar {} → {}\n", c["cvar"].get<std::string>(),
+                                     c["param"].get<std::string>());
+    }
+    return out;
+}
+
+std::string cvarReferenceText(const nlohmann::json& cvars) {
+    std::string out;
+    for (const auto& c : cvars) {
+        std::vector<std::string> sets;
+        for (const auto& t : c.value("sets", nlohmann::json::array()))
+            sets.push_back(fmt::format("{}.{} = {}", t["pass"].get<std::string>(),
+                                       t["param"].get<std::string>(),
+                                       t["default"].dump()));
+        std::string what = fmt::format("{}", fmt::join(sets, ", "));
+        if (!c["emulated"].get<bool>())
+            what = (c["value"].is_null()
+                        ? std::string("not emulated")
+                        : fmt::format("not emulated, runs as {}", c["value"].dump())) +
+                   ": " + c["note"].get<std::string>();
+        out += fmt::format("{:<62} {}\n", c["cvar"].get<std::string>(), what);
+    }
+    return out;
+}
+
 }  // namespace fp::app

@@ -27,5 +27,12 @@ std::string passReferenceMarkdown(const nlohmann::json& types);
 nlohmann::json cvarCatalogue();
 /// The cvar table of docs/config.md (`framepass passes --cvars --markdown`).
 std::string cvarReferenceMarkdown(const nlohmann::json& cvars);
+/// The cvars of cvarCatalogue() that set a parameter of pass type `type`.
+nlohmann::json cvarsOfPass(const nlohmann::json& cvars, const std::string& type);
+
+/// `passes`' table: each type and its doc; `detailed`, its ports, parameters and cvars too.
+std::string passReferenceText(const nlohmann::json& types, bool detailed);
+/// `passes --cvars`' table: each cvar and what it sets (or why it is not emulated).
+std::string cvarReferenceText(const nlohmann::json& cvars);
 
 }  // namespace fp::app

@@ -2,12 +2,13 @@
 
 #include "app/BenchResult.h"
 #include "app/ErrorBreakdown.h"
+#include "app/FrameDriver.h"
 #include "app/Invocation.h"
 #include "app/MemoryLimit.h"
-#include "io/CaptureReadAhead.h"
 #include "io/CaptureSource.h"
 #include "io/FramePattern.h"
 #include "io/OutputLock.h"
+#include "io/OutputQueue.h"
 #include "io/OutputWriter.h"
 #include "io/TevClient.h"
 #include "io/SafeFiles.h"
@@ -125,6 +126,91 @@ void printFrame(std::ostream& out, const FrameReport& fr, const std::vector<std:
         out << "  wrote " << w << "\n";
 }
 
+// Where one frame's time went, stage by stage (the report's per-frame figures).
+struct FrameStages {
+    double read = 0, decode = 0, upload = 0, pass = 0, download = 0, encode = 0, write = 0;
+    static FrameStages of(const FrameReport& r, const FrameSource::InputSeconds& input,
+                          const io::OutputQueue::FrameFiles& files) {
+        FrameStages s{input.read, input.decode, r.uploadSeconds, 0, r.downloadSeconds,
+                      files.encodeSeconds, files.writeSeconds};
+        for (const auto& p : r.passes) s.pass += p.seconds;
+        return s;
+    }
+    void addTo(nlohmann::json& j) const {
+        j["readSeconds"] = read;
+        j["decodeSeconds"] = decode;
+        j["uploadSeconds"] = upload;
+        j["passSeconds"] = pass;
+        j["downloadSeconds"] = download;
+        j["encodeSeconds"] = encode;
+        j["writeSeconds"] = write;
+    }
+};
+
+// The stages summed over a run's frames, and what bounds its frame rate. Reading runs on the
+// read-ahead thread beside the frames' computing, and the files on the writers beside both: the
+// slowest of the three (the writers' share divided among them) sets the pace. Without read-ahead
+// and writers every stage takes its turn on one thread, and the largest bounds the rate.
+struct StageTotals {
+    FrameStages sum;
+    int frames = 0;
+    void add(const FrameStages& s) {
+        sum.read += s.read;
+        sum.decode += s.decode;
+        sum.upload += s.upload;
+        sum.pass += s.pass;
+        sum.download += s.download;
+        sum.encode += s.encode;
+        sum.write += s.write;
+        ++frames;
+    }
+    std::vector<std::pair<std::string, double>> perFrame() const {
+        const double n = std::max(frames, 1);
+        return {{"read", sum.read / n},         {"decode", sum.decode / n},
+                {"upload", sum.upload / n},     {"pass", sum.pass / n},
+                {"download", sum.download / n}, {"encode", sum.encode / n},
+                {"write", sum.write / n}};
+    }
+    std::string bound(bool readAhead, int writers) const {
+        const auto stages = perFrame();
+        auto largest = [&](std::initializer_list<int> of) {
+            int best = *of.begin();
+            for (int i : of)
+                if (stages[i].second > stages[best].second) best = i;
+            return best;
+        };
+        if (!readAhead && writers == 0) return stages[largest({0, 1, 2, 3, 4, 5, 6})].first;
+        const double input = stages[0].second + stages[1].second;
+        const double compute = stages[2].second + stages[3].second + stages[4].second +
+                               (readAhead ? 0.0 : input) +
+                               (writers == 0 ? stages[5].second + stages[6].second : 0.0);
+        const double output = writers > 0 ? (stages[5].second + stages[6].second) / writers : 0;
+        if (readAhead && input >= compute && input >= output) return stages[largest({0, 1})].first;
+        if (output >= compute) return stages[largest({5, 6})].first;
+        return stages[largest({2, 3, 4})].first;
+    }
+    nlohmann::json toJson(double wall, bool readAhead, int writers) const {
+        nlohmann::json perStage;
+        for (const auto& [name, seconds] : perFrame()) perStage[name + "Seconds"] = seconds;
+        return {{"frames", frames},
+                {"seconds", wall},
+                {"framesPerSecond", frames / std::max(wall, 1e-9)},
+                {"boundBy", bound(readAhead, writers)},
+                {"perFrame", perStage},
+                {"readAhead", readAhead},
+                {"writers", writers}};
+    }
+    std::string line(double wall, bool readAhead, int writers) const {
+        std::string stages;
+        for (const auto& [name, seconds] : perFrame())
+            stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", name, seconds);
+        return fmt::format("{} frame{} in {:.2f} s: {:.2f} frames/s, bound by {}; seconds a "
+                           "frame: {}",
+                           frames, frames == 1 ? "" : "s", wall, frames / std::max(wall, 1e-9),
+                           bound(readAhead, writers), stages);
+    }
+};
+
 bool hasTemporalPass(const Plan& plan) {
     return std::any_of(plan.steps.begin(), plan.steps.end(),
                        [](const PlanStep& s) { return s.io.temporal; });
@@ -197,6 +283,7 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
     wo.outputDir = opt.outputDir;
     wo.compression = io::parseCompression(session.config().compression);
     wo.halfColor = session.config().colorPrecision == "half";
+    wo.pngLevel = session.config().pngLevel;
     wo.protectedPaths.insert(inputs.begin(), inputs.end());
     wo.protectedPaths.erase("");
     io::checkFolderWritable(opt.outputDir, "-o");
@@ -204,21 +291,22 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
     // --max-memory and reported beside the peak reached.
     std::optional<MemoryForecast> forecast;
     if (session.extent().width > 0) {
-        forecast = forecastMemory(plan, session.extent(),
-                                  int(frames.size()) + opt.warmupFrames, opt.readAhead, wo.halfColor);
+        forecast = forecastMemory(plan, session.extent(), int(frames.size()) + opt.warmupFrames,
+                                  opt.readAhead, wo.halfColor, opt.writers);
         checkMemory(forecast->total(), describeForecast(*forecast), opt.maxMemory,
                     int(opt.setup.dumps.size()));
     }
     const io::OutputLock lock(opt.outputDir, frames);
     io::OutputWriter writer(wo);
+    io::OutputQueue queue(writer, opt.writers);
     // --tev: every output also goes to the viewer (connected now: a wrong address fails first).
     std::optional<io::TevClient> tev;
     std::optional<io::TevSink> tevSink;
     if (!opt.tev.empty()) {
         tev.emplace(opt.tev);
-        tevSink.emplace(writer, *tev);
+        tevSink.emplace(queue, *tev);
     }
-    FrameSink& outputs = tevSink ? static_cast<FrameSink&>(*tevSink) : writer;
+    FrameSink& outputs = tevSink ? static_cast<FrameSink&>(*tevSink) : queue;
     // What a killed run left half-written: its temporaries (the final names are always whole).
     int stale = 0;
     for (const auto& dir : {opt.outputDir, writer.dumpDir()})
@@ -263,12 +351,11 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
         if (reportToStdout) {
             out << report.dump(2) << "\n";
         } else {
-            io::writeTextAtomically(opt.report, report.dump(2) + "\n");
+            io::writeFileAtomically(opt.report, report.dump(2) + "\n");
             console << "  wrote " << opt.report << "\n";
         }
     };
 
-    HistoryStore history;
     std::set<std::string> notesShown;  // each assumption once, not once per frame
     auto verbosePass = [](int, int, const PassReport& p) {
         throwIfStopped();  // between passes: the safe point
@@ -277,61 +364,48 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
             work += fmt::format(" {}={}", k, v);
         logVerbose(fmt::format("  {:<24} {:>9.2f} ms{}", p.name, p.seconds * 1e3, work));
     };
-    // Frame N+1's capture is read while frame N runs (--no-read-ahead: each frame reads its own
-    // at its start).
-    io::CaptureReadAhead readAhead;
-    auto optionsOf = [&](int frame) {
-        io::CaptureSource::Options so = session.captureOptions(frame);
-        so.strict = opt.setup.strict;
-        return so;
-    };
-    auto startReading = [&](int frame) {
-        if (opt.readAhead)
-            readAhead.start(optionsOf(frame), session.profile(), plan.captureReads);
-    };
-    // One frame into `sink`: its capture opened (or taken from the read-ahead), its notes said,
-    // its files recorded; `next` is the frame to read while this one runs.
-    auto runFrame = [&](int frame, bool firstInSequence, FrameSink& sink,
-                        const ProgressFn& progress, std::optional<int> next) {
-        const io::CaptureSource::Options so = optionsOf(frame);
-        std::unique_ptr<io::CaptureSource> opened = readAhead.take(frame);
-        if (!opened)
-            opened = std::make_unique<io::CaptureSource>(so, session.profile());
-        io::CaptureSource& source = *opened;
-        source.setFirstInSequence(firstInSequence);
-        FP_CHECK(!plan.needsCamera || source.frameInfo().hasCamera,
-                 "{}: frame {}: no camera in the header and no sidecar ({}.camera.json)",
-                 so.path, frame, so.path);
-        if (next)
-            startReading(*next);
-        const FrameReport fr = executePlan(plan, source, sink, progress, &history);
-        for (const auto& [role, path] : source.filesRead())
-            addInput(role, path);
-        const auto& s = source.sanitized();
-        if (s.total() > 0)
-            logWarning(fmt::format("{}: sanitized {} non-finite, {} negative colour and {} "
-                                   "non-unit normal values",
-                                   so.path, s.nonFinite, s.negative, s.nonUnitNormals));
-        for (const auto& n : source.notes())
-            if (notesShown.insert(n).second) logWarning(n);
-        for (const auto& w : source.files().warnings())
-            if (notesShown.insert(w).second) logWarning(w);
-        nlohmann::json fj = fr.toJson();
-        fj["capture"] = so.path;
-        fj["channelsRead"] = source.readLog();
-        return std::make_pair(fr, fj);
+    // The frames run through one driver: frame N+1's capture read while N runs (unless
+    // --no-read-ahead), the history carried from frame to frame.
+    FrameDriver driver(session, {.keep = CaptureKeeping::Streaming,
+                                 .readAhead = opt.readAhead,
+                                 .strict = opt.setup.strict});
+    // One frame into `sink`: its notes said, its files recorded; `next` is read while it runs.
+    auto runFrame = [&](int frame, FrameSink& sink, const ProgressFn& progress,
+                        std::optional<int> next) {
+        FrameRun run = driver.run(plan, frame, sink, progress, next);
+        nlohmann::json fj = run.report.toJson();
+        fj["capture"] = session.capturePath(frame);
+        if (io::CaptureSource* source = run.capture) {
+            for (const auto& [role, path] : source->filesRead())
+                addInput(role, path);
+            const auto& s = source->sanitized();
+            if (s.total() > 0)
+                logWarning(fmt::format("{}: sanitized {} non-finite, {} negative colour and {} "
+                                       "non-unit normal values",
+                                       session.capturePath(frame), s.nonFinite, s.negative,
+                                       s.nonUnitNormals));
+            for (const auto& n : source->notes())
+                if (notesShown.insert(n).second) logWarning(n);
+            for (const auto& w : source->files().warnings())
+                if (notesShown.insert(w).second) logWarning(w);
+            fj["channelsRead"] = source->readLog();
+        }
+        return std::make_pair(std::move(run), std::move(fj));
     };
 
     // Warm-up: the frames before the first, at the sequence's step, that exist on disk.
     const std::vector<int> warmup = warmupFrames(session, opt.warmupFrames);
+    std::vector<int> sequence = warmup;
+    sequence.insert(sequence.end(), frames.begin(), frames.end());
+    driver.setSequence(sequence);
     for (std::size_t i = 0; i < warmup.size(); ++i) {
         try {
             throwIfStopped();
             logVerbose(fmt::format("warm-up frame {}:", warmup[i]));
             DiscardSink discard;
-            const auto [fr, fj] = runFrame(warmup[i], i == 0, discard, verbosePass, std::nullopt);
+            const auto [run, fj] = runFrame(warmup[i], discard, verbosePass, std::nullopt);
             console << fmt::format("warm-up frame {}: {} passes in {:.3f} s\n", warmup[i],
-                                     fr.passes.size(), fr.seconds);
+                                     run.report.passes.size(), run.report.seconds);
         } catch (const Interrupted& e) {
             report["interrupted"] = {{"warmupFrame", warmup[i]}, {"signal", e.signal()}};
             writeReport();
@@ -362,20 +436,95 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
                 return frames[k];
         return std::nullopt;
     };
+
+    // The pipeline: a frame's files are written by the queue's writers while the next frame
+    // computes. A frame is settled — its files waited for, its lines printed, its report entry
+    // made — once the frame after it has computed (or at the end), so at most two frames' outputs
+    // are held at once.
+    struct Computed {
+        int frame = 0;
+        bool forHistoryOnly = false;
+        FrameReport report;
+        FrameSource::InputSeconds input;
+        nlohmann::json entry;
+        std::vector<ErrorNodeResult> errors;
+    };
+    std::optional<Computed> inFlight;
     std::vector<int> failed;
-    bool cut = warmup.empty();  // the next frame starts a sequence: no history
+    StageTotals totals;
+    // Settles `c`: returns the error of a file that failed to write (the frame then failed).
+    auto settle = [&](Computed& c) -> std::exception_ptr {
+        const io::OutputQueue::FrameFiles files = queue.finish(c.frame);
+        c.entry["written"] = files.written;
+        const FrameStages stages = FrameStages::of(c.report, c.input, files);
+        stages.addTo(c.entry);
+        if (files.error) {
+            std::string why;
+            try {
+                std::rethrow_exception(files.error);
+            } catch (const std::exception& e) {
+                why = e.what();
+            }
+            report["frames"].push_back(
+                {{"frame", c.frame}, {"status", "failed"}, {"error", why}, {"written", files.written}});
+            return files.error;
+        }
+        report["frames"].push_back(c.entry);
+        if (c.forHistoryOnly) {
+            logInfo(fmt::format("frame {}: every output exists, run for history only", c.frame));
+            return nullptr;
+        }
+        totals.add(stages);
+        printFrame(console, c.report, files.written);
+        for (const auto& e : c.errors)
+            if (e.decomposition)
+                console << fmt::format("  {} ({} against {}):\n", e.name, e.source, e.reference)
+                        << decompositionText(*e.decomposition);
+        return nullptr;
+    };
+    // The run ends with `error` (a frame that failed, without --continue-on-error): the report
+    // is written first.
+    auto endRun = [&](std::exception_ptr error) {
+        try {
+            writeReport();
+        } catch (const Error& reportError) {
+            // Both are said: the frame's error is the one that ends the run.
+            err << "framepass error: " << reportError.what() << "\n";
+        }
+        std::rethrow_exception(error);
+    };
+    // Settles the frame in flight; returns the error that ends the run (a file of it failed to
+    // write, without --continue-on-error), else null.
+    auto settleInFlight = [&]() -> std::exception_ptr {
+        if (!inFlight) return nullptr;
+        Computed c = std::move(*inFlight);
+        inFlight.reset();
+        const std::exception_ptr error = settle(c);
+        if (!error || !opt.continueOnError) return error;
+        try {
+            std::rethrow_exception(error);
+        } catch (const std::exception& e) {
+            err << fmt::format("framepass error: frame {}: {}\n", c.frame, e.what());
+        }
+        failed.push_back(c.frame);
+        return nullptr;
+    };
+    const auto started = std::chrono::steady_clock::now();
     for (std::size_t i = 0; i < frames.size(); ++i) {
         nlohmann::json status = {{"frame", frames[i]}};
         if (skip[i] && !(temporal && i < computeUntil)) {
+            if (const auto error = settleInFlight()) endRun(error);
             status["status"] = "skipped";
             report["frames"].push_back(status);
-            cut = true;
+            driver.cut();
             logInfo(fmt::format("frame {}: every output exists, skipped", frames[i]));
             continue;
         }
+        Computed c;
+        c.frame = frames[i];
+        c.forHistoryOnly = skip[i];
         try {
             throwIfStopped();
-            const std::size_t before = writer.written().size();
             logVerbose(fmt::format("frame {}:", frames[i]));
             DiscardSink discard;
             DecompositionSink kept(skip[i] ? static_cast<FrameSink&>(discard) : outputs,
@@ -387,39 +536,28 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
                     (double(i) + double(done) / std::max(total, 1)) / frames.size();
                 logProgress(int(progress * 100.0));
             };
-            auto [fr, fj] = runFrame(frames[i], cut, kept, frameProgress, nextComputed(i));
-            cut = false;
-            const std::vector<std::string> written(writer.written().begin() + before,
-                                                   writer.written().end());
-            fj["status"] = skip[i] ? "skipped (run for the history of later frames)" : "ok";
-            fj["written"] = written;
+            auto [run, fj] = runFrame(frames[i], kept, frameProgress, nextComputed(i));
+            c.report = std::move(run.report);
+            c.input = run.input;
+            c.entry = std::move(fj);
+            c.entry["status"] = skip[i] ? "skipped (run for the history of later frames)" : "ok";
             // The frame's screen-space errors taken apart: the oracle and the converged
             // chain on this frame's capture, the result as this run made it (with history).
-            std::vector<ErrorNodeResult> errors;
             if (!targets.empty() && !skip[i]) {
-                ErrorBreakdown decomposer(session, targets, opt.decomposeRays, frames[i]);
-                errors = frameErrors(plan, fr);
+                ErrorBreakdown decomposer(session, driver, targets, opt.decomposeRays, frames[i]);
+                c.errors = frameErrors(plan, c.report);
                 decomposer.decompose(opt.setup, kept.images,
-                                     fmt::format("frame {}", frames[i]), errors);
-                for (const auto& e : errors)
+                                     fmt::format("frame {}", frames[i]), c.errors);
+                for (const auto& e : c.errors)
                     if (e.decomposition)
-                        fj["errorDecomposition"][e.name] = e.decomposition->toJson();
-            }
-            report["frames"].push_back(fj);
-            if (skip[i]) {
-                logInfo(fmt::format("frame {}: every output exists, run for history only",
-                                    frames[i]));
-            } else {
-                printFrame(console, fr, written);
-                for (const auto& e : errors)
-                    if (e.decomposition)
-                        console << fmt::format("  {} ({} against {}):\n", e.name, e.source,
-                                                 e.reference)
-                                  << decompositionText(*e.decomposition);
+                        c.entry["errorDecomposition"][e.name] = e.decomposition->toJson();
             }
         } catch (const Interrupted& e) {
-            // Stopped between passes: nothing is half-written (outputs go through
-            // temporaries renamed into place), the report says where the run stopped.
+            // Stopped between passes: the frame before is settled (its files finished whole),
+            // nothing is half-written (outputs go through temporaries renamed into place), and
+            // the report says where the run stopped.
+            (void)settleInFlight();
+            queue.finish(frames[i]);
             status["status"] = "interrupted";
             status["error"] = e.what();
             report["frames"].push_back(status);
@@ -427,25 +565,33 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
             writeReport();
             throw;
         } catch (const Error& e) {
+            const std::exception_ptr before = settleInFlight();
+            queue.finish(frames[i]);  // what it handed over before failing, finished
             status["status"] = "failed";
             status["error"] = e.what();
             report["frames"].push_back(status);
-            if (!opt.continueOnError) {
-                try {
-                    writeReport();
-                } catch (const Error& reportError) {
-                    // Both are said: the frame's error is the one that ends the run.
-                    err << "framepass error: " << reportError.what() << "\n";
-                }
-                throw;
-            }
+            if (before) endRun(before);
+            if (!opt.continueOnError) endRun(std::current_exception());
             err << fmt::format("framepass error: frame {}: {}\n", frames[i], e.what());
             failed.push_back(frames[i]);
-            history.clear();  // the next frame has no history: as after a camera cut
-            cut = true;
+            driver.cut();  // the next frame has no history: as after a camera cut
+            continue;
         }
+        // Frame N computed: frame N−1's files are waited for now (they were written while N
+        // computed), and N's go on being written while N+1 computes.
+        if (const auto error = settleInFlight()) {
+            (void)settle(c);  // its files finish whole; the report lists them
+            endRun(error);
+        }
+        inFlight = std::move(c);
     }
+    if (const auto error = settleInFlight()) endRun(error);
     report["failedFrames"] = failed;
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    if (totals.frames > 0) {
+        report["throughput"] = totals.toJson(wall, opt.readAhead, queue.writers());
+        console << totals.line(wall, opt.readAhead, queue.writers()) << "\n";
+    }
     if (forecast) {
         const uint64_t peak = peakResidentBytes();
         console << fmt::format("memory: the process peaked at {}, forecast {} ({:+.0f} %)\n",

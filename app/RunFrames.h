@@ -25,6 +25,10 @@ struct RunOptions {
     std::string tev;               //!< HOST:PORT of a tev viewer to push outputs to; "" = none
     /// Read frame N+1's capture while frame N runs (holds two frames' capture buffers at once).
     bool readAhead = true;
+    /// Threads that encode and write a frame's files while the next frame computes (--writers);
+    /// 0 writes each file on the frame's thread as soon as it is made.
+    int writers = kDefaultWriters;
+    static constexpr int kDefaultWriters = 2;
 };
 
 struct RunOutcome {

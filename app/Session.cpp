@@ -28,7 +28,8 @@ Session::Session(SetupOptions options)
           options.dumps.clear();
           return options;
       }()),
-      mBase(mOptions) {}
+      mBase(mOptions),
+      mFrames(mBase, {.keep = CaptureKeeping::Neighbours, .incremental = true}) {}
 
 Session::~Session() = default;
 
@@ -100,46 +101,10 @@ const RunSetup& Session::setup(const std::vector<std::string>& outputs) {
     return *mPlanned;
 }
 
-Session::FrameInput& Session::frameInput(int frame, bool firstInSequence) {
-    // Only this frame and the one before it stay open.
-    std::erase_if(mInputs, [&](const auto& entry) {
-        return entry.first.first != frame && entry.first.first != frame - 1;
-    });
-    FrameInput& in = mInputs[{frame, firstInSequence}];
-    if (!in.capture) {
-        io::CaptureSource::Options o = mBase.captureOptions(frame);
-        o.firstInSequence = firstInSequence;
-        if (mBase.memoryCapture())
-            in.capture = std::make_unique<io::MemoryCaptureSource>(mBase.memoryCapture(), o);
-        else
-            in.capture = std::make_unique<io::CaptureSource>(o, mBase.profile());
-        in.cached = std::make_unique<CachedSource>(*in.capture);
-    }
-    return in;
-}
-
 FrameResult Session::run(int frame, const std::vector<std::string>& outputs) {
     std::lock_guard<std::mutex> lock(mRunMutex);
     mCancel = false;
     const RunSetup& planned = setup(outputs);
-    const Plan& plan = planned.plan();
-
-    // The history this frame starts from: the one it had when it ran before, the last frame's
-    // when it follows it, none otherwise.
-    bool first = true;
-    if (mLastFrame && frame == *mLastFrame) {
-        mHistory = mHistoryBefore;
-        first = mInputs.count({frame, true}) > 0;
-    } else if (mLastFrame && frame == *mLastFrame + 1) {
-        mHistoryBefore = mHistory;
-        first = false;
-    } else {
-        mHistory.clear();
-        mHistoryBefore.clear();
-    }
-    mLastFrame = frame;
-    FrameInput& in = frameInput(frame, first);
-    mCache.sourceId = planned.capturePath(frame);
 
     ImageSink sink;
     const ProgressFn stopBetweenPasses = [this](int done, int total, const PassReport& pass) {
@@ -149,14 +114,7 @@ FrameResult Session::run(int frame, const std::vector<std::string>& outputs) {
             throw Cancelled("cancelled: a newer request replaced this run");
     };
     FrameResult result;
-    try {
-        FP_CHECK(!plan.needsCamera || in.capture->frameInfo().hasCamera,
-                 "{}: frame {}: no camera in the header and no sidecar", mCache.sourceId, frame);
-        result.report = executePlan(plan, *in.cached, sink, stopBetweenPasses, &mHistory, &mCache);
-    } catch (...) {
-        mHistory = mHistoryBefore;  // a run that did not finish leaves no history behind
-        throw;
-    }
+    result.report = mFrames.run(planned.plan(), frame, sink, stopBetweenPasses).report;
     if (outputs.empty() ||
         std::find(outputs.begin(), outputs.end(), "all") != outputs.end()) {
         result.images = std::move(sink.images);
@@ -177,10 +135,7 @@ Image Session::captureBuffer(int frame, const std::string& name) {
         throw UsageError(fmt::format("the capture has no buffer '{}'", name));
     const SemanticBuffer* sem = findSemanticBuffer(name);
     const int channels = sem ? int(sem->channels.size()) : mBase.truthChannels().at(name);
-    // The input a run of this frame opened, else one of its own (kept for the next call).
-    auto it = mInputs.find({frame, false});
-    FrameInput& in = it != mInputs.end() ? it->second : frameInput(frame, true);
-    return in.cached->loadBuffer(name, channels).image();
+    return mFrames.source(frame).loadBuffer(name, channels).image();
 }
 
 void Session::cancel() { mCancel = true; }

@@ -9,7 +9,7 @@
 // frame's buffers are read from disk once. Frames run in order carry the temporal passes'
 // history as `run` does; running the same frame again starts from the history it had.
 // cancel() stops a run in flight from another thread at its next safe point (between passes).
-#include "app/BenchSources.h"
+#include "app/FrameDriver.h"
 #include "app/RunSetup.h"
 #include "framework/Executor.h"
 
@@ -72,23 +72,20 @@ public:
     Image captureBuffer(int frame, const std::string& name);
     /// Forgets the kept outputs: the next run executes every pass (the capture's buffers stay
     /// read).
-    void forgetOutputs() { mCache.clear(); }
+    void forgetOutputs() { mFrames.forgetOutputs(); }
     /// Stops the run in flight at its next safe point; a run that starts later is not affected.
     void cancel();
     /// Called on the running thread after each pass with (passes done, passes in all, its
     /// report): a door's progress. It may call cancel().
     ProgressFn onPass;
 
+    /// The driver the session's frames run through (its captures, kept read): an error breakdown
+    /// of the session's frame reads them from here. Not to be used while a run is in flight.
+    FrameDriver& frameDriver() { return mFrames; }
     /// The report of the last run that finished.
     const std::optional<FrameReport>& lastReport() const { return mLastReport; }
 
 private:
-    // A frame's capture, read once and kept while the session runs that frame or its neighbour.
-    struct FrameInput {
-        std::unique_ptr<FrameSource> capture;  // the frame's files, or the capture in memory
-        std::unique_ptr<CachedSource> cached;
-    };
-    FrameInput& frameInput(int frame, bool firstInSequence);
     static void replace(std::vector<std::string>& list, const std::string& name,
                         const std::string& value);
 
@@ -100,10 +97,8 @@ private:
 
     std::mutex mRunMutex;  // one run at a time
     std::atomic<bool> mCancel{false};
-    std::map<std::pair<int, bool>, FrameInput> mInputs;
-    StepCache mCache;
-    HistoryStore mHistory, mHistoryBefore;  // now, and before the last frame run
-    std::optional<int> mLastFrame;
+    // Frames run incrementally, the frame and the one before it kept read.
+    FrameDriver mFrames;
     std::optional<FrameReport> mLastReport;
 };
 

@@ -77,7 +77,7 @@ void printIncremental(const IncrementalTiming& t) {
 }
 
 void writeHtml(const BenchResult& result, const std::string& path) {
-    io::writeTextAtomically(path, benchHtml(result));
+    io::writeFileAtomically(path, benchHtml(result));
 }
 
 }  // namespace

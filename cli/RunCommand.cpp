@@ -38,6 +38,11 @@ Command addRunCommand(CLI::App& app) {
     sub->add_flag("!--no-read-ahead", opt->readAhead,
                   "read each frame's capture at its start, not while the previous frame runs "
                   "(reading ahead holds two frames' capture buffers in memory at once)");
+    sub->add_option("--writers", opt->writers,
+                    "threads that encode and write a frame's files while the next frame "
+                    "computes (default 2); 0 writes each file as soon as it is made, on the "
+                    "frame's thread")
+        ->check(CLI::Range(0, 64));
     sub->add_flag("--skip-existing", opt->skipExisting,
                   "skip frames whose outputs all exist (a re-queued farm task); with temporal "
                   "passes the skipped frames before a computed one still run, writing nothing");

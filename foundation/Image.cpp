@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <map>
 #include <mutex>
 #include <new>
 
@@ -43,22 +44,81 @@ HostMemory hostMemory() {
     return gHostMemory;
 }
 
+// The mapped blocks of images recycled: a block freed is kept for the next image of its size (a
+// sequence's frames ask for the same sizes frame after frame), so a frame's images neither fault
+// their pages in afresh (the kernel zeroing each page on first touch) nor unmap them again (each
+// unmap interrupting every core the process runs on to flush its TLB). A block is kept only while
+// the blocks kept and the images alive stay under the most image memory ever alive at once: the
+// process holds no more than it would without recycling, and the memory forecast stands.
+class BlockPool {
+public:
+    static constexpr std::size_t kMinBytes = std::size_t(4) << 20;  // the mapped ones
+    void* take(std::size_t bytes) {
+        {
+            std::lock_guard<std::mutex> lock(mMutex);
+            mLive += bytes;
+            mMostLive = std::max(mMostLive, mLive);
+            if (auto it = mFree.find(bytes); it != mFree.end()) {
+                void* p = it->second;
+                mFree.erase(it);
+                mKept -= bytes;
+                return p;
+            }
+        }
+        return ::operator new[](bytes, std::align_val_t{64});
+    }
+    void give(void* p, std::size_t bytes) {
+        {
+            std::lock_guard<std::mutex> lock(mMutex);
+            mLive -= bytes;
+            if (mLive + mKept + bytes <= mMostLive) {
+                mFree.emplace(bytes, p);
+                mKept += bytes;
+                return;
+            }
+        }
+        ::operator delete[](p, std::align_val_t{64});
+    }
+
+private:
+    std::mutex mMutex;
+    std::multimap<std::size_t, void*> mFree;
+    std::size_t mLive = 0, mKept = 0, mMostLive = 0;
+};
+
+BlockPool& blockPool() {
+    static BlockPool* pool = new BlockPool;  // never destroyed: images may outlive statics
+    return *pool;
+}
+
 std::shared_ptr<float> allocateFilled(std::size_t count, float fill) {
     count = std::max<std::size_t>(1, count);
     const std::size_t bytes = count * sizeof(float);
     const HostMemory memory = hostMemory();
-    float* p = memory.allocate
-                   ? static_cast<float*>(memory.allocate(bytes))
-                   : static_cast<float*>(::operator new[](bytes, std::align_val_t{64}));
+    const bool pooled = !memory.allocate && bytes >= BlockPool::kMinBytes;
+    float* p = memory.allocate ? static_cast<float*>(memory.allocate(bytes))
+               : pooled        ? static_cast<float*>(blockPool().take(bytes))
+                               : static_cast<float*>(::operator new[](bytes, std::align_val_t{64}));
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, std::size_t(1) << 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           std::fill(p + r.begin(), p + r.end(), fill);
                       });
     if (memory.allocate)
         return std::shared_ptr<float>(p, [release = memory.release, bytes](float* q) { release(q, bytes); });
+    if (pooled)
+        return std::shared_ptr<float>(p, [bytes](float* q) { blockPool().give(q, bytes); });
     return std::shared_ptr<float>(p, [](float* q) { ::operator delete[](q, std::align_val_t{64}); });
 }
 }  // namespace
+
+std::shared_ptr<void> hostScratch(std::size_t bytes) {
+    bytes = std::max<std::size_t>(1, bytes);
+    if (bytes >= BlockPool::kMinBytes)
+        return std::shared_ptr<void>(blockPool().take(bytes),
+                                     [bytes](void* q) { blockPool().give(q, bytes); });
+    return std::shared_ptr<void>(::operator new[](bytes, std::align_val_t{64}),
+                                 [](void* q) { ::operator delete[](q, std::align_val_t{64}); });
+}
 
 void setHostMemory(HostMemory memory) {
     std::lock_guard<std::mutex> lock(gHostMemoryMutex);

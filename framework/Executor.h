@@ -30,6 +30,12 @@ public:
     /// The scene's sky light; empty (not an error) when there is no scene.
     virtual const Environment& environment() = 0;
     virtual OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() = 0;
+    /// Seconds spent so far reading this frame's files (the bytes) and decoding them
+    /// (decompression, conversion, the input checks): 0 for a frame held in memory.
+    struct InputSeconds {
+        double read = 0, decode = 0;
+    };
+    virtual InputSeconds inputSeconds() const { return {}; }
 };
 
 struct OutputLayer {

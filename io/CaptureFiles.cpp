@@ -160,6 +160,12 @@ ExrReader* CaptureFiles::reader(const std::string& fileKey) const {
     return it == mReaders.end() ? nullptr : it->second.get();
 }
 
+double CaptureFiles::fileSeconds() const {
+    double seconds = 0;
+    for (const auto& [k, r] : mReaders) seconds += r->fileSeconds();
+    return seconds;
+}
+
 std::vector<std::pair<std::string, const ExrReader*>> CaptureFiles::files() const {
     std::vector<std::pair<std::string, const ExrReader*>> out;
     for (const auto& [k, r] : mReaders) out.emplace_back(k, r.get());

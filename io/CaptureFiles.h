@@ -51,6 +51,8 @@ public:
     /// is not read here (fp::Error).
     Image read(const std::string& buffer, int channels, std::vector<std::string>& notes);
 
+    /// Seconds spent reading the files' bytes so far (ExrReader::fileSeconds).
+    double fileSeconds() const;
     /// Every channel decoded so far, "<file>:<channel>" for multi-file captures.
     std::vector<std::string> readLog() const;
     /// The caveats (BufferMapping::warning) of the buffers read so far, "<buffer>: <text>".

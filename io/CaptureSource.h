@@ -90,6 +90,7 @@ public:
 
     FrameInfo frameInfo() override;
     Texture loadBuffer(const std::string& buffer, int channels) override;
+    InputSeconds inputSeconds() const override;
 
     CaptureFiles& files() { return mFiles; }
     const SanitizeCounts& sanitized() const { return mSanitized; }
@@ -121,6 +122,8 @@ private:
     std::optional<FrameInfo> mInfo;
     SanitizeCounts mSanitized;
     std::map<std::string, std::pair<int, Texture>> mReadAhead;  // buffer → (channels, pixels)
+    double fileSeconds() const;
+    double mLoadSeconds = 0, mLoadFileSeconds = 0;  // in loadBuffer; of it, reading the files
 };
 
 /// The OCIO config to use: `explicitPath`, else $OCIO, else configs/ocio/config.ocio.

@@ -55,6 +55,12 @@ const JsonObjectShape kExrShape = {
      {"colorPrecision", K::String, "how colour layers of outputs and dumps are stored (data layers are always float32)",
       {}, {}, {"half", "float"}}}};
 
+const JsonObjectShape kPngShape = {
+    "png", "how PNG previews are written",
+    {{"compressionLevel", K::Integer,
+      "zlib's level, 0 (stored) to 9 (smallest); the pixels are the same at every level",
+      0, 9}}};
+
 const std::vector<std::string> kEngines = {"ue4.27", "ue5", "ue4.27-raytracing",
                                            "framepass-hybrid"};
 
@@ -243,6 +249,7 @@ const JsonObjectShape& configShape() {
          {"outputs", K::ValueMap, "file → 'pass.port' or a list of them (.exr), or one source (.png)"},
          {"color", K::Object, "colour management of previews", {}, {}, {}, &kColorShape},
          {"exr", K::Object, "how EXR outputs are written", {}, {}, {}, &kExrShape},
+         {"png", K::Object, "how PNG previews are written", {}, {}, {}, &kPngShape},
          {"description", K::String, "ignored"},
          {"$schema", K::String, "ignored: the JSON Schema an editor validates with"}}};
     return shape;
@@ -342,6 +349,21 @@ RunConfig parseRunConfig(const nlohmann::json& j,
                     diag.error("/exr/colorPrecision",
                                fmt::format("'{}': expected \"half\" or \"float\"",
                                            rc.colorPrecision));
+            }
+        }
+    }
+    if (j.contains("png")) {
+        if (!j["png"].is_object())
+            diag.error("/png", "'png' must be an object");
+        else {
+            checkKeys(j["png"], kPngShape, "/png", "png", diag);
+            if (j["png"].contains("compressionLevel")) {
+                const auto& v = j["png"]["compressionLevel"];
+                if (!v.is_number_integer() || v.get<int>() < 0 || v.get<int>() > 9)
+                    diag.error("/png/compressionLevel",
+                               fmt::format("{}: expected an integer from 0 to 9", v.dump()));
+                else
+                    rc.pngLevel = v.get<int>();
             }
         }
     }

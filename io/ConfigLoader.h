@@ -23,6 +23,7 @@ struct RunConfig {
     std::string ocioConfig;  //!< "" = $OCIO, else the shipped configs/ocio/config.ocio
     std::string compression = "zip";
     std::string colorPrecision = "half";  //!< colour layers of EXR outputs: "half" or "float"
+    int pngLevel = 1;  //!< zlib level of PNG outputs (io/PngWriter.h kDefaultPngLevel)
     std::string preset;  //!< the preset file that gave the chain, when the config has no passes
     GraphDesc graph;
     /// Problems found while reading; the planner reports them together with its own.

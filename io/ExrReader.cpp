@@ -8,7 +8,10 @@
 #include <OpenEXR/ImfInputPart.h>
 #include <OpenEXR/ImfMultiPartInputFile.h>
 #include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfStdIO.h>
 
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -95,7 +98,30 @@ void checkExrHeaders(const std::string& path) {
     }
 }
 
+// The file as OpenEXR reads it, timing each read: the bytes' arrival apart from their decoding.
+// OpenEXR's worker threads may read while another decodes, hence the atomic count.
+class TimedFileStream final : public Imf::StdIFStream {
+public:
+    explicit TimedFileStream(const std::string& path) : Imf::StdIFStream(path.c_str()) {}
+    bool read(char c[], int n) override {
+        const auto t0 = std::chrono::steady_clock::now();
+        const bool more = Imf::StdIFStream::read(c, n);
+        mNanoseconds += std::chrono::duration_cast<std::chrono::nanoseconds>(
+                            std::chrono::steady_clock::now() - t0)
+                            .count();
+        return more;
+    }
+    double seconds() const { return double(mNanoseconds.load()) * 1e-9; }
+
+private:
+    std::atomic<int64_t> mNanoseconds{0};
+};
+
 }  // namespace
+
+double ExrReader::fileSeconds() const {
+    return static_cast<const TimedFileStream&>(*mStream).seconds();
+}
 
 ExrReader::ExrReader(const std::string& path) : mPath(path) {
     if (!std::filesystem::exists(path)) throw Error(fmt::format("{}: no such file", path));
@@ -103,7 +129,8 @@ ExrReader::ExrReader(const std::string& path) : mPath(path) {
         throw Error(fmt::format("{}: is a folder, not an EXR file", path));
     checkExrHeaders(path);
     try {
-        mFile = std::make_unique<Imf::MultiPartInputFile>(path.c_str());
+        mStream = std::make_unique<TimedFileStream>(path);
+        mFile = std::make_unique<Imf::MultiPartInputFile>(*mStream);
     } catch (const std::exception& e) {
         throw Error(fmt::format("{}: not a readable OpenEXR file ({})", path, e.what()));
     }

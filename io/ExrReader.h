@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace OPENEXR_IMF_INTERNAL_NAMESPACE { class MultiPartInputFile; }
+namespace OPENEXR_IMF_INTERNAL_NAMESPACE { class MultiPartInputFile; class IStream; }
 
 namespace fp::io {
 
@@ -45,9 +45,13 @@ public:
 
     /// Every channel decoded so far, in order: the proof that reads are lazy.
     const std::vector<std::string>& readLog() const { return mReadLog; }
+    /// Seconds spent so far reading bytes from the file (headers and pixel chunks), apart from
+    /// decompressing and converting them: a run's report separates the two.
+    double fileSeconds() const;
 
 private:
     std::string mPath;
+    std::unique_ptr<Imf::IStream> mStream;  // before mFile, which reads through it
     std::unique_ptr<Imf::MultiPartInputFile> mFile;
     std::vector<ExrChannel> mChannels;
     Extent mExtent;

@@ -9,6 +9,7 @@
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfMultiPartOutputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
@@ -16,8 +17,11 @@
 #include <OpenEXR/ImfPartType.h>
 #include <OpenEXR/ImfStringAttribute.h>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <unistd.h>
@@ -63,6 +67,24 @@ Imf::Compression toImf(ExrCompression c) {
     return Imf::ZIP_COMPRESSION;
 }
 
+// The file OpenEXR writes, held in memory: OpenEXR seeks back to fill in the chunk offsets.
+class MemoryStream final : public Imf::OStream {
+public:
+    MemoryStream() : Imf::OStream("memory") {}
+    void write(const char c[], int n) override {
+        if (mPosition + std::size_t(n) > mBytes.size()) mBytes.resize(mPosition + std::size_t(n));
+        std::memcpy(mBytes.data() + mPosition, c, std::size_t(n));
+        mPosition += std::size_t(n);
+    }
+    uint64_t tellp() override { return mPosition; }
+    void seekp(uint64_t position) override { mPosition = position; }
+    std::vector<char> take() { return std::move(mBytes); }
+
+private:
+    std::vector<char> mBytes;
+    std::size_t mPosition = 0;
+};
+
 // Owns the pixel buffers (half conversions, or float planes referenced in place) of one part.
 struct PartBuffers {
     Imf::Header header;
@@ -99,13 +121,16 @@ void buildPart(PartBuffers& pb, const ExrPart& part, const ExrMetadata& meta,
             const Plane& plane = img.plane(c);
             if (layer.half) {
                 auto buf = std::make_unique<half[]>(std::size_t(w) * h);
-                for (int y = 0; y < h; ++y)
+                half* out = buf.get();
+                tbb::parallel_for(0, h, [&](int y) {
+                    const float* row = plane.row(y);
                     for (int x = 0; x < w; ++x) {
-                        float v = plane.at(x, y);
+                        float v = row[x];
                         // Saturate to half's range: an HDR 1e5 stays the largest finite half.
                         if (std::isfinite(v)) v = std::clamp(v, -65504.0f, 65504.0f);
-                        buf[std::size_t(y) * w + x] = half(v);
+                        out[std::size_t(y) * w + x] = half(v);
                     }
+                });
                 pb.header.channels().insert(name, Imf::Channel(Imf::HALF));
                 pb.frameBuffer.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(buf.get()),
                                                        sizeof(half), sizeof(half) * w));
@@ -123,46 +148,49 @@ void buildPart(PartBuffers& pb, const ExrPart& part, const ExrMetadata& meta,
 
 }  // namespace
 
-void writeExr(const std::string& path, const std::vector<ExrPart>& parts,
-              const ExrMetadata& meta, ExrCompression compression) {
-    FP_CHECK(!parts.empty(), "{}: nothing to write", path);
-    createParentFolder(path);
-    const std::string tmp = temporaryPathFor(path);
-    const InFlightTemporary inFlight(tmp);
+std::vector<char> encodeExr(const std::vector<ExrPart>& parts, const ExrMetadata& meta,
+                            ExrCompression compression) {
+    FP_CHECK(!parts.empty(), "nothing to encode");
     const bool multiPart = parts.size() > 1;
     std::vector<PartBuffers> buffers(parts.size());
+    std::vector<ExrPart> sized = parts;
+    for (auto& p : sized) {
+        p.displayWidth = parts.front().layers.front().image->width();
+        p.displayHeight = parts.front().layers.front().image->height();
+    }
+    for (std::size_t i = 0; i < parts.size(); ++i)
+        buildPart(buffers[i], sized[i], meta, compression, multiPart);
+    MemoryStream file;
+    if (!multiPart) {
+        Imf::OutputFile out(file, buffers[0].header);
+        out.setFrameBuffer(buffers[0].frameBuffer);
+        out.writePixels(buffers[0].header.dataWindow().max.y -
+                        buffers[0].header.dataWindow().min.y + 1);
+    } else {
+        std::vector<Imf::Header> headers;
+        for (const auto& b : buffers) headers.push_back(b.header);
+        Imf::MultiPartOutputFile out(file, headers.data(), int(headers.size()));
+        for (std::size_t i = 0; i < buffers.size(); ++i) {
+            Imf::OutputPart part(out, int(i));
+            part.setFrameBuffer(buffers[i].frameBuffer);
+            const auto dw = buffers[i].header.dataWindow();
+            part.writePixels(dw.max.y - dw.min.y + 1);
+        }
+    }
+    return file.take();
+}
+
+void writeExr(const std::string& path, const std::vector<ExrPart>& parts,
+              const ExrMetadata& meta, ExrCompression compression) {
+    std::vector<char> bytes;
     try {
-        std::vector<ExrPart> sized = parts;
-        for (auto& p : sized) {
-            p.displayWidth = parts.front().layers.front().image->width();
-            p.displayHeight = parts.front().layers.front().image->height();
-        }
-        for (std::size_t i = 0; i < parts.size(); ++i)
-            buildPart(buffers[i], sized[i], meta, compression, multiPart);
-        if (!multiPart) {
-            Imf::OutputFile out(tmp.c_str(), buffers[0].header);
-            out.setFrameBuffer(buffers[0].frameBuffer);
-            out.writePixels(buffers[0].header.dataWindow().max.y -
-                            buffers[0].header.dataWindow().min.y + 1);
-        } else {
-            std::vector<Imf::Header> headers;
-            for (const auto& b : buffers) headers.push_back(b.header);
-            Imf::MultiPartOutputFile out(tmp.c_str(), headers.data(), int(headers.size()));
-            for (std::size_t i = 0; i < buffers.size(); ++i) {
-                Imf::OutputPart part(out, int(i));
-                part.setFrameBuffer(buffers[i].frameBuffer);
-                const auto dw = buffers[i].header.dataWindow();
-                part.writePixels(dw.max.y - dw.min.y + 1);
-            }
-        }
+        bytes = encodeExr(parts, meta, compression);
     } catch (const Error&) {
-        removeTemporary(tmp);
         throw;
     } catch (const std::exception& e) {
-        removeTemporary(tmp);
         throw Error(fmt::format("{}: could not write: {}", path, e.what()));
     }
-    commitFile(tmp, path);
+    writeFileAtomically(path, {bytes.data(), bytes.size()}, false);
 }
 
 }  // namespace fp::io

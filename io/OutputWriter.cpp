@@ -4,8 +4,14 @@
 
 #include "io/FramePattern.h"
 #include "io/PngWriter.h"
+#include "io/SafeFiles.h"
 #include "foundation/Error.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <chrono>
+#include <functional>
 #include <cmath>
 #include <filesystem>
 
@@ -32,14 +38,19 @@ namespace {
 void checkFinite(const OutputLayer& layer, const std::string& path, int64_t frame) {
     for (int m = 0; m < layer.texture->mipCount(); ++m) {
         const Image& img = layer.texture->mip(m);
-        uint64_t bad = 0;
-        for (int c = 0; c < img.channelCount(); ++c)
-            for (int y = 0; y < img.height(); ++y) {
-                const float* row = img.plane(c).row(y);
-                for (int x = 0; x < img.width(); ++x)
-                    bad += std::isnan(row[x]) ||
-                           (layer.kind == PortKind::Color && std::isinf(row[x]));
-            }
+        const bool color = layer.kind == PortKind::Color;
+        const uint64_t bad = tbb::parallel_reduce(
+            tbb::blocked_range<int>(0, img.height()), uint64_t(0),
+            [&](const tbb::blocked_range<int>& rows, uint64_t count) {
+                for (int c = 0; c < img.channelCount(); ++c)
+                    for (int y = rows.begin(); y < rows.end(); ++y) {
+                        const float* row = img.plane(c).row(y);
+                        for (int x = 0; x < img.width(); ++x)
+                            count += std::isnan(row[x]) || (color && std::isinf(row[x]));
+                    }
+                return count;
+            },
+            std::plus<uint64_t>());
         if (bad > 0)
             throw Error(fmt::format("{}: frame {}: '{}' holds {} NaN{} value(s){}; not written",
                                     path, frame, layer.name, bad,
@@ -49,18 +60,36 @@ void checkFinite(const OutputLayer& layer, const std::string& path, int64_t fram
 }
 }  // namespace
 
-void OutputWriter::write(const OutputDesc& output, const std::vector<OutputLayer>& layers,
-                         const FrameInfo& frame) {
-    const std::string path = pathFor(output, frame.number);
+OutputWriter::WrittenFile OutputWriter::writeFile(const OutputDesc& output,
+                                                  const std::vector<OutputLayer>& layers,
+                                                  const FrameInfo& frame) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    WrittenFile file{pathFor(output, frame.number)};
+    const std::string& path = file.path;
     for (const auto& l : layers) checkFinite(l, path, frame.number);
     std::error_code ec;
     for (const auto& in : mOptions.protectedPaths)
         if (fs::exists(path) && fs::equivalent(path, in, ec))
             throw Error(fmt::format("{}: refusing to overwrite an input of this run", path));
-    if (fs::path(path).extension() == ".png") {
-        writePng(path, layers.front().texture->image());
+    // Encoded in memory, then written: the two times apart.
+    auto commit = [&](std::string_view bytes) {
+        const auto encoded = Clock::now();
+        writeFileAtomically(path, bytes, false);
+        file.encodeSeconds = std::chrono::duration<double>(encoded - start).count();
+        file.writeSeconds = std::chrono::duration<double>(Clock::now() - encoded).count();
+        const std::lock_guard<std::mutex> lock(mMutex);
         mWritten.push_back(path);
-        return;
+        return file;
+    };
+    if (fs::path(path).extension() == ".png") {
+        std::string bytes;
+        try {
+            bytes = encodePng(layers.front().texture->image(), mOptions.pngLevel);
+        } catch (const Error& e) {
+            throw Error(fmt::format("{}: {}", path, e.what()));
+        }
+        return commit(bytes);
     }
     ExrMetadata meta;
     if (frame.hasCamera) meta.camera = frame.camera;
@@ -100,8 +129,15 @@ void OutputWriter::write(const OutputDesc& output, const std::vector<OutputLayer
                 parts.push_back({fmt::format("{}.mip{}", l.name, m),
                                  {{l.name, &l.texture->mip(m), half(l)}}});
     }
-    writeExr(path, parts, meta, mOptions.compression);
-    mWritten.push_back(path);
+    std::vector<char> bytes;
+    try {
+        bytes = encodeExr(parts, meta, mOptions.compression);
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw Error(fmt::format("{}: could not write: {}", path, e.what()));
+    }
+    return commit({bytes.data(), bytes.size()});
 }
 
 }  // namespace fp::io

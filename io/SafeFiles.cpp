@@ -124,7 +124,7 @@ void checkFolderWritable(const std::string& folder, const std::string& flag) {
                                      flag.empty() ? "" : flag + " ", folder, std::strerror(err)));
 }
 
-void writeTextAtomically(const std::string& path, const std::string& text) {
+void writeFileAtomically(const std::string& path, std::string_view text, bool sync) {
     std::error_code ec;
     if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
         throw Error(fmt::format("{}: exists and is not a regular file; not writing over it", path));
@@ -142,7 +142,7 @@ void writeTextAtomically(const std::string& path, const std::string& text) {
         if (n < 0 && errno != EINTR) err = errno;
         if (n > 0) done += std::size_t(n);
     }
-    if (!err && ::fsync(fd) != 0 && errno != EINVAL) err = errno;
+    if (!err && sync && ::fsync(fd) != 0 && errno != EINVAL) err = errno;
     if (::close(fd) != 0 && !err) err = errno;
     if (err) {
         removeTemporary(tmp);

@@ -3,6 +3,7 @@
 // then a rename, so a killed process leaves either the old file or the new one), and the
 // temporaries a killed process left behind removed by the next run.
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace fp::io {
@@ -44,9 +45,11 @@ private:
 /// (a fixed table and unlink only): the second-signal handler calls it.
 int removeInFlightTemporaries() noexcept;
 
-/// Writes `text` to `path` atomically. A target that exists but is not a regular file
-/// (/proc/version, a folder) is an error, not "written".
-void writeTextAtomically(const std::string& path, const std::string& text);
+/// Writes `bytes` to `path` atomically. A target that exists but is not a regular file
+/// (/proc/version, a folder) is an error, not "written". `sync`: flushed to the disk before the
+/// rename (a report: small, and read by the farm after the job); images are not, as OpenEXR's
+/// own writer never did.
+void writeFileAtomically(const std::string& path, std::string_view bytes, bool sync = true);
 
 /// Removes the temporaries (".<name>.<pid>.tmp", see temporaryPathFor) in `folder` whose
 /// process no longer runs. Returns how many it removed.

@@ -433,7 +433,7 @@ py::object bench(const std::string& config, const py::object& sweep, int runs, i
     {
         py::gil_scoped_release release;
         result = app::runBench(o, incremental);
-        if (!html.empty()) io::writeTextAtomically(html, app::benchHtml(result));
+        if (!html.empty()) io::writeFileAtomically(html, app::benchHtml(result));
     }
     return toPython(result.toJson());
 }

@@ -478,7 +478,8 @@ nlohmann::json Workbench::breakdown(int rays) {
     for (std::size_t i = 0; i < plan.steps.size() && i < mLast->report.passes.size(); ++i)
         if (plan.steps[i].io.roles.measuresError)
             errors.push_back(app::errorNodeResult(plan.steps[i], mLast->report.passes[i]));
-    app::ErrorBreakdown taker(setup, std::move(targets), rays, mLastFrame);
+    app::ErrorBreakdown taker(setup, mSession.frameDriver(), std::move(targets), rays,
+                              mLastFrame);
     taker.decompose(mSession.options(), kept, "workbench", errors);
     for (const auto& e : errors) {
         nlohmann::json j = {{"name", e.name}, {"metrics", e.metrics}};

@@ -342,6 +342,43 @@ TEST_SUITE("app") {
         CHECK(std::filesystem::exists(r.outputDir + "/lit.0002.exr"));
         CHECK(std::filesystem::exists(r.report));
     }
+    TEST_CASE("run, a session and bench run frames through one driver: the same figures") {
+        // Frame 2 of the sequence, after frame 1 (the denoiser's history), three ways: the error
+        // its measure reports is the same double in each, and the session's image is the plain
+        // executor loop's.
+        app::Session session(options("1-2"));
+        std::vector<std::string> outputs = kOutputs;
+        outputs.push_back("ssgi_vs_full.heat");  // the measure runs when its output is asked for
+        session.run(1, outputs);
+        const app::FrameResult second = session.run(2, outputs);
+        CHECK(sameBits(second.images.at(kOutputs[0]), plainRun({options("1-2")}, {1, 2}).at(kOutputs[0])));
+        auto rmseOf = [](const std::vector<PassReport>& passes) {
+            for (const auto& p : passes)
+                if (p.name == "ssgi_vs_full") return p.metrics.at("rmse");
+            return -1.0;
+        };
+        const double sessionRmse = rmseOf(second.report.passes);
+        REQUIRE(sessionRmse > 0);
+
+        app::RunOptions r;
+        r.setup = options("1-2");
+        r.outputDir = scratchPath("app/driver", "");
+        std::ostringstream out, err;
+        const app::RunOutcome outcome = app::runFrames(r, out, err);
+        REQUIRE(outcome.report["frames"].size() == 2);
+        for (const auto& p : outcome.report["frames"][1]["passes"])
+            if (p["name"] == "ssgi_vs_full") CHECK(p["metrics"]["rmse"].get<double>() == sessionRmse);
+
+        app::BenchOptions b;
+        b.session = options("1-2");
+        b.runs = 1;
+        b.warmup = 1;  // a second timed sequence starts afresh: no history carried across runs
+        const app::BenchResult bench = app::runBench(b);
+        REQUIRE(bench.settings.size() == 1);
+        REQUIRE(bench.settings.front().hasError());
+        CHECK(bench.settings.front().errors.front().metrics.at("rmse") == sessionRmse);
+    }
+
     TEST_CASE("a session on a capture in memory gives the bits of one on its file") {
         const app::RunSetup probe(options());
         auto memory = std::make_shared<io::MemoryCapture>(

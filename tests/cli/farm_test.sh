@@ -46,7 +46,34 @@ import json; r = json.load(open(\"all.json\")); assert all(f[\"status\"] == \"sk
 # removes the temporaries the dead process left, and gives the clean run's bytes.
 check "capture a heavier 6-frame sequence" "$FP" capture "$SRC/examples/cornell/scene.json" -o big.####.exr --frames 1-6 --width 160 --height 160
 echo '{ "version": 1, "capture": "big.####.exr", "frames": "1-6" }' > big.json
-check "its clean run" "$FP" run big.json -o big_clean --dump all
+check "its clean run" "$FP" run big.json -o big_clean --dump all --report big_clean.json
+check "the report gives each frame's stages and the run's frame rate and bound" python3 -c "
+import json; r = json.load(open('big_clean.json'))
+stages = ['read', 'decode', 'upload', 'pass', 'download', 'encode', 'write']
+for f in r['frames']:
+    assert all(f[s + 'Seconds'] >= 0 for s in stages), f
+    assert f['decodeSeconds'] > 0 and f['passSeconds'] > 0 and f['encodeSeconds'] > 0, f
+t = r['throughput']
+assert t['frames'] == 6 and t['framesPerSecond'] > 0 and t['boundBy'] in stages, t
+assert t['writers'] == 2 and t['readAhead'] is True, t"
+# The pipeline (files written by a pool of writers while the next frame computes, the next
+# capture read ahead) changes no byte: none, one and three writers, with and without read-ahead.
+check "0, 1 and 3 writers, with and without read-ahead, write the clean run's bytes" bash -c "
+    for w in 0 1 3; do '$FP' run big.json -o w\$w --dump all --writers \$w > /dev/null || exit 1; diff -r big_clean w\$w || exit 1; done
+    '$FP' run big.json -o w0n --dump all --writers 0 --no-read-ahead > /dev/null && diff -r big_clean w0n"
+# A file that cannot be written (a folder holds its name) fails its frame when the frame is
+# settled, after the next one computed: that one's files finish whole, the run ends there.
+check "a file that fails to write fails its frame; no temporaries; the report lists it" bash -c "
+    mkdir -p wfail/ssgi.0003.exr
+    '$FP' run big.json -o wfail --report wfail.json > wfail.log 2>&1; [ \$? = 1 ] &&
+    grep -q 'ssgi.0003.exr: exists and is not a regular file' wfail.log && [ -z \"\$(find wfail -name '.*.tmp')\" ] &&
+    cmp big_clean/ssgi.0002.exr wfail/ssgi.0002.exr && test ! -e wfail/ssgi.0006.exr &&
+    python3 -c '
+import json; r = json.load(open(\"wfail.json\")); s = [f[\"status\"] for f in r[\"frames\"]]
+assert s[:3] == [\"ok\", \"ok\", \"failed\"] and len(s) <= 4, s'"
+check "with --continue-on-error the frames after it are written" bash -c "
+    '$FP' run big.json -o wfail --report wfail2.json --continue-on-error > wfail2.log 2>&1; [ \$? = 1 ] &&
+    grep -q '1 of 6 frame(s) failed: 3' wfail2.log && cmp big_clean/ssgi.0006.exr wfail/ssgi.0006.exr"
 check "kill -9 mid-run leaves only whole files at final names" bash -c "
     '$FP' --threads 1 run big.json -o big_kill --dump all > /dev/null 2>&1 & pid=\$!
     for i in \$(seq 1 600); do [ -e big_kill/ssgi.0002.exr ] && break; sleep 0.05; done
@@ -102,7 +129,7 @@ check "bench --html into /proc" expect_exit 2 "cannot create the folder" "$FP" b
 # A write that fails says why: a file size limit (RLIMIT_FSIZE, SIGXFSZ ignored) makes every
 # write past 2 KiB fail with EFBIG, as a full disk fails with ENOSPC. The frame's output fails
 # first; the report's failure is said too, and neither hides the other.
-check "a report that cannot be written gives the system's reason" bash -c "trap '' XFSZ; ulimit -f 2; '$FP' run one.json -o small --report small/report.json > fsize.log 2>&1; [ \$? = 1 ] && grep -q 'report.json: could not write .*File too large' fsize.log && grep -q 'ssgi.0001.exr: could not write: .*File too large' fsize.log"
+check "a report that cannot be written gives the system's reason" bash -c "trap '' XFSZ; ulimit -f 2; '$FP' run one.json -o small --report small/report.json > fsize.log 2>&1; [ \$? = 1 ] && grep -q 'report.json: could not write .*File too large' fsize.log && grep -q 'ssgi.0001.exr: could not write .*File too large' fsize.log"
 
 # No command writes over its inputs.
 cp -r "$SRC/examples/cornell" scene_copy

@@ -171,6 +171,11 @@ for run in m1024 mrt mseq; do
     check "$run: the memory forecast is within 20 % of the process's peak" bash -c \
         "'$FP' run '$DIR/$run.json' -o '$DIR/$run' --report '$DIR/$run.report.json' >/dev/null 2>&1 && $(declare -f within20); within20 '$DIR/$run.report.json'"
 done
+check "the sequence's forecast counts the frame its writers hold, and none without writers" bash -c \
+    "'$FP' run '$DIR/mseq.json' -o '$DIR/mseq0' --writers 0 --report '$DIR/mseq0.report.json' >/dev/null 2>&1 && \
+     python3 -c \"import json; q = lambda p: json.load(open(p))['memory']['forecast']['queuedBytes']; \
+a, b = q('$DIR/mseq.report.json'), q('$DIR/mseq0.report.json'); assert a > 0 and b == 0, (a, b)\" && \
+     $(declare -f within20); within20 '$DIR/mseq0.report.json'"
 check "the run's last line sets its peak beside the forecast" \
     expect_exit 0 "memory: the process peaked at" "$FP" run "$DIR/m1024.json" -o "$DIR/m1024b"
 check "compare refuses a comparison over --max-memory before it reads" \

@@ -34,12 +34,12 @@ TEST_SUITE("io") {
 
     TEST_CASE("text is written atomically; a folder or /proc is not 'written'") {
         const std::string path = scratch("report.json");
-        io::writeTextAtomically(path, "{}\n");
-        io::writeTextAtomically(path, "{\"a\": 1}\n");
+        io::writeFileAtomically(path, "{}\n");
+        io::writeFileAtomically(path, "{\"a\": 1}\n");
         std::ifstream in(path);
         std::string text((std::istreambuf_iterator<char>(in)), {});
         CHECK(text == "{\"a\": 1}\n");
-        CHECK_THROWS_WITH_AS(io::writeTextAtomically(fs::path(path).parent_path().string(), "x"),
+        CHECK_THROWS_WITH_AS(io::writeFileAtomically(fs::path(path).parent_path().string(), "x"),
                              doctest::Contains("not a regular file"), Error);
         CHECK_THROWS_WITH_AS(io::checkWritable("/proc/version", "--report"),
                              doctest::Contains("cannot create a file in /proc"), UsageError);
