@@ -96,7 +96,7 @@ void FrameDriver::cut() {
 }
 
 FrameRun FrameDriver::run(const Plan& plan, int frame, FrameSink& sink,
-                          const ProgressFn& progress, std::optional<int> next) {
+                          const ProgressFn& progress, const std::vector<int>& next) {
     // The history this frame starts from (the rule in FrameDriver.h).
     bool first = true;
     if (!mCut && mLast && frame == *mLast) {
@@ -115,7 +115,7 @@ FrameRun FrameDriver::run(const Plan& plan, int frame, FrameSink& sink,
 
     // The capture: read ahead, kept from an earlier run, or opened now.
     std::unique_ptr<io::CaptureSource> readAhead =
-        mOptions.readAhead ? mReadAhead.take(frame) : nullptr;
+        mOptions.readAhead > 0 ? mReadAhead.take(frame) : nullptr;
     const bool fresh = readAhead || !mKept.count(frame);
     Kept& kept = open(frame, std::move(readAhead));
     FrameSource& capture = kept.cached ? static_cast<FrameSource&>(*kept.cached) : *kept.capture;
@@ -125,8 +125,9 @@ FrameRun FrameDriver::run(const Plan& plan, int frame, FrameSink& sink,
     FP_CHECK(!plan.needsCamera || view.frameInfo().hasCamera,
              "{}: frame {}: no camera in the header and no sidecar ({}.camera.json)",
              mSetup.capturePath(frame), frame, mSetup.capturePath(frame));
-    if (next && mOptions.readAhead && !mSetup.memoryCapture())
-        mReadAhead.start(captureOptions(*next), mSetup.profile(), plan.captureReads);
+    if (!mSetup.memoryCapture())
+        for (std::size_t i = 0; i < next.size() && int(i) < mOptions.readAhead; ++i)
+            mReadAhead.start(captureOptions(next[i]), mSetup.profile(), plan.captureReads);
 
     FrameRun result;
     if (mOptions.incremental) mCache.sourceId = mSetup.capturePath(frame);

@@ -38,9 +38,9 @@ enum class CaptureKeeping {
 
 struct FrameDriverOptions {
     CaptureKeeping keep = CaptureKeeping::Streaming;
-    /// Read frame N+1's capture while frame N runs (run()'s `next`); holds two frames' capture
-    /// buffers at once.
-    bool readAhead = false;
+    /// How many of the next frames (run()'s `next`) are read while a frame runs, each on a thread
+    /// of its own; each holds a frame's capture buffers. 0: a frame reads its capture as it runs.
+    int readAhead = 0;
     /// Keep every step's outputs (StepCache): a step unchanged since the last run is not run.
     bool incremental = false;
     /// Bad input pixels and assumed values are errors (run's --strict).
@@ -71,10 +71,11 @@ public:
     void setSequence(std::vector<int> frames) { mSequence = std::move(frames); }
 
     /// Runs `plan` on `frame` into `sink`; `progress` is called after each pass (it may throw to stop the
-    /// frame between passes). `next`: the frame to read ahead while this one runs. A frame that
+    /// frame between passes). `next`: the frames that run after it, in order; the first
+    /// `readAhead` of them are read while this one runs. A frame that
     /// throws leaves the history as it was before it. Throws fp::Error for the frame.
     FrameRun run(const Plan& plan, int frame, FrameSink& sink, const ProgressFn& progress = {},
-                 std::optional<int> next = std::nullopt);
+                 const std::vector<int>& next = {});
     /// Runs `plan` once on `frame`'s capture (read once and kept with the frame), apart from the
     /// sequence: no history, no StepCache, its random numbers seeded as frame `seed`. The error
     /// breakdown's oracle and converged chains.

@@ -134,14 +134,14 @@ uint64_t peakResidentBytes() {
     return uint64_t(usage.ru_maxrss) * 1024;  // KiB on Linux
 }
 
-MemoryForecast forecastMemory(const Plan& plan, Extent frame, int frames, bool readAhead,
+MemoryForecast forecastMemory(const Plan& plan, Extent frame, int frames, int readAhead,
                               bool halfColor, int writers) {
     MemoryForecast f;
     f.resident = residentBytes();
-    readAhead = readAhead && frames > 1;
-    f.frame = plan.estimateMemory(frame, readAhead, frames > 1);
-    if (readAhead)
-        for (const auto& r : plan.captureReads) f.readAhead += imageBytes(frame, r.channels);
+    readAhead = frames > 1 ? std::min(readAhead, frames - 1) : 0;
+    f.frame = plan.estimateMemory(frame, readAhead > 0, frames > 1);
+    for (const auto& r : plan.captureReads)
+        f.readAhead += uint64_t(readAhead) * imageBytes(frame, r.channels);
     // The writer converts a file's colour layers to half before writing (data layers and float
     // colour are written in place); a PNG preview is 8-bit RGB.
     auto channelsOf = [&](const std::string& key) {

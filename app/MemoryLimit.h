@@ -49,7 +49,7 @@ uint64_t peakResidentBytes();
 struct MemoryForecast {
     uint64_t resident = 0;        //!< the process before its first frame
     Plan::MemoryEstimate frame;   //!< a frame's images, the peak step's scratch, the histories
-    uint64_t readAhead = 0;       //!< the next frame's capture buffers, read while one runs
+    uint64_t readAhead = 0;       //!< the next frames' capture buffers, read while one runs
     /// The previous frame's outputs, held by the writers while the next frame computes.
     uint64_t queued = 0;
     /// The half-float copies of the files being written at once (the largest, one a writer).
@@ -60,8 +60,8 @@ struct MemoryForecast {
 
 /// The forecast of `plan` on frames of `frame` pixels; `halfColor` as the writer stores colour.
 /// `frames`: how many the run computes (from the second on, the histories are held);
-/// `writers`: threads writing files (RunOptions::writers).
-MemoryForecast forecastMemory(const Plan& plan, Extent frame, int frames, bool readAhead,
+/// `readAhead`: frames read ahead; `writers`: threads writing files (RunOptions).
+MemoryForecast forecastMemory(const Plan& plan, Extent frame, int frames, int readAhead,
                               bool halfColor, int writers);
 
 /// "1.1 GiB of images, 96 MiB of pass scratch, …" for messages.

@@ -148,8 +148,9 @@ struct FrameStages {
 };
 
 // The stages summed over a run's frames, and what bounds its frame rate. Reading runs on the
-// read-ahead thread beside the frames' computing, and the files on the writers beside both: the
-// slowest of the three (the writers' share divided among them) sets the pace. Without read-ahead
+// read-ahead threads beside the frames' computing, and the files on the writers beside both: the
+// slowest of the three (reading's share divided among the frames read at once, the writers'
+// among them) sets the pace. Without read-ahead
 // and writers every stage takes its turn on one thread, and the largest bounds the rate.
 struct StageTotals {
     FrameStages sum;
@@ -171,7 +172,7 @@ struct StageTotals {
                 {"download", sum.download / n}, {"encode", sum.encode / n},
                 {"write", sum.write / n}};
     }
-    std::string bound(bool readAhead, int writers) const {
+    std::string bound(int readAhead, int writers) const {
         const auto stages = perFrame();
         auto largest = [&](std::initializer_list<int> of) {
             int best = *of.begin();
@@ -179,17 +180,18 @@ struct StageTotals {
                 if (stages[i].second > stages[best].second) best = i;
             return best;
         };
-        if (!readAhead && writers == 0) return stages[largest({0, 1, 2, 3, 4, 5, 6})].first;
-        const double input = stages[0].second + stages[1].second;
+        if (readAhead == 0 && writers == 0) return stages[largest({0, 1, 2, 3, 4, 5, 6})].first;
+        const double reading = stages[0].second + stages[1].second;
+        const double input = readAhead > 0 ? reading / readAhead : 0;
         const double compute = stages[2].second + stages[3].second + stages[4].second +
-                               (readAhead ? 0.0 : input) +
+                               (readAhead > 0 ? 0.0 : reading) +
                                (writers == 0 ? stages[5].second + stages[6].second : 0.0);
         const double output = writers > 0 ? (stages[5].second + stages[6].second) / writers : 0;
-        if (readAhead && input >= compute && input >= output) return stages[largest({0, 1})].first;
+        if (readAhead > 0 && input >= compute && input >= output) return stages[largest({0, 1})].first;
         if (output >= compute) return stages[largest({5, 6})].first;
         return stages[largest({2, 3, 4})].first;
     }
-    nlohmann::json toJson(double wall, bool readAhead, int writers) const {
+    nlohmann::json toJson(double wall, int readAhead, int writers) const {
         nlohmann::json perStage;
         for (const auto& [name, seconds] : perFrame()) perStage[name + "Seconds"] = seconds;
         return {{"frames", frames},
@@ -200,7 +202,7 @@ struct StageTotals {
                 {"readAhead", readAhead},
                 {"writers", writers}};
     }
-    std::string line(double wall, bool readAhead, int writers) const {
+    std::string line(double wall, int readAhead, int writers) const {
         std::string stages;
         for (const auto& [name, seconds] : perFrame())
             stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", name, seconds);
@@ -218,7 +220,13 @@ bool hasTemporalPass(const Plan& plan) {
 
 }  // namespace
 
-RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err) {
+int defaultReadAhead(int threads) { return std::clamp(threads / 4, 1, 4); }
+int defaultWriters(int threads) { return std::clamp(threads / 4, 2, 8); }
+
+RunOutcome runFrames(const RunOptions& given, std::ostream& out, std::ostream& err) {
+    RunOptions opt = given;
+    if (opt.readAhead < 0) opt.readAhead = defaultReadAhead(invocation().threads);
+    if (opt.writers < 0) opt.writers = defaultWriters(invocation().threads);
     // With --decompose-rays the chain is planned again with the error sources as dumps
     // that DecompositionSink keeps in memory instead of writing.
     const RunSetup planned(opt.setup);
@@ -364,14 +372,14 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
             work += fmt::format(" {}={}", k, v);
         logVerbose(fmt::format("  {:<24} {:>9.2f} ms{}", p.name, p.seconds * 1e3, work));
     };
-    // The frames run through one driver: frame N+1's capture read while N runs (unless
-    // --no-read-ahead), the history carried from frame to frame.
+    // The frames run through one driver: the next frames' captures read while one runs (unless
+    // --read-ahead 0), the history carried from frame to frame.
     FrameDriver driver(session, {.keep = CaptureKeeping::Streaming,
                                  .readAhead = opt.readAhead,
                                  .strict = opt.setup.strict});
     // One frame into `sink`: its notes said, its files recorded; `next` is read while it runs.
     auto runFrame = [&](int frame, FrameSink& sink, const ProgressFn& progress,
-                        std::optional<int> next) {
+                        const std::vector<int>& next) {
         FrameRun run = driver.run(plan, frame, sink, progress, next);
         nlohmann::json fj = run.report.toJson();
         fj["capture"] = session.capturePath(frame);
@@ -403,7 +411,7 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
             throwIfStopped();
             logVerbose(fmt::format("warm-up frame {}:", warmup[i]));
             DiscardSink discard;
-            const auto [run, fj] = runFrame(warmup[i], discard, verbosePass, std::nullopt);
+            const auto [run, fj] = runFrame(warmup[i], discard, verbosePass, {});
             console << fmt::format("warm-up frame {}: {} passes in {:.3f} s\n", warmup[i],
                                      run.report.passes.size(), run.report.seconds);
         } catch (const Interrupted& e) {
@@ -429,12 +437,13 @@ RunOutcome runFrames(const RunOptions& opt, std::ostream& out, std::ostream& err
         lastComputed == skip.rend() ? 0 : std::size_t(skip.rend() - lastComputed);
     const bool temporal = hasTemporalPass(plan);
 
-    // The frame after frames[i] that runs, if any.
-    auto nextComputed = [&](std::size_t i) -> std::optional<int> {
-        for (std::size_t k = i + 1; k < frames.size(); ++k)
+    // The frames after frames[i] that run, as many as are read ahead.
+    auto nextComputed = [&](std::size_t i) {
+        std::vector<int> next;
+        for (std::size_t k = i + 1; k < frames.size() && int(next.size()) < opt.readAhead; ++k)
             if (!skip[k] || (temporal && k < computeUntil))
-                return frames[k];
-        return std::nullopt;
+                next.push_back(frames[k]);
+        return next;
     };
 
     // The pipeline: a frame's files are written by the queue's writers while the next frame

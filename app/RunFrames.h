@@ -23,13 +23,20 @@ struct RunOptions {
     int decomposeRays = 0;         //!< 0: no error breakdown
     std::string maxMemory;         //!< "8G", ""= the default limit (MemoryLimit.h)
     std::string tev;               //!< HOST:PORT of a tev viewer to push outputs to; "" = none
-    /// Read frame N+1's capture while frame N runs (holds two frames' capture buffers at once).
-    bool readAhead = true;
+    /// Frames whose captures are read, each on a thread of its own, while a frame runs
+    /// (--read-ahead; each holds a frame's capture buffers); 0 reads each at its frame's start;
+    /// -1: defaultReadAhead().
+    int readAhead = -1;
     /// Threads that encode and write a frame's files while the next frame computes (--writers);
-    /// 0 writes each file on the frame's thread as soon as it is made.
-    int writers = kDefaultWriters;
-    static constexpr int kDefaultWriters = 2;
+    /// 0 writes each file on the frame's thread as soon as it is made; -1: defaultWriters().
+    int writers = -1;
 };
+
+/// The defaults for `threads` cores (the --threads in force): a quarter of them each reading
+/// ahead (1 to 4 frames) and writing (2 to 8 writers). A GPU's frame leaves the cores to the
+/// files: on 16 cores, one reader and two writers left the H200's passes idle 97 % of the time.
+int defaultReadAhead(int threads);
+int defaultWriters(int threads);
 
 struct RunOutcome {
     nlohmann::json report;          //!< what --report writes

@@ -35,13 +35,17 @@ Command addRunCommand(CLI::App& app) {
     sub->add_flag("--continue-on-error", opt->continueOnError,
                   "attempt every frame; exit 1 at the end listing the frames that failed");
     addMaxMemoryOption(*sub, opt->maxMemory);
-    sub->add_flag("!--no-read-ahead", opt->readAhead,
-                  "read each frame's capture at its start, not while the previous frame runs "
-                  "(reading ahead holds two frames' capture buffers in memory at once)");
+    sub->add_option("--read-ahead", opt->readAhead,
+                    "frames whose captures are read, each on a thread of its own, while a frame "
+                    "runs (default: a quarter of the threads, 1 to 4); each holds a frame's "
+                    "capture buffers")
+        ->check(CLI::Range(0, 64));
+    sub->add_flag_callback("--no-read-ahead", [opt] { opt->readAhead = 0; },
+                           "--read-ahead 0: read each frame's capture at its start");
     sub->add_option("--writers", opt->writers,
                     "threads that encode and write a frame's files while the next frame "
-                    "computes (default 2); 0 writes each file as soon as it is made, on the "
-                    "frame's thread")
+                    "computes (default: a quarter of the threads, 2 to 8); 0 writes each file "
+                    "as soon as it is made, on the frame's thread")
         ->check(CLI::Range(0, 64));
     sub->add_flag("--skip-existing", opt->skipExisting,
                   "skip frames whose outputs all exist (a re-queued farm task); with temporal "

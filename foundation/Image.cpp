@@ -7,6 +7,7 @@
 #include <map>
 #include <mutex>
 #include <new>
+#include <vector>
 
 #include <malloc.h>
 
@@ -54,17 +55,28 @@ class BlockPool {
 public:
     static constexpr std::size_t kMinBytes = std::size_t(4) << 20;  // the mapped ones
     void* take(std::size_t bytes) {
+        std::vector<std::pair<void*, std::size_t>> released;
+        void* p = nullptr;
         {
             std::lock_guard<std::mutex> lock(mMutex);
             mLive += bytes;
             mMostLive = std::max(mMostLive, mLive);
             if (auto it = mFree.find(bytes); it != mFree.end()) {
-                void* p = it->second;
+                p = it->second;
                 mFree.erase(it);
                 mKept -= bytes;
                 return p;
             }
+            // A new block: the kept ones of other sizes go back where they would lift the memory
+            // held above the most images ever needed.
+            while (mLive + mKept > mMostLive && !mFree.empty()) {
+                auto largest = std::prev(mFree.end());
+                released.emplace_back(largest->second, largest->first);
+                mKept -= largest->first;
+                mFree.erase(largest);
+            }
         }
+        for (const auto& block : released) ::operator delete[](block.first, std::align_val_t{64});
         return ::operator new[](bytes, std::align_val_t{64});
     }
     void give(void* p, std::size_t bytes) {

@@ -29,6 +29,7 @@ void OutputQueue::write(const OutputDesc& output, const std::vector<OutputLayer>
     Frame& f = mFrames[frame.number];
     job.index = f.queued++;
     f.files.resize(f.queued);
+    f.errors.resize(f.queued);
     if (mThreads.empty()) {
         lock.unlock();
         run(job);  // errors go to the caller, as OutputWriter's do
@@ -55,7 +56,7 @@ void OutputQueue::run(Job& job) {
         const std::lock_guard<std::mutex> lock(mMutex);
         Frame& f = mFrames[job.frame];
         f.files[job.index] = std::move(file);
-        if (error && !f.error) f.error = error;
+        f.errors[job.index] = error;
         ++f.done;
     }
     mDone.notify_all();
@@ -80,7 +81,8 @@ OutputQueue::FrameFiles OutputQueue::finish(int64_t frame) {
     if (it == mFrames.end()) return {};
     mDone.wait(lock, [&] { return it->second.done == it->second.queued; });
     FrameFiles out;
-    out.error = it->second.error;
+    for (const auto& e : it->second.errors)
+        if (e && !out.error) out.error = e;
     for (const auto& f : it->second.files) {
         if (f.path.empty()) continue;  // failed
         out.written.push_back(f.path);

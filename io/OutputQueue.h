@@ -37,7 +37,8 @@ public:
     struct FrameFiles {
         std::vector<std::string> written;  //!< in the order the frame handed them over
         double encodeSeconds = 0, writeSeconds = 0;  //!< summed over its files
-        /// The first file that failed (its fp::Error), or null.
+        /// The error of the first file, in the frame's order, that failed (an fp::Error), or null:
+        /// the error a run writing on the frame's thread would have met first.
         std::exception_ptr error;
     };
     /// Waits until every file `frame` handed over is written (or failed) and forgets the frame.
@@ -59,7 +60,7 @@ private:
     struct Frame {
         std::size_t queued = 0, done = 0;
         std::vector<OutputWriter::WrittenFile> files;  // by index
-        std::exception_ptr error;
+        std::vector<std::exception_ptr> errors;        // by index
     };
     void work();
     void run(Job& job);
