@@ -21,6 +21,7 @@
 #include "io/MemoryCapture.h"
 #include "io/SafeFiles.h"
 
+#include <OpenEXR/ImfThreading.h>
 #include <fmt/ranges.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -29,8 +30,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cstring>
 #include <functional>
+#include <thread>
 
 namespace py = pybind11;
 using namespace fp;
@@ -442,6 +445,10 @@ py::object bench(const std::string& config, const py::object& sweep, int runs, i
 
 PYBIND11_MODULE(_framepass, m) {
     m.doc() = "framepass: Unreal Engine's lighting passes re-run on captured GBuffers.";
+    // OpenEXR decompresses a file's chunks on its own pool, which is off until sized (the command
+    // line sizes it to --threads): every core, as the passes' pool has.
+    if (Imf::globalThreadCount() == 0)
+        Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency())));
 
     // Errors: fp::UsageError (a bad config, option or input: exit 2 on the command line) is
     // ConfigError, with the config's path and each problem's JSON pointer; a frame that fails
