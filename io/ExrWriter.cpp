@@ -89,7 +89,7 @@ private:
 struct PartBuffers {
     Imf::Header header;
     Imf::FrameBuffer frameBuffer;
-    std::vector<std::unique_ptr<half[]>> halves;
+    std::vector<std::shared_ptr<void>> halves;
 };
 
 void buildPart(PartBuffers& pb, const ExrPart& part, const ExrMetadata& meta,
@@ -120,8 +120,10 @@ void buildPart(PartBuffers& pb, const ExrPart& part, const ExrMetadata& meta,
                                                         : layer.name + "." + img.channels()[c];
             const Plane& plane = img.plane(c);
             if (layer.half) {
-                auto buf = std::make_unique<half[]>(std::size_t(w) * h);
-                half* out = buf.get();
+                // From the pool images' blocks come from (foundation/Image.h): a sequence converts
+                // the same sizes frame after frame.
+                std::shared_ptr<void> buf = hostScratch(std::size_t(w) * h * sizeof(half));
+                half* out = static_cast<half*>(buf.get());
                 tbb::parallel_for(0, h, [&](int y) {
                     const float* row = plane.row(y);
                     for (int x = 0; x < w; ++x) {
@@ -132,7 +134,7 @@ void buildPart(PartBuffers& pb, const ExrPart& part, const ExrMetadata& meta,
                     }
                 });
                 pb.header.channels().insert(name, Imf::Channel(Imf::HALF));
-                pb.frameBuffer.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(buf.get()),
+                pb.frameBuffer.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(out),
                                                        sizeof(half), sizeof(half) * w));
                 pb.halves.push_back(std::move(buf));
             } else {
