@@ -1,8 +1,10 @@
 #pragma once
 // framepass run's work: the chain over every frame of the config (warm-up frames first when
-// asked), outputs and dumps written through io::OutputWriter, a report of every frame, pass and
-// input file, each screen-space error taken apart when asked. The CLI's `run` is this and its
-// flags; anything else that writes a sequence to disk calls it too.
+// asked) through the frame driver, the next frames' captures read ahead, each frame's outputs
+// and dumps written by io::OutputQueue's writers while the next frame computes, a report of every
+// frame (its stages' seconds), pass and input file, each screen-space error taken apart when
+// asked. The CLI's `run` is this and its flags; anything else that writes a sequence to disk calls
+// it too.
 #include "app/RunSetup.h"
 
 #include <nlohmann/json.hpp>
