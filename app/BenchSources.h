@@ -1,6 +1,6 @@
 #pragma once
-// The frame source and sink bench runs its chains with: buffers read from the capture once, and
-// images kept only from the run that makes the report.
+// The frame sources and the sink the frame driver, bench and a session run chains with: buffers
+// read from the capture once, and images kept only from the run that asks for them.
 #include "framework/Executor.h"
 
 #include <map>
@@ -8,30 +8,41 @@
 
 namespace fp::app {
 
-/// A frame source that reads each buffer from the capture once and serves copies afterwards,
-/// so repeated runs time the passes, not the disk.
-class CachedSource final : public FrameSource {
+/// A frame source that hands everything to another: the base of a source that changes one thing.
+class ForwardingSource : public FrameSource {
 public:
-    explicit CachedSource(FrameSource& inner) : mInner(inner) {}
+    explicit ForwardingSource(FrameSource& inner) : mInner(inner) {}
     FrameInfo frameInfo() override { return mInner.frameInfo(); }
     Texture loadBuffer(const std::string& buffer, int channels) override {
-        auto it = mCache.find(buffer);
-        if (it == mCache.end())
-            it = mCache.emplace(buffer, mInner.loadBuffer(buffer, channels)).first;
-        return it->second;
+        return mInner.loadBuffer(buffer, channels);
     }
     const RayScene& scene() override { return mInner.scene(); }
     const std::vector<Light>& lights() override { return mInner.lights(); }
     const Environment& environment() override { return mInner.environment(); }
     OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mInner.colorConfig(); }
     InputSeconds inputSeconds() const override { return mInner.inputSeconds(); }
+
+protected:
+    FrameSource& mInner;
+};
+
+/// A frame source that reads each buffer from the capture once and serves copies afterwards,
+/// so repeated runs time the passes, not the disk.
+class CachedSource final : public ForwardingSource {
+public:
+    using ForwardingSource::ForwardingSource;
+    Texture loadBuffer(const std::string& buffer, int channels) override {
+        auto it = mCache.find(buffer);
+        if (it == mCache.end())
+            it = mCache.emplace(buffer, mInner.loadBuffer(buffer, channels)).first;
+        return it->second;
+    }
     const Texture* cached(const std::string& buffer) const {
         auto it = mCache.find(buffer);
         return it == mCache.end() ? nullptr : &it->second;
     }
 
 private:
-    FrameSource& mInner;
     std::map<std::string, Texture> mCache;
 };
 

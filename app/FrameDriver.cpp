@@ -11,27 +11,18 @@ namespace {
 // A frame as one run sees it: whether it starts a sequence, and the frame number that seeds its
 // passes' random numbers (the error breakdown averages one capture over several); the rest is
 // the capture's.
-class FrameView final : public FrameSource {
+class FrameView final : public ForwardingSource {
 public:
     FrameView(FrameSource& inner, bool firstInSequence, std::optional<int64_t> seed = {})
-        : mInner(inner), mFirst(firstInSequence), mSeed(seed) {}
+        : ForwardingSource(inner), mFirst(firstInSequence), mSeed(seed) {}
     FrameInfo frameInfo() override {
         FrameInfo info = mInner.frameInfo();
         info.firstInSequence = mFirst;
         if (mSeed) info.number = *mSeed;
         return info;
     }
-    Texture loadBuffer(const std::string& buffer, int channels) override {
-        return mInner.loadBuffer(buffer, channels);
-    }
-    const RayScene& scene() override { return mInner.scene(); }
-    const std::vector<Light>& lights() override { return mInner.lights(); }
-    const Environment& environment() override { return mInner.environment(); }
-    OCIO_NAMESPACE::ConstConfigRcPtr colorConfig() override { return mInner.colorConfig(); }
-    InputSeconds inputSeconds() const override { return mInner.inputSeconds(); }
 
 private:
-    FrameSource& mInner;
     bool mFirst;
     std::optional<int64_t> mSeed;
 };

@@ -17,6 +17,7 @@
 
 #include <fmt/chrono.h>
 
+#include <array>
 #include <chrono>
 #include <algorithm>
 #include <filesystem>
@@ -128,72 +129,66 @@ void printFrame(std::ostream& out, const FrameReport& fr, const std::vector<std:
 
 // Where one frame's time went, stage by stage (the report's per-frame figures).
 struct FrameStages {
-    double read = 0, decode = 0, upload = 0, pass = 0, download = 0, encode = 0, write = 0;
+    enum Stage { Read, Decode, Upload, Pass, Download, Encode, Write, kStages };
+    static constexpr std::array<const char*, kStages> kNames = {
+        "read", "decode", "upload", "pass", "download", "encode", "write"};
+    std::array<double, kStages> seconds{};
+
     static FrameStages of(const FrameReport& r, const FrameSource::InputSeconds& input,
                           const io::OutputQueue::FrameFiles& files) {
-        FrameStages s{input.read, input.decode, r.uploadSeconds, 0, r.downloadSeconds,
-                      files.encodeSeconds, files.writeSeconds};
-        for (const auto& p : r.passes) s.pass += p.seconds;
+        FrameStages s;
+        s.seconds = {input.read,         input.decode,        r.uploadSeconds, 0.0,
+                     r.downloadSeconds, files.encodeSeconds, files.writeSeconds};
+        for (const auto& p : r.passes) s.seconds[Pass] += p.seconds;
         return s;
     }
+    /// As the report names them: "readSeconds", …
     void addTo(nlohmann::json& j) const {
-        j["readSeconds"] = read;
-        j["decodeSeconds"] = decode;
-        j["uploadSeconds"] = upload;
-        j["passSeconds"] = pass;
-        j["downloadSeconds"] = download;
-        j["encodeSeconds"] = encode;
-        j["writeSeconds"] = write;
+        for (int i = 0; i < kStages; ++i) j[std::string(kNames[i]) + "Seconds"] = seconds[i];
     }
 };
 
 // The stages summed over a run's frames, and what bounds its frame rate. Reading runs on the
 // read-ahead threads beside the frames' computing, and the files on the writers beside both: the
 // slowest of the three (reading's share divided among the frames read at once, the writers'
-// among them) sets the pace. Without read-ahead
-// and writers every stage takes its turn on one thread, and the largest bounds the rate.
+// among them) sets the pace. Without read-ahead and writers every stage takes its turn on one
+// thread, and the largest bounds the rate.
 struct StageTotals {
     FrameStages sum;
     int frames = 0;
     void add(const FrameStages& s) {
-        sum.read += s.read;
-        sum.decode += s.decode;
-        sum.upload += s.upload;
-        sum.pass += s.pass;
-        sum.download += s.download;
-        sum.encode += s.encode;
-        sum.write += s.write;
+        for (int i = 0; i < FrameStages::kStages; ++i) sum.seconds[i] += s.seconds[i];
         ++frames;
     }
-    std::vector<std::pair<std::string, double>> perFrame() const {
-        const double n = std::max(frames, 1);
-        return {{"read", sum.read / n},         {"decode", sum.decode / n},
-                {"upload", sum.upload / n},     {"pass", sum.pass / n},
-                {"download", sum.download / n}, {"encode", sum.encode / n},
-                {"write", sum.write / n}};
+    FrameStages perFrame() const {
+        FrameStages mean = sum;
+        for (double& v : mean.seconds) v /= std::max(frames, 1);
+        return mean;
     }
     std::string bound(int readAhead, int writers) const {
-        const auto stages = perFrame();
-        auto largest = [&](std::initializer_list<int> of) {
-            int best = *of.begin();
-            for (int i : of)
-                if (stages[i].second > stages[best].second) best = i;
-            return best;
+        using S = FrameStages;
+        const auto s = perFrame().seconds;
+        auto largest = [&](std::initializer_list<S::Stage> of) {
+            S::Stage best = *of.begin();
+            for (S::Stage i : of)
+                if (s[i] > s[best]) best = i;
+            return std::string(S::kNames[best]);
         };
-        if (readAhead == 0 && writers == 0) return stages[largest({0, 1, 2, 3, 4, 5, 6})].first;
-        const double reading = stages[0].second + stages[1].second;
+        if (readAhead == 0 && writers == 0)
+            return largest({S::Read, S::Decode, S::Upload, S::Pass, S::Download, S::Encode, S::Write});
+        const double reading = s[S::Read] + s[S::Decode];
+        const double writing = s[S::Encode] + s[S::Write];
         const double input = readAhead > 0 ? reading / readAhead : 0;
-        const double compute = stages[2].second + stages[3].second + stages[4].second +
-                               (readAhead > 0 ? 0.0 : reading) +
-                               (writers == 0 ? stages[5].second + stages[6].second : 0.0);
-        const double output = writers > 0 ? (stages[5].second + stages[6].second) / writers : 0;
-        if (readAhead > 0 && input >= compute && input >= output) return stages[largest({0, 1})].first;
-        if (output >= compute) return stages[largest({5, 6})].first;
-        return stages[largest({2, 3, 4})].first;
+        const double compute = s[S::Upload] + s[S::Pass] + s[S::Download] +
+                               (readAhead > 0 ? 0.0 : reading) + (writers == 0 ? writing : 0.0);
+        const double output = writers > 0 ? writing / writers : 0;
+        if (readAhead > 0 && input >= compute && input >= output) return largest({S::Read, S::Decode});
+        if (output >= compute) return largest({S::Encode, S::Write});
+        return largest({S::Upload, S::Pass, S::Download});
     }
     nlohmann::json toJson(double wall, int readAhead, int writers) const {
         nlohmann::json perStage;
-        for (const auto& [name, seconds] : perFrame()) perStage[name + "Seconds"] = seconds;
+        perFrame().addTo(perStage);
         return {{"frames", frames},
                 {"seconds", wall},
                 {"framesPerSecond", frames / std::max(wall, 1e-9)},
@@ -203,15 +198,28 @@ struct StageTotals {
                 {"writers", writers}};
     }
     std::string line(double wall, int readAhead, int writers) const {
+        const FrameStages mean = perFrame();
         std::string stages;
-        for (const auto& [name, seconds] : perFrame())
-            stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", name, seconds);
+        for (int i = 0; i < FrameStages::kStages; ++i)
+            stages += fmt::format("{}{} {:.3f}", i ? ", " : "", FrameStages::kNames[i],
+                                  mean.seconds[i]);
         return fmt::format("{} frame{} in {:.2f} s: {:.2f} frames/s, bound by {}; seconds a "
                            "frame: {}",
                            frames, frames == 1 ? "" : "s", wall, frames / std::max(wall, 1e-9),
                            bound(readAhead, writers), stages);
     }
 };
+
+// What a stored exception says.
+std::string messageOf(const std::exception_ptr& error) {
+    try {
+        std::rethrow_exception(error);
+    } catch (const std::exception& e) {
+        return e.what();
+    } catch (...) {
+        return "an error that is no std::exception";
+    }
+}
 
 bool hasTemporalPass(const Plan& plan) {
     return std::any_of(plan.steps.begin(), plan.steps.end(),
@@ -468,14 +476,10 @@ RunOutcome runFrames(const RunOptions& given, std::ostream& out, std::ostream& e
         const FrameStages stages = FrameStages::of(c.report, c.input, files);
         stages.addTo(c.entry);
         if (files.error) {
-            std::string why;
-            try {
-                std::rethrow_exception(files.error);
-            } catch (const std::exception& e) {
-                why = e.what();
-            }
-            report["frames"].push_back(
-                {{"frame", c.frame}, {"status", "failed"}, {"error", why}, {"written", files.written}});
+            report["frames"].push_back({{"frame", c.frame},
+                                        {"status", "failed"},
+                                        {"error", messageOf(files.error)},
+                                        {"written", files.written}});
             return files.error;
         }
         report["frames"].push_back(c.entry);
@@ -510,11 +514,7 @@ RunOutcome runFrames(const RunOptions& given, std::ostream& out, std::ostream& e
         inFlight.reset();
         const std::exception_ptr error = settle(c);
         if (!error || !opt.continueOnError) return error;
-        try {
-            std::rethrow_exception(error);
-        } catch (const std::exception& e) {
-            err << fmt::format("framepass error: frame {}: {}\n", c.frame, e.what());
-        }
+        err << fmt::format("framepass error: frame {}: {}\n", c.frame, messageOf(error));
         failed.push_back(c.frame);
         return nullptr;
     };

@@ -10,19 +10,6 @@
 
 namespace fp::app {
 
-namespace {
-// Keeps every image it is handed, by layer name.
-class ImageSink final : public FrameSink {
-public:
-    std::map<std::string, Image> images;
-    void write(const OutputDesc&, const std::vector<OutputLayer>& layers,
-               const FrameInfo&) override {
-        for (const auto& l : layers)
-            images[l.name] = l.texture->image();
-    }
-};
-}  // namespace
-
 Session::Session(SetupOptions options)
     : mOptions([&] {
           options.dumps.clear();
@@ -106,7 +93,8 @@ FrameResult Session::run(int frame, const std::vector<std::string>& outputs) {
     mCancel = false;
     const RunSetup& planned = setup(outputs);
 
-    ImageSink sink;
+    KeepingSink sink;  // every image it is handed, by layer name
+    sink.keep = true;
     const ProgressFn stopBetweenPasses = [this](int done, int total, const PassReport& pass) {
         if (onPass)
             onPass(done, total, pass);

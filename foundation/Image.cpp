@@ -56,13 +56,12 @@ public:
     static constexpr std::size_t kMinBytes = std::size_t(4) << 20;  // the mapped ones
     void* take(std::size_t bytes) {
         std::vector<std::pair<void*, std::size_t>> released;
-        void* p = nullptr;
         {
             std::lock_guard<std::mutex> lock(mMutex);
             mLive += bytes;
             mMostLive = std::max(mMostLive, mLive);
             if (auto it = mFree.find(bytes); it != mFree.end()) {
-                p = it->second;
+                void* p = it->second;
                 mFree.erase(it);
                 mKept -= bytes;
                 return p;
@@ -107,19 +106,18 @@ std::shared_ptr<float> allocateFilled(std::size_t count, float fill) {
     count = std::max<std::size_t>(1, count);
     const std::size_t bytes = count * sizeof(float);
     const HostMemory memory = hostMemory();
-    const bool pooled = !memory.allocate && bytes >= BlockPool::kMinBytes;
-    float* p = memory.allocate ? static_cast<float*>(memory.allocate(bytes))
-               : pooled        ? static_cast<float*>(blockPool().take(bytes))
-                               : static_cast<float*>(::operator new[](bytes, std::align_val_t{64}));
+    const std::shared_ptr<void> block =
+        memory.allocate ? std::shared_ptr<void>(memory.allocate(bytes),
+                                                [release = memory.release, bytes](void* q) {
+                                                    release(q, bytes);
+                                                })
+                        : hostScratch(bytes);
+    float* p = static_cast<float*>(block.get());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, std::size_t(1) << 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           std::fill(p + r.begin(), p + r.end(), fill);
                       });
-    if (memory.allocate)
-        return std::shared_ptr<float>(p, [release = memory.release, bytes](float* q) { release(q, bytes); });
-    if (pooled)
-        return std::shared_ptr<float>(p, [bytes](float* q) { blockPool().give(q, bytes); });
-    return std::shared_ptr<float>(p, [](float* q) { ::operator delete[](q, std::align_val_t{64}); });
+    return std::shared_ptr<float>(block, p);
 }
 }  // namespace
 

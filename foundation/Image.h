@@ -18,9 +18,9 @@ struct HostMemory {
     void* (*allocate)(std::size_t bytes) = nullptr;
     void (*release)(void* memory, std::size_t bytes) = nullptr;
 };
-/// `bytes` of uninitialised host memory, 64-byte aligned, for a pass's scratch arrays: large blocks
-/// come from the pool that recycles images' blocks (Image.cpp), so a frame's scratch does not fault
-/// its pages in afresh.
+/// `bytes` of uninitialised host memory, 64-byte aligned: what images, a pass's scratch arrays and
+/// the EXR writer's half copies are made in. Large blocks come from a pool that recycles them
+/// (Image.cpp), so a frame's memory does not fault its pages in afresh.
 std::shared_ptr<void> hostScratch(std::size_t bytes);
 /// Installs `memory` for the images made after it (a default HostMemory: the heap again). Images
 /// made before keep the memory they have and give it back where it came from.

@@ -216,11 +216,6 @@ void CaptureSource::readAhead(const std::vector<CaptureRead>& reads,
     }
 }
 
-void CaptureSource::setFirstInSequence(bool first) {
-    mOptions.firstInSequence = first;
-    if (mInfo) mInfo->firstInSequence = first;
-}
-
 double CaptureSource::fileSeconds() const {
     return mFiles.fileSeconds() + (mPrevious ? mPrevious->fileSeconds() : 0.0);
 }

@@ -108,8 +108,6 @@ public:
     /// to read, or when `cancelled` turns true: loadBuffer then reads the rest as usual, and a
     /// bad buffer's error comes from there, where the frame asks for it.
     void readAhead(const std::vector<CaptureRead>& reads, const std::atomic<bool>& cancelled);
-    /// Whether the frame starts a sequence (no history), when that is known only after opening.
-    void setFirstInSequence(bool first);
 
 private:
     void note(const std::string& text);

@@ -148,10 +148,8 @@ void buildPart(PartBuffers& pb, const ExrPart& part, const ExrMetadata& meta,
     }
 }
 
-}  // namespace
-
-std::vector<char> encodeExr(const std::vector<ExrPart>& parts, const ExrMetadata& meta,
-                            ExrCompression compression) {
+std::vector<char> encodeParts(const std::vector<ExrPart>& parts, const ExrMetadata& meta,
+                              ExrCompression compression) {
     FP_CHECK(!parts.empty(), "nothing to encode");
     const bool multiPart = parts.size() > 1;
     std::vector<PartBuffers> buffers(parts.size());
@@ -181,17 +179,22 @@ std::vector<char> encodeExr(const std::vector<ExrPart>& parts, const ExrMetadata
     }
     return file.take();
 }
+}  // namespace
 
-void writeExr(const std::string& path, const std::vector<ExrPart>& parts,
-              const ExrMetadata& meta, ExrCompression compression) {
-    std::vector<char> bytes;
+std::vector<char> encodeExr(const std::string& path, const std::vector<ExrPart>& parts,
+                            const ExrMetadata& meta, ExrCompression compression) {
     try {
-        bytes = encodeExr(parts, meta, compression);
+        return encodeParts(parts, meta, compression);
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
         throw Error(fmt::format("{}: could not write: {}", path, e.what()));
     }
+}
+
+void writeExr(const std::string& path, const std::vector<ExrPart>& parts,
+              const ExrMetadata& meta, ExrCompression compression) {
+    const std::vector<char> bytes = encodeExr(path, parts, meta, compression);
     writeFileAtomically(path, {bytes.data(), bytes.size()}, false);
 }
 

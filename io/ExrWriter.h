@@ -39,8 +39,10 @@ enum class ExrCompression { Zip, None, Piz, Zips };
 ExrCompression parseCompression(const std::string& name);
 
 /// The bytes of the EXR file `parts` make: colour converted to half and every chunk compressed
-/// on OpenEXR's thread pool, in memory (no file is touched).
-std::vector<char> encodeExr(const std::vector<ExrPart>& parts, const ExrMetadata& metadata,
+/// on OpenEXR's thread pool, in memory (no file is touched). OpenEXR's errors become fp::Error
+/// naming `path`, the file the bytes are for.
+std::vector<char> encodeExr(const std::string& path, const std::vector<ExrPart>& parts,
+                            const ExrMetadata& metadata,
                             ExrCompression compression = ExrCompression::Zip);
 /// encodeExr's bytes written to `path` atomically (io/SafeFiles.h).
 void writeExr(const std::string& path, const std::vector<ExrPart>& parts,

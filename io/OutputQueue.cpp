@@ -93,11 +93,4 @@ OutputQueue::FrameFiles OutputQueue::finish(int64_t frame) {
     return out;
 }
 
-std::vector<int64_t> OutputQueue::pending() const {
-    const std::lock_guard<std::mutex> lock(mMutex);
-    std::vector<int64_t> frames;
-    for (const auto& [f, state] : mFrames) frames.push_back(f);
-    return frames;
-}
-
 }  // namespace fp::io

@@ -43,8 +43,6 @@ public:
     };
     /// Waits until every file `frame` handed over is written (or failed) and forgets the frame.
     FrameFiles finish(int64_t frame);
-    /// The frames handed over and not finished yet, oldest first.
-    std::vector<int64_t> pending() const;
     int writers() const { return int(mThreads.size()); }
 
 private:

@@ -82,15 +82,8 @@ OutputWriter::WrittenFile OutputWriter::writeFile(const OutputDesc& output,
         mWritten.push_back(path);
         return file;
     };
-    if (fs::path(path).extension() == ".png") {
-        std::string bytes;
-        try {
-            bytes = encodePng(layers.front().texture->image(), mOptions.pngLevel);
-        } catch (const Error& e) {
-            throw Error(fmt::format("{}: {}", path, e.what()));
-        }
-        return commit(bytes);
-    }
+    if (fs::path(path).extension() == ".png")
+        return commit(encodePng(layers.front().texture->image(), mOptions.pngLevel, path));
     ExrMetadata meta;
     if (frame.hasCamera) meta.camera = frame.camera;
     meta.frame = frame.number;
@@ -129,14 +122,7 @@ OutputWriter::WrittenFile OutputWriter::writeFile(const OutputDesc& output,
                 parts.push_back({fmt::format("{}.mip{}", l.name, m),
                                  {{l.name, &l.texture->mip(m), half(l)}}});
     }
-    std::vector<char> bytes;
-    try {
-        bytes = encodeExr(parts, meta, mOptions.compression);
-    } catch (const Error&) {
-        throw;
-    } catch (const std::exception& e) {
-        throw Error(fmt::format("{}: could not write: {}", path, e.what()));
-    }
+    const std::vector<char> bytes = encodeExr(path, parts, meta, mOptions.compression);
     return commit({bytes.data(), bytes.size()});
 }
 

@@ -13,7 +13,8 @@
 
 namespace fp::io {
 
-std::string encodePng(const Image& rgb, int zlibLevel) {
+namespace {
+std::string encodePixels(const Image& rgb, int zlibLevel) {
     FP_CHECK(rgb.channelCount() >= 3, "a PNG preview needs 3 channels, the image has {}",
              rgb.channelCount());
     FP_CHECK(zlibLevel >= 0 && zlibLevel <= 9, "PNG compression level {} is not 0–9", zlibLevel);
@@ -37,15 +38,19 @@ std::string encodePng(const Image& rgb, int zlibLevel) {
         throw Error(fmt::format("could not encode a PNG: {}", out->geterror()));
     return std::string(bytes.begin(), bytes.end());
 }
+}  // namespace
 
-void writePng(const std::string& path, const Image& rgb, int zlibLevel) {
-    std::string bytes;
+std::string encodePng(const Image& rgb, int zlibLevel, const std::string& path) {
+    if (path.empty()) return encodePixels(rgb, zlibLevel);
     try {
-        bytes = encodePng(rgb, zlibLevel);
+        return encodePixels(rgb, zlibLevel);
     } catch (const Error& e) {
         throw Error(fmt::format("{}: {}", path, e.what()));
     }
-    writeFileAtomically(path, bytes, false);
+}
+
+void writePng(const std::string& path, const Image& rgb, int zlibLevel) {
+    writeFileAtomically(path, encodePng(rgb, zlibLevel, path), false);
 }
 
 }  // namespace fp::io

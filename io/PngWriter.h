@@ -12,8 +12,9 @@ namespace fp::io {
 constexpr int kDefaultPngLevel = 1;
 
 /// The PNG file's bytes of a display-referred RGB image (values clamped to [0, 1], rounded to
-/// 8 bits).
-std::string encodePng(const Image& rgb, int zlibLevel = kDefaultPngLevel);
+/// 8 bits). `path`: the file they are for, named in errors ("" = none: bytes for a page).
+std::string encodePng(const Image& rgb, int zlibLevel = kDefaultPngLevel,
+                      const std::string& path = "");
 
 /// encodePng's bytes written to `path` atomically (io/SafeFiles.h).
 void writePng(const std::string& path, const Image& rgb, int zlibLevel = kDefaultPngLevel);
