@@ -8,7 +8,8 @@ CLI_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimageio-t
     doctest-dev libfmt-dev libhwy-dev libtinygltf-dev libtinyobjloader-dev fonts-dejavu-core \
     libcpp-httplib-dev
 DEBIAN_PACKAGES = $(CLI_PACKAGES) chromium python3 python3-jsonschema help2man zsh fish graphviz \
-    pybind11-dev python3-dev python3-numpy python3-pytest
+    pybind11-dev python3-dev python3-numpy python3-pytest python3-venv python3-pip \
+    python3-setuptools python3-wheel mypy
 FRAMEPASS = $(BUILD_DIR)/cli/framepass
 # A recipe line piped through grep fails when framepass fails, not only when grep does.
 SHELL := /bin/bash

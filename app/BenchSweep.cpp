@@ -44,14 +44,14 @@ std::string base64(const std::string& bytes) {
 // the config's "set" then the command line's and the setting's) may rebind what they compare
 // (--set ERROR.source=…): the rebound source is kept, and the one it replaced is not, so the
 // method it fed is culled.
-std::vector<std::string> errorDumps(const GraphDesc& graph, const std::vector<std::string>& sets) {
+std::vector<std::string> errorDumps(const GraphDesc& graph, const Settings& settings) {
     std::map<std::string, std::string> rebound;  // "error.port" → source
     for (const auto& [target, value] : graph.sets.items())
         if (value.is_string())
             rebound[target] = value.get<std::string>();
-    for (const std::string& s : sets)
-        if (const auto eq = s.find('='); eq != std::string::npos)
-            rebound[s.substr(0, eq)] = s.substr(eq + 1);
+    for (const auto& [target, value] : settings.sets)
+        if (value.is_string())
+            rebound[target] = value.get<std::string>();
     std::vector<std::string> dumps;
     for (const NodeDesc* n : errorMeasureNodes(graph)) {
         dumps.push_back(n->name + ".heat");
@@ -188,10 +188,14 @@ void addBareRayLoops(const Plan& plan,
 
 BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     SetupOptions sessionOptions = mBase;
-    for (const auto& [name, value] : point)
-        (isCvarName(name) ? sessionOptions.cvars : sessionOptions.sets)
-            .push_back(name + "=" + value);
-    for (const auto& d : errorDumps(mProbe.config().graph, sessionOptions.sets))
+    for (const auto& [name, value] : point) {
+        // A sweep's values are text as the command line gives them (--sweep NAME=V1,V2).
+        if (isCvarName(name))
+            sessionOptions.settings.setCvar(name, Settings::valueFromText(value));
+        else
+            sessionOptions.settings.setParam(name, Settings::valueFromText(value));
+    }
+    for (const auto& d : errorDumps(mProbe.config().graph, sessionOptions.settings))
         sessionOptions.dumps.push_back(d);
     const RunSetup session(mProbe, sessionOptions);
     // A setting's own warnings (a swept cvar that the config's params shadow), each said once.
@@ -306,9 +310,9 @@ IncrementalTiming Bencher::measureIncremental(const std::string& change) {
     Session session(options);
     auto set = [&](const std::string& value) {
         if (isCvarName(axis.name))
-            session.setCvar(axis.name, value);
+            session.setCvar(axis.name, Settings::valueFromText(value));
         else
-            session.setParam(axis.name, value);
+            session.setParam(axis.name, Settings::valueFromText(value));
     };
     const int frame = mProbe.frames().back();
     std::vector<double> whole, rerun;

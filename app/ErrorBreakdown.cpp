@@ -205,12 +205,12 @@ const Image& ErrorBreakdown::oracle(const std::string& port) {
 std::map<std::string, Image> ErrorBreakdown::converged(const SetupOptions& setting,
                                                         const std::string& tracerRays,
                                                         int raysPerSeed,
-                                                        const std::vector<std::string>& extraSets,
+                                                        const Settings& extraSets,
                                                         const std::vector<std::string>& sources) {
     SetupOptions options = setting;
     options.dumps = sources;
-    options.sets.push_back(fmt::format("{}={}", tracerRays, raysPerSeed));
-    options.sets.insert(options.sets.end(), extraSets.begin(), extraSets.end());
+    options.settings.setParam(tracerRays, raysPerSeed);
+    options.settings.merge(extraSets);
     const RunSetup session(mProbe, chainWithoutOutputs(mProbe.config()), options);
     std::map<std::string, Image> sum;
     for (int k = 0; k < kFrameSeeds; ++k) {
@@ -273,9 +273,9 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
         if (rayTraced) {
             logInfo(fmt::format("error decomposition, {}: {} at {} bounces", label,
                                 fmt::join(tr.sources, " and "), kAllBounces));
-            allBouncesBySource.merge(converged(options, tr.rays, rays,
-                                               {fmt::format("{}={}", tr.bounces, kAllBounces)},
-                                               tr.sources));
+            Settings allBounces;
+            allBounces.setParam(tr.bounces, kAllBounces);
+            allBouncesBySource.merge(converged(options, tr.rays, rays, allBounces, tr.sources));
         }
     }
     for (ErrorNodeResult& e : errors) {

@@ -77,11 +77,11 @@ private:
     /// The chain with `tracerRays` ("pass.param") at mRays rays, each of `sources` averaged over
     /// the frame seeds.
     /// A ray-traced tracer takes mRays / kFrameSeeds paths per seed (mRays in all); `extraSets`
-    /// ("PASS.PARAM=V") change the chain further.
+    /// change the chain further.
     std::map<std::string, Image> converged(const SetupOptions& options,
                                            const std::string& tracerRays,
                                            int raysPerSeed,
-                                           const std::vector<std::string>& extraSets,
+                                           const Settings& extraSets,
                                            const std::vector<std::string>& sources);
 
     const RunSetup& mProbe;

@@ -20,29 +20,12 @@
 namespace fp::app {
 
 namespace {
-std::pair<std::string, std::string> splitAssignment(const std::string& text, const char* flag) {
-    const auto eq = text.find('=');
-    if (eq == std::string::npos || eq == 0)
-        throw UsageError(fmt::format("{} {}: expected NAME=VALUE", flag, text));
-    return {text.substr(0, eq), text.substr(eq + 1)};
-}
-
 std::string trimmed(const std::string& s) {
     const auto b = s.find_first_not_of(" \t\r");
     if (b == std::string::npos) return "";
     return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
 }
 
-// A cvar as Unreal's console takes it: "r.SSGI.Quality 4", or NAME=VALUE.
-std::pair<std::string, std::string> splitCvar(const std::string& text) {
-    const std::string t = trimmed(text);
-    const auto eq = t.find('=');
-    const auto space = t.find_first_of(" \t");
-    if (eq == std::string::npos && space != std::string::npos && space > 0)
-        return {t.substr(0, space), trimmed(t.substr(space))};
-    auto [name, value] = splitAssignment(t, "--cvar");
-    return {trimmed(name), trimmed(value)};
-}
 }  // namespace
 
 namespace {
@@ -103,13 +86,13 @@ std::string iniText(const std::string& bytes) {
 }
 }  // namespace
 
-std::vector<std::string> readCvarsFile(const std::string& path, bool strict) {
+Settings readCvarsFile(const std::string& path, bool strict) {
     std::ifstream file(path, std::ios::binary);
     if (!file) throw UsageError(fmt::format("--cvars {}: cannot read the file", path));
     std::istringstream in(iniText(std::string(std::istreambuf_iterator<char>(file), {})));
     // Unreal's .ini: cvars under [SystemSettings] or [ConsoleVariables] (what `tune` prints),
     // "; comments", NAME=VALUE lines. Keys of other sections are not cvars and are skipped.
-    std::vector<std::string> out;
+    Settings out;
     std::string line, section;
     std::map<std::string, int> skipped;  // section → lines skipped
     for (int number = 1; std::getline(in, line); ++number) {
@@ -130,13 +113,13 @@ std::vector<std::string> readCvarsFile(const std::string& path, bool strict) {
         if (eq == std::string::npos || eq == 0)
             throw UsageError(fmt::format("--cvars {}:{}: expected NAME=VALUE, got '{}'", path,
                                          number, t));
-        out.push_back(trimmed(t.substr(0, eq)) + "=" + trimmed(t.substr(eq + 1)));
+        out.setCvar(trimmed(t.substr(0, eq)), Settings::valueFromText(trimmed(t.substr(eq + 1))));
     }
     for (const auto& [where, lines] : skipped)
         logWarning(fmt::format("--cvars {}: {} line{} of {} skipped: cvars are read from "
                                "[SystemSettings] and [ConsoleVariables]",
                                path, lines, lines == 1 ? "" : "s", where));
-    if (out.empty()) {
+    if (out.cvars.empty()) {
         const std::string why = fmt::format(
             "--cvars {}: 0 cvars read (no NAME=VALUE line under [SystemSettings] or "
             "[ConsoleVariables])",
@@ -155,7 +138,7 @@ RunSetup::RunSetup(const SetupOptions& o)
                    ? io::CaptureProfile::fromJson(mConfig.profile, o.config + ": /profile")
                    : io::CaptureProfile::load(o.profile)) {
     for (const auto& file : o.cvarFiles)
-        for (auto& c : readCvarsFile(file, o.strict)) mFileCvars.push_back(std::move(c));
+        mFileCvars.merge(readCvarsFile(file, o.strict));
     if (!o.capture.empty())
         mConfig.capture = o.capture;
     if (o.memoryCapture) {
@@ -234,16 +217,12 @@ void RunSetup::plan(const SetupOptions& o) {
     if (mConfig.capture.empty())
         inputs.priorErrors.push_back(
             {"/capture", "the config names no capture (a file or pattern)"});
-    std::vector<std::string> cvars = mFileCvars;
-    cvars.insert(cvars.end(), o.cvars.begin(), o.cvars.end());
-    for (const auto& c : cvars) {
-        auto [name, value] = splitCvar(c);
-        inputs.overrides.cvars[name] = io::parseCliValue(value);
-    }
-    for (const auto& s : o.sets) {
-        auto [name, value] = splitAssignment(s, "--set");
-        inputs.overrides.sets.emplace_back(name, io::parseCliValue(value));
-    }
+    Settings settings = mFileCvars;  // the command line's --cvar wins over an .ini's
+    settings.merge(o.settings);
+    inputs.overrides.cvars = settings.cvars;
+    inputs.overrides.sets = settings.sets;
+    inputs.overrides.cvarOrigin = o.settings.cvarOrigin;
+    inputs.overrides.setOrigin = o.settings.setOrigin;
     inputs.overrides.dumps = o.dumps;
     inputs.allowUnknownCvars = o.allowUnknownCvars;
     inputs.overrides.device = o.device;

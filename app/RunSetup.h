@@ -3,6 +3,7 @@
 // to process and the plan, made after reading only the first capture's header. What `plan`,
 // `run`, bench and a Session share.
 #include "app/SessionInputs.h"
+#include "app/Settings.h"
 #include "io/CaptureProfile.h"
 #include "io/CaptureSource.h"
 #include "io/ConfigLoader.h"
@@ -20,9 +21,8 @@ namespace fp::app {
 
 struct SetupOptions {
     std::string config;
-    std::vector<std::string> cvars;  //!< NAME=VALUE or "NAME VALUE"
-    std::vector<std::string> cvarFiles;  //!< Unreal .ini files (--cvars), before --cvar
-    std::vector<std::string> sets;   //!< PASS.PARAM=VALUE
+    Settings settings;               //!< cvars and PASS.PARAM values (--cvar, --set)
+    std::vector<std::string> cvarFiles;  //!< Unreal .ini files (--cvars), under the settings
     std::vector<std::string> dumps;  //!< PASS.PORT or all
     std::string frames;
     std::string capture;  //!< file or frame pattern; overrides the config's "capture"
@@ -39,10 +39,10 @@ struct SetupOptions {
     std::shared_ptr<const io::MemoryCapture> memoryCapture;
 };
 
-/// The cvars of an Unreal .ini file as NAME=VALUE (its [SystemSettings] and [ConsoleVariables]),
+/// The cvars of an Unreal .ini file (its [SystemSettings] and [ConsoleVariables]),
 /// in UTF-8 (with or without a byte-order mark) or UTF-16 (either byte order; Unreal on Windows
 /// writes both). A file that gives no cvar is an error when `strict`, else a warning.
-std::vector<std::string> readCvarsFile(const std::string& path, bool strict = false);
+Settings readCvarsFile(const std::string& path, bool strict = false);
 
 class RunSetup {
 public:
@@ -88,7 +88,7 @@ private:
     io::RunConfig mConfig;
     std::shared_ptr<SessionInputs> mInputs;
     io::CaptureProfile mProfile;
-    std::vector<std::string> mFileCvars;  //!< --cvars files, read once by the first setup
+    Settings mFileCvars;  //!< --cvars files, read once by the first setup
     std::shared_ptr<const io::MemoryCapture> mMemory;
     // The first capture's header as the planner reads it.
     struct CaptureHeader {

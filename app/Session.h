@@ -2,18 +2,24 @@
 // A look-dev session: one config on one capture, held open while its settings change. The doors
 // that are not a single command (the Python module, the server) drive framepass through it.
 //
-// It reads the config, the capture's header, the scene and the OCIO config once; each run plans
-// the chain with the session's current cvars and pass parameters (as --cvar and --set) and
-// returns the images asked for in memory. Runs are incremental: the outputs of every step are
-// kept (StepCache), so after a change only the steps downstream of it execute again, and a
-// frame's buffers are read from disk once. Frames run in order carry the temporal passes'
-// history as `run` does; running the same frame again starts from the history it had.
-// cancel() stops a run in flight from another thread at its next safe point (between passes).
+// It reads the config, the capture's header, the scene and the OCIO config once; each setting is
+// checked when it is made, by planning the chain with it (a refused one leaves the session as it
+// was), and runs return the images asked for in memory. Runs are incremental: the outputs of
+// every step are kept (StepCache), so after a change only the steps downstream of it execute
+// again, and a frame's buffers are read from disk once. Frames run in order carry the temporal
+// passes' history as `run` does; running the same frame again starts from the history it had.
+//
+// Threads: every member may be called from any thread. Runs take turns; a setting made while a
+// run is in flight applies to the next run (the one in flight keeps the plan it started with);
+// setup(), lastReport() and the settings read what is current without waiting for the run.
+// cancel() stops a run in flight at its next safe point (between passes).
 #include "app/FrameDriver.h"
 #include "app/RunSetup.h"
+#include "app/Settings.h"
 #include "framework/Executor.h"
 
 #include <atomic>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -35,31 +41,37 @@ class Session {
 public:
     /// Reads the config and the first capture's header and plans, as `framepass plan` does;
     /// throws fp::UsageError with the config's problems. `options.dumps` are ignored: each run
-    /// names the images it wants.
+    /// names the images it wants. `options.settings`' origins name settings in messages.
     explicit Session(SetupOptions options);
     ~Session();
 
-    /// Sets an Unreal cvar, as --cvar NAME=VALUE (VALUE read as --cvar reads it).
-    void setCvar(const std::string& name, const std::string& value);
-    /// Sets a pass parameter, as --set PASS.PARAM=VALUE.
-    void setParam(const std::string& passParam, const std::string& value);
-    /// Replaces every cvar and parameter set so far (each NAME=VALUE): how a door puts back the
-    /// settings it had when a change turned out wrong.
-    void replaceSettings(std::vector<std::string> cvars, std::vector<std::string> sets);
-    /// The cvars and parameters set so far, in order, as NAME=VALUE.
-    const SetupOptions& options() const { return mOptions; }
-    /// The value of cvar `name` in this session: as set on it, else as the config's "cvars" give
-    /// it, else the default of the parameter it sets (or, for a cvar framepass recognises but
-    /// does not emulate, the value its chain behaves as; null when there is none). Names match
-    /// without regard to case, as in Unreal's console. Throws fp::UsageError for a cvar
-    /// framepass does not know.
+    /// Sets an Unreal cvar (names in any case, as Unreal's console takes them). Throws
+    /// fp::SettingError, the session unchanged, for a cvar framepass does not know or a value it
+    /// does not take. Returns (and logs with logWarning) what the change newly warns of: a
+    /// config parameter that shadows the cvar, a cvar framepass does not emulate.
+    std::vector<Diagnostic> setCvar(const std::string& name, nlohmann::json value);
+    /// Sets a pass parameter PASS.PARAM (or rebinds input PASS.INPUT to a source), checked as
+    /// setCvar is.
+    std::vector<Diagnostic> setParam(const std::string& target, nlohmann::json value);
+    /// Replaces every cvar and parameter set so far, checked as one change (named in messages
+    /// by the replacement's origins).
+    std::vector<Diagnostic> replaceSettings(Settings settings);
+    /// The cvars and parameters set so far.
+    Settings settings() const;
+    /// The options the session was made with, its settings now in them.
+    SetupOptions options() const;
+    /// The value cvar `name` runs with in this session: the parameter it sets as the plan
+    /// resolved it (a config parameter that shadows the cvar wins there too); for a pass the
+    /// chain does not run, as set on the session, else as the config's "cvars" give it, else the
+    /// parameter's default (a cvar framepass recognises but does not emulate: the value its
+    /// chain behaves as; null when there is none). Throws fp::SettingError for an unknown cvar.
     nlohmann::json cvarValue(const std::string& name) const;
     /// Every cvar framepass knows, in its spelling.
     std::vector<std::string> cvarNames() const;
 
-    /// The chain as the current settings plan it (re-planned after a change); `outputs` are
-    /// planned as dumps so that they are computed.
-    const RunSetup& setup(const std::vector<std::string>& outputs = {});
+    /// The chain as the current settings plan it; `outputs` are planned as dumps so that they are
+    /// computed. Shared: a later change plans anew and leaves this one as it is.
+    std::shared_ptr<const RunSetup> setup(const std::vector<std::string>& outputs = {});
     /// The config's frames.
     const std::vector<int>& frames() const { return mBase.frames(); }
 
@@ -70,36 +82,48 @@ public:
     /// profile, sanitised), read once and kept with the frame. Throws fp::UsageError for a
     /// buffer the capture does not have.
     Image captureBuffer(int frame, const std::string& name);
+    /// Whether the capture has buffer (or Truth.* layer) `name`.
+    bool hasCaptureBuffer(const std::string& name) const;
     /// Forgets the kept outputs: the next run executes every pass (the capture's buffers stay
     /// read).
-    void forgetOutputs() { mFrames.forgetOutputs(); }
-    /// Stops the run in flight at its next safe point; a run that starts later is not affected.
-    void cancel();
+    void forgetOutputs();
+    /// Stops the run in flight at its next safe point with fp::Cancelled(`why`); a run that starts
+    /// later is not affected.
+    void cancel(std::string why = "cancelled");
     /// Called on the running thread after each pass with (passes done, passes in all, its
-    /// report): a door's progress. It may call cancel().
+    /// report): a door's progress. It may call cancel() or throw to stop the run. Set it before
+    /// runs start, not while one is in flight.
     ProgressFn onPass;
 
     /// The driver the session's frames run through (its captures, kept read): an error breakdown
     /// of the session's frame reads them from here. Not to be used while a run is in flight.
     FrameDriver& frameDriver() { return mFrames; }
     /// The report of the last run that finished.
-    const std::optional<FrameReport>& lastReport() const { return mLastReport; }
+    std::optional<FrameReport> lastReport() const;
 
 private:
-    static void replace(std::vector<std::string>& list, const std::string& name,
-                        const std::string& value);
+    /// The settings `change` makes of the current ones, planned for the outputs planned last;
+    /// on success they become the session's.
+    std::vector<Diagnostic> adopt(const std::function<void(Settings&)>& change);
+    /// captureBuffer() with the run lock held.
+    Image loadCaptureBuffer(int frame, const std::string& name);
 
-    SetupOptions mOptions;
+    const SetupOptions mOptions;  // as made; mSettings replace its settings when planning
     RunSetup mBase;
-    std::optional<RunSetup> mPlanned;
+
+    std::mutex mChangeMutex;  // changes and re-plans take turns (held while planning)
+    mutable std::mutex mStateMutex;  // guards the four below, briefly: never while planning or running
+    Settings mSettings;
+    std::shared_ptr<const RunSetup> mPlanned;
     std::vector<std::string> mPlannedOutputs;
-    bool mDirty = true;
+    std::optional<FrameReport> mLastReport;
 
     std::mutex mRunMutex;  // one run at a time
     std::atomic<bool> mCancel{false};
+    std::mutex mCancelWhyMutex;
+    std::string mCancelWhy;
     // Frames run incrementally, the frame and the one before it kept read.
     FrameDriver mFrames;
-    std::optional<FrameReport> mLastReport;
 };
 
 }  // namespace fp::app

@@ -3,6 +3,9 @@
 #include "cli/Flags.h"
 
 #include "app/ErrorBreakdown.h"
+#include "foundation/Error.h"
+
+#include <functional>
 
 
 namespace fp::cli {
@@ -16,16 +19,37 @@ const CLI::Validator& nonEmptyPath() {
     return check;
 }
 
+namespace {
+// A value that cannot be read, found while CLI11 parses: its error, as every other flag's.
+void asParseError(const std::function<void()>& read) {
+    try {
+        read();
+    } catch (const UsageError& e) {
+        throw CLI::ValidationError(e.what());
+    }
+}
+}  // namespace
+
 void addSetupOptions(CLI::App& sub, app::SetupOptions& o) {
     sub.add_option("config", o.config, "run config (JSON)")->required();
-    sub.add_option("--cvar", o.cvars,
+    // The command line is where settings are text: each becomes a typed value as it is read.
+    sub.add_option_function<std::vector<std::string>>(
+                   "--cvar",
+                   [&o](const std::vector<std::string>& texts) {
+                       for (const auto& t : texts) asParseError([&] { o.settings.setCvarText(t); });
+                   },
                    "set an Unreal cvar as the console takes it: --cvar \"r.SSGI.Quality 4\" or "
                    "--cvar r.SSGI.Quality=4 (names in any case)");
     sub.add_option("--cvars", o.cvarFiles,
                    "read cvars from an Unreal .ini ([SystemSettings] / [ConsoleVariables], ; "
                    "comments), such as the snippet tune prints; --cvar wins over it")
         ->check(CLI::ExistingFile);
-    sub.add_option("--set", o.sets, "set a pass parameter, e.g. --set hzb.halfPrecision=false");
+    sub.add_option_function<std::vector<std::string>>(
+        "--set",
+        [&o](const std::vector<std::string>& texts) {
+            for (const auto& t : texts) asParseError([&] { o.settings.setParamText(t); });
+        },
+        "set a pass parameter, e.g. --set hzb.halfPrecision=false");
     sub.add_option("--dump", o.dumps, "also write PASS.PORT (or 'all') to <out>/dump/");
     sub.add_option("--frames", o.frames, "frame spec (overrides the config), e.g. 1001-1010");
     sub.add_option("--capture", o.capture,

@@ -54,6 +54,21 @@ private:
     std::vector<ConfigProblem> mProblems;
 };
 
+/// A setting refused when it was made (a Python call, a server request), the session left as it
+/// was: its name is unknown, its value has the wrong type, or the value is not one the setting
+/// takes. The doors raise it as their language's error of that kind (KeyError, TypeError,
+/// ValueError in Python).
+class SettingError : public UsageError {
+public:
+    enum class Kind { UnknownName, WrongType, BadValue };
+    SettingError(Kind kind, const std::string& message, std::vector<ConfigProblem> problems = {})
+        : UsageError(message, {}, std::move(problems)), mKind(kind) {}
+    Kind kind() const { return mKind; }
+
+private:
+    Kind mKind;
+};
+
 /// A run stopped by a signal at a safe point (exit 128 + the signal).
 class Interrupted : public Error {
 public:

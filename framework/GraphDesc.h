@@ -59,6 +59,9 @@ struct PlanOverrides {
     std::vector<std::pair<std::string, nlohmann::json>> sets;  //!< --set PASS.PARAM=VALUE
     std::vector<std::string> dumps;                            //!< --dump PASS.PORT, or "all"
     std::string device;  //!< --device cpu|cuda ("" = the config's)
+    /// How a message names a cvar and a PASS.PARAM of the two above: fmt patterns taking the name,
+    /// in the terms of the door that set them (the command line's flags, a Python call).
+    std::string cvarOrigin = "--cvar {}", setOrigin = "--set {}";
     /// No pass is culled: each runs whether or not a requested output depends on it (the
     /// workbench shows every pass, its time and its outputs).
     bool runEveryPass = false;

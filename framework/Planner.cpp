@@ -109,7 +109,7 @@ public:
         for (const auto& [k, v] : mGraph.cvars.items())
             mCvars[mCvarTable.spelling(k)] = {v, "/cvars/" + jsonPointerEscape(k)};
         for (const auto& [k, v] : mIn.overrides.cvars.items())
-            mCvars[mCvarTable.spelling(k)] = {v, "--cvar " + k};
+            mCvars[mCvarTable.spelling(k)] = {v, fmt::format(fmt::runtime(mIn.overrides.cvarOrigin), k)};
         for (const auto& [name, cv] : mCvars) {
             const CvarMapping* m = mCvarTable.find(name);
             if (!m && mIn.allowUnknownCvars) {
@@ -465,7 +465,7 @@ private:
         for (const auto& [target, value] : mGraph.sets.items())
             sets.emplace_back(target, value, "/set/" + jsonPointerEscape(target));
         for (const auto& [target, value] : mIn.overrides.sets)
-            sets.emplace_back(target, value, "--set " + target);
+            sets.emplace_back(target, value, fmt::format(fmt::runtime(mIn.overrides.setOrigin), target));
         for (const auto& [target, value, where] : sets) {
             const auto dot = target.find('.');
             if (dot == std::string::npos) {

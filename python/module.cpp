@@ -18,9 +18,13 @@
 #include "io/CameraIO.h"
 #include "io/ExrLayers.h"
 #include "io/ExrReader.h"
+#include "io/ExrWriter.h"
 #include "io/MemoryCapture.h"
 #include "io/SafeFiles.h"
 
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfThreading.h>
 #include <fmt/ranges.h>
 #include <pybind11/numpy.h>
@@ -200,12 +204,18 @@ Image plainImage(const char* what, const py::handle& value) {
     });
 }
 
-// A value as --cvar and --set read it: Python's bool, int and float spelled as JSON.
-std::string valueText(const py::handle& v) {
-    if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
-    if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v) || py::isinstance<py::str>(v))
-        return py::str(v).cast<std::string>();
-    throw py::type_error("a setting is a bool, an int, a float or a str");
+// A setting's value as Python gives it, typed as the planner takes it: a bool, an integer (int or
+// anything with __index__, numpy's integers), a real (float or anything with __float__) or a str.
+nlohmann::json settingValue(const std::string& call, const py::handle& v) {
+    if (py::isinstance<py::bool_>(v)) return v.cast<bool>();
+    if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+    const py::object o = py::reinterpret_borrow<py::object>(v);
+    if (py::hasattr(o, "__index__")) return py::int_(o).cast<int64_t>();
+    if (py::isinstance<py::float_>(o) || py::hasattr(o, "__float__"))
+        return py::float_(o).cast<double>();
+    throw py::type_error(fmt::format("{}: a setting's value is a bool, an int, a float or a str, "
+                                     "not {}",
+                                     call, py::str(py::type::of(v).attr("__name__")).cast<std::string>()));
 }
 
 // The camera of a capture: exact as the library holds it (what read_capture found), or made
@@ -274,46 +284,186 @@ public:
         if (threads < 0 || threads > limits::kMaxThreads)
             throw py::value_error(fmt::format("threads is 0 (every core) to {}", limits::kMaxThreads));
         if (threads > 0) mArena = std::make_unique<tbb::task_arena>(threads);
+        // A setting is named in messages by the call that made it.
+        o.settings.cvarOrigin = "set_cvar('{}')";
+        o.settings.setOrigin = "set('{}')";
+        mConfig = config;
         mSession = std::make_unique<app::Session>(o);
+        // Ctrl-C: after each pass, a run on Python's main thread lets Python's signal handlers
+        // run; a KeyboardInterrupt (or whatever a handler raised) stops the run there and is
+        // raised by run() once the frame has unwound.
+        mSession->onPass = [this](int, int, const PassReport&) {
+            if (!mCheckSignals) return;
+            py::gil_scoped_acquire gil;
+            if (PyErr_CheckSignals() == 0) return;
+            PyErr_Fetch(&mRaised[0], &mRaised[1], &mRaised[2]);
+            throw Cancelled("interrupted");
+        };
     }
     void setCvar(const std::string& name, const py::handle& value) {
-        mSession->setCvar(name, valueText(value));
+        nlohmann::json v = settingValue(fmt::format("set_cvar('{}')", name), value);
+        py::gil_scoped_release release;  // it plans: a run in flight on another thread goes on
+        mSession->setCvar(name, std::move(v));
     }
     void set(const std::string& passParam, const py::handle& value) {
-        mSession->setParam(passParam, valueText(value));
+        nlohmann::json v = settingValue(fmt::format("set('{}')", passParam), value);
+        py::gil_scoped_release release;
+        mSession->setParam(passParam, std::move(v));
     }
     py::dict run(std::optional<int> frame, const std::vector<std::string>& outputs,
                  const std::string& layout) {
         const Layout l = layoutOf(layout);
         const int f = frame ? *frame : mSession->frames().front();
         app::FrameResult r;
-        {
+        const py::module_ threading = py::module_::import("threading");
+        const bool mainThread =
+            threading.attr("current_thread")().is(threading.attr("main_thread")());
+        try {
             py::gil_scoped_release release;
             auto once = [&] { r = mSession->run(f, outputs); };
+            // One run at a time checks signals: runs on other threads wait for the session.
+            std::lock_guard<std::mutex> one(mRunMutex);
+            mCheckSignals = mainThread;
             if (mArena) mArena->execute(once);
             else once();
+        } catch (const Cancelled&) {
+            if (mRaised[0]) {
+                PyErr_Restore(mRaised[0], mRaised[1], mRaised[2]);
+                mRaised[0] = mRaised[1] = mRaised[2] = nullptr;
+                throw py::error_already_set();
+            }
+            throw;
         }
         return toArrays(r.images, l);
     }
     py::object plan(const std::vector<std::string>& outputs) {
-        const app::RunSetup& setup = mSession->setup(outputs);
-        return toPython(setup.plan().toJson(setup.extent()));
+        std::shared_ptr<const app::RunSetup> setup;
+        {
+            py::gil_scoped_release release;
+            setup = mSession->setup(outputs);
+        }
+        return toPython(setup->plan().toJson(setup->extent()));
     }
     py::object report() const {
-        const auto& r = mSession->lastReport();
+        const std::optional<FrameReport> r = mSession->lastReport();
         return r ? toPython(r->toJson()) : py::object(py::none());
+    }
+    std::string repr() const {
+        const app::Settings settings = mSession->settings();
+        const auto& frames = mSession->frames();
+        return fmt::format("framepass.Session('{}', frames {}{}, {} cvar{} and {} parameter{} set)",
+                           mConfig, frames.front(),
+                           frames.size() > 1 ? fmt::format("-{}", frames.back()) : "",
+                           settings.cvars.size(), settings.cvars.size() == 1 ? "" : "s",
+                           settings.sets.size(), settings.sets.size() == 1 ? "" : "s");
     }
     py::object cvarValue(const std::string& name) const {
         return toPython(mSession->cvarValue(name));
     }
     std::vector<std::string> cvarNames() const { return mSession->cvarNames(); }
     std::vector<int> frames() const { return mSession->frames(); }
-    void cancel() { mSession->cancel(); }
+    void cancel() { mSession->cancel("cancelled by Session.cancel()"); }
 
 private:
+    std::string mConfig;
     std::unique_ptr<tbb::task_arena> mArena;
     std::unique_ptr<app::Session> mSession;
+    std::mutex mRunMutex;
+    bool mCheckSignals = false;  // the run in flight is on Python's main thread
+    PyObject* mRaised[3] = {nullptr, nullptr, nullptr};  // what a signal handler raised
 };
+
+// Channel names for an array of C channels written as a layer: what read_exr reads back in the
+// same order (Y; R G B; R G B A; else C0, C1, ...).
+std::vector<std::string> layerChannels(int channels) {
+    if (channels == 1) return {"Y"};
+    if (channels == 3) return {"R", "G", "B"};
+    if (channels == 4) return {"R", "G", "B", "A"};
+    std::vector<std::string> names;
+    for (int k = 0; k < channels; ++k) names.push_back(fmt::format("C{:02}", k));
+    return names;
+}
+
+void writeExrFile(const std::string& path, const py::dict& layers, const py::object& half,
+                  const py::object& metadata, const std::string& compression,
+                  std::optional<int64_t> frame) {
+    if (layers.empty()) throw py::value_error("write_exr(): layers is empty: nothing to write");
+    std::vector<std::string> halfLayers;
+    bool allHalf = false;
+    if (py::isinstance<py::bool_>(half)) allHalf = half.cast<bool>();
+    else if (!half.is_none()) {
+        if (py::isinstance<py::str>(half) || !py::isinstance<py::iterable>(half))
+            throw py::type_error("write_exr(): half is a bool or a list of layer names");
+        for (const auto& h : half) halfLayers.push_back(py::str(h).cast<std::string>());
+    }
+    io::ExrMetadata meta;
+    if (!metadata.is_none()) {
+        if (!py::isinstance<py::dict>(metadata))
+            throw py::type_error("write_exr(): metadata is a dict {str: str}");
+        for (const auto& [k, v] : metadata.cast<py::dict>()) {
+            if (!py::isinstance<py::str>(k) || !py::isinstance<py::str>(v))
+                throw py::type_error("write_exr(): metadata is a dict {str: str}");
+            meta.strings[k.cast<std::string>()] = v.cast<std::string>();
+        }
+    }
+    if (frame) {
+        if (*frame < -limits::kMaxFrameNumber || *frame > limits::kMaxFrameNumber)
+            throw py::value_error(fmt::format("write_exr(): frame {} is not a frame number", *frame));
+        meta.frame = *frame;
+    }
+    const io::ExrCompression codec = [&] {
+        try {
+            return io::parseCompression(compression);
+        } catch (const UsageError& e) {
+            throw py::value_error(fmt::format("write_exr(): {}", e.what()));
+        }
+    }();
+    std::vector<Image> images;  // kept while the parts point at them
+    std::vector<std::string> names;
+    images.reserve(layers.size());
+    for (const auto& [k, v] : layers) {
+        if (!py::isinstance<py::str>(k)) throw py::type_error("write_exr(): a layer's name is a str");
+        const std::string name = k.cast<std::string>();
+        const std::string what = fmt::format("write_exr(): layer '{}'", name);
+        const py::array raw = py::array::ensure(v);
+        if (!raw || (raw.ndim() != 2 && raw.ndim() != 3) || raw.dtype().kind() != 'f')
+            throw py::value_error(fmt::format("{}: a float array (height, width) or (height, "
+                                              "width, channels)",
+                                              what));
+        images.push_back(planarCopy(what, raw, layerChannels));
+        names.push_back(name);
+    }
+    io::ExrPart part;
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        if (images[i].width() != images[0].width() || images[i].height() != images[0].height())
+            throw py::value_error(fmt::format("write_exr(): layer '{}' is {}×{}, layer '{}' {}×{}: "
+                                              "one file's layers have one size",
+                                              names[i], images[i].width(), images[i].height(),
+                                              names[0], images[0].width(), images[0].height()));
+        const bool asHalf = allHalf || std::find(halfLayers.begin(), halfLayers.end(), names[i]) !=
+                                           halfLayers.end();
+        part.layers.push_back({names[i], &images[i], asHalf});
+    }
+    for (const auto& h : halfLayers)
+        if (std::find(names.begin(), names.end(), h) == names.end())
+            throw py::value_error(fmt::format("write_exr(): half names '{}', which is not a layer", h));
+    py::gil_scoped_release release;
+    io::writeExr(path, {part}, meta, codec);
+}
+
+// The string attributes of an EXR's header (what write_exr's metadata= writes), and its frame.
+py::dict exrMetadata(const std::string& path) {
+    io::ExrReader file(path);
+    py::dict out;
+    const Imf::Header& header = file.header();
+    for (auto it = header.begin(); it != header.end(); ++it) {
+        if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+            out[py::str(it.name())] = s->value();
+        else if (const auto* i = dynamic_cast<const Imf::IntAttribute*>(&it.attribute()))
+            out[py::str(it.name())] = i->value();
+    }
+    return out;
+}
 
 py::dict readExr(const std::string& path, const std::vector<std::string>& layers,
                  const std::string& layout) {
@@ -391,14 +541,23 @@ py::object compare(const py::object& a, const py::object& b, const std::string& 
     return toPython(figures[*metric]);
 }
 
-std::vector<std::string> settings(const py::object& values, const char* what) {
-    std::vector<std::string> out;
-    if (values.is_none()) return out;
+// bench's cvars= or set= ({name: value}) into `out`.
+void addSettings(const py::object& values, const char* what, app::Settings& out) {
+    if (values.is_none()) return;
     if (!py::isinstance<py::dict>(values))
-        throw py::type_error(fmt::format("{} is a dict {{name: value}}", what));
-    for (const auto& [k, v] : values.cast<py::dict>())
-        out.push_back(py::str(k).cast<std::string>() + "=" + valueText(v));
-    return out;
+        throw py::type_error(fmt::format("bench(): {}= is a dict {{name: value}}", what));
+    for (const auto& [k, v] : values.cast<py::dict>()) {
+        const std::string name = py::str(k).cast<std::string>();
+        nlohmann::json value = settingValue(fmt::format("bench(): {}['{}']", what, name), v);
+        if (std::string(what) == "cvars") out.setCvar(name, std::move(value));
+        else out.setParam(name, std::move(value));
+    }
+}
+
+// A sweep's value as `bench --sweep` spells it (the sweep grid is text, as the command line's).
+std::string sweepText(const std::string& axis, const py::handle& v) {
+    const nlohmann::json j = settingValue(fmt::format("bench(): sweep['{}']", axis), v);
+    return j.is_string() ? j.get<std::string>() : j.dump();
 }
 
 py::object bench(const std::string& config, const py::object& sweep, int runs, int warmup,
@@ -412,8 +571,10 @@ py::object bench(const std::string& config, const py::object& sweep, int runs, i
     o.session.profile = profile;
     o.session.device = device;
     o.session.frames = frames;
-    o.session.cvars = settings(cvars, "cvars");
-    o.session.sets = settings(sets, "set");
+    o.session.settings.cvarOrigin = "bench(): cvars['{}']";
+    o.session.settings.setOrigin = "bench(): set['{}']";
+    addSettings(cvars, "cvars", o.session.settings);
+    addSettings(sets, "set", o.session.settings);
     if (runs < 1 || warmup < 0) throw py::value_error("runs is 1 or more, warmup 0 or more");
     o.runs = runs;
     o.warmup = warmup;
@@ -424,7 +585,7 @@ py::object bench(const std::string& config, const py::object& sweep, int runs, i
             if (py::isinstance<py::str>(v) || !py::isinstance<py::iterable>(v))
                 throw py::type_error(fmt::format("sweep['{}'] is a list of values",
                                                  py::str(k).cast<std::string>()));
-            for (const auto& value : v) values.push_back(valueText(value));
+            for (const auto& value : v) values.push_back(sweepText(py::str(k).cast<std::string>(), value));
             o.sweeps.push_back(fmt::format("{}={}", py::str(k).cast<std::string>(),
                                            fmt::join(values, ",")));
         }
@@ -445,6 +606,7 @@ py::object bench(const std::string& config, const py::object& sweep, int runs, i
 
 PYBIND11_MODULE(_framepass, m) {
     m.doc() = "framepass: Unreal Engine's lighting passes re-run on captured GBuffers.";
+    m.attr("__version__") = FP_VERSION;
     // OpenEXR decompresses a file's chunks on its own pool, which is off until sized (the command
     // line sizes it to --threads): every core, as the passes' pool has.
     if (Imf::globalThreadCount() == 0)
@@ -461,9 +623,38 @@ PYBIND11_MODULE(_framepass, m) {
     configError.attr("path") = py::none();
     configError.attr("pointer") = py::none();
     configError.attr("problems") = py::list();
+    // A setting refused when it is made is a ConfigError and the error Python raises for its kind
+    // of wrong: an unknown name a KeyError, a value of the wrong type a TypeError, a value the
+    // setting does not take a ValueError. Made with two bases, which py::exception cannot.
+    auto settingClass = [&](const char* name, PyObject* pythonBase, const char* doc) {
+        py::tuple bases = py::make_tuple(configError, py::handle(pythonBase));
+        py::object cls = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
+            (std::string("framepass.") + name).c_str(), doc, bases.ptr(), nullptr));
+        if (!cls) throw py::error_already_set();
+        m.attr(name) = cls;
+        return cls.release();  // kept for the translator, as the module keeps it
+    };
+    static py::handle settingValueError = settingClass(
+        "SettingValueError", PyExc_ValueError, "A setting's value is not one it takes (out of range, "
+        "not one of its choices, an input rebound to a source that does not fit).");
+    static py::handle unknownSettingError = settingClass(
+        "UnknownSettingError", PyExc_KeyError, "No cvar, pass or parameter of that name.");
+    static py::handle settingTypeError = settingClass(
+        "SettingTypeError", PyExc_TypeError, "A setting's value has the wrong type (a str for a "
+        "number, a number for a bool).");
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
+        } catch (const SettingError& e) {
+            const py::handle cls = e.kind() == SettingError::Kind::UnknownName ? unknownSettingError
+                                    : e.kind() == SettingError::Kind::WrongType ? settingTypeError
+                                                                                : settingValueError;
+            py::object exc = cls(e.what());
+            py::list problems;
+            for (const auto& problem : e.problems())
+                problems.append(py::make_tuple(problem.pointer, problem.message));
+            exc.attr("problems") = problems;
+            PyErr_SetObject(cls.ptr(), exc.ptr());
         } catch (const UsageError& e) {
             py::object exc = py::reinterpret_borrow<py::object>(configError.ptr())(e.what());
             if (!e.path().empty()) exc.attr("path") = e.path();
@@ -606,9 +797,10 @@ says which were reused). Frames run in order carry the temporal passes' history.
              "the default of the parameter it sets. ConfigError for an unknown cvar.")
         .def("cvar_names", &PySession::cvarNames, "Every cvar framepass knows.")
         .def_property_readonly("frames", &PySession::frames, "The config's frames.")
+        .def("__repr__", &PySession::repr)
         .def("cancel", &PySession::cancel,
              "Stops the run in flight (from another thread) between passes: it raises "
-             "framepass.Cancelled.");
+             "framepass.Cancelled('cancelled by Session.cancel()').");
 
     m.def("passes", [] { return toPython(app::passCatalogue()); },
           "The pass catalogue: every pass type's ports, parameters and cvars "
@@ -617,6 +809,19 @@ says which were reused). Frames run in order carry the temporal passes' history.
           py::arg("layout") = "hwc",
           "The layers of an EXR (all, or those named) as {layer: float32 array}, (height, width, "
           "channels) or, with layout='chw', (channels, height, width).");
+    m.def("write_exr", &writeExrFile, py::arg("path"), py::arg("layers"), py::kw_only(),
+          py::arg("half") = false, py::arg("metadata") = py::none(),
+          py::arg("compression") = "zip", py::arg("frame") = py::none(),
+          "Writes {layer: float array} as one multi-layer EXR, as framepass writes its own: "
+          "each array (height, width) or (height, width, channels), all one size; channels named "
+          "Y; R G B; R G B A; else C00, C01, ... under the layer's name ('' for none). half: "
+          "True (every layer), False (float32), or a list of the layers stored as half. "
+          "metadata: {str: str} header attributes; frame: the framepass:frame attribute; "
+          "compression: zip, zips, piz or none. Written through a temporary file renamed into "
+          "place. read_exr reads it back (float32 bit for bit; half as float16 rounds).");
+    m.def("exr_metadata", &exrMetadata, py::arg("path"),
+          "An EXR header's string and integer attributes as a dict (what write_exr's metadata= "
+          "and frame= wrote among them).");
     m.def(
         "read_capture",
         [](const std::string& path, const std::string& profile) {

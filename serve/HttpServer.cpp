@@ -152,12 +152,19 @@ void WorkbenchServer::routes() {
     s.Put("/api/params", [&wb](const httplib::Request& req, httplib::Response& res) {
         const SettingsChange change = parseSettingsChange(req.body);
         const bool wait = parseWait(req.params);
-        const uint64_t generation = wb.apply(change);
+        std::vector<Diagnostic> warned;
+        const uint64_t generation = wb.apply(change, &warned);
+        // What the change warns of, by its place in the body (a cvar that a config parameter
+        // shadows has no effect: the page says so beside it).
+        nlohmann::json warnings = nlohmann::json::array();
+        for (const auto& w : warned) warnings.push_back({{"pointer", w.pointer}, {"message", w.message}});
         if (!wait) {
             res.status = 202;
-            return sendJson(res, {{"generation", generation}, {"status", "queued"}});
+            return sendJson(res, {{"generation", generation}, {"status", "queued"},
+                                  {"warnings", warnings}});
         }
         nlohmann::json outcome = wb.waitFor(generation);
+        outcome["warnings"] = warnings;
         outcome["report"] = wb.report();
         sendJson(res, outcome);
     });

@@ -12,31 +12,31 @@ namespace fp::serve {
 
 namespace {
 
-// A value as --cvar and --set read it: JSON numbers and booleans as they are written, strings
-// as themselves.
-std::string valueText(const nlohmann::json& v, const std::string& pointer) {
-    if (v.is_string()) return v.get<std::string>();
-    if (v.is_boolean() || v.is_number()) return v.dump();
+// A setting's value as the body gives it: a bool, a number or a string, typed as it is.
+void checkValue(const nlohmann::json& v, const std::string& pointer) {
+    if (v.is_string() || v.is_boolean() || v.is_number()) return;
     throw RequestError(400, fmt::format("{}: a value is a bool, a number or a string, not {}",
                                         pointer, v.dump()),
                        pointer);
 }
 
-std::vector<std::pair<std::string, std::string>> settings(const nlohmann::json& j,
-                                                          const std::string& key) {
-    std::vector<std::pair<std::string, std::string>> out;
-    if (!j.contains(key)) return out;
+// The body's "cvars" or "set" (key) into `out`.
+void readSettings(const nlohmann::json& j, const std::string& key, app::Settings& out) {
+    if (!j.contains(key)) return;
     const nlohmann::json& map = j[key];
     if (!map.is_object())
         throw RequestError(400, fmt::format("/{}: expected an object of name → value", key),
                            "/" + key);
     for (const auto& [name, value] : map.items()) {
         const std::string pointer = "/" + key + "/" + name;
-        if (name.empty() || name.find('=') != std::string::npos)
-            throw RequestError(400, fmt::format("{}: '{}' is not a name", pointer, name), pointer);
-        out.emplace_back(name, valueText(value, pointer));
+        if (name.empty())
+            throw RequestError(400, fmt::format("{}: '' is not a name", pointer), pointer);
+        checkValue(value, pointer);
+        // (Filled directly: the request parser links nothing of the passes, and a JSON object
+        // names each key once; cvars spelled alike in two cases meet in the planner.)
+        if (key == "cvars") out.cvars[name] = value;
+        else out.sets.emplace_back(name, value);
     }
-    return out;
 }
 
 std::optional<std::string> single(const std::multimap<std::string, std::string>& query,
@@ -70,8 +70,11 @@ SettingsChange parseSettingsChange(std::string_view body) {
                                                 key),
                                "/" + key);
     SettingsChange change;
-    change.cvars = settings(j, "cvars");
-    change.sets = settings(j, "set");
+    // A refused setting is named by its place in the body.
+    change.settings.cvarOrigin = "/cvars/{}";
+    change.settings.setOrigin = "/set/{}";
+    readSettings(j, "cvars", change.settings);
+    readSettings(j, "set", change.settings);
     if (j.contains("frame")) {
         const nlohmann::json& f = j["frame"];
         if (!f.is_number_integer() || f.get<int64_t>() < -limits::kMaxFrameNumber ||

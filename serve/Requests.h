@@ -3,6 +3,7 @@
 // read into what the Workbench takes, every problem a RequestError with its HTTP status. Nothing
 // here touches a file or the session, so the fuzz target (fuzz/ServeRequestFuzz.cpp) runs it
 // alone.
+#include "app/Settings.h"
 #include "foundation/Error.h"
 
 #include <map>
@@ -31,7 +32,7 @@ private:
 /// A change of settings, as PUT /api/params sends it: cvars and PASS.PARAM values (as --cvar and
 /// --set read them) and the frame to show.
 struct SettingsChange {
-    std::vector<std::pair<std::string, std::string>> cvars, sets;
+    app::Settings settings;  //!< "cvars" and "set", values as the body gives them
     std::optional<int> frame;
     /// The buffers the page shows (replacing the last list): the pass outputs among them are
     /// handed back by every run; the others stay where they are made (on the GPU, unread).

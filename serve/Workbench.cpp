@@ -87,7 +87,7 @@ bool Workbench::stopped() const {
     return mStop;
 }
 
-const app::RunSetup& Workbench::planned() { return mSession.setup(shownOutputs()); }
+std::shared_ptr<const app::RunSetup> Workbench::planned() { return mSession.setup(shownOutputs()); }
 
 std::vector<std::string> Workbench::shownOutputs() const {
     return std::vector<std::string>(mShown.begin(), mShown.end());
@@ -161,25 +161,11 @@ void Workbench::runOnce(uint64_t generation) {
     mChanged.notify_all();
 }
 
-std::vector<std::string> Workbench::merged(
-    const std::vector<std::string>& list,
-    const std::vector<std::pair<std::string, std::string>>& changes) {
-    std::vector<std::string> out = list;
-    for (const auto& [name, value] : changes) {
-        // (A named reference: clang 14 cannot capture a structured binding.)
-        const std::string& key = name;
-        std::erase_if(out, [&](const std::string& s) { return s.substr(0, s.find('=')) == key; });
-        out.push_back(name + "=" + value);
-    }
-    return out;
-}
-
-uint64_t Workbench::apply(const SettingsChange& change) {
-    mSession.cancel();  // the run in flight stops at its next pass; this change replaces it
+uint64_t Workbench::apply(const SettingsChange& change, std::vector<Diagnostic>* warnings) {
+    // The run in flight stops at its next pass; this change replaces it.
+    mSession.cancel("cancelled: a newer request replaced this run");
     {
         std::lock_guard<std::mutex> session(mSessionMutex);
-        const std::vector<std::string> cvars = mSession.options().cvars;
-        const std::vector<std::string> sets = mSession.options().sets;
         if (change.frame) {
             const auto& frames = mSession.frames();
             if (std::find(frames.begin(), frames.end(), *change.frame) == frames.end())
@@ -202,13 +188,19 @@ uint64_t Workbench::apply(const SettingsChange& change) {
             for (const auto& name : *change.show)
                 if (isPassOutput(name)) mShown.insert(name);  // capture buffers need no run
         }
-        mSession.replaceSettings(merged(cvars, change.cvars), merged(sets, change.sets));
+        const app::Settings before = mSession.settings();
         try {
+            // Checked by planning: a refused setting leaves the session's as they were.
+            app::Settings settings = before;
+            settings.merge(change.settings);
+            settings.cvarOrigin = change.settings.cvarOrigin;  // named by their place in the body
+            settings.setOrigin = change.settings.setOrigin;
+            std::vector<Diagnostic> said = mSession.replaceSettings(std::move(settings));
+            if (warnings) *warnings = std::move(said);
             planned();
         } catch (const UsageError& e) {
             mShown = shownBefore;
-            mSession.replaceSettings(cvars, sets);
-            planned();
+            mSession.replaceSettings(before);
             throw RequestError(400, e.what(),
                                e.problems().empty() ? "" : e.problems().front().pointer);
         }
@@ -241,7 +233,8 @@ nlohmann::json Workbench::waitFor(uint64_t generation) {
 
 std::set<std::string> Workbench::knownBuffers() {
     std::set<std::string> names;
-    const app::RunSetup& setup = planned();
+    const std::shared_ptr<const app::RunSetup> kept = planned();
+    const app::RunSetup& setup = *kept;
     for (const auto& step : setup.plan().steps)
         for (const auto& port : step.io.outputs) names.insert(step.name + "." + port.name);
     for (const auto& b : setup.availableBuffers()) names.insert(b);
@@ -334,7 +327,8 @@ BufferImage Workbench::buffer(const std::string& name, std::optional<int> frame)
     b.frame = mLastFrame;
     b.generation = mLastGeneration;
     b.image = it->second;  // shares the pixels
-    for (const auto& step : planned().plan().steps)
+    const std::shared_ptr<const app::RunSetup> kept = planned();
+    for (const auto& step : kept->plan().steps)
         for (const auto& port : step.io.outputs)
             if (step.name + "." + port.name == name) b.color = port.kind == PortKind::Color;
     return b;
@@ -342,7 +336,8 @@ BufferImage Workbench::buffer(const std::string& name, std::optional<int> frame)
 
 nlohmann::json Workbench::graph() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const app::RunSetup& setup = planned();
+    const std::shared_ptr<const app::RunSetup> kept = planned();
+    const app::RunSetup& setup = *kept;
     nlohmann::json j = setup.plan().toJson(setup.extent());
     nlohmann::json times = nlohmann::json::object();
     if (mLast)
@@ -356,7 +351,8 @@ nlohmann::json Workbench::graph() {
 
 nlohmann::json Workbench::params() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const app::RunSetup& setup = planned();
+    const std::shared_ptr<const app::RunSetup> kept = planned();
+    const app::RunSetup& setup = *kept;
     std::set<std::string> typesInChain;
     nlohmann::json passes = nlohmann::json::array();
     for (const auto& step : setup.plan().steps) {
@@ -395,7 +391,7 @@ nlohmann::json Workbench::params() {
     }
     return {{"cvars", cvars},      {"passes", passes},
             {"frames", mSession.frames()}, {"frame", mFrame},
-            {"settings", {{"cvars", mSession.options().cvars}, {"set", mSession.options().sets}}}};
+            {"settings", mSession.settings().toJson()}};
 }
 
 nlohmann::json Workbench::report() {
@@ -416,7 +412,8 @@ nlohmann::json Workbench::report() {
 
 nlohmann::json Workbench::exportSettings() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const app::RunSetup& setup = planned();
+    const std::shared_ptr<const app::RunSetup> kept = planned();
+    const app::RunSetup& setup = *kept;
     const io::RunConfig& rc = setup.config();
     nlohmann::json config = mOptions.config == "-" ? nlohmann::json::object()
                                                    : io::readJsonFile(mOptions.config, "config");
@@ -435,15 +432,12 @@ nlohmann::json Workbench::exportSettings() {
     if (!mOptions.profile.empty()) config["profile"] = mOptions.profile;
     if (!mOptions.device.empty()) config["device"] = mOptions.device;
     app::SweepPoint cvarPoint;
-    for (const auto& c : mSession.options().cvars) {
-        const auto eq = c.find('=');
-        config["cvars"][c.substr(0, eq)] = io::parseCliValue(c.substr(eq + 1));
-        cvarPoint.emplace_back(c.substr(0, eq), c.substr(eq + 1));
+    const app::Settings settings = mSession.settings();
+    for (const auto& [name, value] : settings.cvars.items()) {
+        config["cvars"][name] = value;
+        cvarPoint.emplace_back(name, value.is_string() ? value.get<std::string>() : value.dump());
     }
-    for (const auto& s : mSession.options().sets) {
-        const auto eq = s.find('=');
-        config["set"][s.substr(0, eq)] = io::parseCliValue(s.substr(eq + 1));
-    }
+    for (const auto& [target, value] : settings.sets) config["set"][target] = value;
     config["frames"] = std::to_string(mFrame);
     return {{"config", config}, {"ini", app::systemSettings(cvarPoint)}};
 }
@@ -459,7 +453,8 @@ nlohmann::json Workbench::breakdown(int rays) {
     std::lock_guard<std::mutex> session(mSessionMutex);
     if (!mLast) throw RequestError(409, "no run has finished yet");
     const auto start = std::chrono::steady_clock::now();
-    auto targets = app::decompositionTargets(planned().plan(), planned().availableBuffers());
+    const std::shared_ptr<const app::RunSetup> shown = planned();
+    auto targets = app::decompositionTargets(shown->plan(), shown->availableBuffers());
     nlohmann::json out = {{"rays", rays}, {"errors", nlohmann::json::array()}};
     if (targets.empty()) return out;
     // The measured sources, handed back by a run that executes nothing (the step cache has
@@ -472,7 +467,8 @@ nlohmann::json Workbench::breakdown(int rays) {
         app::FrameResult sources = mSession.run(mLastFrame, outputs);
         for (auto& [name, image] : sources.images) kept.emplace(name, std::move(image));
     }
-    const app::RunSetup& setup = planned();
+    const std::shared_ptr<const app::RunSetup> current = planned();
+    const app::RunSetup& setup = *current;
     const Plan& plan = setup.plan();
     std::vector<app::ErrorNodeResult> errors;
     for (std::size_t i = 0; i < plan.steps.size() && i < mLast->report.passes.size(); ++i)
@@ -496,7 +492,8 @@ nlohmann::json Workbench::breakdown(int rays) {
 
 nlohmann::json Workbench::bufferNames() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const app::RunSetup& setup = planned();
+    const std::shared_ptr<const app::RunSetup> kept = planned();
+    const app::RunSetup& setup = *kept;
     nlohmann::json passes = nlohmann::json::array(), capture = nlohmann::json::array(),
                    truth = nlohmann::json::array();
     for (const auto& step : setup.plan().steps)
@@ -508,7 +505,7 @@ nlohmann::json Workbench::bufferNames() {
 
 nlohmann::json Workbench::displays() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const auto config = planned().inputs().colorConfig();
+    const auto config = planned()->inputs().colorConfig();
     nlohmann::json list = nlohmann::json::array();
     for (int d = 0; d < config->getNumDisplays(); ++d) {
         const char* display = config->getDisplay(d);
@@ -523,12 +520,12 @@ nlohmann::json Workbench::displays() {
 
 OCIO_NAMESPACE::ConstConfigRcPtr Workbench::displayConfig() {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    return planned().inputs().colorConfig();
+    return planned()->inputs().colorConfig();
 }
 
 std::optional<Image> Workbench::displayTable(const std::string& view) {
     std::lock_guard<std::mutex> session(mSessionMutex);
-    const auto config = planned().inputs().colorConfig();
+    const auto config = planned()->inputs().colorConfig();
     const std::string display = config->getDefaultDisplay();
     if (!view.empty()) {
         bool found = false;

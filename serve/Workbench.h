@@ -69,8 +69,9 @@ public:
 
     /// Applies a change: checked by planning it first (a bad value throws RequestError 400 and
     /// leaves the settings as they were); cancels the run in flight; starts the run. Returns the
-    /// run's generation.
-    uint64_t apply(const SettingsChange& change);
+    /// run's generation; `warnings` gets what the change newly warns of (a cvar that a config
+    /// parameter shadows, say).
+    uint64_t apply(const SettingsChange& change, std::vector<Diagnostic>* warnings = nullptr);
     /// Waits until run `generation` has finished or a newer one replaced it; the outcome as
     /// {"generation", "status": "done"|"cancelled"|"error", "message"?, "ms"?}.
     nlohmann::json waitFor(uint64_t generation);
@@ -97,12 +98,10 @@ private:
     void event(nlohmann::json e);
     /// The session's chain as planned now, the shown pass outputs asked for (call with the
     /// session locked).
-    const app::RunSetup& planned();
+    std::shared_ptr<const app::RunSetup> planned();
     /// The pass outputs among the shown buffers, as the session's run asks for them.
     std::vector<std::string> shownOutputs() const;
     std::set<std::string> knownBuffers();
-    static std::vector<std::string> merged(const std::vector<std::string>& list,
-                                           const std::vector<std::pair<std::string, std::string>>& changes);
 
     app::SetupOptions mOptions;
     // The session and what its runs gave: used by the worker and by requests, one at a time.

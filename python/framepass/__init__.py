@@ -7,7 +7,8 @@ A thin door onto framepass's application library (docs/python.md):
     s.cvars["r.SSGI.Quality"] = 2
     out = s.run(frame=1, outputs=["ssgi_denoise.diffuse"])   # numpy float32, (H, W, C)
 """
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from typing import Any, List, Union
 
 from . import _framepass
 from ._framepass import (  # noqa: F401
@@ -17,39 +18,48 @@ from ._framepass import (  # noqa: F401
     CaptureError,
     ConfigError,
     Error,
+    SettingTypeError,
+    SettingValueError,
+    UnknownSettingError,
+    __version__,
     bench,
     compare,
+    exr_metadata,
     passes,
     read_capture,
     read_exr,
+    write_exr,
 )
+
+Value = Union[bool, int, float, str]
 
 
 class Cvars(Mapping):
     """A session's Unreal cvars as a mapping: s.cvars["r.SSGI.Quality"] reads the value the
-    session runs with (as set, else as the config gives it, else the default of the parameter
-    it sets); assigning sets it, as Session.set_cvar does. Names match without regard to case,
-    as in Unreal's console; a name framepass does not know is a KeyError."""
+    session runs with (the parameter it sets as the plan resolved it: a config parameter that
+    shadows the cvar wins there too); assigning sets it, as Session.set_cvar does, and a value
+    the cvar does not take is refused there. Names match without regard to case, as in
+    Unreal's console; a name framepass does not know is a KeyError (UnknownSettingError)."""
 
-    def __init__(self, session):
+    def __init__(self, session: "Session") -> None:
         self._session = session
 
-    def __getitem__(self, name):
-        try:
-            return self._session.cvar(name)
-        except ConfigError as e:
-            raise KeyError(str(e)) from None
+    def __getitem__(self, name: str) -> Any:
+        return self._session.cvar(name)
 
-    def __setitem__(self, name, value):
+    def __setitem__(self, name: str, value: Value) -> None:
         self._session.set_cvar(name, value)
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[str]:
         return iter(self._session.cvar_names())
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self._session.cvar_names())
 
-    def __repr__(self):
+    def _ipython_key_completions_(self) -> List[str]:
+        return self._session.cvar_names()
+
+    def __repr__(self) -> str:
         return "framepass.Cvars({} cvars)".format(len(self))
 
 
@@ -57,10 +67,12 @@ class Session(_framepass.Session):
     __doc__ = _framepass.Session.__doc__
 
     @property
-    def cvars(self):
+    def cvars(self) -> Cvars:
         """The session's cvars as a mapping (framepass.Cvars): read and assign by name."""
         return Cvars(self)
 
 
-__all__ = ["Session", "Capture", "Camera", "Cvars", "read_capture", "read_exr", "compare",
-           "bench", "passes", "Error", "ConfigError", "CaptureError", "Cancelled"]
+__all__ = ["Session", "Capture", "Camera", "Cvars", "read_capture", "read_exr", "write_exr",
+           "exr_metadata", "compare", "bench", "passes", "Error", "ConfigError",
+           "CaptureError", "Cancelled", "SettingValueError", "SettingTypeError",
+           "UnknownSettingError", "__version__"]

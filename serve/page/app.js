@@ -467,8 +467,10 @@ async function breakdown() {
   }
 }
 
+// The settings ({cvars: {name: value}, set: {name: value}}) as NAME=VALUE words.
 function settingsLabel(settings) {
-  const all = [...settings.cvars, ...settings.set];
+  const all = [...Object.entries(settings.cvars), ...Object.entries(settings.set)]
+    .map(([name, value]) => `${name}=${typeof value === 'string' ? value : JSON.stringify(value)}`);
   return all.length ? all.join(' ') : 'as loaded';
 }
 
@@ -498,8 +500,8 @@ function restore(entry) {
     const [kind, name] = [key.slice(0, key.indexOf(':')), key.slice(key.indexOf(':') + 1)];
     body[kind === 'cvar' ? 'cvars' : 'set'][name] = value;
   }
-  for (const s of entry.settings.cvars) { const i = s.indexOf('='); body.cvars[s.slice(0, i)] = s.slice(i + 1); }
-  for (const s of entry.settings.set) { const i = s.indexOf('='); body.set[s.slice(0, i)] = s.slice(i + 1); }
+  Object.assign(body.cvars, entry.settings.cvars);
+  Object.assign(body.set, entry.settings.set);
   change(body);
 }
 

@@ -157,14 +157,14 @@ TEST_SUITE("app") {
             CAPTURE(name);
             CHECK(sameBits(r.images.at(name), plain.at(name)));
         }
-        CHECK(r.report.executedSteps == int(session.setup(kOutputs).plan().steps.size()));
+        CHECK(r.report.executedSteps == int(session.setup(kOutputs)->plan().steps.size()));
         CHECK(r.report.reusedSteps == 0);
     }
 
     TEST_CASE("after a change, only the passes downstream of it run again") {
         app::Session session(options());
         const app::FrameResult first = session.run(1, kOutputs);
-        const int steps = int(session.setup(kOutputs).plan().steps.size());
+        const int steps = int(session.setup(kOutputs)->plan().steps.size());
 
         // Nothing changed: nothing runs, the images are the same.
         const app::FrameResult again = session.run(1, kOutputs);
@@ -173,9 +173,9 @@ TEST_SUITE("app") {
         CHECK(sameBits(again.images.at(kOutputs[1]), first.images.at(kOutputs[1])));
 
         // A denoiser parameter: the denoiser and what reads it, not the HZB, reduction or trace.
-        session.setParam("ssgi_denoise.denoiser", "0");
+        session.setParam("ssgi_denoise.denoiser", 0);
         const app::FrameResult changed = session.run(1, kOutputs);
-        const auto expected = downstreamOf(session.setup(kOutputs).plan(), "ssgi_denoise");
+        const auto expected = downstreamOf(session.setup(kOutputs)->plan(), "ssgi_denoise");
         CHECK(executed(changed.report) == expected);
         CHECK(changed.report.executedSteps == int(expected.size()));
         CHECK(changed.report.reusedSteps == steps - int(expected.size()));
@@ -183,15 +183,15 @@ TEST_SUITE("app") {
         CHECK_FALSE(sameBits(changed.images.at(kOutputs[0]), first.images.at(kOutputs[0])));
         // … and the bits of a run made with that setting from the start.
         app::SetupOptions denoiserOff = options();
-        denoiserOff.sets = {"ssgi_denoise.denoiser=0"};
+        denoiserOff.settings.setParam("ssgi_denoise.denoiser", 0);
         const auto plain = plainRun({denoiserOff}, {1});
         for (const auto& name : kOutputs)
             CHECK(sameBits(changed.images.at(name), plain.at(name)));
 
         // A cvar of the trace: the trace and what follows it; the HZB and reduction stay.
-        session.setCvar("r.SSGI.Quality", "2");
+        session.setCvar("r.SSGI.Quality", 2);
         const app::FrameResult quality = session.run(1, kOutputs);
-        CHECK(executed(quality.report) == downstreamOf(session.setup(kOutputs).plan(), "ssgi"));
+        CHECK(executed(quality.report) == downstreamOf(session.setup(kOutputs)->plan(), "ssgi"));
         CHECK_FALSE(executed(quality.report).count("hzb"));
         CHECK_FALSE(executed(quality.report).count("prev_color_reduction"));
     }
@@ -226,10 +226,10 @@ TEST_SUITE("app") {
 
         // Frame 2 with another quality, from frame 1's history made at the old quality: the
         // bits of a plain sequence that changes the setting between its frames.
-        session.setCvar("r.SSGI.Quality", "1");
+        session.setCvar("r.SSGI.Quality", 1);
         const app::FrameResult changed = session.run(2, kOutputs);
         app::SetupOptions q1 = options("1-2");
-        q1.cvars = {"r.SSGI.Quality=1"};
+        q1.settings.setCvar("r.SSGI.Quality", 1);
         const auto plain = plainRun({options("1-2"), q1}, {1, 2});
         for (const auto& name : kOutputs)
             CHECK(sameBits(changed.images.at(name), plain.at(name)));
@@ -249,7 +249,7 @@ TEST_SUITE("app") {
         session.onPass = {};
         const app::FrameResult r = session.run(1, kOutputs);
         // The two passes that finished before the cancel stand; the rest run now.
-        const int steps = int(session.setup(kOutputs).plan().steps.size());
+        const int steps = int(session.setup(kOutputs)->plan().steps.size());
         CHECK(r.report.reusedSteps == 2);
         CHECK(r.report.executedSteps == steps - 2);
         const auto plain = plainRun({options()}, {1});
@@ -431,7 +431,7 @@ TEST_SUITE("app") {
                                           [](const ParamInfo& p) { return p.name == "quality"; });
         REQUIRE(quality != params.end());
         CHECK(session.cvarValue("r.SSGI.Quality") == quality->defaultValue);
-        session.setCvar("r.ssgi.quality", "2");  // Unreal's console ignores case
+        session.setCvar("r.ssgi.quality", 2);  // Unreal's console ignores case
         CHECK(session.cvarValue("r.SSGI.Quality") == 2);
         CHECK_THROWS_WITH_AS(session.cvarValue("r.SSGI.Qualty"),
                              doctest::Contains("r.SSGI.Quality"), UsageError);

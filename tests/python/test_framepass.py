@@ -98,9 +98,9 @@ def test_bad_input_is_a_python_exception_with_the_cli_message(config, tmp_path):
         s.run(outputs=["no_such_pass.image"])
     with pytest.raises(TypeError):
         s.set_cvar("r.SSGI.Quality", [2])
-    s.set("ssgi.quality", 9)  # out of range: said when the chain is planned
     with pytest.raises(fp.ConfigError, match="quality"):
-        s.run(outputs=OUTPUTS)
+        s.set("ssgi.quality", 9)  # out of range: refused when it is set (test_settings.py)
+    s.run(outputs=OUTPUTS)
     assert issubclass(fp.ConfigError, fp.Error) and issubclass(fp.CaptureError, fp.Error)
 
 
@@ -286,6 +286,8 @@ def test_cvars_read_and_set_like_set_cvar(config):
     assert same_bits(s.run(outputs=OUTPUTS)[OUTPUTS[0]], other.run(outputs=OUTPUTS)[OUTPUTS[0]])
     with pytest.raises(KeyError, match="r.SSGI.Qualty"):
         s.cvars["r.SSGI.Qualty"]
+    with pytest.raises(fp.UnknownSettingError):
+        s.cvars["r.SSGI.Qualty"] = 1
 
 
 def test_a_config_error_says_where(config, tmp_path):

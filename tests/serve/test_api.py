@@ -40,10 +40,10 @@ def cli_now(server, name):
     """What `framepass run` writes for `name` with the server's current settings."""
     status, params = server.json("GET", "/api/params")
     args = []
-    for c in params["settings"]["cvars"]:
-        args += ["--cvar", c]
-    for s in params["settings"]["set"]:
-        args += ["--set", s]
+    for name_, value in params["settings"]["cvars"].items():
+        args += ["--cvar", f"{name_}={json.dumps(value)}"]
+    for name_, value in params["settings"]["set"].items():
+        args += ["--set", f"{name_}={json.dumps(value)}"]
     return cli_dump(server.config, name, *args)
 
 
@@ -206,7 +206,7 @@ def test_bad_requests_are_4xx_with_a_json_error(server):
     error("PUT", "/api/params", {"cvar": {}}, match="unknown key 'cvar'")
     error("PUT", "/api/params", {"cvars": {"r.SSGI.Quality": [2]}}, match="/cvars/r.SSGI.Quality")
     j = error("PUT", "/api/params", {"set": {"ssgi.quality": 9}}, match="out of range")
-    assert j["pointer"] == "--set ssgi.quality"
+    assert j["pointer"] == "/set/ssgi.quality"  # its place in the body
     error("PUT", "/api/params", {"cvars": {"r.SSGI.Qualty": 2}}, match="r.SSGI.Quality")
     error("PUT", "/api/params", {"frame": 3}, match="not one of the config's frames")
     error("PUT", "/api/params?wait=maybe", {}, match="?wait=maybe")
@@ -222,7 +222,7 @@ def test_bad_requests_are_4xx_with_a_json_error(server):
     error("POST", "/api/tev", {"buffers": []}, match="buffers")
     # A rejected change leaves the settings as they were: the server still runs and answers.
     status, params = server.json("GET", "/api/params")
-    assert status == 200 and not any("quality=9" in s for s in params["settings"]["set"])
+    assert status == 200 and params["settings"]["set"].get("ssgi.quality") != 9
     assert buffer(server, SOURCE_PORT).shape == (64, 96, 3)
 
 

@@ -56,7 +56,7 @@ def test_the_page_loads_with_the_chain_and_no_errors(browser_run):
 
 def test_a_slider_changes_the_image_and_the_times(browser_run):
     r = browser_run
-    assert "r.SSGI.Quality=1" in r["settings"]["cvars"]
+    assert r["settings"]["cvars"].get("r.SSGI.Quality") == 1
     assert r["imageChanged"]
     assert r["timingAfter"] != r["timingBefore"] and "reused" in r["timingAfter"]
 
@@ -80,10 +80,10 @@ def test_the_probe_reads_the_command_lines_value(browser_run, server):
     # The command line with the page's settings, dumping the port as float32.
     out = os.path.join(SCRATCH, "browser", "cli")
     args = [FRAMEPASS, "-q", "run", server.config, "-o", out, "--dump", "ssgi_denoise.diffuse"]
-    for c in r["settings"]["cvars"]:
-        args += ["--cvar", c]
-    for s in r["settings"]["set"]:
-        args += ["--set", s]
+    for name, value in r["settings"]["cvars"].items():
+        args += ["--cvar", f"{name}={json.dumps(value)}"]
+    for name, value in r["settings"]["set"].items():
+        args += ["--set", f"{name}={json.dumps(value)}"]
     subprocess.run(args, check=True)
     (dump,) = os.listdir(os.path.join(out, "dump"))
     cli = fp.read_exr(os.path.join(out, "dump", dump))["ssgi_denoise.diffuse"]

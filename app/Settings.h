@@ -1,0 +1,56 @@
+#pragma once
+// The settings a door changes on top of a config: Unreal cvars and PASS.PARAM values (a PASS.INPUT
+// set to a source's name rebinds that input), typed as JSON from every door to the planner. Text
+// becomes a value only where a user typed text: the command line's --cvar and --set, and an Unreal
+// .ini file; the Python module and the server hand their values over as they are.
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fp {
+class CvarTable;
+}
+
+namespace fp::app {
+
+/// The built-in passes' cvar table, made once (the registry does not change while running).
+const CvarTable& builtinCvarTable();
+
+struct Settings {
+    /// Unreal cvar → value, in the spelling last set (names match without regard to case; the
+    /// members below keep one spelling of each, code that fills this directly must too).
+    nlohmann::json cvars = nlohmann::json::object();
+    /// PASS.PARAM (or PASS.INPUT) → value, in the order set; a later value of one replaces it.
+    std::vector<std::pair<std::string, nlohmann::json>> sets;
+    /// How the door that made these settings names one in a message, an fmt pattern taking the
+    /// name: the command line's "--cvar {}" and "--set {}", the Python module's "set_cvar('{}')".
+    std::string cvarOrigin = "--cvar {}", setOrigin = "--set {}";
+
+    /// Sets a cvar, replacing any setting of the same cvar (whatever its case).
+    void setCvar(const std::string& name, nlohmann::json value);
+    /// Sets PASS.PARAM, replacing an earlier value of it.
+    void setParam(const std::string& target, nlohmann::json value);
+    /// Every setting of `more` on top of these (its cvars and parameters win).
+    void merge(const Settings& more);
+    /// The value set for a cvar (any case), or nullptr when it is not set here.
+    const nlohmann::json* cvar(const std::string& name) const;
+
+    /// {"cvars": {NAME: VALUE}, "set": {PASS.PARAM: VALUE}}: what a config's keys of those names
+    /// hold, and what the server's settings requests send.
+    nlohmann::json toJson() const;
+    /// What `name` is called in a message from the door that set it.
+    std::string cvarWhere(const std::string& name) const;
+    std::string setWhere(const std::string& target) const;
+
+    /// A value as typed on a command line or in an .ini file: JSON where it reads as JSON
+    /// (4, 0.5, true, "text"), else the text itself.
+    static nlohmann::json valueFromText(const std::string& text);
+    /// --cvar's text, as Unreal's console takes it: "r.SSGI.Quality 4" or r.SSGI.Quality=4.
+    void setCvarText(const std::string& text);
+    /// --set's text: PASS.PARAM=VALUE.
+    void setParamText(const std::string& text);
+};
+
+}  // namespace fp::app
