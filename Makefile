@@ -9,7 +9,7 @@ CLI_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimageio-t
     libcpp-httplib-dev
 DEBIAN_PACKAGES = $(CLI_PACKAGES) chromium python3 python3-jsonschema help2man zsh fish graphviz \
     pybind11-dev python3-dev python3-numpy python3-pytest python3-venv python3-pip \
-    python3-setuptools python3-wheel mypy
+    python3-setuptools python3-wheel mypy python3-torch
 FRAMEPASS = $(BUILD_DIR)/cli/framepass
 # A recipe line piped through grep fails when framepass fails, not only when grep does.
 SHELL := /bin/bash
@@ -133,7 +133,9 @@ fuzz: deps
 	@missing=$$(for p in $(FUZZ_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
 	if [ -n "$$missing" ]; then apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; fi
 	cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DFP_FUZZ=ON $(CMAKE_ARGS)
-	cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(FUZZ_TARGETS)
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(FUZZ_TARGETS) SessionRace
+	@# A session raced from threads under the same sanitizers (fuzz/SessionRace.cpp).
+	$(FUZZ_DIR)/fuzz/SessionRace $(CURDIR) $(FUZZ_DIR)/race $(FUZZ_SECONDS)
 	@for t in $(FUZZ_TARGETS); do \
 	  seeds=fuzz/corpus/$$(echo $$t | sed 's/Fuzz$$//' | tr A-Z a-z); \
 	  mkdir -p $(FUZZ_DIR)/corpus/$$t $(FUZZ_DIR)/findings; \

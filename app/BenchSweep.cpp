@@ -189,11 +189,10 @@ void addBareRayLoops(const Plan& plan,
 BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     SetupOptions sessionOptions = mBase;
     for (const auto& [name, value] : point) {
-        // A sweep's values are text as the command line gives them (--sweep NAME=V1,V2).
         if (isCvarName(name))
-            sessionOptions.settings.setCvar(name, Settings::valueFromText(value));
+            sessionOptions.settings.setCvar(name, value);
         else
-            sessionOptions.settings.setParam(name, Settings::valueFromText(value));
+            sessionOptions.settings.setParam(name, value);
     }
     for (const auto& d : errorDumps(mProbe.config().graph, sessionOptions.settings))
         sessionOptions.dumps.push_back(d);
@@ -304,15 +303,15 @@ IncrementalTiming Bencher::measureIncremental(const std::string& change) {
                                      change));
     IncrementalTiming t;
     t.setting = axis.name;
-    t.values = axis.values;
+    for (const auto& v : axis.values) t.values.push_back(valueText(v));
     SetupOptions options = mOptions.session;
     options.frames = std::to_string(mProbe.frames().back());
     Session session(options);
-    auto set = [&](const std::string& value) {
+    auto set = [&](const nlohmann::json& value) {
         if (isCvarName(axis.name))
-            session.setCvar(axis.name, Settings::valueFromText(value));
+            session.setCvar(axis.name, value);
         else
-            session.setParam(axis.name, Settings::valueFromText(value));
+            session.setParam(axis.name, value);
     };
     const int frame = mProbe.frames().back();
     std::vector<double> whole, rerun;
@@ -354,7 +353,7 @@ SweepAxis parseSweep(const std::string& text) {
             if (endA != dots || endB != list.size() - dots - 2 || b < a)
                 throw std::invalid_argument("");
             for (int v = a; v <= b; ++v)
-                axis.values.push_back(std::to_string(v));
+                axis.values.push_back(v);
         } catch (const std::exception&) {
             throw UsageError(
                 fmt::format("--sweep {}: a range is two integers A..B with A ≤ B", text));
@@ -368,7 +367,7 @@ SweepAxis parseSweep(const std::string& text) {
             list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         if (v.empty())
             throw UsageError(fmt::format("--sweep {}: empty value", text));
-        axis.values.push_back(v);
+        axis.values.push_back(Settings::valueFromText(v));
         if (comma == std::string::npos)
             break;
         start = comma + 1;
@@ -376,10 +375,21 @@ SweepAxis parseSweep(const std::string& text) {
     return axis;
 }
 
-std::vector<SweepPoint> sweepGrid(const std::vector<std::string>& sweeps) {
+std::string valueText(const nlohmann::json& value) {
+    return value.is_string() ? value.get<std::string>() : value.dump();
+}
+
+std::string SweepAxis::text() const {
+    std::vector<std::string> texts;
+    for (const auto& v : values) texts.push_back(valueText(v));
+    return fmt::format("{}={}", name, fmt::join(texts, ","));
+}
+
+std::vector<SweepPoint> sweepGrid(const std::vector<SweepAxis>& axes) {
     std::vector<SweepPoint> grid = {{}};
-    for (const auto& text : sweeps) {
-        const SweepAxis axis = parseSweep(text);
+    for (const auto& axis : axes) {
+        if (axis.values.empty())
+            throw UsageError(fmt::format("sweep {}: no values", axis.name));
         std::vector<SweepPoint> next;
         for (const auto& g : grid)
             for (const auto& v : axis.values) {
@@ -395,7 +405,7 @@ std::vector<SweepPoint> sweepGrid(const std::vector<std::string>& sweeps) {
 std::string sweepLabel(const SweepPoint& point) {
     std::string label;
     for (const auto& [name, value] : point)
-        label += (label.empty() ? "" : " ") + name + "=" + value;
+        label += (label.empty() ? "" : " ") + name + "=" + valueText(value);
     return label.empty() ? "default" : label;
 }
 
@@ -415,7 +425,7 @@ BenchResult Bencher::emptyResult() const {
     result.extent = mProbe.extent();
     result.runs = mOptions.runs;
     result.warmup = mOptions.warmup;
-    result.sweeps = mOptions.sweeps;
+    for (const auto& axis : mOptions.sweeps) result.sweeps.push_back(axis.text());
     result.threads =
         int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     return result;

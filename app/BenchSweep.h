@@ -14,10 +14,25 @@
 
 namespace fp::app {
 
+/// One point of the grid: (cvar or PASS.PARAM, value) per axis, the values typed as settings are.
+using SweepPoint = std::vector<std::pair<std::string, nlohmann::json>>;
+
+/// One axis of a sweep: a cvar or PASS.PARAM and the values it takes.
+struct SweepAxis {
+    std::string name;
+    std::vector<nlohmann::json> values;
+    /// NAME=V1,V2,... as --sweep spells it.
+    std::string text() const;
+};
+
+/// --sweep's text, "NAME=V1,V2,..." or "NAME=A..B" (integers), each value read as --set reads
+/// one; fp::UsageError says what is wrong.
+SweepAxis parseSweep(const std::string& text);
+
 struct BenchOptions {
     SetupOptions session;
     int runs = 5, warmup = 1;
-    std::vector<std::string> sweeps;
+    std::vector<SweepAxis> sweeps;  //!< the grid's axes, first slowest
     bool json = false;
     std::string html;
     int decomposeRays = 256;  //!< 0: no error decomposition
@@ -31,18 +46,10 @@ inline bool isCvarName(const std::string& name) { return name.rfind("r.", 0) == 
 /// bench keeps images of and tune aims at.
 std::vector<const NodeDesc*> errorMeasureNodes(const GraphDesc& graph);
 
-/// One point of the grid: (cvar or PASS.PARAM, value) per axis.
-using SweepPoint = std::vector<std::pair<std::string, std::string>>;
-
-struct SweepAxis {
-    std::string name;
-    std::vector<std::string> values;
-};
-
-/// "NAME=V1,V2,..." or "NAME=A..B" (integers); fp::UsageError says what is wrong.
-SweepAxis parseSweep(const std::string& text);
-/// Every combination of the sweep values, first axis slowest.
-std::vector<SweepPoint> sweepGrid(const std::vector<std::string>& sweeps);
+/// Every combination of the axes' values, first axis slowest.
+std::vector<SweepPoint> sweepGrid(const std::vector<SweepAxis>& axes);
+/// A value as a setting's text: a string as itself, else its JSON (2, true, 0.5).
+std::string valueText(const nlohmann::json& value);
 /// "r.SSGI.Quality=2 ssgi.halfRes=true", or "default" for the empty point.
 std::string sweepLabel(const SweepPoint& point);
 

@@ -224,6 +224,7 @@ void RunSetup::plan(const SetupOptions& o) {
     inputs.overrides.cvarOrigin = o.settings.cvarOrigin;
     inputs.overrides.setOrigin = o.settings.setOrigin;
     inputs.overrides.dumps = o.dumps;
+    inputs.overrides.dumpOrigin = o.dumpOrigin;
     inputs.allowUnknownCvars = o.allowUnknownCvars;
     inputs.overrides.device = o.device;
     inputs.overrides.runEveryPass = o.runEveryPass;

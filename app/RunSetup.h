@@ -24,6 +24,7 @@ struct SetupOptions {
     Settings settings;               //!< cvars and PASS.PARAM values (--cvar, --set)
     std::vector<std::string> cvarFiles;  //!< Unreal .ini files (--cvars), under the settings
     std::vector<std::string> dumps;  //!< PASS.PORT or all
+    std::string dumpOrigin = "--dump {}";  //!< how a message names a dump (PlanOverrides)
     std::string frames;
     std::string capture;  //!< file or frame pattern; overrides the config's "capture"
     std::string profile;  //!< NAME or FILE.json; overrides the config's "profile"

@@ -21,15 +21,18 @@ Session::Session(SetupOptions options)
       mSettings(mOptions.settings),
       mFrames(mBase, {.keep = CaptureKeeping::Neighbours, .incremental = true}) {
     mPlanned = std::make_shared<const RunSetup>(mBase, mOptions);
+    // What the chain as configured warns of, said once, as `run` says it.
+    for (const auto& w : mPlanned->plan().warnings) logWarning(w.pointer + ": " + w.message);
 }
 
 Session::~Session() = default;
 
 namespace {
 
-// Whether `value` has the JSON type parameter `p` takes (a number for an int or a float).
+// Whether `value` has the JSON type parameter `p` takes (a number for an int or a float; for a
+// bool, Unreal's 0 or 1 too, so that 2 is a bad value rather than a bad type).
 bool hasParamType(const ParamInfo& p, const nlohmann::json& value) {
-    if (p.type == "bool") return value.is_boolean();
+    if (p.type == "bool") return value.is_boolean() || value.is_number_integer();
     if (p.type == "int" || p.type == "float") return value.is_number();
     if (p.type == "string") return value.is_string();
     return true;

@@ -103,12 +103,12 @@ bool actsOnThisBench(const Bencher& bencher, const std::string& name) {
 
 // Every small-domain cvar (a bool, or an int range of at most 8 values) of the passes the
 // target's source depends on, one axis per cvar.
-std::vector<std::string> defaultSweeps(const Bencher& bencher, const TuneTarget& t) {
+std::vector<SweepAxis> defaultSweeps(const Bencher& bencher, const TuneTarget& t) {
     SetupOptions options = bencher.options().session;
     options.dumps = {t.error + ".heat"};
     const RunSetup session(bencher.probe(), options);
     const Plan& plan = session.plan();
-    std::vector<std::string> sweeps;
+    std::vector<SweepAxis> sweeps;
     std::set<std::string> seenCvars;
     for (const PlanStep& step : plan.steps) {
         const PassType* type = builtinPasses().find(step.type);
@@ -117,17 +117,17 @@ std::vector<std::string> defaultSweeps(const Bencher& bencher, const TuneTarget&
         for (const ParamInfo& p : type->params) {
             if (p.cvars.empty() || seenCvars.count(p.cvars.front()))
                 continue;
-            std::string values;
+            SweepAxis axis{p.cvars.front(), {}};
             if (p.type == "bool")
-                values = "0,1";
+                axis.values = {0, 1};  // as Unreal's console sets a switch
             else if (p.type == "int" && p.min && p.max && *p.max - *p.min <= 7)
-                values = fmt::format("{}..{}", int(*p.min), int(*p.max));
+                for (int v = int(*p.min); v <= int(*p.max); ++v) axis.values.push_back(v);
             else
                 continue;
             for (const auto& c : p.cvars)
                 seenCvars.insert(c);
-            if (actsOnThisBench(bencher, p.cvars.front()))
-                sweeps.push_back(p.cvars.front() + "=" + values);
+            if (actsOnThisBench(bencher, axis.name))
+                sweeps.push_back(std::move(axis));
         }
     }
     return sweeps;
@@ -163,10 +163,9 @@ double metricOf(const BenchSetting& s, const TuneTarget& t) {
     throw Error(fmt::format("{} did not report {}", t.error, t.metric));
 }
 
-// A sweep value as --set and --cvar read it, when that is an integer.
-std::optional<int> integerValue(const std::string& v) {
-    const nlohmann::json j = io::parseCliValue(v);
-    return j.is_number_integer() ? std::optional<int>(j.get<int>()) : std::nullopt;
+// A sweep value, when it is an integer.
+std::optional<int> integerValue(const nlohmann::json& v) {
+    return v.is_number_integer() ? std::optional<int>(v.get<int>()) : std::nullopt;
 }
 
 // The one axis where `a` and `b` differ, when it is the only one and both values are integers.
@@ -190,7 +189,7 @@ std::string systemSettings(const SweepPoint& point) {
     std::string s = "[SystemSettings]\n";
     for (const auto& [name, value] : point)
         if (isCvarName(name))
-            s += name + "=" + value + "\n";
+            s += name + "=" + valueText(value) + "\n";
     return s;
 }
 
@@ -211,9 +210,10 @@ std::string systemSettings(const TunedSetting& t) {
                                                              return ran.count(type) > 0;
                                                          });
         if (read)
-            s += name + "=" + value + "\n";
+            s += name + "=" + valueText(value) + "\n";
         else
-            idle += fmt::format("; {}={} left out: no pass of this chain reads it\n", name, value);
+            idle += fmt::format("; {}={} left out: no pass of this chain reads it\n", name,
+                                valueText(value));
     }
     return s + idle;
 }
@@ -240,7 +240,7 @@ std::string methodSettings(const TunedSetting& t) {
 nlohmann::json TuneResult::pointJson(const SweepPoint& point) {
     nlohmann::json cvars = nlohmann::json::object(), params = nlohmann::json::object();
     for (const auto& [name, value] : point)
-        (isCvarName(name) ? cvars : params)[name] = io::parseCliValue(value);
+        (isCvarName(name) ? cvars : params)[name] = value;
     return {{"cvars", cvars}, {"params", params}};
 }
 
@@ -284,10 +284,10 @@ TuneResult tune(const TuneOptions& opt) {
     const TuneTarget& target = result.target;
     Bencher bencher(opt.bench);
     targetNode(bencher.probe().config(), target);
-    std::vector<std::string> sweeps;
-    for (const auto& s : opt.bench.sweeps)
-        if (actsOnThisBench(bencher, s.substr(0, s.find('='))))
-            sweeps.push_back(s);
+    std::vector<SweepAxis> sweeps;
+    for (const auto& axis : opt.bench.sweeps)
+        if (actsOnThisBench(bencher, axis.name))
+            sweeps.push_back(axis);
     if (opt.bench.sweeps.empty()) {
         sweeps = defaultSweeps(bencher, target);
         if (sweeps.empty())
@@ -295,7 +295,9 @@ TuneResult tune(const TuneOptions& opt) {
                 "tune: no cvar of the chain behind {} has a small domain to search; give "
                 "--sweep",
                 target.error));
-        logInfo(fmt::format("tune: searching {}", fmt::join(sweeps, " × ")));
+        std::vector<std::string> texts;
+        for (const auto& axis : sweeps) texts.push_back(axis.text());
+        logInfo(fmt::format("tune: searching {}", fmt::join(texts, " × ")));
     }
     const std::vector<SweepPoint> grid = sweepGrid(sweeps);
     const int perSetting = opt.bench.warmup + opt.bench.runs;
@@ -350,7 +352,7 @@ TuneResult tune(const TuneOptions& opt) {
                                          : (lo + hi) / 2;
         mid = std::clamp(mid, lo + 1, hi - 1);
         SweepPoint p = meets->point;
-        p[*axis].second = std::to_string(mid);
+        p[*axis].second = mid;
         const std::size_t before = tried.size();
         measure(p, true);
         if (tried.size() == before)

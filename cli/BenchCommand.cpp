@@ -91,8 +91,8 @@ Command addBenchCommand(CLI::App& app) {
         "--sweep gives the speed-against-error table");
     addSetupOptions(*sub, opt->session);
     addTimingOptions(*sub, *opt);
-    sub->add_option("--sweep", opt->sweeps,
-                    "vary a cvar or PASS.PARAM: NAME=V1,V2,... or NAME=A..B; several make a grid");
+    addSweepOption(*sub, opt->sweeps,
+                   "vary a cvar or PASS.PARAM: NAME=V1,V2,... or NAME=A..B; several make a grid");
     sub->add_flag("--json", opt->json, "print the results as JSON");
     sub->add_option("--html", opt->html, "write a self-contained HTML report here")
         ->check(nonEmptyPath());

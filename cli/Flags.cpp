@@ -72,6 +72,15 @@ void addSetupOptions(CLI::App& sub, app::SetupOptions& o) {
 }
 
 
+void addSweepOption(CLI::App& sub, std::vector<app::SweepAxis>& axes, const std::string& help) {
+    sub.add_option_function<std::vector<std::string>>(
+        "--sweep",
+        [&axes](const std::vector<std::string>& texts) {
+            for (const auto& t : texts) asParseError([&] { axes.push_back(app::parseSweep(t)); });
+        },
+        help);
+}
+
 void addTimingOptions(CLI::App& sub, app::BenchOptions& o) {
     sub.add_option("--runs", o.runs, fmt::format("timed runs per setting (default {})", o.runs))
         ->check(CLI::Range(1, 1000));

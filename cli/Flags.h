@@ -17,6 +17,8 @@ const CLI::Validator& nonEmptyPath();
 /// The config argument, --cvar, --cvars, --set, --dump, --frames, --capture, --previous,
 /// --profile, --device and --allow-unknown-cvars.
 void addSetupOptions(CLI::App& sub, app::SetupOptions& options);
+/// --sweep NAME=V1,V2,... or NAME=A..B (repeatable: a grid), each read into a typed axis.
+void addSweepOption(CLI::App& sub, std::vector<app::SweepAxis>& axes, const std::string& help);
 /// --runs and --warmup (their help names the current defaults) on bench or tune.
 void addTimingOptions(CLI::App& sub, app::BenchOptions& options);
 /// --decompose-rays, bounded by what the converged tracer can trace (bench, tune, run).

@@ -18,9 +18,9 @@ Command addTuneCommand(CLI::App& app) {
                     "ERROR_PASS<=VALUE (its RMSE) or ERROR_PASS.METRIC<=VALUE (rmse, relMse, "
                     "smape, mae, maxError, overTolerance)")
         ->required();
-    sub->add_option("--sweep", opt->bench.sweeps,
-                    "the grid, as bench's --sweep (default: every cvar of the measured chain "
-                    "that is a switch or an integer of at most 8 values)");
+    addSweepOption(*sub, opt->bench.sweeps,
+                   "the grid, as bench's --sweep (default: every cvar of the measured chain "
+                   "that is a switch or an integer of at most 8 values)");
     sub->add_option("--refine", opt->refine,
                     "settings at most to try between grid values along the Pareto front "
                     "(default 4)")
@@ -59,7 +59,7 @@ Command addTuneCommand(CLI::App& app) {
             for (const auto& [name, value] : c.point)
                 if (!app::isCvarName(name))
                     std::cout << fmt::format("; framepass only (no Unreal cvar): --set {}={}\n",
-                                             name, value);
+                                             name, app::valueText(value));
             std::cout << app::methodSettings(c);
             return 0;
         }

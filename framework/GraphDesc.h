@@ -62,6 +62,8 @@ struct PlanOverrides {
     /// How a message names a cvar and a PASS.PARAM of the two above: fmt patterns taking the name,
     /// in the terms of the door that set them (the command line's flags, a Python call).
     std::string cvarOrigin = "--cvar {}", setOrigin = "--set {}";
+    /// The same for a dump (an output asked for by name).
+    std::string dumpOrigin = "--dump {}";
     /// No pass is culled: each runs whether or not a requested output depends on it (the
     /// workbench shows every pass, its time and its outputs).
     bool runEveryPass = false;

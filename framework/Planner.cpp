@@ -270,7 +270,7 @@ public:
                         dumps.push_back(n.desc->name + "." + o.name);
         }
         for (const auto& d : dumps)
-            mPlan.outputs.push_back({d + ".exr", {d}, "--dump " + d, true});
+            mPlan.outputs.push_back({d + ".exr", {d}, fmt::format(fmt::runtime(mIn.overrides.dumpOrigin), d), true});
         for (const auto& out : mPlan.outputs)
             for (std::size_t k = 0; k < out.sources.size(); ++k) {
                 SourceRef ref;

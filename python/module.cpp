@@ -158,9 +158,24 @@ Image planarCopy(const std::string& what, const py::array& raw,
     return image;
 }
 
+// An array another library holds (a torch tensor, a JAX or CuPy array on the host) taken
+// through DLPack as a numpy view of the same memory, no copy; anything else as it is.
+py::object viaDlpack(const std::string& what, const py::handle& value) {
+    py::object o = py::reinterpret_borrow<py::object>(value);
+    if (py::isinstance<py::array>(o) || !py::hasattr(o, "__dlpack__")) return o;
+    try {
+        return py::module_::import("numpy").attr("from_dlpack")(o);
+    } catch (py::error_already_set& e) {
+        throw py::value_error(fmt::format("{}: its DLPack tensor cannot be read on the host ({}); "
+                                          "copy it to the CPU first",
+                                          what, e.what()));
+    }
+}
+
 // A numpy array as a capture buffer: (H, W) is one channel, (H, W, C) C channels; floating
 // dtypes (and integers for the id buffers) are read as float32. ValueError names the buffer.
-Image toImage(const std::string& buffer, const py::handle& value) {
+Image toImage(const std::string& buffer, const py::handle& given) {
+    const py::object value = viaDlpack(fmt::format("buffer '{}'", buffer), given);
     if (!py::isinstance<py::array>(value) && !py::isinstance<py::buffer>(value) &&
         !py::isinstance<py::list>(value))
         throw py::value_error(fmt::format("buffer '{}': expected a numpy array, got {}", buffer,
@@ -189,8 +204,8 @@ Image toImage(const std::string& buffer, const py::handle& value) {
 }
 
 // A plain image (compare's arrays): (H, W) or (H, W, C), any real dtype.
-Image plainImage(const char* what, const py::handle& value) {
-    const py::array raw = py::array::ensure(value);
+Image plainImage(const char* what, const py::handle& given) {
+    const py::array raw = py::array::ensure(viaDlpack(what, given));
     const std::string numeric = "fiub";  // float, int, unsigned, bool
     if (!raw || numeric.find(raw.dtype().kind()) == std::string::npos ||
         (raw.ndim() != 2 && raw.ndim() != 3))
@@ -287,6 +302,7 @@ public:
         // A setting is named in messages by the call that made it.
         o.settings.cvarOrigin = "set_cvar('{}')";
         o.settings.setOrigin = "set('{}')";
+        o.dumpOrigin = "outputs=['{}']";
         mConfig = config;
         mSession = std::make_unique<app::Session>(o);
         // Ctrl-C: after each pass, a run on Python's main thread lets Python's signal handlers
@@ -425,7 +441,7 @@ void writeExrFile(const std::string& path, const py::dict& layers, const py::obj
         if (!py::isinstance<py::str>(k)) throw py::type_error("write_exr(): a layer's name is a str");
         const std::string name = k.cast<std::string>();
         const std::string what = fmt::format("write_exr(): layer '{}'", name);
-        const py::array raw = py::array::ensure(v);
+        const py::array raw = py::array::ensure(viaDlpack(what, v));
         if (!raw || (raw.ndim() != 2 && raw.ndim() != 3) || raw.dtype().kind() != 'f')
             throw py::value_error(fmt::format("{}: a float array (height, width) or (height, "
                                               "width, channels)",
@@ -554,12 +570,6 @@ void addSettings(const py::object& values, const char* what, app::Settings& out)
     }
 }
 
-// A sweep's value as `bench --sweep` spells it (the sweep grid is text, as the command line's).
-std::string sweepText(const std::string& axis, const py::handle& v) {
-    const nlohmann::json j = settingValue(fmt::format("bench(): sweep['{}']", axis), v);
-    return j.is_string() ? j.get<std::string>() : j.dump();
-}
-
 py::object bench(const std::string& config, const py::object& sweep, int runs, int warmup,
                  const std::string& capture, const std::string& profile,
                  const std::string& device, const std::string& frames, const py::object& cvars,
@@ -581,16 +591,17 @@ py::object bench(const std::string& config, const py::object& sweep, int runs, i
     o.decomposeRays = decomposeRays;
     if (py::isinstance<py::dict>(sweep)) {
         for (const auto& [k, v] : sweep.cast<py::dict>()) {
-            std::vector<std::string> values;
+            const std::string name = py::str(k).cast<std::string>();
             if (py::isinstance<py::str>(v) || !py::isinstance<py::iterable>(v))
-                throw py::type_error(fmt::format("sweep['{}'] is a list of values",
-                                                 py::str(k).cast<std::string>()));
-            for (const auto& value : v) values.push_back(sweepText(py::str(k).cast<std::string>(), value));
-            o.sweeps.push_back(fmt::format("{}={}", py::str(k).cast<std::string>(),
-                                           fmt::join(values, ",")));
+                throw py::type_error(fmt::format("bench(): sweep['{}'] is a list of values", name));
+            app::SweepAxis axis{name, {}};
+            for (const auto& value : v)
+                axis.values.push_back(settingValue(fmt::format("bench(): sweep['{}']", name), value));
+            o.sweeps.push_back(std::move(axis));
         }
     } else if (!sweep.is_none()) {
-        for (const auto& s : sweep) o.sweeps.push_back(py::str(s).cast<std::string>());
+        // 'NAME=V1,V2' strings, as --sweep spells them.
+        for (const auto& s : sweep) o.sweeps.push_back(app::parseSweep(py::str(s).cast<std::string>()));
     }
     if (!html.empty()) io::checkWritable(html, "html");
     app::BenchResult result;
@@ -662,7 +673,9 @@ PYBIND11_MODULE(_framepass, m) {
             for (const auto& problem : e.problems())
                 problems.append(py::make_tuple(problem.pointer, problem.message));
             exc.attr("problems") = problems;
-            if (!e.problems().empty()) exc.attr("pointer") = e.problems().front().pointer;
+            // A JSON pointer into the config; a problem of a call's argument has none.
+            if (!e.problems().empty() && e.problems().front().pointer.starts_with("/"))
+                exc.attr("pointer") = e.problems().front().pointer;
             PyErr_SetObject(configError.ptr(), exc.ptr());
         } catch (const Cancelled& e) {
             cancelled(e.what());

@@ -435,7 +435,7 @@ nlohmann::json Workbench::exportSettings() {
     const app::Settings settings = mSession.settings();
     for (const auto& [name, value] : settings.cvars.items()) {
         config["cvars"][name] = value;
-        cvarPoint.emplace_back(name, value.is_string() ? value.get<std::string>() : value.dump());
+        cvarPoint.emplace_back(name, value);
     }
     for (const auto& [target, value] : settings.sets) config["set"][target] = value;
     config["frames"] = std::to_string(mFrame);

@@ -264,7 +264,7 @@ TEST_SUITE("app") {
         b.warmup = 0;
         b.decomposeRays = 16;
         app::Bencher bencher(b);
-        const auto grid = app::sweepGrid({"r.SSGI.Quality=1,4"});
+        const auto grid = app::sweepGrid({app::parseSweep("r.SSGI.Quality=1,4")});
         REQUIRE(grid.size() == 2);
         bencher.expectRuns(2);
         const app::BenchSetting low = bencher.measure(grid[0], false);
@@ -304,7 +304,7 @@ TEST_SUITE("app") {
         t.bench.runs = 1;
         t.bench.warmup = 0;
         t.bench.decomposeRays = 0;
-        t.bench.sweeps = {"r.SSGI.Quality=1,4"};
+        t.bench.sweeps = {app::parseSweep("r.SSGI.Quality=1,4")};
         t.refine = 0;
         t.target = "ssgi_vs_full<=1000";  // every setting meets it
         const app::TuneResult met = app::tune(t);

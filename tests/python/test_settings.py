@@ -225,3 +225,21 @@ def test_version_and_reprs(config):
     assert repr(s) == f"framepass.Session('{config}', frames 1, 1 cvar and 0 parameters set)"
     assert repr(s.cvars).startswith("framepass.Cvars(")
     assert "r.SSGI.Quality" in s.cvars._ipython_key_completions_()
+
+
+def test_outputs_and_captures_cross_into_torch_through_dlpack(config):
+    torch = pytest.importorskip("torch")  # Debian's python3-torch (make test installs it)
+    s = fp.Session(config)
+    out = s.run(outputs=OUTPUTS)
+    for name in OUTPUTS:
+        t = torch.from_dlpack(out[name])
+        assert t.data_ptr() == out[name].ctypes.data  # the array's memory: no copy
+        assert t.dtype == torch.float32 and tuple(t.shape) == out[name].shape
+    # Tensors in: a capture made of torch tensors runs as the file does.
+    c = fp.read_capture(json.load(open(config))["capture"])
+    tensors = {k: torch.from_numpy(np.array(c[k])) for k in c.keys()}
+    rebuilt = fp.Capture.from_arrays(tensors, camera=c.camera, frame=c.frame)
+    images = fp.Session(config, capture=rebuilt).run(outputs=OUTPUTS)
+    for name in OUTPUTS:
+        assert same_bits(images[name], out[name]), name
+    assert fp.compare(tensors["SceneColor"], tensors["SceneColor"], metric="rmse") == 0
