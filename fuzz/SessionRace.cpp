@@ -45,12 +45,13 @@ app::SetupOptions options(const std::string& config) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int race(int argc, char** argv) {
     if (argc != 4) {
         std::cerr << "usage: SessionRace SOURCE_DIR SCRATCH_DIR SECONDS\n";
         return 2;
     }
-    const std::string source = argv[1], scratch = argv[2];
+    // Absolute: the config names its capture, and a config's relative paths are its folder's.
+    const std::string source = argv[1], scratch = std::filesystem::absolute(argv[2]).string();
     const double seconds = std::atof(argv[3]);
     std::filesystem::create_directories(scratch);
     app::CaptureOptions c;
@@ -111,4 +112,13 @@ int main(int argc, char** argv) {
     std::cout << "SessionRace: " << runs << " runs and " << changes << " changes in " << seconds
               << " s, " << failures << " failures\n";
     return failures == 0 ? 0 : 1;
+}
+
+int main(int argc, char** argv) {
+    try {
+        return race(argc, argv);
+    } catch (const std::exception& e) {
+        std::cerr << "SessionRace: " << e.what() << "\n";
+        return 1;
+    }
 }
