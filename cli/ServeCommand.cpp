@@ -29,7 +29,7 @@ Command addServeCommand(CLI::App& app) {
     sub->add_option("--frames", opt->frames, "the frames the frame slider offers");
     sub->add_option("--host", *host,
                     "address to listen on (default 127.0.0.1: this machine only; 0.0.0.0 "
-                    "opens it to the network)");
+                    "opens it to the network, with a token in the printed URL)");
     sub->add_option("--port", *port, "port (default 8080; 0 picks a free one)")
         ->check(CLI::Range(0, 65535));
     sub->add_flag("--open", *open, "open the page in the desktop's browser (xdg-open)");
@@ -39,6 +39,11 @@ Command addServeCommand(CLI::App& app) {
         serve::Workbench workbench(*opt);
         serve::WorkbenchServer server(workbench, *host, *port);
         std::cout << "framepass serve: " << server.url() << " (Ctrl-C stops)" << std::endl;
+        if (!server.onlyThisMachine())
+            logWarning(fmt::format("--host {}: the workbench is open to every machine that "
+                                   "reaches port {} here; whoever has the URL above (its token) "
+                                   "can read every buffer and change the settings",
+                                   *host, server.port()));
         if (*open) {
             const std::string command = "xdg-open '" + server.url() + "' >/dev/null 2>&1 &";
             if (std::system(command.c_str()) != 0)

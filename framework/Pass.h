@@ -61,6 +61,9 @@ struct PortSpec {
     /// whose camera has no previous camera (the first frame of a Blender sequence), so motion
     /// comes from the capture's own velocity rather than from a camera it does not have.
     std::string captureWhenNoPreviousCamera{};
+    /// Outputs: colour already display-encoded (a display transform's result): a viewer draws
+    /// it as it is, never through a view again.
+    bool displayReferred = false;
 };
 
 /// What the application's error tools (bench's error breakdown and its bare ray loop) need to

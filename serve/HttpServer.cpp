@@ -11,14 +11,13 @@
 #include <httplib.h>
 
 #include <atomic>
-#include <filesystem>
-#include <fstream>
+#include <cerrno>
+#include <random>
 #include <sstream>
+#include <sys/socket.h>
 #include <unistd.h>
 
 namespace fp::serve {
-
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -60,46 +59,132 @@ std::string rawPixels(const Image& image, bool half) {
     return out;
 }
 
-std::string readFile(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-// An EXR of one buffer, written where only this server writes and read back.
+// An EXR of one buffer, encoded in memory (no file: nothing for another user to read).
 std::string exrBytes(const BufferImage& b) {
-    static std::atomic<int> counter{0};
-    const fs::path dir = fs::temp_directory_path() / fmt::format("framepass-serve-{}", ::getpid());
-    fs::create_directories(dir);
-    const std::string path = (dir / fmt::format("buffer{}.exr", counter++)).string();
     io::ExrMetadata meta;
     meta.frame = b.frame;
-    io::writeExr(path, {{"", {{b.name, &b.image, false}}}}, meta);
-    std::string bytes = readFile(path);
-    fs::remove(path);
-    return bytes;
+    const std::vector<char> bytes =
+        io::encodeExr(b.name + ".exr", {{"", {{b.name, &b.image, false}}}}, meta);
+    return std::string(bytes.begin(), bytes.end());
+}
+
+// Whether `host` is this machine only: a loopback address or name.
+bool isLoopback(const std::string& host) {
+    return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
+// `host` as a URL writes it: an IPv6 address in brackets.
+std::string urlHost(const std::string& host) {
+    return host.find(':') != std::string::npos ? "[" + host + "]" : host;
+}
+
+// A random token of 128 bits, in hex: what a client off this machine must show.
+std::string newToken() {
+    std::random_device random;
+    std::string token;
+    for (int i = 0; i < 4; ++i) token += fmt::format("{:08x}", uint32_t(random()));
+    return token;
+}
+
+// The value of cookie `name` in a Cookie header, or "".
+std::string cookie(const std::string& header, const std::string& name) {
+    std::size_t at = 0;
+    while (at < header.size()) {
+        const std::size_t end = std::min(header.find(';', at), header.size());
+        std::string pair = header.substr(at, end - at);
+        pair.erase(0, pair.find_first_not_of(' '));
+        if (pair.rfind(name + "=", 0) == 0) return pair.substr(name.size() + 1);
+        at = end + 1;
+    }
+    return "";
 }
 
 }  // namespace
 
 WorkbenchServer::WorkbenchServer(Workbench& workbench, const std::string& host, int port)
-    : mWorkbench(workbench), mServer(std::make_unique<httplib::Server>()), mHost(host) {
+    : mWorkbench(workbench), mServer(std::make_unique<httplib::Server>()), mHost(host),
+      mToken(isLoopback(host) ? "" : newToken()) {
     // Event streams hold a thread each while open: room for several pages and scripts.
     mServer->new_task_queue = [] { return new httplib::ThreadPool(16); };
     mServer->set_payload_max_length(kMaxRequestBody);
+    // SO_REUSEADDR alone (a restart binds while the last connections close), not cpp-httplib's
+    // SO_REUSEPORT, with which a second server on the port would start and share the requests.
+    mServer->set_socket_options([](socket_t sock) {
+        int yes = 1;
+        ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+    });
+    guard();
     routes();
+    errno = 0;
     mPort = port == 0 ? mServer->bind_to_any_port(host) : (mServer->bind_to_port(host, port) ? port : -1);
+    if (mPort <= 0 && errno == EADDRINUSE)
+        throw UsageError(fmt::format("--port {}: the port is in use (another framepass serve?); "
+                                     "stop it, or pick another port (--port 0 picks a free one)",
+                                     port));
     if (mPort <= 0)
-        throw UsageError(fmt::format("--host {} --port {}: cannot listen there (in use, or not "
-                                     "an address of this machine)",
+        throw UsageError(fmt::format("--host {} --port {}: cannot listen there (not an address "
+                                     "of this machine?)",
                                      host, port));
 }
 
 WorkbenchServer::~WorkbenchServer() = default;
 
 std::string WorkbenchServer::url() const {
-    return fmt::format("http://{}:{}/", mHost == "0.0.0.0" ? "127.0.0.1" : mHost, mPort);
+    // Every address (0.0.0.0, ::): the machine's name is how another machine reaches it.
+    std::string name = mHost;
+    if (mHost == "0.0.0.0" || mHost == "::") {
+        char buffer[256] = {};
+        name = ::gethostname(buffer, sizeof(buffer) - 1) == 0 ? buffer : "127.0.0.1";
+    }
+    return fmt::format("http://{}:{}/{}", urlHost(name), mPort,
+                       mToken.empty() ? "" : "?token=" + mToken);
+}
+
+bool WorkbenchServer::onlyThisMachine() const { return mToken.empty(); }
+
+void WorkbenchServer::guard() {
+    // Who may talk to the session. On a loopback address only this machine reaches the port, but
+    // a web page elsewhere can point its own name at 127.0.0.1 (DNS rebinding) and have the
+    // browser send it requests: a request must name the address served in its Host, and a
+    // browser's cross-site request (its Origin another site) is refused. Off loopback, anyone who
+    // reaches the port could: a request must also carry the token of the printed URL, as
+    // ?token= or the cookie the page gets when it is opened with it.
+    mServer->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+        using R = httplib::Server::HandlerResponse;
+        const std::string host = req.get_header_value("Host");
+        const std::string port = fmt::format(":{}", mPort);
+        if (onlyThisMachine()) {
+            bool known = false;
+            for (const std::string& name : {std::string("127.0.0.1"), std::string("localhost"),
+                                           std::string("[::1]"), urlHost(mHost)})
+                known = known || host == name + port;
+            if (!known) {
+                sendError(res, 403, fmt::format("Host '{}' is not this server's address ({}{})",
+                                                host, urlHost(mHost), port));
+                return R::Handled;
+            }
+        }
+        const std::string origin = req.get_header_value("Origin");
+        if (!origin.empty() && origin != "http://" + host) {
+            sendError(res, 403, fmt::format("a request from another site ({}) is refused", origin));
+            return R::Handled;
+        }
+        if (!mToken.empty()) {
+            const std::string given = req.has_param("token")
+                                          ? req.get_param_value("token")
+                                          : cookie(req.get_header_value("Cookie"), "framepass_token");
+            if (given != mToken) {
+                sendError(res, 403, "this workbench is open to the network: open the URL it "
+                                    "printed, with its ?token=");
+                return R::Handled;
+            }
+            // The page opened with the token keeps it for its own requests and event stream.
+            if (req.has_param("token"))
+                res.set_header("Set-Cookie", "framepass_token=" + mToken +
+                                                 "; Path=/; HttpOnly; SameSite=Strict");
+        }
+        return R::Unhandled;
+    });
 }
 
 void WorkbenchServer::run() { mServer->listen_after_bind(); }

@@ -20,16 +20,23 @@ public:
     ~WorkbenchServer();
 
     int port() const { return mPort; }
+    /// The page's URL: for an address off this machine, with the token requests must carry.
     std::string url() const;
+    /// Whether only this machine reaches the server (a loopback --host).
+    bool onlyThisMachine() const;
     /// Serves until stop() (from another thread, or a signal handler's poller).
     void run();
     void stop();
 
 private:
     void routes();
+    /// Refuses requests from elsewhere: a foreign Host or Origin, and off loopback a missing
+    /// token (403).
+    void guard();
     Workbench& mWorkbench;
     std::unique_ptr<httplib::Server> mServer;
     std::string mHost;
+    std::string mToken;  // "" on a loopback address
     int mPort = 0;
 };
 

@@ -330,7 +330,8 @@ BufferImage Workbench::buffer(const std::string& name, std::optional<int> frame)
     const std::shared_ptr<const app::RunSetup> kept = planned();
     for (const auto& step : kept->plan().steps)
         for (const auto& port : step.io.outputs)
-            if (step.name + "." + port.name == name) b.color = port.kind == PortKind::Color;
+            if (step.name + "." + port.name == name)  // a display's output is drawn as it is
+                b.color = port.kind == PortKind::Color && !port.displayReferred;
     return b;
 }
 

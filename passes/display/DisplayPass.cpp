@@ -25,7 +25,8 @@ PassIO DisplayPass::describe() const {
     io.outputs = {{.name = kDisplayImage,
                    .channels = {"R", "G", "B"},
                    .kind = PortKind::Color,
-                   .doc = "display-referred RGB in [0, 1] (write it to a .png)"}};
+                   .doc = "display-referred RGB in [0, 1] (write it to a .png)",
+                   .displayReferred = true}};
     io.needsColorConfig = true;
     return io;
 }

@@ -2,9 +2,11 @@
 and the bits against the command line's."""
 import json
 import os
+import signal
 import subprocess
 import threading
 import time
+import urllib.error
 import urllib.request
 
 import numpy as np
@@ -285,3 +287,61 @@ def test_images_reach_tev_from_the_page_and_from_run(server):
     r = subprocess.run([FRAMEPASS, "run", server.config, "-o", os.path.join(SCRATCH, "tev_none"),
                         "--tev", free], capture_output=True, text=True)
     assert r.returncode == 1 and "is tev running?" in r.stderr
+
+
+def test_only_its_user_reaches_the_server(server, config):
+    port = server.url.rsplit(":", 1)[1].strip("/")
+    # DNS rebinding: a page elsewhere whose name points at 127.0.0.1 sends its own Host.
+    for method, path in (("GET", "/api/params"), ("PUT", "/api/params"), ("GET", "/")):
+        status, _, data = server.request(method, path, {} if method == "PUT" else None,
+                                         headers={"Host": f"evil.example:{port}"})
+        assert status == 403 and "evil.example" in json.loads(data)["error"]
+    # Another site's page in the browser: its Origin.
+    status, _, data = server.request("PUT", "/api/params", {}, headers={"Origin": "http://evil.example"})
+    assert status == 403 and "another site" in json.loads(data)["error"]
+    # The names of this machine, and the page's own origin, are answered.
+    for host in (f"127.0.0.1:{port}", f"localhost:{port}"):
+        assert server.request("GET", "/api/graph", headers={"Host": host})[0] == 200
+    assert server.request("GET", "/api/graph", headers={"Origin": server.url.rstrip("/")})[0] == 200
+    # A second workbench on the same port is refused, naming it.
+    second = subprocess.run([FRAMEPASS, "serve", config, "--port", port], capture_output=True,
+                            text=True, timeout=120)
+    assert second.returncode == 2 and f"--port {port}: the port is in use" in second.stderr
+
+
+def test_a_workbench_open_to_the_network_needs_its_token(config):
+    process = subprocess.Popen([FRAMEPASS, "serve", config, "--host", "0.0.0.0", "--port", "0"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = process.stdout.readline()
+        url = line.split()[2]
+        assert "?token=" in url and "127.0.0.1" not in url, line
+        port = url.split(":")[2].split("/")[0]
+        token = url.split("?token=")[1]
+        local = f"http://127.0.0.1:{port}"
+
+        def status(path, headers=None):
+            try:
+                with urllib.request.urlopen(urllib.request.Request(local + path, headers=headers or {}),
+                                            timeout=60) as r:
+                    return r.status, r.headers
+            except urllib.error.HTTPError as e:
+                return e.code, e.headers
+
+        assert status("/api/graph")[0] == 403
+        assert status("/api/graph?token=wrong")[0] == 403
+        code, headers = status(f"/?token={token}")
+        assert code == 200 and f"framepass_token={token}" in headers["Set-Cookie"]
+        assert status("/api/graph", {"Cookie": f"framepass_token={token}"})[0] == 200
+    finally:
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+    assert "open to every machine" in err
+
+
+def test_a_display_output_is_drawn_as_it_is(server):
+    # display.image is already display-encoded: the page must not put it through a view again.
+    status, headers, _ = server.request("GET", "/api/buffer/display.image?format=raw")
+    assert status == 200 and headers["X-Color"] == "0"
+    status, headers, _ = server.request("GET", "/api/buffer/diffuse_indirect_composite.color?format=raw")
+    assert status == 200 and headers["X-Color"] == "1"
