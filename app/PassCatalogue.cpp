@@ -1,5 +1,6 @@
 #include "app/PassCatalogue.h"
 
+#include "app/Settings.h"
 #include "framework/CvarTable.h"
 #include "foundation/Error.h"
 #include "foundation/Suggest.h"
@@ -48,7 +49,7 @@ nlohmann::json describePassType(const PassType& t) {
         params.push_back(pj);
     }
     nlohmann::json cvars = nlohmann::json::array();
-    const CvarTable table(builtinPasses());  // named: a range-for over a temporary's member dangles
+    const CvarTable& table = builtinCvarTable();
     for (const auto& c : table.all())
         if (c.passType == t.id)
             cvars.push_back({{"cvar", c.cvar}, {"param", c.param}, {"note", c.note}});

@@ -40,11 +40,6 @@ struct SetupOptions {
     std::shared_ptr<const io::MemoryCapture> memoryCapture;
 };
 
-/// The cvars of an Unreal .ini file (its [SystemSettings] and [ConsoleVariables]),
-/// in UTF-8 (with or without a byte-order mark) or UTF-16 (either byte order; Unreal on Windows
-/// writes both). A file that gives no cvar is an error when `strict`, else a warning.
-Settings readCvarsFile(const std::string& path, bool strict = false);
-
 class RunSetup {
 public:
     /// Reads the config and the first capture's header, and plans.

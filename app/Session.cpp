@@ -38,13 +38,6 @@ bool hasParamType(const ParamInfo& p, const nlohmann::json& value) {
     return true;
 }
 
-const ParamInfo* findParam(const std::string& passType, const std::string& param) {
-    if (const PassType* type = builtinPasses().find(passType))
-        for (const auto& p : type->params)
-            if (p.name == param) return &p;
-    return nullptr;
-}
-
 // The pass type of the pass named `pass` in the config (light templates' copies included).
 std::string passTypeOf(const RunSetup& setup, const std::string& pass) {
     for (const auto& d : setup.config().graph.nodes)
@@ -61,7 +54,7 @@ SettingError::Kind cvarRefusal(const std::string& name, const nlohmann::json& va
     const CvarTable& table = builtinCvarTable();
     const CvarMapping* m = table.find(table.spelling(name));
     if (!m) return SettingError::Kind::UnknownName;
-    if (const ParamInfo* p = findParam(m->passType, m->param); p && !hasParamType(*p, value))
+    if (const ParamInfo* p = builtinParam(m->passType, m->param); p && !hasParamType(*p, value))
         return SettingError::Kind::WrongType;
     return SettingError::Kind::BadValue;
 }
@@ -72,7 +65,7 @@ SettingError::Kind setRefusal(const RunSetup& base, const std::string& target,
     if (dot == std::string::npos) return SettingError::Kind::UnknownName;
     const std::string type = passTypeOf(base, target.substr(0, dot));
     if (type.empty()) return SettingError::Kind::UnknownName;
-    const ParamInfo* p = findParam(type, target.substr(dot + 1));
+    const ParamInfo* p = builtinParam(type, target.substr(dot + 1));
     // A name that is no parameter rebinds an input when its value is a source's name.
     if (!p) return value.is_string() ? SettingError::Kind::BadValue : SettingError::Kind::UnknownName;
     return hasParamType(*p, value) ? SettingError::Kind::BadValue : SettingError::Kind::WrongType;
@@ -172,7 +165,7 @@ nlohmann::json Session::cvarValue(const std::string& name) const {
     for (const auto& [k, v] : mBase.config().graph.cvars.items())
         if (table.spelling(k) == spelled) return v;
     if (mapping->passType.empty()) return mapping->emulatedValue;
-    if (const ParamInfo* p = findParam(mapping->passType, mapping->param)) return p->defaultValue;
+    if (const ParamInfo* p = builtinParam(mapping->passType, mapping->param)) return p->defaultValue;
     return nullptr;
 }
 

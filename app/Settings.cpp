@@ -1,5 +1,6 @@
 #include "app/Settings.h"
 
+#include "app/Invocation.h"
 #include "foundation/Error.h"
 #include "framework/CvarTable.h"
 #include "io/ConfigLoader.h"
@@ -7,12 +8,23 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
 
 namespace fp::app {
 
 const CvarTable& builtinCvarTable() {
     static const CvarTable table(builtinPasses());
     return table;
+}
+
+const ParamInfo* builtinParam(const std::string& passType, const std::string& param) {
+    if (const PassType* type = builtinPasses().find(passType))
+        for (const auto& p : type->params)
+            if (p.name == param) return &p;
+    return nullptr;
 }
 
 namespace {
@@ -90,6 +102,108 @@ void Settings::setCvarText(const std::string& text) {
 void Settings::setParamText(const std::string& text) {
     auto [target, value] = splitAssignment(text, "--set");
     setParam(target, valueFromText(value));
+}
+
+namespace {
+// The text of an .ini file as UTF-8. Unreal on Windows saves .ini files in UTF-8 with a
+// byte-order mark or in UTF-16 (little-endian, usually with a mark); a UTF-16 file without a
+// mark is recognised by its zero high bytes, as every ASCII key has them.
+std::string iniText(const std::string& bytes) {
+    const auto byte = [&](std::size_t i) { return (unsigned char)bytes[i]; };
+    if (bytes.size() >= 3 && byte(0) == 0xEF && byte(1) == 0xBB && byte(2) == 0xBF)
+        return bytes.substr(3);
+    bool littleEndian = true, utf16 = false;
+    std::size_t start = 0;
+    if (bytes.size() >= 2 && byte(0) == 0xFF && byte(1) == 0xFE) {
+        utf16 = true;
+        start = 2;
+    } else if (bytes.size() >= 2 && byte(0) == 0xFE && byte(1) == 0xFF) {
+        utf16 = true;
+        littleEndian = false;
+        start = 2;
+    } else if (bytes.size() >= 2 && byte(0) != 0 && byte(1) == 0) {
+        utf16 = true;
+    } else if (bytes.size() >= 2 && byte(0) == 0 && byte(1) != 0) {
+        utf16 = true;
+        littleEndian = false;
+    }
+    if (!utf16) return bytes;
+    std::string out;
+    auto unit = [&](std::size_t i) -> unsigned {
+        return littleEndian ? byte(i) | (unsigned(byte(i + 1)) << 8)
+                            : (unsigned(byte(i)) << 8) | byte(i + 1);
+    };
+    for (std::size_t i = start; i + 1 < bytes.size(); i += 2) {
+        unsigned c = unit(i);
+        if (c >= 0xD800 && c < 0xDC00 && i + 3 < bytes.size()) {  // a surrogate pair
+            const unsigned low = unit(i + 2);
+            if (low >= 0xDC00 && low < 0xE000) {
+                c = 0x10000 + ((c - 0xD800) << 10) + (low - 0xDC00);
+                i += 2;
+            }
+        }
+        if (c < 0x80) {
+            out += char(c);
+        } else if (c < 0x800) {
+            out += char(0xC0 | (c >> 6));
+            out += char(0x80 | (c & 0x3F));
+        } else if (c < 0x10000) {
+            out += char(0xE0 | (c >> 12));
+            out += char(0x80 | ((c >> 6) & 0x3F));
+            out += char(0x80 | (c & 0x3F));
+        } else {
+            out += char(0xF0 | (c >> 18));
+            out += char(0x80 | ((c >> 12) & 0x3F));
+            out += char(0x80 | ((c >> 6) & 0x3F));
+            out += char(0x80 | (c & 0x3F));
+        }
+    }
+    return out;
+}
+}  // namespace
+
+Settings readCvarsFile(const std::string& path, bool strict) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw UsageError(fmt::format("--cvars {}: cannot read the file", path));
+    std::istringstream in(iniText(std::string(std::istreambuf_iterator<char>(file), {})));
+    // Unreal's .ini: cvars under [SystemSettings] or [ConsoleVariables] (what `tune` prints),
+    // "; comments", NAME=VALUE lines. Keys of other sections are not cvars and are skipped.
+    Settings out;
+    std::string line, section;
+    std::map<std::string, int> skipped;  // section → lines skipped
+    for (int number = 1; std::getline(in, line); ++number) {
+        const std::string t = trimmed(line);
+        if (t.empty() || t[0] == ';' || t[0] == '#') continue;
+        if (t.front() == '[') {
+            if (t.back() != ']')
+                throw UsageError(fmt::format("--cvars {}:{}: '{}' is not a [Section]", path,
+                                             number, t));
+            section = t.substr(1, t.size() - 2);
+            continue;
+        }
+        if (section != "SystemSettings" && section != "ConsoleVariables") {
+            ++skipped[section.empty() ? "(before any section)" : "[" + section + "]"];
+            continue;
+        }
+        const auto eq = t.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw UsageError(fmt::format("--cvars {}:{}: expected NAME=VALUE, got '{}'", path,
+                                         number, t));
+        out.setCvar(trimmed(t.substr(0, eq)), Settings::valueFromText(trimmed(t.substr(eq + 1))));
+    }
+    for (const auto& [where, lines] : skipped)
+        logWarning(fmt::format("--cvars {}: {} line{} of {} skipped: cvars are read from "
+                               "[SystemSettings] and [ConsoleVariables]",
+                               path, lines, lines == 1 ? "" : "s", where));
+    if (out.cvars.empty()) {
+        const std::string why = fmt::format(
+            "--cvars {}: 0 cvars read (no NAME=VALUE line under [SystemSettings] or "
+            "[ConsoleVariables])",
+            path);
+        if (strict) throw UsageError(why + "; --strict makes this an error");
+        logWarning(why);
+    }
+    return out;
 }
 
 }  // namespace fp::app

@@ -11,12 +11,16 @@
 
 namespace fp {
 class CvarTable;
+struct ParamInfo;
 }
 
 namespace fp::app {
 
 /// The built-in passes' cvar table, made once (the registry does not change while running).
 const CvarTable& builtinCvarTable();
+/// The declaration of parameter `param` of built-in pass type `passType`; nullptr if either is
+/// unknown.
+const ParamInfo* builtinParam(const std::string& passType, const std::string& param);
 
 struct Settings {
     /// Unreal cvar → value, in the spelling last set (names match without regard to case; the
@@ -52,5 +56,10 @@ struct Settings {
     /// --set's text: PASS.PARAM=VALUE.
     void setParamText(const std::string& text);
 };
+
+/// The cvars of an Unreal .ini file (its [SystemSettings] and [ConsoleVariables]),
+/// in UTF-8 (with or without a byte-order mark) or UTF-16 (either byte order; Unreal on Windows
+/// writes both). A file that gives no cvar is an error when `strict`, else a warning.
+Settings readCvarsFile(const std::string& path, bool strict = false);
 
 }  // namespace fp::app

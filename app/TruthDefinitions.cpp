@@ -1,5 +1,6 @@
 #include "app/TruthDefinitions.h"
 
+#include "app/Settings.h"
 #include "framework/PassRegistry.h"
 #include "framework/Planner.h"
 
@@ -164,19 +165,13 @@ std::optional<Definer> findDefiner(const Plan& plan, const SourceRef& source,
 }
 
 bool isDefault(const PlanStep& step, const std::string& param) {
-    const PassType* type = builtinPasses().find(step.type);
-    if (!type || !step.params.contains(param)) return false;
-    for (const auto& p : type->params)
-        if (p.name == param) return p.defaultValue == step.params.at(param);
-    return false;
+    const ParamInfo* p = builtinParam(step.type, param);
+    return p && step.params.contains(param) && p->defaultValue == step.params.at(param);
 }
 
 std::string cvarOf(const PlanStep& step, const std::string& param) {
-    const PassType* type = builtinPasses().find(step.type);
-    if (!type) return "";
-    for (const auto& p : type->params)
-        if (p.name == param && !p.cvars.empty()) return p.cvars.front();
-    return "";
+    const ParamInfo* p = builtinParam(step.type, param);
+    return p && !p->cvars.empty() ? p->cvars.front() : "";
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 // what stands in the way.
 #include "app/Tune.h"
 
+#include "app/Settings.h"
 #include "app/Invocation.h"
 #include "io/ConfigLoader.h"
 #include "framework/CvarTable.h"
@@ -76,7 +77,7 @@ const NodeDesc& targetNode(const io::RunConfig& config, const TuneTarget& t) {
 // The parameter a sweep axis sets (a cvar, or PASS.PARAM), as the probe's chain resolves it.
 std::optional<ParamInfo> sweptParam(const Bencher& bencher, const std::string& name) {
     const Plan& plan = bencher.probe().plan();
-    const CvarTable cvars(builtinPasses());
+    const CvarTable& cvars = builtinCvarTable();
     for (const PlanStep& step : plan.steps) {
         const PassType* type = builtinPasses().find(step.type);
         if (!type) continue;
@@ -196,7 +197,7 @@ std::string systemSettings(const SweepPoint& point) {
 std::string systemSettings(const TunedSetting& t) {
     // A cvar of the grid whose passes the chosen chain does not run (SSGI's quality beside a
     // ray-traced method) would read as part of the answer: say that it sets nothing instead.
-    static const CvarTable cvars(builtinPasses());
+    const CvarTable& cvars = builtinCvarTable();
     std::set<std::string> ran;
     for (const PassTiming& p : t.setting.passes)
         ran.insert(p.type);

@@ -6,6 +6,7 @@
 // build writes the three scripts beside the executable and `cmake --install` puts them where the
 // shells look.
 #include "cli/Commands.h"
+#include "app/Settings.h"
 #include "app/RunSetup.h"
 #include "io/CaptureProfile.h"
 #include "foundation/Error.h"
@@ -91,7 +92,7 @@ Words words() {
     Words w;
     for (const auto& id : builtinPasses().ids()) w.types.push_back(id);
     std::set<std::string> cvars;
-    for (const auto& c : CvarTable(builtinPasses()).names()) cvars.insert(c + "=");
+    for (const auto& c : app::builtinCvarTable().names()) cvars.insert(c + "=");
     w.cvars.assign(cvars.begin(), cvars.end());
     w.profiles = io::CaptureProfile::builtinNames();
     return w;

@@ -13,9 +13,14 @@ namespace OCIO = OCIO_NAMESPACE;
 
 DisplayTransform::DisplayTransform(const OCIO::ConstConfigRcPtr& config,
                                    const std::string& inputSpace, const std::string& display,
-                                   const std::string& view, float exposureStops, bool colorManaged)
+                                   const std::string& view, float exposureStops, bool colorManaged,
+                                   std::optional<color::FilmParams> film)
     : mGain(std::exp2(exposureStops)) {
     if (!colorManaged) return;
+    if (film) {
+        mFilm = film;
+        return;
+    }
     try {
         const std::string d = display.empty() ? config->getDefaultDisplay() : display;
         const std::string v = view.empty() ? config->getDefaultView(d.c_str()) : view;
@@ -38,6 +43,20 @@ Image DisplayTransform::apply(const Image& src) const {
 
 void DisplayTransform::apply(const Image& src, Image& dst) const {
     const int channels = src.channelCount();
+    if (mFilm) {  // the display kernel's own pixel, as the GPU runs it
+        display::Frame f{};
+        f.channels = std::min(channels, 4);
+        for (int c = 0; c < f.channels; ++c) f.src[c] = viewOf(src.plane(c));
+        f.gain = mGain;
+        f.film = true;
+        f.filmParams = *mFilm;
+        for (int c = 0; c < 3; ++c) f.dst[c] = spanOf(dst.plane(c));
+        forEachTile(src.width(), src.height(), [&](const Tile& t) {
+            for (int y = t.y0; y < t.y1; ++y)
+                for (int x = t.x0; x < t.x1; ++x) display::displayPixel(f, x, y);
+        });
+        return;
+    }
     forEachTile(src.width(), src.height(), [&](const Tile& t) {
         for (int y = t.y0; y < t.y1; ++y)
             for (int c = 0; c < 3; ++c) {
@@ -65,6 +84,25 @@ void DisplayTransform::apply(const Image& src, Image& dst) const {
                 for (int x = t.x0; x < t.x1; ++x) d[x] = std::clamp(d[x], 0.0f, 1.0f);
             }
     });
+}
+
+Image DisplayTransform::filmCube(const color::FilmParams& film, int size) {
+    Image cube(size * size, size, {"R", "G", "B"});
+    const auto value = [&](int i) {
+        const float t = float(i) / float(size - 1);
+        return std::exp2(kFilmCubeLog2Min + t * (kFilmCubeLog2Max - kFilmCubeLog2Min));
+    };
+    forEachTile(size * size, size, [&](const Tile& t) {
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                const float in[3] = {value(x % size), value(x / size), value(y)};
+                float toned[3];
+                color::ue4FilmicTonemap(film, in, toned);
+                for (int c = 0; c < 3; ++c)
+                    cube.plane(c).at(x, y) = color::srgbEncode(std::min(toned[c], 1.0f));
+            }
+    });
+    return cube;
 }
 
 std::optional<Image> DisplayTransform::halfLut() const {

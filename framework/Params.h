@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <functional>
 #include <optional>
 #include <string>
@@ -42,7 +43,7 @@ public:
         M T::*m = member;
         // Its reader and writer are made here, for the member types T has, so that no code
         // accesses T through a pointer to a member type it does not have (GCC warns of such code).
-        auto read = [m](const T& params) { return nlohmann::json(params.*m); };
+        auto read = [m](const T& params) { return asJson(params.*m); };
         auto write = [m](T& params, const Entry& e, const nlohmann::json& v, const std::string& at,
                          Diagnostics& diag) { assign(params.*m, e, v, at, diag); };
         mEntries.push_back({std::move(name), Member(m), std::move(doc), {}, {}, {}, {}, false,
@@ -156,6 +157,14 @@ private:
             diag.error(at, fmt::format("{} is out of range [{}, {}] for '{}'", v,
                                        e.min ? fmt::format("{}", *e.min) : "-inf",
                                        e.max ? fmt::format("{}", *e.max) : "inf", e.name));
+    }
+
+    // A float parameter as the shortest decimal that reads back as it (0.88, not the double
+    // 0.8799999952316284 that 0.88f widens to): what a user typed, in every listing and report.
+    static nlohmann::json asJson(float v) { return std::strtod(fmt::format("{}", v).c_str(), nullptr); }
+    template <class V>
+    static nlohmann::json asJson(const V& v) {
+        return v;
     }
 
     static void assign(bool& dst,

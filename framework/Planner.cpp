@@ -21,6 +21,7 @@ struct NodeState {
     std::shared_ptr<Pass> pass;
     PassIO io;
     nlohmann::json params;
+    std::map<std::string, std::string> pinned;  // PlanStep::pinned
     std::map<std::string, SourceRef> inputs;
     std::map<std::string, std::string> inputPointers;  // port → where its binding came from
     std::map<std::string, std::string> noPreviousCameraInputs;  // port → capture buffer
@@ -170,8 +171,10 @@ public:
             }
             validateLayer(*n.type, n.desc->params, paramsPtr, "", "", mDiag);
             if (n.desc->params.is_object())
-                for (const auto& [k, v] : n.desc->params.items())
+                for (const auto& [k, v] : n.desc->params.items()) {
                     merged[k] = v;
+                    n.pinned[k] = paramsPtr + "/" + k;
+                }
             std::map<std::string, std::pair<std::string, std::string>> maybeInputs;
             if (auto it = sets.find(int(i)); it != sets.end()) {
                 // Each value on its own, so that an error names the setting that made it.
@@ -189,6 +192,7 @@ public:
                     validateLayer(*n.type, nlohmann::json::object({{k, v}}), paramsPtr,
                                   it->second.where.at(k), "", mDiag);
                     merged[k] = v;
+                    n.pinned[k] = it->second.where.at(k);
                 }
             }
             // Every layer was validated above. With errors, the pass is still made from its
@@ -376,6 +380,7 @@ public:
             s.pass = n.pass;
             s.io = n.io;
             s.params = n.params;
+            s.pinned = n.pinned;
             s.inputs = n.inputs;
             s.noPreviousCameraInputs = n.noPreviousCameraInputs;
             mPlan.steps.push_back(std::move(s));
@@ -712,6 +717,7 @@ nlohmann::json Plan::toJson(Extent frame) const {
             std::vector<std::string>(s.requestedOutputs.begin(), s.requestedOutputs.end());
         step["needsScene"] = s.io.needsScene;
         step["device"] = s.device == Device::Cuda ? "cuda" : "cpu";
+        if (!s.pinned.empty()) step["pinned"] = s.pinned;
         j["steps"].push_back(step);
     }
     j["culled"] = nlohmann::json::array();

@@ -43,6 +43,9 @@ struct PlanStep {
     std::map<std::string, std::string> noPreviousCameraInputs;
     std::set<std::string> requestedOutputs;
     Device device = Device::Cpu;  //!< Cuda where the plan asks for the GPU and the pass has a kernel
+    /// The parameters the config's params or a set fixed, each with where (a JSON pointer or the
+    /// door's name of the setting): a cvar of one of them has no effect on this pass.
+    std::map<std::string, std::string> pinned;
 };
 
 struct CulledPass {

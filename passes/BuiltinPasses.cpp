@@ -96,7 +96,7 @@ const PassRegistry& builtinPasses() {
         r.add<CameraVelocityPass>("camera_velocity", "camera motion vectors: where each pixel's "
                                                      "surface was on last frame's screen");
         r.add<DisplayPass>("display",
-                           "OpenColorIO display transform of a buffer for a PNG preview");
+                           "a buffer as a picture: the OpenColorIO view or Unreal 4.27's filmic tonemapper");
         r.add<ScreenSpaceOraclePass>(
             "screen_space_oracle",
             "framepass's own reference, not Unreal's: the best any screen-space method can do "

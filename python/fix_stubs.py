@@ -28,15 +28,18 @@ def stub_signature(doc, name):
     if not m:
         return None
     args, result = m.groups()
-    # Defaults as `...`: a default runs to the next top-level comma.
-    out, depth, i = [], 0, 0
-    parts, start = [], 0
+    # Split at the top-level commas (a type such as Dict[str, int] holds commas of its own).
+    parts, depth, start = [], 0, 0
     for i, c in enumerate(args):
-        depth += c in "[(" and 1 or (c in "])" and -1 or 0)
-        if c == "," and depth == 0:
+        if c in "[(":
+            depth += 1
+        elif c in "])":
+            depth -= 1
+        elif c == "," and depth == 0:
             parts.append(args[start:i])
             start = i + 1
     parts.append(args[start:])
+    out = []
     for p in (p.strip() for p in parts if p.strip()):
         if p.startswith("self:"):
             p = "self"

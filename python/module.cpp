@@ -557,16 +557,17 @@ py::object compare(const py::object& a, const py::object& b, const std::string& 
     return toPython(figures[*metric]);
 }
 
-// bench's cvars= or set= ({name: value}) into `out`.
-void addSettings(const py::object& values, const char* what, app::Settings& out) {
+// bench's cvars= or set= ({name: value}) into `out`, each through `add` (Settings::setCvar or
+// Settings::setParam).
+void addSettings(const py::object& values, const char* what, app::Settings& out,
+                 void (app::Settings::*add)(const std::string&, nlohmann::json)) {
     if (values.is_none()) return;
     if (!py::isinstance<py::dict>(values))
         throw py::type_error(fmt::format("bench(): {}= is a dict {{name: value}}", what));
     for (const auto& [k, v] : values.cast<py::dict>()) {
         const std::string name = py::str(k).cast<std::string>();
         nlohmann::json value = settingValue(fmt::format("bench(): {}['{}']", what, name), v);
-        if (std::string(what) == "cvars") out.setCvar(name, std::move(value));
-        else out.setParam(name, std::move(value));
+        (out.*add)(name, std::move(value));
     }
 }
 
@@ -583,8 +584,8 @@ py::object bench(const std::string& config, const py::object& sweep, int runs, i
     o.session.frames = frames;
     o.session.settings.cvarOrigin = "bench(): cvars['{}']";
     o.session.settings.setOrigin = "bench(): set['{}']";
-    addSettings(cvars, "cvars", o.session.settings);
-    addSettings(sets, "set", o.session.settings);
+    addSettings(cvars, "cvars", o.session.settings, &app::Settings::setCvar);
+    addSettings(sets, "set", o.session.settings, &app::Settings::setParam);
     if (runs < 1 || warmup < 0) throw py::value_error("runs is 1 or more, warmup 0 or more");
     o.runs = runs;
     o.warmup = warmup;

@@ -103,9 +103,14 @@ std::string cookie(const std::string& header, const std::string& name) {
 
 WorkbenchServer::WorkbenchServer(Workbench& workbench, const std::string& host, int port)
     : mWorkbench(workbench), mServer(std::make_unique<httplib::Server>()), mHost(host),
-      mToken(isLoopback(host) ? "" : newToken()) {
-    // Event streams hold a thread each while open: room for several pages and scripts.
-    mServer->new_task_queue = [] { return new httplib::ThreadPool(16); };
+      mToken(isLoopback(host) ? "" : newToken()),
+      mEventStreams(std::make_shared<std::atomic<int>>(0)) {
+    // An event stream holds a thread while open: the pool has one for each stream allowed
+    // (kMaxEventStreams; one more is refused, 503) and kRequestThreads more for requests. An idle
+    // connection holds a request thread for at most the keep-alive or read timeout (2 s).
+    mServer->new_task_queue = [] { return new httplib::ThreadPool(kMaxEventStreams + kRequestThreads); };
+    mServer->set_keep_alive_timeout(2);
+    mServer->set_read_timeout(2, 0);
     mServer->set_payload_max_length(kMaxRequestBody);
     // SO_REUSEADDR alone (a restart binds while the last connections close), not cpp-httplib's
     // SO_REUSEPORT, with which a second server on the port would start and share the requests.
@@ -209,7 +214,8 @@ void WorkbenchServer::routes() {
     const std::pair<const char*, nlohmann::json (Workbench::*)()> reads[] = {
         {"/api/graph", &Workbench::graph},         {"/api/params", &Workbench::params},
         {"/api/report", &Workbench::report},       {"/api/export", &Workbench::exportSettings},
-        {"/api/buffers", &Workbench::bufferNames}, {"/api/displays", &Workbench::displays}};
+        {"/api/buffers", &Workbench::bufferNames}, {"/api/displays", &Workbench::displays},
+        {"/api/status", &Workbench::status}};
     for (const auto& [path, read] : reads)
         s.Get(path, [&wb, read = read](const httplib::Request&, httplib::Response& res) {
             sendJson(res, (wb.*read)());
@@ -231,6 +237,23 @@ void WorkbenchServer::routes() {
             out.append(reinterpret_cast<const char*>(lut->plane(c).row(0)),
                        std::size_t(lut->width()) * sizeof(float));
         res.set_header("X-Entries", std::to_string(lut->width()));
+        res.set_content(out, "application/octet-stream");
+    });
+
+    // Unreal 4.27's filmic tonemapper (its defaults) and the sRGB encoding baked into a 65³
+    // table over log2 of each channel: 3 planes of 65³ float32 (R, then G, B), entry r + 65·g +
+    // 65²·b; its size and log2 range in headers. The page's "UE 4.27 film" view.
+    s.Get("/api/film-cube", [](const httplib::Request&, httplib::Response& res) {
+        constexpr int kSize = 65;
+        const Image cube = DisplayTransform::filmCube(color::FilmParams{}, kSize);
+        std::string out;
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < kSize; ++y)
+                out.append(reinterpret_cast<const char*>(cube.plane(c).row(y)),
+                           std::size_t(kSize) * kSize * sizeof(float));
+        res.set_header("X-Size", std::to_string(kSize));
+        res.set_header("X-Log2-Min", fmt::format("{}", DisplayTransform::kFilmCubeLog2Min));
+        res.set_header("X-Log2-Max", fmt::format("{}", DisplayTransform::kFilmCubeLog2Max));
         res.set_content(out, "application/octet-stream");
     });
 
@@ -304,7 +327,14 @@ void WorkbenchServer::routes() {
     });
 
     // Server-sent events: {"seq", "type": pass|frame|cancelled|error, …} as runs progress.
-    s.Get("/api/events", [&wb](const httplib::Request& req, httplib::Response& res) {
+    s.Get("/api/events", [&wb, streams = mEventStreams](const httplib::Request& req,
+                                                        httplib::Response& res) {
+        if (++*streams > kMaxEventStreams) {
+            --*streams;
+            return sendError(res, 503, fmt::format("{} event streams are open, the most this "
+                                                   "workbench serves at once",
+                                                   kMaxEventStreams));
+        }
         uint64_t after = 0;
         if (req.has_header("Last-Event-ID"))
             after = std::strtoull(req.get_header_value("Last-Event-ID").c_str(), nullptr, 10);
@@ -324,7 +354,8 @@ void WorkbenchServer::routes() {
                 }
                 if (out.empty()) out = ": keep-alive\n\n";
                 return sink.write(out.data(), out.size());
-            });
+            },
+            [streams](bool) { --*streams; });
     });
 
     s.set_exception_handler(

@@ -4,6 +4,7 @@
 // reaches a file other than the session's own inputs (buffer names are looked up, never opened).
 #include "serve/Workbench.h"
 
+#include <atomic>
 #include <memory>
 #include <string>
 
@@ -38,6 +39,7 @@ private:
     std::string mHost;
     std::string mToken;  // "" on a loopback address
     int mPort = 0;
+    std::shared_ptr<std::atomic<int>> mEventStreams;  // open now (at most kMaxEventStreams)
 };
 
 }  // namespace fp::serve

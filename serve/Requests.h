@@ -41,6 +41,12 @@ struct SettingsChange {
 
 /// The most a request body may hold: a settings change is a few hundred bytes.
 inline constexpr std::size_t kMaxRequestBody = 64 * 1024;
+/// Event streams open at once; each holds one of the server's threads while open, so the
+/// threads are this many plus kRequestThreads, and idle streams can never starve a request.
+inline constexpr int kMaxEventStreams = 32;
+/// Threads for requests. A connection that sends nothing holds one until the read timeout
+/// (2 s): 16 such clients leave 16 threads answering.
+inline constexpr int kRequestThreads = 32;
 /// The most buffers a page may show at once (A, B, and what the probe reads).
 inline constexpr std::size_t kMaxShown = 16;
 

@@ -1,5 +1,6 @@
 #include "serve/Workbench.h"
 
+#include "app/Settings.h"
 #include "app/BenchSweep.h"
 #include "app/ErrorBreakdown.h"
 #include "app/Tune.h"
@@ -32,14 +33,6 @@ nlohmann::json paramSpec(const ParamInfo& p) {
     if (!p.cvars.empty()) j["cvars"] = p.cvars;
     if (p.needsHistory) j["needsHistory"] = true;
     return j;
-}
-
-const ParamInfo* findParam(const std::string& passType, const std::string& param) {
-    const PassType* type = builtinPasses().find(passType);
-    if (!type) return nullptr;
-    for (const auto& p : type->params)
-        if (p.name == param) return &p;
-    return nullptr;
 }
 
 std::string absolute(const std::string& path) {
@@ -123,6 +116,7 @@ void Workbench::runOnce(uint64_t generation) {
         std::lock_guard<std::mutex> session(mSessionMutex);
         const int frame = mFrame;
         mSession.onPass = [&](int done, int total, const PassReport& pass) {
+            if (!pass.reused) mLastExecuted[pass.name] = {pass.seconds * 1e3, generation};
             event({{"type", "pass"}, {"generation", generation}, {"done", done}, {"total", total},
                    {"pass", pass.name}, {"ms", pass.seconds * 1e3}, {"reused", pass.reused}});
             std::lock_guard<std::mutex> lock(mStateMutex);
@@ -340,11 +334,30 @@ nlohmann::json Workbench::graph() {
     const std::shared_ptr<const app::RunSetup> kept = planned();
     const app::RunSetup& setup = *kept;
     nlohmann::json j = setup.plan().toJson(setup.extent());
+    // Each pass's last executed time: a reused pass keeps the time of the run that made it.
     nlohmann::json times = nlohmann::json::object();
     if (mLast)
-        for (const auto& p : mLast->report.passes)
-            times[p.name] = {{"ms", p.seconds * 1e3}, {"reused", p.reused}};
+        for (const auto& p : mLast->report.passes) {
+            nlohmann::json t = {{"reused", p.reused}};
+            if (const auto e = mLastExecuted.find(p.name); e != mLastExecuted.end()) {
+                t["ms"] = e->second.ms;
+                t["generation"] = e->second.generation;
+            }
+            times[p.name] = t;
+        }
     j["times"] = times;
+    // How the page draws each buffer: colour through the view, data and display-referred images
+    // as they are.
+    nlohmann::json kinds = nlohmann::json::object();
+    const auto kindName = [](PortKind kind, bool displayReferred) {
+        return displayReferred ? "display" : kind == PortKind::Color ? "colour" : "data";
+    };
+    for (const auto& step : setup.plan().steps)
+        for (const auto& port : step.io.outputs)
+            kinds[step.name + "." + port.name] = kindName(port.kind, port.displayReferred);
+    for (const auto& read : setup.plan().captureReads)
+        kinds[read.buffer] = kindName(read.kind, false);
+    j["kinds"] = kinds;
     j["generation"] = mLastGeneration;
     j["frame"] = mFrame;
     return j;
@@ -368,7 +381,7 @@ nlohmann::json Workbench::params() {
             }
         passes.push_back({{"name", step.name}, {"type", step.type}, {"params", list}});
     }
-    const CvarTable table(builtinPasses());
+    const CvarTable& table = app::builtinCvarTable();
     nlohmann::json cvars = nlohmann::json::array();
     for (const auto& name : mSession.cvarNames()) {
         const CvarMapping* m = table.find(name);
@@ -376,7 +389,7 @@ nlohmann::json Workbench::params() {
         if (m && !m->passType.empty()) {
             c["passType"] = m->passType;
             c["param"] = m->param;
-            if (const ParamInfo* p = findParam(m->passType, m->param)) {
+            if (const ParamInfo* p = app::builtinParam(m->passType, m->param)) {
                 const nlohmann::json spec = paramSpec(*p);
                 for (const char* key : {"type", "doc", "default", "min", "max", "choices"})
                     if (spec.contains(key)) c[key] = spec[key];
@@ -388,11 +401,27 @@ nlohmann::json Workbench::params() {
         bool used = false;
         for (const auto& t : table.targets(name)) used = used || typesInChain.count(t);
         c["inChain"] = used;
+        // A cvar whose parameter the config's params (or a set) fix on every pass it reaches
+        // has no effect: the page says so beside its slider.
+        nlohmann::json pinnedBy = nlohmann::json::array();
+        bool free = false;
+        for (const auto& step : setup.plan().steps)
+            if (const CvarMapping* target = table.find(name, step.type)) {
+                const auto pin = step.pinned.find(target->param);
+                if (pin == step.pinned.end()) free = true;
+                else pinnedBy.push_back(pin->second);
+            }
+        if (!free && !pinnedBy.empty()) c["shadowedBy"] = pinnedBy;
         cvars.push_back(c);
+    }
+    uint64_t generation;  // the change these settings are of
+    {
+        std::lock_guard<std::mutex> lock(mStateMutex);
+        generation = mRequested;
     }
     return {{"cvars", cvars},      {"passes", passes},
             {"frames", mSession.frames()}, {"frame", mFrame},
-            {"settings", mSession.settings().toJson()}};
+            {"settings", mSession.settings().toJson()}, {"generation", generation}};
 }
 
 nlohmann::json Workbench::report() {
@@ -408,6 +437,20 @@ nlohmann::json Workbench::report() {
     for (const auto& p : mLast->report.passes)
         if (!p.metrics.empty()) errors[p.name] = p.metrics;
     j["errors"] = errors;
+    nlohmann::json executed = nlohmann::json::object();
+    for (const auto& [pass, e] : mLastExecuted)
+        executed[pass] = {{"ms", e.ms}, {"generation", e.generation}};
+    j["lastExecuted"] = executed;
+    return j;
+}
+
+nlohmann::json Workbench::status() {
+    std::lock_guard<std::mutex> lock(mStateMutex);
+    nlohmann::json j = {{"requested", mRequested}, {"finished", mFinished}, {"status", "none"}};
+    if (const auto it = mOutcomes.find(mFinished); it != mOutcomes.end()) {
+        j["status"] = it->second.status;
+        if (!it->second.message.empty()) j["message"] = it->second.message;
+    }
     return j;
 }
 
@@ -456,7 +499,8 @@ nlohmann::json Workbench::breakdown(int rays) {
     const auto start = std::chrono::steady_clock::now();
     const std::shared_ptr<const app::RunSetup> shown = planned();
     auto targets = app::decompositionTargets(shown->plan(), shown->availableBuffers());
-    nlohmann::json out = {{"rays", rays}, {"errors", nlohmann::json::array()}};
+    nlohmann::json out = {{"rays", rays}, {"errors", nlohmann::json::array()},
+                          {"generation", mLastGeneration}};
     if (targets.empty()) return out;
     // The measured sources, handed back by a run that executes nothing (the step cache has
     // them) where the page does not show them.
@@ -549,6 +593,9 @@ std::optional<Image> Workbench::displayTable(const std::string& view) {
 std::vector<std::pair<uint64_t, std::string>> Workbench::eventsAfter(
     uint64_t seq, std::chrono::milliseconds wait) {
     std::unique_lock<std::mutex> lock(mStateMutex);
+    // A cursor past the last event is another server's (a page reconnecting to a restarted
+    // workbench sends the last id it saw): this one's events are all new to it.
+    if (seq > mEventSeq) seq = 0;
     mChanged.wait_for(lock, wait, [&] { return mStop || mEventSeq > seq; });
     std::vector<std::pair<uint64_t, std::string>> out;
     for (const auto& e : mEvents)

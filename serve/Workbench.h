@@ -46,8 +46,15 @@ public:
     /// value, and the frames.
     nlohmann::json params();
     /// The last finished run: its report (per pass seconds, work, error figures), wall time,
-    /// generation and settings; null before the first run finishes.
+    /// generation and settings, and each pass's last executed time ("lastExecuted": {pass:
+    /// {"ms", "generation"}}: a reused pass keeps the time of the run that made its outputs);
+    /// null before the first run finishes.
     nlohmann::json report();
+    /// Where the runs stand: {"requested", "finished" (generations), "status" of the newest
+    /// finished run (done, cancelled, error; "none" before any) and its "message" when it
+    /// failed}. Answers at once, a run in flight or not: how a page learns that the first frame
+    /// failed.
+    nlohmann::json status();
     /// The current settings as a run config (the config's own keys, paths made absolute, its
     /// cvars and "set" merged with the session's) and as an Unreal [SystemSettings] snippet.
     nlohmann::json exportSettings();
@@ -79,8 +86,9 @@ public:
     /// what is missing. Throws RequestError 404 for a name the chain does not make.
     BufferImage buffer(const std::string& name, std::optional<int> frame);
 
-    /// The progress events after `seq`, waiting up to `wait` for one: each {"seq", "type":
-    /// "pass"|"frame"|"cancelled"|"error", …} as JSON text.
+    /// The progress events after `seq` (all kept ones for a `seq` past the last: another
+    /// server's), waiting up to `wait` for one: each {"seq", "type": "pass"|"frame"|"cancelled"|
+    /// "error", …} as JSON text.
     std::vector<std::pair<uint64_t, std::string>> eventsAfter(uint64_t seq,
                                                              std::chrono::milliseconds wait);
     /// Wakes every waiter and stops the worker (the server is shutting down).
@@ -113,6 +121,11 @@ private:
     int mLastFrame = 0;
     uint64_t mLastGeneration = 0;
     double mLastMs = 0;
+    struct Executed {
+        double ms = 0;
+        uint64_t generation = 0;
+    };
+    std::map<std::string, Executed> mLastExecuted;  //!< pass → its last executed run
 
     // Generations: requested by changes, finished by the worker; events for the page.
     mutable std::mutex mStateMutex;

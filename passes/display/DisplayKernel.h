@@ -5,6 +5,7 @@
 // per channel, into a table over every half-float value and interpolated linearly between
 // neighbouring halves (a relative step of 2⁻¹⁰). That is possible only for a transform without
 // channel crosstalk (the shipped sRGB view is one); a view that mixes channels runs on the CPU.
+#include "color/FilmicTonemap.h"
 #include "foundation/HostDevice.h"
 #include "foundation/PlaneView.h"
 
@@ -69,18 +70,28 @@ struct Frame {
     PlaneView src[4];
     int channels;
     float gain;
-    PlaneView lut[3];  // null for a data buffer: no colour transform
+    PlaneView lut[3];  // null for a data buffer or the film curve: no table
+    bool film = false;  // Unreal's filmic tonemapper and the sRGB encoding instead of a table
+    color::FilmParams filmParams;
     PlaneSpan dst[3];
 };
 
 /// The preview pixel (x, y).
 FP_HD inline void displayPixel(const Frame& f, int x, int y) {
+    float v[3];
     for (int c = 0; c < 3; ++c) {
         const int from = previewSource(c, f.channels);
-        float v = from >= 0 ? exposed(f.src[from].at(x, y), f.gain) : 0.0f;
+        v[c] = from >= 0 ? exposed(f.src[from].at(x, y), f.gain) : 0.0f;
+    }
+    if (f.film) {
+        float toned[3];
+        color::ue4FilmicTonemap(f.filmParams, v, toned);
+        for (int c = 0; c < 3; ++c) v[c] = color::srgbEncode(toned[c] > 1.0f ? 1.0f : toned[c]);
+    }
+    for (int c = 0; c < 3; ++c) {
         if (f.lut[c].data)
-            v = halfLutLookup(f.lut[c], v);
-        f.dst[c].at(x, y) = v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
+            v[c] = halfLutLookup(f.lut[c], v[c]);
+        f.dst[c].at(x, y) = v[c] < 0.0f ? 0.0f : (v[c] > 1.0f ? 1.0f : v[c]);
     }
 }
 

@@ -11,7 +11,30 @@ ParamSpec<DisplayParams> DisplayPass::paramSpec() {
     s.add("display", &Params::display, "OCIO display; empty = the config's default");
     s.add("view", &Params::view, "OCIO view; empty = the display's default");
     s.add("exposure", &Params::exposure, "exposure in stops before the transform").range(-20, 20);
+    s.add("tonemapper", &Params::tonemapper,
+          "ocio: the OCIO display and view; ue4.27-film: Unreal 4.27's filmic tonemapper and the "
+          "sRGB encoding (the input read as scene-linear Rec.709; docs/color.md)")
+        .choices({"ocio", "ue4.27-film"});
+    // Unreal's post-process Film* settings and their defaults (a post-process volume's, not cvars).
+    s.add("filmSlope", &Params::filmSlope, "the film curve's slope in log10 (Unreal's FilmSlope)")
+        .range(0.01, 1);
+    s.add("filmToe", &Params::filmToe, "the toe's size: how soon the darks bend (FilmToe)")
+        .range(0, 1);
+    s.add("filmShoulder", &Params::filmShoulder,
+          "the shoulder's size: how soon the highlights bend (FilmShoulder)")
+        .range(0, 1);
+    s.add("filmBlackClip", &Params::filmBlackClip, "where the toe reaches black (FilmBlackClip)")
+        .range(0, 1);
+    s.add("filmWhiteClip", &Params::filmWhiteClip,
+          "where the shoulder reaches white (FilmWhiteClip)")
+        .range(0, 1);
     return s;
+}
+
+std::optional<color::FilmParams> DisplayPass::film() const {
+    if (mParams.tonemapper != "ue4.27-film") return std::nullopt;
+    return color::FilmParams{mParams.filmSlope, mParams.filmToe, mParams.filmShoulder,
+                             mParams.filmBlackClip, mParams.filmWhiteClip};
 }
 
 PassIO DisplayPass::describe() const {
@@ -34,7 +57,8 @@ PassIO DisplayPass::describe() const {
 DisplayTransform DisplayPass::transform(PassContext& ctx) const {
     const bool colorManaged = ctx.inputKind(kDisplayColor) == PortKind::Color;
     return DisplayTransform(colorManaged ? ctx.colorConfig() : nullptr, mParams.inputSpace,
-                            mParams.display, mParams.view, mParams.exposure, colorManaged);
+                            mParams.display, mParams.view, mParams.exposure, colorManaged,
+                            film());
 }
 
 void DisplayPass::checkColorConfig(const OCIO_NAMESPACE::ConstConfigRcPtr& config) const {

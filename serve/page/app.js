@@ -42,10 +42,12 @@ void main() { screen = corner; gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
 // The display maths of the library's display pass (passes/display/DisplayKernel.h): exposure,
 // the channel mapping of a preview, the baked view looked up between neighbouring halves, clamp.
 const FRAGMENT = `#version 300 es
-precision highp float; precision highp int; precision highp usampler2D;
+precision highp float; precision highp int; precision highp usampler2D; precision highp sampler3D;
 in vec2 screen; out vec4 color;
 uniform sampler2D imgA, imgB, lut;
-uniform int channelsA, channelsB, mode, isolate, falseColor, colorA, colorB, haveB;
+uniform sampler3D cube;
+uniform int channelsA, channelsB, mode, isolate, falseColor, colorA, colorB, haveB, film;
+uniform float cubeLog2Min, cubeLog2Max;
 uniform float gain, falseMax, wipe;
 uniform vec2 canvasSize, sizeA, pan; uniform float zoom;
 
@@ -72,6 +74,18 @@ float lookup(float v, int c) {
   return lo + (a - x0) / (x1 - x0) * (lutAt(index + 1, c) - lo);
 }
 float finite(float v) { return (isnan(v) || isinf(v)) ? 0.0 : v; }
+// Unreal's film view: the server's table over log2 of each channel (/api/film-cube), trilinear.
+vec3 filmLookup(vec3 v) {
+  int n = textureSize(cube, 0).x;
+  vec3 u = clamp((log2(max(v, vec3(exp2(cubeLog2Min)))) - cubeLog2Min) / (cubeLog2Max - cubeLog2Min), 0.0, 1.0) * float(n - 1);
+  ivec3 i = min(ivec3(floor(u)), ivec3(n - 2));
+  vec3 f = u - vec3(i);
+  vec3 c00 = mix(texelFetch(cube, i, 0).rgb, texelFetch(cube, i + ivec3(1, 0, 0), 0).rgb, f.x);
+  vec3 c10 = mix(texelFetch(cube, i + ivec3(0, 1, 0), 0).rgb, texelFetch(cube, i + ivec3(1, 1, 0), 0).rgb, f.x);
+  vec3 c01 = mix(texelFetch(cube, i + ivec3(0, 0, 1), 0).rgb, texelFetch(cube, i + ivec3(1, 0, 1), 0).rgb, f.x);
+  vec3 c11 = mix(texelFetch(cube, i + ivec3(0, 1, 1), 0).rgb, texelFetch(cube, i + ivec3(1, 1, 1), 0).rgb, f.x);
+  return mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
+}
 vec3 viridis(float t) {
   t = clamp(t, 0.0, 1.0) * 4.0;
   vec3 k[5] = vec3[5](vec3(0.267, 0.005, 0.329), vec3(0.231, 0.322, 0.545),
@@ -94,10 +108,9 @@ vec3 preview(vec4 v, int channels, int managed) {
     int from = channels == 1 ? 0 : c;
     rgb[c] = from < channels ? v[from] : 0.0;
   }
-  for (int c = 0; c < 3; ++c) {
-    float e = finite(rgb[c] * gain);
-    rgb[c] = clamp(managed == 1 ? lookup(e, c) : e, 0.0, 1.0);
-  }
+  for (int c = 0; c < 3; ++c) rgb[c] = finite(rgb[c] * gain);
+  if (managed == 1 && film == 1) return clamp(filmLookup(rgb), 0.0, 1.0);
+  for (int c = 0; c < 3; ++c) rgb[c] = clamp(managed == 1 ? lookup(rgb[c], c) : rgb[c], 0.0, 1.0);
   return rgb;
 }
 void main() {
@@ -142,10 +155,25 @@ class Viewer {
     const loc = gl.getAttribLocation(prog, 'corner');
     gl.enableVertexAttribArray(loc);
     gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
-    this.textures = { imgA: gl.createTexture(), imgB: gl.createTexture(), lut: gl.createTexture() };
+    this.textures = { imgA: gl.createTexture(), imgB: gl.createTexture(), lut: gl.createTexture(), cube: gl.createTexture() };
+    // The film table's unit from the start (a 3D sampler left on unit 0 with the images' 2D ones
+    // would make every draw fail), holding one black entry until the film view is chosen.
+    this.setFilmCube(new Float32Array(3), 1, 0, 1);
     this.a = null; this.b = null;
-    this.state = { mode: 0, isolate: 0, falseColor: 0, gain: 1, falseMax: 1, wipe: 0.5, zoom: 1, pan: [0, 0] };
-    new ResizeObserver(() => this.draw()).observe(canvas);
+    this.state = { mode: 0, isolate: 0, falseColor: 0, film: 0, gain: 1, falseMax: 1, wipe: 0.5, zoom: 1, pan: [0, 0] };
+    // Resized (the window, a panel): a fitted image is fitted again, a zoomed one keeps the
+    // image point at the canvas's centre where it was.
+    this.fitted = true;
+    this.size = [canvas.clientWidth, canvas.clientHeight];
+    const resized = () => {
+      const w = canvas.clientWidth, h = canvas.clientHeight;
+      if (w === this.size[0] && h === this.size[1]) return;
+      if (this.fitted) this.fit();
+      else this.state.pan = [this.state.pan[0] + (w - this.size[0]) / 2, this.state.pan[1] + (h - this.size[1]) / 2];
+      this.size = [w, h];
+      this.draw();
+    };
+    new ResizeObserver(resized).observe(canvas);
   }
   upload(unit, name, image) {
     const gl = this.gl;
@@ -164,6 +192,22 @@ class Viewer {
     this.upload(2, 'lut', { width: 256, height: 256, channels: ['R', 'G', 'B'], data: rgb });
     this.draw();
   }
+  // Unreal's film view: size³ RGB entries (3 planes, entry r + size·g + size²·b) over log2 of
+  // each channel from log2Min to log2Max.
+  setFilmCube(table, size, log2Min, log2Max) {
+    const gl = this.gl, n = size * size * size;
+    const rgb = new Float32Array(n * 3);
+    for (let i = 0; i < n; ++i) for (let c = 0; c < 3; ++c) rgb[i * 3 + c] = table[c * n + i];
+    gl.activeTexture(gl.TEXTURE3);
+    gl.bindTexture(gl.TEXTURE_3D, this.textures.cube);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    gl.texImage3D(gl.TEXTURE_3D, 0, gl.RGB32F, size, size, size, 0, gl.RGB, gl.FLOAT, rgb);
+    for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_3D, p, gl.NEAREST);
+    gl.uniform1i(gl.getUniformLocation(this.program, 'cube'), 3);
+    gl.uniform1f(gl.getUniformLocation(this.program, 'cubeLog2Min'), log2Min);
+    gl.uniform1f(gl.getUniformLocation(this.program, 'cubeLog2Max'), log2Max);
+    if (this.a) this.draw();
+  }
   setA(image) { const first = !this.a; this.a = image; this.upload(0, 'imgA', image); if (first) this.fit(); this.draw(); }
   setB(image) { this.b = image; if (image) this.upload(1, 'imgB', image); this.draw(); }
   fit() {
@@ -172,6 +216,16 @@ class Viewer {
     const zoom = Math.max(1 / 16, Math.min(w / this.a.width, h / this.a.height));
     this.state.zoom = zoom;
     this.state.pan = [(w - this.a.width * zoom) / 2, (h - this.a.height * zoom) / 2];
+    this.fitted = true;
+    this.draw();
+  }
+  // Zoom by `k` about canvas point (cx, cy) (default: the centre); `to` sets the zoom instead.
+  zoomBy(k, cx = this.canvas.clientWidth / 2, cy = this.canvas.clientHeight / 2, to = null) {
+    const s = this.state;
+    if (to !== null) k = to / s.zoom;
+    s.pan = [cx - (cx - s.pan[0]) * k, cy - (cy - s.pan[1]) * k];
+    s.zoom *= k;
+    this.fitted = false;
     this.draw();
   }
   // The image pixel under a canvas position (CSS pixels), or null outside.
@@ -197,6 +251,7 @@ class Viewer {
     gl.uniform1i(u('colorA'), this.a.color && this.lutReady ? 1 : 0);
     gl.uniform1i(u('colorB'), b && b.color && this.lutReady ? 1 : 0);
     gl.uniform1i(u('mode'), b ? s.mode : 0);
+    gl.uniform1i(u('film'), s.film ? 1 : 0);
     gl.uniform1i(u('isolate'), s.isolate);
     gl.uniform1i(u('falseColor'), s.falseColor);
     gl.uniform1f(u('gain'), s.gain);
@@ -207,6 +262,7 @@ class Viewer {
     gl.uniform2f(u('pan'), s.pan[0], s.pan[1]);
     gl.uniform1f(u('zoom'), s.zoom);
     gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4);
+    if (this.onDraw) this.onDraw();
   }
 }
 
@@ -222,6 +278,13 @@ const page = window.workbench = {  // window.workbench: for scripts and the brow
   generation: 0,          // the newest change this page asked for
   shown: { a: null, b: null },
   history: [],
+  plan: null,             // GET /api/graph, as last drawn
+  controlsBuilt: 0,       // how many times the controls were made (a change from older ones is dropped)
+  snapshots: [],          // pinned images of A: {label, image}, newest first
+  snapshotB: null,        // the snapshot shown as B, if one is
+  rect: null,             // the statistics rectangle in image pixels [x0, y0, x1, y1), if any
+  rectStats: null,        // its statistics (for scripts and the browser test)
+  graphFit: true,         // the graph fitted to its panel, else at its natural size
 };
 
 function setStatus(text, error = false) {
@@ -283,7 +346,10 @@ function control(key, spec, onChange) {
     div.append(input);
   }
   input.setAttribute('aria-label', spec.label);
-  input.addEventListener('change', () => onChange(read(), div));
+  // A control replaced (the settings read again after a reconnect) is dead: a typed value it
+  // still held must not reach the server when the browser commits it on removal.
+  const built = page.controlsBuilt;
+  input.addEventListener('change', () => { if (built === page.controlsBuilt) onChange(read(), div); });
   if (spec.doc) {
     const doc = document.createElement('div');
     doc.className = 'doc';
@@ -311,13 +377,17 @@ async function change(body, key, div) {
 }
 
 function buildControls(params) {
+  page.controlsBuilt += 1;
   const cvars = $('cvars');
   cvars.textContent = '';
   for (const c of params.cvars.filter((c) => c.inChain && c.emulated !== false)) {
     const key = `cvar:${c.name}`;
     if (!page.initial.has(key)) page.initial.set(key, c.value);
-    cvars.append(control(key, { ...c, label: c.name }, (v, div) => change({ cvars: { [c.name]: v } }, key, div)));
+    const div = control(key, { ...c, label: c.name }, (v, d) => change({ cvars: { [c.name]: v } }, key, d));
+    div.append(Object.assign(document.createElement('div'), { className: 'shadow-note' }));
+    cvars.append(div);
   }
+  markShadowed(params);
   const passes = $('passes');
   passes.textContent = '';
   for (const p of params.passes) {
@@ -341,10 +411,25 @@ function buildControls(params) {
   $('frame-row').hidden = params.frames.length < 2;
 }
 
+// A cvar whose parameter the config's params (or a set) fix wherever it reaches does nothing:
+// said beside its slider, with what wins.
+function markShadowed(params) {
+  for (const c of params.cvars) {
+    const div = document.querySelector(`.param[data-key="cvar:${CSS.escape(c.name)}"]`);
+    if (!div) continue;
+    const note = div.querySelector('.shadow-note');
+    div.classList.toggle('shadowed', !!c.shadowedBy);
+    note.textContent = c.shadowedBy ? `no effect: ${c.shadowedBy.join(', ')} sets it and wins` : '';
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
-// The chain as a graph: columns by depth, output ports clickable
+// The chain as a graph: layered top to bottom (a pass below everything it reads), a layer
+// wider than the panel wrapped onto more rows, each layer ordered by where its sources are (fewer
+// crossings); every name fits its box; output ports clickable, marked colour or data.
 
 function buildGraph(plan) {
+  page.plan = plan;
   const svgNS = 'http://www.w3.org/2000/svg';
   const el = (tag, attrs, parent) => {
     const e = document.createElementNS(svgNS, tag);
@@ -352,64 +437,104 @@ function buildGraph(plan) {
     parent.append(e);
     return e;
   };
-  const depth = new Map();
-  const captures = new Set();
+  const sourceOf = (ref) => (ref.startsWith('capture:') ? 'capture:' : ref.split('.')[0]);
+  const reads = plan.steps.flatMap((s) => Object.values(s.inputs)).filter((r) => r.startsWith('capture:'));
+  const nodes = [];
+  if (reads.length)
+    nodes.push({ id: 'capture:', label: 'capture', capture: true, rank: 0, sources: [],
+                 outputs: [...new Set(reads.map((r) => r.slice(8)))].sort() });
+  const byId = new Map(nodes.map((n) => [n.id, n]));
   for (const s of plan.steps) {
-    let d = 1;
-    for (const src of Object.values(s.inputs)) {
-      if (src.startsWith('capture:')) captures.add(src.slice(8));
-      else d = Math.max(d, (depth.get(src.split('.')[0]) ?? 0) + 1);
-    }
-    depth.set(s.name, d);
+    const sources = [...new Set(Object.values(s.inputs).map(sourceOf))];
+    const rank = Math.max(1, ...sources.map((id) => (byId.get(id)?.rank ?? 0) + 1));
+    const n = { ...s, id: s.name, label: s.name, sources, rank };
+    nodes.push(n);
+    byId.set(n.id, n);
   }
-  const columns = [[...captures].map((c) => ({ name: c, capture: true, outputs: [c] }))];
-  for (const s of plan.steps) (columns[depth.get(s.name)] ||= []).push(s);
-  const culled = (plan.culled || []).map((c) => ({ name: c.name, type: c.type, culled: true, outputs: [], reason: c.reason }));
-  if (culled.length) columns.push(culled);
-  const colW = 150, rowH = 12, pad = 8;
+  const lastRank = Math.max(0, ...nodes.map((n) => n.rank)) + 1;
+  for (const c of plan.culled || [])
+    nodes.push({ id: c.name, label: c.name, culled: true, reason: c.reason, rank: lastRank, sources: [], outputs: [] });
+  const subtitle = (n) => {
+    if (n.capture) return 'the buffers the chain reads';
+    if (n.culled) return `culled: ${n.reason}`;
+    const time = plan.times?.[n.id];
+    return [n.device, time?.ms !== undefined ? `${time.ms.toFixed(1)} ms` : '', time?.reused ? 'reused' : ''].filter(Boolean).join(' · ');
+  };
+  // Box width: the longest line of any node (10 px text, about 6.2 px a letter).
+  const charW = 6.2, rowH = 12, pad = 8;
+  const letters = (n) => Math.max(n.label.length, subtitle(n).length, ...n.outputs.map((o) => o.length + 4));
+  const nodeW = Math.ceil(Math.max(110, ...nodes.map((n) => letters(n) * charW + 10)));
+  const panel = $('graph').clientWidth || 320;
+  const perRow = page.graphFit ? Math.max(1, Math.floor((panel - pad) / (nodeW + pad))) : Infinity;
   const pos = new Map();
-  let height = 0;
-  columns.forEach((col, ci) => {
-    let y = pad;
-    for (const n of col || []) {
-      const h = 30 + rowH * n.outputs.length;
-      pos.set(n.name, { x: pad + ci * colW, y, h });
-      y += h + pad;
-    }
-    height = Math.max(height, y);
-  });
-  const svg = document.createElementNS(svgNS, 'svg');
-  svg.setAttribute('viewBox', `0 0 ${pad + columns.length * colW} ${height}`);
-  svg.setAttribute('width', pad + columns.length * colW);  // natural size: the panel scrolls
-  svg.setAttribute('height', height);
-  for (const s of plan.steps) {
-    const to = pos.get(s.name);
-    for (const src of Object.values(s.inputs)) {
-      const from = pos.get(src.startsWith('capture:') ? src.slice(8) : src.split('.')[0]);
-      if (!from) continue;
-      const x0 = from.x + colW - 20, y0 = from.y + 12, x1 = to.x, y1 = to.y + 12;
-      el('path', { d: `M${x0},${y0} C${x0 + 20},${y0} ${x1 - 20},${y1} ${x1},${y1}` }, svg);
+  let y = pad, widest = 1;
+  for (let rank = 0; rank <= lastRank; ++rank) {
+    const meanX = (n) => {
+      const xs = n.sources.map((id) => pos.get(id)?.x).filter((x) => x !== undefined);
+      return xs.length ? xs.reduce((a, b) => a + b, 0) / xs.length : 0;
+    };
+    const members = nodes.filter((n) => n.rank === rank).sort((a, b) => meanX(a) - meanX(b));
+    for (let i = 0; i < members.length; i += perRow) {
+      const row = members.slice(i, i + perRow);
+      let h = 0;
+      row.forEach((n, k) => {
+        const nh = 30 + rowH * n.outputs.length;
+        pos.set(n.id, { x: pad + k * (nodeW + pad), y, h: nh });
+        h = Math.max(h, nh);
+      });
+      widest = Math.max(widest, row.length);
+      y += h + 3 * pad;  // room for the edges into the next row
     }
   }
-  for (const col of columns) for (const n of col || []) {
-    const p = pos.get(n.name);
-    const time = plan.times?.[n.name];
-    const g = el('g', { class: `node${n.capture ? ' capture' : ''}${n.device === 'cuda' ? ' gpu' : ''}${n.culled ? ' culled' : ''}${time?.reused ? ' reused' : ''}`, 'data-pass': n.name }, svg);
-    el('rect', { x: p.x, y: p.y, width: colW - 20, height: p.h }, g);
-    el('text', { x: p.x + 4, y: p.y + 12, 'font-weight': 'bold' }, g).textContent = n.name;
-    const sub = n.capture ? 'capture' : n.culled ? `culled: ${n.reason}` : `${n.device}${time ? ` · ${time.reused ? 'reused' : time.ms.toFixed(1) + ' ms'}` : ''}`;
-    const t = el('text', { x: p.x + 4, y: p.y + 24, class: 'time' }, g);
-    t.textContent = sub.length > 28 ? sub.slice(0, 27) + '…' : sub;
-    if (n.culled) { const title = el('title', {}, g); title.textContent = n.reason; }
+  const width = pad + widest * (nodeW + pad);
+  const svg = document.createElementNS(svgNS, 'svg');
+  svg.setAttribute('viewBox', `0 0 ${width} ${y}`);
+  // Wider than the panel only when one box is: then scaled to fit, or at its natural size.
+  svg.setAttribute('width', page.graphFit ? Math.min(width, panel) : width);
+  svg.setAttribute('height', page.graphFit ? y * Math.min(1, panel / width) : y);
+  for (const n of nodes) {
+    const to = pos.get(n.id);
+    for (const id of n.sources) {
+      const from = pos.get(id);
+      if (!from) continue;
+      const x0 = from.x + nodeW / 2, y0 = from.y + from.h, x1 = to.x + nodeW / 2, y1 = to.y;
+      const bend = Math.max(12, (y1 - y0) / 2);
+      el('path', { d: `M${x0},${y0} C${x0},${y0 + bend} ${x1},${y1 - bend} ${x1},${y1}` }, svg);
+    }
+  }
+  for (const n of nodes) {
+    const p = pos.get(n.id);
+    const time = plan.times?.[n.id];
+    const g = el('g', { class: `node${n.capture ? ' capture' : ''}${n.device === 'cuda' ? ' gpu' : ''}${n.culled ? ' culled' : ''}${time?.reused ? ' reused' : ''}`, 'data-pass': n.id }, svg);
+    el('rect', { x: p.x, y: p.y, width: nodeW, height: p.h }, g);
+    el('text', { x: p.x + 5, y: p.y + 12, 'font-weight': 'bold' }, g).textContent = n.label;
+    el('text', { x: p.x + 5, y: p.y + 24, class: 'time' }, g).textContent = subtitle(n);
+    if (n.culled) el('title', {}, g).textContent = n.reason;
     n.outputs.forEach((o, i) => {
-      const name = n.capture ? o : `${n.name}.${o}`;
-      const port = el('text', { x: p.x + 10, y: p.y + 36 + i * rowH, class: 'port', 'data-buffer': name }, g);
-      port.textContent = n.capture ? '▸ show' : `▸ ${o}`;
+      const name = n.capture ? o : `${n.id}.${o}`;
+      const kind = plan.kinds?.[name] || 'data';
+      const port = el('text', { x: p.x + 10, y: p.y + 36 + i * rowH, class: `port ${kind}`, 'data-buffer': name }, g);
+      port.textContent = `${kind === 'data' ? '▹' : '▸'} ${o}`;
+      el('title', {}, port).textContent = `${name}: ${{ colour: 'colour (drawn through the view)', display: 'display-referred (drawn as it is)', data: 'data (drawn as it is)' }[kind]}; click: A, shift-click: B`;
       port.addEventListener('click', (ev) => selectBuffer(ev.shiftKey ? 'b' : 'a', name));
     });
   }
   $('graph').replaceChildren(svg);
   markShownPorts();
+}
+
+// A and B named on the image, with how each is drawn; the one on screen stands out.
+function showLabels() {
+  const v = page.viewer, mode = $('mode').value;
+  const view = $('view').selectedOptions[0]?.text || '';
+  const how = (img) => (!img ? '' : img.color ? ` · colour, via ${view}` : ' · as it is');
+  $('label-a').textContent = `A  ${page.shown.a || ''}${how(v?.a)}`;
+  const b = page.snapshotB ? `snapshot: ${page.snapshotB.label}` : page.shown.b;
+  $('label-b').textContent = b ? `B  ${b}${how(v?.b)}` : '';
+  $('label-a').title = $('label-b').title = 'colour is drawn through the view; data and display-referred images as they are';
+  $('label-b').hidden = !b;
+  $('label-a').classList.toggle('active', mode !== 'b');
+  $('label-b').classList.toggle('active', !!b && mode !== 'a');
 }
 
 function markShownPorts() {
@@ -426,12 +551,16 @@ function buildReport(report) {
   if (!report) return;
   for (const p of report.passes) {
     const tr = body.insertRow();
+    // A reused pass shows the time of the run that made its outputs, marked.
+    const last = p.reused ? report.lastExecuted?.[p.name] : null;
     tr.className = p.reused ? 'reused' : '';
     tr.insertCell().textContent = p.name;
     const ms = tr.insertCell();
     ms.className = 'num';
-    ms.textContent = p.reused ? '–' : (p.seconds * 1e3).toFixed(2);
-    tr.insertCell().textContent = p.reused ? 'reused' : '';
+    ms.textContent = p.reused ? (last ? last.ms.toFixed(2) : '–') : (p.seconds * 1e3).toFixed(2);
+    const note = tr.insertCell();
+    note.textContent = p.reused ? 'reused' : '';
+    if (last) note.title = `outputs of change ${last.generation}, which ran it in ${last.ms.toFixed(2)} ms`;
   }
   $('timing').textContent = `frame ${report.frame}: ${report.wallMs.toFixed(1)} ms wall, ` +
     `${report.executedSteps} run, ${report.reusedSteps} reused`;
@@ -509,9 +638,11 @@ function restore(entry) {
 // Buffers
 
 async function selectBuffer(which, name) {
+  if (which === 'b') showSnapshotAsB(null);
   page.shown[which] = name;
   $(`buffer-${which}`).value = name;
   markShownPorts();
+  showLabels();
   await loadShown(which);
 }
 
@@ -523,7 +654,10 @@ async function loadShown(which) {
     const image = await fetchBuffer(name);
     if (page.shown[which] !== name) return;  // another was chosen meanwhile
     const fetched = performance.now();
-    if (which === 'a') page.viewer.setA(image); else page.viewer.setB(image);
+    if (which === 'a') page.viewer.setA(image);
+    else if (!page.snapshotB) page.viewer.setB(image);
+    showLabels();
+    statistics();
     page.viewer.gl.finish();
     if (which === 'a' && page.pending && image.generation >= page.pending.generation) {
       page.timings.push({ ...page.pending, fetchStart: start, fetched, drawn: performance.now(), bytes: image.data.byteLength });
@@ -532,6 +666,88 @@ async function loadShown(which) {
   } catch (e) {
     setStatus(`${name}: ${e.message}`, true);
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Snapshots: any buffer of any earlier setting, kept on the page to compare against as B.
+
+function pinA() {
+  const v = page.viewer;
+  if (!v.a) return;
+  const label = `${v.a.name} · change ${v.a.generation} · ${settingsLabel(page.params.settings)}`;
+  page.snapshots.unshift({ label, image: { ...v.a, name: `snapshot ${page.snapshots.length + 1}` } });
+  page.snapshots.length = Math.min(page.snapshots.length, 12);
+  listSnapshots();
+}
+
+function showSnapshotAsB(snapshot) {
+  const had = page.snapshotB;
+  page.snapshotB = snapshot;
+  if (had && !snapshot) page.viewer.setB(null);
+  if (snapshot) {
+    page.shown.b = null;
+    $('buffer-b').value = '';
+    page.viewer.setB(snapshot.image);
+    markShownPorts();
+  }
+  listSnapshots();
+  showLabels();
+  statistics();
+}
+
+function listSnapshots() {
+  const list = $('snapshots');
+  list.textContent = '';
+  for (const s of page.snapshots) {
+    const li = document.createElement('li');
+    li.textContent = s.label;
+    li.classList.toggle('as-b', s === page.snapshotB);
+    const asB = Object.assign(document.createElement('button'), { type: 'button', textContent: 'as B' });
+    asB.addEventListener('click', () => showSnapshotAsB(s));
+    const drop = Object.assign(document.createElement('button'), { type: 'button', textContent: '×', title: 'forget it' });
+    drop.addEventListener('click', () => {
+      page.snapshots = page.snapshots.filter((x) => x !== s);
+      if (page.snapshotB === s) showSnapshotAsB(null); else listSnapshots();
+    });
+    li.append(asB, drop);
+    list.append(li);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Statistics over a rectangle (shift-drag): A's mean per channel, and the RMSE of A against B.
+
+function statistics() {
+  const v = page.viewer, r = page.rect, a = v.a;
+  if (!r || !a) { page.rectStats = null; $('rect-stats').textContent = ''; return; }
+  const [x0, y0, x1, y1] = r;
+  const n = a.channels.length, count = (x1 - x0) * (y1 - y0);
+  const mean = new Array(n).fill(0);
+  const b = v.b && v.b.width === a.width && v.b.height === a.height && v.b.channels.length === n ? v.b : null;
+  let squared = 0;
+  for (let y = y0; y < y1; ++y)
+    for (let x = x0; x < x1; ++x) {
+      const i = (y * a.width + x) * n;
+      for (let c = 0; c < n; ++c) {
+        mean[c] += a.data[i + c];
+        if (b) squared += (a.data[i + c] - b.data[i + c]) ** 2;
+      }
+    }
+  for (let c = 0; c < n; ++c) mean[c] /= count;
+  const rmse = b ? Math.sqrt(squared / (count * n)) : null;
+  page.rectStats = { rect: r, pixels: count, mean, rmse };
+  const means = a.channels.map((c, k) => `${c}=${mean[k].toPrecision(6)}`).join(' ');
+  $('rect-stats').textContent = `rectangle ${x0},${y0}–${x1 - 1},${y1 - 1} (${count} pixels): A mean ${means}` +
+    (b ? `; RMSE of A against B ${rmse.toPrecision(6)}` : b === null && v.b ? '; B differs in size or channels: no RMSE' : '');
+}
+
+// The rectangle's outline, kept on its pixels as the image is zoomed and panned.
+function placeRect() {
+  const r = page.rect, box = $('rect'), s = page.viewer.state;
+  box.hidden = !r;
+  if (!r) return;
+  Object.assign(box.style, { left: `${s.pan[0] + r[0] * s.zoom}px`, top: `${s.pan[1] + r[1] * s.zoom}px`,
+    width: `${(r[2] - r[0]) * s.zoom}px`, height: `${(r[3] - r[1]) * s.zoom}px` });
 }
 
 function probe(ev) {
@@ -561,6 +777,7 @@ async function refresh() {
   const images = Promise.all(['a', 'b'].map((w) => (isPassOutput(page.shown[w]) || !page.viewer[w] ? loadShown(w) : null)));
   const [params, plan, report] = await Promise.all([getJSON('/api/params'), getJSON('/api/graph'), getJSON('/api/report')]);
   page.params = params;
+  markShadowed(params);
   buildGraph(plan);
   buildReport(report);
   $('frame-label').textContent = `frame ${params.frame}`;
@@ -569,8 +786,45 @@ async function refresh() {
   return report;
 }
 
+// The connection as the page shows it: open, lost (the server stopped or the network went), and
+// back. EventSource reconnects by itself; once back, the page reads the settings and the last run
+// again, so the controls show what the server runs (a restarted server starts as loaded).
+function setConnection(state, text = '') {
+  document.body.dataset.connection = state;
+  $('connection').textContent = text;
+  $('connection').className = `connection ${state}`;
+}
+
+async function resync() {
+  const params = await getJSON('/api/params');
+  page.params = params;
+  buildControls(params);
+  const report = await refresh();
+  const s = await getJSON('/api/status');
+  // A restarted server counts its changes from 1 again.
+  page.generation = s.requested;
+  page.pending = null;
+  if (report) document.body.dataset.generation = report.generation;
+  return s;
+}
+
 function listen() {
   const events = new EventSource('/api/events');
+  events.onerror = () => {
+    if (document.body.dataset.connection !== 'lost')
+      setConnection('lost', 'lost the server: it stopped or cannot be reached; reconnecting…');
+  };
+  events.onopen = async () => {
+    if (document.body.dataset.connection !== 'lost') return setConnection('open');
+    try {
+      const s = await resync();
+      setConnection('open', "reconnected: the controls show the server's settings");
+      if (s.status === 'error') setStatus(`the server's last run failed: ${s.message}`, true);
+      else setStatus('ready');
+    } catch (e) {
+      setConnection('lost', `reconnected, but: ${e.message}`);
+    }
+  };
   events.onmessage = async (msg) => {
     const e = JSON.parse(msg.data);
     if (e.type === 'pass') {
@@ -625,12 +879,24 @@ async function main() {
 
   const display = displays.displays.find((d) => d.display === displays.defaultDisplay) || displays.displays[0];
   for (const v of display?.views || []) $('view').append(new Option(v, v));
+  // Beside the OCIO views: Unreal 4.27's filmic tonemapper (its defaults), as a viewport shows.
+  const FILM = 'ue4.27-film';
+  $('view').append(new Option('UE 4.27 film', FILM));
   $('view').value = display?.defaultView || '';
   const loadLut = async () => {
     try {
-      const table = new Float32Array(await (await api(`/api/lut?view=${encodeURIComponent($('view').value)}`)).arrayBuffer());
-      viewer.setLut(table);
+      if ($('view').value === FILM) {
+        const res = await api('/api/film-cube');
+        viewer.setFilmCube(new Float32Array(await res.arrayBuffer()), +res.headers.get('X-Size'),
+          +res.headers.get('X-Log2-Min'), +res.headers.get('X-Log2-Max'));
+        viewer.state.film = 1;
+      } else {
+        const table = new Float32Array(await (await api(`/api/lut?view=${encodeURIComponent($('view').value)}`)).arrayBuffer());
+        viewer.setLut(table);
+        viewer.state.film = 0;
+      }
       viewer.lutReady = true;
+      showLabels();
     } catch (e) {
       viewer.lutReady = false;
       setStatus(`view ${$('view').value}: ${e.message}`, true);
@@ -643,7 +909,7 @@ async function main() {
   // Viewer controls: nothing here asks the server anything.
   const state = viewer.state;
   const modes = { a: 0, b: 1, wipe: 2, diff: 3 };
-  $('mode').addEventListener('change', () => { state.mode = modes[$('mode').value]; viewer.draw(); });
+  $('mode').addEventListener('change', () => { state.mode = modes[$('mode').value]; showLabels(); viewer.draw(); });
   $('exposure').addEventListener('input', () => {
     state.gain = 2 ** +$('exposure').value;
     $('exposure-value').textContent = (+$('exposure').value).toFixed(1);
@@ -689,6 +955,7 @@ async function main() {
   $('false-color').addEventListener('change', () => { if (state.falseColor) autoMax(); });
   $('wipe').addEventListener('input', () => { state.wipe = +$('wipe').value; viewer.draw(); });
   const flip = () => {
+    if (page.snapshotB) return setStatus('a snapshot is compared as B only: show a buffer as B to flip');
     [page.shown.a, page.shown.b] = [page.shown.b || page.shown.a, page.shown.a];
     [viewer.a, viewer.b] = [viewer.b || viewer.a, viewer.a];
     $('buffer-a').value = page.shown.a;
@@ -696,33 +963,85 @@ async function main() {
     if (viewer.a) viewer.upload(0, 'imgA', viewer.a);
     if (viewer.b) viewer.upload(1, 'imgB', viewer.b);
     markShownPorts();
+    showLabels();
     viewer.draw();
   };
   $('flip').addEventListener('click', flip);
-  document.addEventListener('keydown', (e) => { if (e.key === 'f' && e.target.tagName !== 'INPUT') flip(); });
   $('fit').addEventListener('click', () => viewer.fit());
+  // tev's keys (docs/serve.md), wherever the focus is except in a field that takes text.
+  const setSelect = (id, value) => { $(id).value = value; $(id).dispatchEvent(new Event('change')); };
+  const exposeBy = (stops) => {
+    const e = $('exposure');
+    e.value = Math.max(+e.min, Math.min(+e.max, +e.value + stops));
+    e.dispatchEvent(new Event('input'));
+  };
+  const channelKey = (isolate) => setSelect('channel', String(state.isolate === isolate ? 0 : isolate));
+  const keys = {
+    e: () => exposeBy(0.5), E: () => exposeBy(-0.5),
+    r: () => channelKey(1), g: () => channelKey(2), b: () => channelKey(3), a: () => channelKey(4),
+    l: () => channelKey(5),
+    f: () => viewer.fit(), '+': () => viewer.zoomBy(1.25), '=': () => viewer.zoomBy(1.25),
+    '-': () => viewer.zoomBy(0.8), 0: () => viewer.zoomBy(1, undefined, undefined, 1),
+    1: () => setSelect('mode', 'a'), 2: () => setSelect('mode', 'b'), d: () => setSelect('mode', 'diff'),
+    w: () => setSelect('mode', 'wipe'), x: flip, p: pinA,
+  };
+  const takesText = (el) => el.isContentEditable || el.tagName === 'TEXTAREA' ||
+    (el.tagName === 'INPUT' && !['range', 'checkbox', 'radio', 'button'].includes(el.type));
+  document.addEventListener('keydown', (e) => {
+    if (e.ctrlKey || e.metaKey || e.altKey || takesText(e.target)) return;
+    const action = keys[e.key];
+    if (!action) return;
+    e.preventDefault();  // a focused select's type-ahead would change it too
+    action();
+  });
   const canvas = $('canvas');
   canvas.addEventListener('wheel', (e) => {
     e.preventDefault();
     const rect = canvas.getBoundingClientRect();
     const cx = e.clientX - rect.left, cy = e.clientY - rect.top;
-    const k = e.deltaY < 0 ? 1.25 : 0.8;
-    state.pan = [cx - (cx - state.pan[0]) * k, cy - (cy - state.pan[1]) * k];
-    state.zoom *= k;
-    viewer.draw();
+    viewer.zoomBy(e.deltaY < 0 ? 1.25 : 0.8, cx, cy);
   }, { passive: false });
   let drag = null;
-  canvas.addEventListener('mousedown', (e) => { drag = [e.clientX, e.clientY]; });
-  window.addEventListener('mouseup', () => { drag = null; });
+  // Drag pans; shift-drag draws the statistics rectangle (a click without a drag clears it).
+  let corner = null;
+  const pixelUnder = (e, round) => {
+    const rect = canvas.getBoundingClientRect();
+    const x = (e.clientX - rect.left - state.pan[0]) / state.zoom, y = (e.clientY - rect.top - state.pan[1]) / state.zoom;
+    const clampTo = (v, hi) => Math.max(0, Math.min(hi, round(v)));
+    return [clampTo(x, viewer.a.width), clampTo(y, viewer.a.height)];
+  };
+  canvas.addEventListener('mousedown', (e) => {
+    if (e.shiftKey && viewer.a) corner = pixelUnder(e, Math.floor);
+    else drag = [e.clientX, e.clientY];
+  });
+  window.addEventListener('mouseup', (e) => {
+    if (corner) {
+      const end = pixelUnder(e, Math.ceil);
+      const r = [Math.min(corner[0], end[0]), Math.min(corner[1], end[1]), Math.max(corner[0] + 1, end[0]), Math.max(corner[1] + 1, end[1])];
+      page.rect = r[2] - r[0] > 1 || r[3] - r[1] > 1 ? r : null;
+      corner = null;
+      placeRect();
+      statistics();
+    }
+    drag = null;
+  });
+  viewer.onDraw = placeRect;
+  $('pin').addEventListener('click', pinA);
   canvas.addEventListener('mousemove', (e) => {
     if (drag) {
       state.pan = [state.pan[0] + e.clientX - drag[0], state.pan[1] + e.clientY - drag[1]];
       drag = [e.clientX, e.clientY];
+      viewer.fitted = false;
       viewer.draw();
     }
     probe(e);
   });
 
+  $('graph-fit').addEventListener('click', () => {
+    page.graphFit = !page.graphFit;
+    $('graph-fit').textContent = page.graphFit ? 'one row per layer' : 'fit the panel';
+    buildGraph(page.plan);
+  });
   $('breakdown').addEventListener('click', breakdown);
   $('frame').addEventListener('change', () => change({ frame: page.params.frames[+$('frame').value] }));
   $('export-config').addEventListener('click', async () => {
@@ -746,8 +1065,15 @@ async function main() {
 
   listen();
   const report = await refresh();
-  setStatus(report ? 'ready' : 'running the first frame…');
-  if (report) document.body.dataset.generation = report.generation;
+  if (report) {
+    setStatus('ready');
+    document.body.dataset.generation = report.generation;
+  } else {
+    // No run has finished: the first is running, or it failed (a missing capture, say).
+    const s = await getJSON('/api/status');
+    if (s.status === 'error') setStatus(`the first frame failed: ${s.message}`, true);
+    else setStatus('running the first frame…');
+  }
 }
 
 main().catch((e) => setStatus(e.message, true));

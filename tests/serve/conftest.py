@@ -74,6 +74,32 @@ def config(capture):
     return path
 
 
+def variant(config, name, change):
+    """A copy of `config` changed by `change(json)`, written as SCRATCH/NAME.json."""
+    with open(config) as f:
+        j = json.load(f)
+    change(j)
+    path = os.path.join(SCRATCH, name + ".json")
+    with open(path, "w") as f:
+        json.dump(j, f)
+    return path
+
+
+@pytest.fixture(scope="session")
+def missing_capture_config(config):
+    """The config on a capture that does not exist: the workbench starts, its first frame fails."""
+    return variant(config, "missing_capture",
+                   lambda j: j.update(capture=os.path.join(SCRATCH, "no_such_capture.exr")))
+
+
+@pytest.fixture(scope="session")
+def pinned_quality_config(config):
+    """The config with ssgi's quality fixed by its params (3): r.SSGI.Quality has no effect."""
+    def pin(j):
+        next(p for p in j["passes"] if p["name"] == "ssgi")["params"] = {"quality": 3}
+    return variant(config, "pinned_quality", pin)
+
+
 @pytest.fixture(scope="session")
 def server(config, capture):
     s = Server(config, capture)

@@ -149,11 +149,15 @@ def test_events_stream_progress(server):
     lines = []
     opened = threading.Event()
 
+    done = threading.Event()
+
     def read():  # every line of the stream, until the test ends (a daemon thread)
         with urllib.request.urlopen(server.url + "api/events", timeout=60) as r:
             opened.set()
             for raw in r:
                 lines.append(raw.decode())
+                if done.is_set():
+                    break  # closes the stream: the server frees its place
 
     threading.Thread(target=read, daemon=True).start()
     assert opened.wait(10)
@@ -166,6 +170,7 @@ def test_events_stream_progress(server):
         if mine and mine[-1]["type"] == "frame":
             break
         time.sleep(0.05)
+    done.set()
     assert any(e["type"] == "pass" and e["pass"] == "display" for e in mine)
     assert mine[-1]["type"] == "frame" and mine[-1]["executed"] >= 1
 
@@ -345,3 +350,119 @@ def test_a_display_output_is_drawn_as_it_is(server):
     assert status == 200 and headers["X-Color"] == "0"
     status, headers, _ = server.request("GET", "/api/buffer/diffuse_indirect_composite.color?format=raw")
     assert status == 200 and headers["X-Color"] == "1"
+
+
+def test_idle_event_streams_and_connections_leave_requests_answered(server):
+    """32 open event streams (the most served) and 16 connections that send nothing hold threads
+    of their own: a request is still answered at once. A 33rd stream is refused with 503."""
+    import socket
+
+    port = int(server.url.rsplit(":", 1)[1].strip("/"))
+
+    def connect():
+        return socket.create_connection(("127.0.0.1", port), timeout=10)
+
+    def open_streams():
+        opened = []
+        for _ in range(32):
+            s = connect()
+            s.sendall(f"GET /api/events HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n\r\n".encode())
+            opened.append(s)
+        if all(s.recv(12) == b"HTTP/1.1 200" for s in opened):
+            return opened
+        for s in opened:
+            s.close()
+        return None
+
+    # An earlier test's stream may still be closing (a stream notices a closed client at its
+    # next keep-alive, once a second).
+    streams = None
+    for _ in range(20):
+        streams = open_streams()
+        if streams:
+            break
+        time.sleep(0.5)
+    assert streams, "32 event streams could not be opened"
+    try:
+        idle = [connect() for _ in range(16)]
+        streams += idle
+        # An idle connection holds a thread until the read timeout (2 s): answered sooner than
+        # that, the request did not wait for one to give up.
+        start = time.monotonic()
+        status, params = server.json("GET", "/api/params")
+        assert status == 200 and params["cvars"] and time.monotonic() - start < 1.5
+        status, body = server.json("GET", "/api/events")
+        assert status == 503 and "32 event streams" in body["error"]
+    finally:
+        for s in streams:
+            s.close()
+    # Closed streams free their places (the stream notices at its next keep-alive, within 1 s).
+    reopened = None
+    for _ in range(100):
+        try:
+            with urllib.request.urlopen(server.url + "api/events", timeout=10) as r:
+                reopened = r.status
+                break
+        except urllib.error.HTTPError as e:
+            reopened = e.code
+            time.sleep(0.1)
+    assert reopened == 200
+
+
+def test_status_reads_while_a_run_is_in_flight(server):
+    status, queued = server.json("PUT", "/api/params?wait=0", {"set": {"ssgi.rays": 12}})
+    assert status == 202
+    status, s = server.json("GET", "/api/status")
+    assert status == 200 and s["requested"] >= queued["generation"]
+    assert s["status"] in ("done", "cancelled", "error")
+    buffer(server, SOURCE_PORT)
+    status, s = server.json("GET", "/api/status")
+    assert s["finished"] == s["requested"] and s["status"] == "done"
+
+
+def wait_for_first_frame(s):
+    for _ in range(1200):
+        st = s.json("GET", "/api/status")[1]
+        if st["finished"] >= 1:
+            return st
+        time.sleep(0.05)
+    raise AssertionError(f"no frame finished: {st}")
+
+
+def test_a_first_frame_that_fails_is_said_and_a_pinned_cvar_is_marked(missing_capture_config,
+                                                                       pinned_quality_config):
+    """A config whose capture is missing: the server starts, and /api/status says why the first
+    frame failed. A config whose params fix ssgi's quality: r.SSGI.Quality says it has no effect,
+    naming the config's key, and reused passes keep their last executed time."""
+    from conftest import Server
+
+    s = Server(missing_capture_config, None)
+    try:
+        st = wait_for_first_frame(s)
+        assert st["status"] == "error" and "no_such_capture.exr" in st["message"], st
+        assert s.json("GET", "/api/report")[1] is None
+    finally:
+        s.stop()
+
+    s = Server(pinned_quality_config, None)
+    try:
+        cvar = {c["name"]: c for c in s.json("GET", "/api/params")[1]["cvars"]}["r.SSGI.Quality"]
+        with open(pinned_quality_config) as f:
+            ssgi = next(i for i, p in enumerate(json.load(f)["passes"]) if p["name"] == "ssgi")
+        assert cvar["shadowedBy"] == [f"/passes/{ssgi}/params/quality"] and cvar["value"] == 3
+        others = [c for c in s.json("GET", "/api/params")[1]["cvars"]
+                  if c["inChain"] and c["name"] != "r.SSGI.Quality" and c.get("passType") == "ssgi"]
+        assert others and not any("shadowedBy" in c for c in others)
+        wait_for_first_frame(s)
+        status, outcome = s.json("PUT", "/api/params", {"cvars": {"r.SSGI.Quality": 1}})
+        assert status == 200 and any("has no effect" in w["message"] for w in outcome["warnings"])
+        # Nothing changed: every pass was reused, and each keeps the time it last ran in.
+        report = outcome["report"]
+        assert report["executedSteps"] == 0
+        for p in report["passes"]:
+            assert report["lastExecuted"][p["name"]]["ms"] > 0
+            assert report["lastExecuted"][p["name"]]["generation"] < report["generation"]
+        status, graph = s.json("GET", "/api/graph")
+        assert all("ms" in t and t["reused"] for t in graph["times"].values())
+    finally:
+        s.stop()

@@ -63,6 +63,75 @@ results.timingBefore = await page.locator('#timing').textContent();
 await shot('01_loaded.png');
 const before = await canvasBytes();
 
+// 1b. Colour: display.image (display-referred) and the display's input (colour, through the
+// view) drawn on the canvas; the PNG `framepass run` wrote for the same settings read in this
+// browser with no colour conversion. test_browser.py compares them (±1).
+const imagePixels = [[10, 10], [48, 32], [70, 50], [90, 5]];
+const canvasAt = (pixels) => page.evaluate((pixels) => {
+  const v = window.workbench.viewer;
+  const c = document.createElement('canvas');
+  c.width = v.canvas.width; c.height = v.canvas.height;
+  const g = c.getContext('2d');
+  g.drawImage(v.canvas, 0, 0);
+  return pixels.map(([x, y]) => Array.from(g.getImageData(Math.floor(v.state.pan[0] + (x + 0.5) * v.state.zoom),
+    Math.floor(v.state.pan[1] + (y + 0.5) * v.state.zoom), 1, 1).data));
+}, pixels);
+const showA = async (name) => {
+  await page.selectOption('#buffer-a', name);
+  await page.waitForFunction((n) => window.workbench.viewer.a?.name === n, name, { timeout: 60000 });
+  await page.waitForTimeout(100);
+};
+const shownBefore = await page.evaluate(() => ({ ...window.workbench.shown }));
+const readPng = (file) => page.evaluate(async ([b64, pixels]) => {
+    const blob = await (await fetch(`data:image/png;base64,${b64}`)).blob();
+    const bitmap = await createImageBitmap(blob, { colorSpaceConversion: 'none', premultiplyAlpha: 'none' });
+    const c = document.createElement('canvas');
+    c.width = bitmap.width; c.height = bitmap.height;
+    const g = c.getContext('2d');
+    g.drawImage(bitmap, 0, 0);
+    return pixels.map(([x, y]) => Array.from(g.getImageData(x, y, 1, 1).data));
+  }, [fs.readFileSync(file).toString('base64'), imagePixels]);
+if (process.env.FP_RUN_PNG) {
+  results.colour = { pixels: imagePixels, png: await readPng(process.env.FP_RUN_PNG) };
+  await showA('display.image');
+  results.colour.display = await canvasAt(imagePixels);
+  results.colour.displayLabel = await page.locator('#label-a').textContent();
+  await shot('01b_display_image.png');
+  await showA('diffuse_indirect_composite.color');
+  results.colour.composite = await canvasAt(imagePixels);
+  results.colour.compositeLabel = await page.locator('#label-a').textContent();
+  // Unreal's film view against `run` with the display's tonemapper set to ue4.27-film.
+  await page.selectOption('#view', 'ue4.27-film');
+  await page.waitForFunction(() => window.workbench.viewer.state.film === 1, null, { timeout: 60000 });
+  await page.waitForTimeout(100);
+  results.colour.film = await canvasAt(imagePixels);
+  results.colour.filmPng = await readPng(process.env.FP_RUN_FILM_PNG);
+  results.colour.filmLabel = await page.locator('#label-a').textContent();
+  await shot('01c_film_view.png');
+  await page.selectOption('#view', 'Standard');
+  await page.waitForFunction(() => window.workbench.viewer.state.film === 0, null, { timeout: 60000 });
+  await showA(shownBefore.a);
+}
+results.labels = { a: await page.locator('#label-a').textContent(), b: await page.locator('#label-b').textContent() };
+
+// 1c. The graph fits its panel, and every name fits its box.
+results.graph = await page.evaluate(() => {
+  const panel = document.getElementById('graph');
+  const svg = panel.querySelector('svg');
+  const overflowing = [];
+  for (const node of panel.querySelectorAll('.node')) {
+    const box = node.querySelector('rect').getBBox();
+    for (const t of node.querySelectorAll('text'))
+      if (t.getBBox().x + t.getBBox().width > box.x + box.width + 0.5) overflowing.push(t.textContent);
+  }
+  return { panelWidth: panel.clientWidth, svgWidth: svg.getBoundingClientRect().width, overflowing };
+});
+
+// 1d. Pin what A shows at the settings as loaded (key P), to compare against after the change.
+await page.evaluate(() => document.activeElement.blur());
+await page.keyboard.press('p');
+results.snapshotLabel = await page.locator('#snapshots li').first().textContent();
+
 // 2. A slider: r.SSGI.Quality to 1. The image and the times change.
 const quality = page.locator('.param[data-key="cvar:r.SSGI.Quality"] input[type=range]');
 let g = await generation();
@@ -73,6 +142,29 @@ results.timingAfter = await page.locator('#timing').textContent();
 results.imageChanged = !(await canvasBytes()).equals(before);
 results.settings = await page.evaluate(() => window.workbench.params.settings);
 await shot('02_quality_1.png');
+
+// 2b. The snapshot as B, and statistics over a shift-dragged rectangle: A's mean and the RMSE of
+// A (quality 1) against the snapshot (quality 4, as loaded).
+await page.locator('#snapshots li button', { hasText: 'as B' }).first().click();
+results.snapshotB = await page.locator('#label-b').textContent();
+const rect = [20, 10, 44, 30];  // [x0, y0, x1, y1): pixels x0..x1-1, y0..y1-1
+const at = (x, y) => page.evaluate(([x, y]) => {
+  const v = window.workbench.viewer, r = v.canvas.getBoundingClientRect();
+  return [r.left + v.state.pan[0] + (x + 0.5) * v.state.zoom, r.top + v.state.pan[1] + (y + 0.5) * v.state.zoom];
+}, [x, y]);
+const [sx, sy] = await at(rect[0], rect[1]);
+const [ex, ey] = await at(rect[2] - 1, rect[3] - 1);
+await page.keyboard.down('Shift');
+await page.mouse.move(sx, sy);
+await page.mouse.down();
+await page.mouse.move(ex, ey, { steps: 4 });
+await page.mouse.up();
+await page.keyboard.up('Shift');
+results.rect = { asked: rect, stats: await page.evaluate(() => window.workbench.rectStats),
+                 text: await page.locator('#rect-stats').textContent() };
+await shot('02b_snapshot_rectangle.png');
+await page.selectOption('#buffer-b', 'Truth.DiffuseIndirectOneBounce');
+await page.waitForFunction(() => window.workbench.viewer.b?.name === 'Truth.DiffuseIndirectOneBounce', null, { timeout: 60000 });
 
 // 3. Wipe between A (the pass output) and B (its truth); then the difference.
 await page.selectOption('#mode', 'b');
@@ -89,6 +181,60 @@ await page.selectOption('#mode', 'a');
 await page.locator('#false-color').check();
 await shot('05_false_colour.png');
 await page.locator('#false-color').uncheck();
+
+// 3b. tev's keys with the focus on a slider (they work) and in a number field (they type).
+await page.selectOption('#mode', 'a');
+const viewState = () => page.evaluate(() => ({
+  ...window.workbench.viewer.state, fitted: window.workbench.viewer.fitted,
+  exposure: document.getElementById('exposure').value, channel: document.getElementById('channel').value,
+  mode: document.getElementById('mode').value,
+  canvas: [window.workbench.viewer.canvas.clientWidth, window.workbench.viewer.canvas.clientHeight],
+  image: [window.workbench.viewer.a.width, window.workbench.viewer.a.height],
+}));
+const keys = {};
+await quality.focus();
+const sliderBefore = await quality.inputValue();
+const press = async (key, name) => { await page.keyboard.press(key); keys[name || key] = await viewState(); };
+await press('e');
+await press('Shift+E', 'E');
+await press('r');
+await press('r', 'r again');
+await press('l');
+await press('l', 'l again');
+await press('2');
+await press('d');
+await press('1');
+await press('=', '+');
+await press('0');
+await press('-');
+keys.sliderUnchanged = (await quality.inputValue()) === sliderBefore;
+keys.focusStayed = await page.evaluate(() => document.activeElement.getAttribute('aria-label'));
+await page.locator('#breakdown-rays').focus();
+await press('e', 'e in a number field');
+keys.typed = await page.locator('#breakdown-rays').inputValue();
+await page.locator('#breakdown-rays').fill('32');
+await page.evaluate(() => document.activeElement.blur());
+await press('f');
+results.keys = keys;
+
+// 3c. Resizing: a zoomed image keeps its centre; a fitted one is fitted again.
+await page.keyboard.press('=');
+const centre = async () => page.evaluate(() => {
+  const v = window.workbench.viewer, s = v.state;
+  return [(v.canvas.clientWidth / 2 - s.pan[0]) / s.zoom, (v.canvas.clientHeight / 2 - s.pan[1]) / s.zoom];
+});
+const zoomedCentre = await centre();
+// A resize reaches the page with the next rendered frame (headless renders on demand).
+const frames = () => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+await page.setViewportSize({ width: 1000, height: 700 });
+await frames();
+results.resize = { zoomedCentreBefore: zoomedCentre, zoomedCentreAfter: await centre() };
+await shot('05b_resized_zoomed.png');
+await page.keyboard.press('f');
+await page.setViewportSize({ width: 1400, height: 860 });
+await frames();
+results.resize.fitted = await viewState();
+await shot('05c_resized_fitted.png');
 
 // 4. The pixel probe at a chosen pixel.
 const probeAt = [Math.floor(0.6 * 96), Math.floor(0.55 * 64)];
