@@ -588,9 +588,27 @@ async function breakdown() {
   out.textContent = 'taking the error apart…';
   try {
     const r = await getJSON(`/api/breakdown?rays=${+$('breakdown-rays').value}`);
-    out.textContent = r.errors.filter((e) => e.text).map((e) => `${e.name}:\n${e.text}`).join('\n') ||
-      'no error measure here compares a screen-space pass with a truth layer';
-    out.textContent += `\n(${r.rays} rays, ${(r.ms / 1000).toFixed(1)} s)`;
+    // Each measure's error as bars: every step's share of the squared error (a step that pulls
+    // toward the truth, a negative share, in grey), its RMSE in the tooltip, then the sentence.
+    out.textContent = '';
+    const taken = r.errors.filter((e) => e.decomposition);
+    for (const e of taken) {
+      const d = e.decomposition;
+      out.append(Object.assign(document.createElement('h3'), { textContent: `${e.name}: RMSE ${d.rmse.toPrecision(3)}` }));
+      for (const s of d.steps) {
+        const row = Object.assign(document.createElement('div'), { className: 'share', title: `${s.from} → ${s.to}: RMSE ${s.rmse.toPrecision(4)}, bias ${s.bias.toPrecision(3)}` });
+        const track = Object.assign(document.createElement('div'), { className: 'track' });
+        const bar = Object.assign(document.createElement('div'), { className: `bar${s.share < 0 ? ' cancels' : ''}` });
+        bar.style.width = `${Math.min(100, Math.abs(s.share) * 100)}%`;
+        track.append(bar);
+        row.append(Object.assign(document.createElement('span'), { textContent: s.name }), track,
+                   Object.assign(document.createElement('span'), { className: 'value', textContent: `${(100 * s.share).toFixed(0)} %` }));
+        out.append(row);
+      }
+      out.append(Object.assign(document.createElement('div'), { className: 'breakdown-sentence', textContent: d.sentence }));
+    }
+    if (!taken.length) out.textContent = 'no error measure here compares a screen-space pass with a truth layer';
+    out.append(Object.assign(document.createElement('div'), { textContent: `(${r.rays} rays, ${(r.ms / 1000).toFixed(1)} s)` }));
   } catch (e) {
     out.textContent = e.message;
   }

@@ -86,6 +86,11 @@ def test_a_slider_changes_the_image_and_the_times(browser_run):
 
 def test_the_error_is_taken_apart_on_the_page(browser_run):
     assert "ssgi_vs_full:" in browser_run["breakdown"] and "screen-space limit" in browser_run["breakdown"]
+    # As bars: one per step of each measure taken apart, as long as its share says.
+    bars = browser_run["breakdownBars"]
+    assert len(bars) >= 4 and any(b["name"] == "screen-space limit" for b in bars)
+    for b in bars:
+        assert abs(b["width"] - min(100, abs(float(b["value"].rstrip(" %"))))) <= 0.5 + 1e-9, b
 
 
 def test_wipe_shows_a_left_and_b_right(browser_run):

@@ -253,6 +253,8 @@ await page.locator('#breakdown-rays').fill('4');
 await page.click('#breakdown');
 await page.waitForFunction(() => /rays, .* s\)/.test(document.getElementById('breakdown-text').textContent), null, { timeout: 120000 });
 results.breakdown = await page.locator('#breakdown-text').textContent();
+results.breakdownBars = await page.evaluate(() => Array.from(document.querySelectorAll('#breakdown-text .share'),
+  (row) => ({ name: row.children[0].textContent, width: parseFloat(row.querySelector('.bar').style.width), value: row.children[2].textContent })));
 await page.locator('#breakdown-text').scrollIntoViewIfNeeded();
 await shot('07_breakdown.png');
 
