@@ -39,7 +39,9 @@ double BenchSetting::chainSeconds() const {
 }
 
 nlohmann::json ErrorDecompositionResult::toJson() const {
-    nlohmann::json j = {{"rmse", rmse}, {"bias", bias}, {"sentence", sentence}};
+    nlohmann::json j = {{"rmse", rmse}, {"bias", bias}, {"sentence", sentence},
+                        {"convergedNoiseRmse", convergedNoiseRmse},
+                        {"oracleNoiseRmse", oracleNoiseRmse}};
     j["steps"] = nlohmann::json::array();
     for (const auto& s : steps)
         j["steps"].push_back({{"name", s.name}, {"from", s.from}, {"to", s.to}, {"rmse", s.rmse},
@@ -56,8 +58,9 @@ std::string decompositionText(const ErrorDecompositionResult& d) {
                            s.name, s.rmse, s.bias, 100.0 * s.share, s.from, s.to);
         biases += s.bias;
     }
-    out += fmt::format("      the step biases add up to {:+.5g} (the total bias {:+.5g})\n",
-                       biases, d.bias);
+    out += fmt::format("      the step biases add up to {:+.5g} (the total bias {:+.5g}); the "
+                       "noise of the converged rung: RMSE {:.3g}, of the oracle: {:.3g}\n",
+                       biases, d.bias, d.convergedNoiseRmse, d.oracleNoiseRmse);
     out += "    " + d.sentence + "\n";
     return out;
 }

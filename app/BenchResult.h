@@ -44,6 +44,13 @@ struct DecompositionStepResult {
 /// Why the error is what it is: the error of an error_measure taken apart (app/ErrorBreakdown.h).
 struct ErrorDecompositionResult {
     double rmse = 0, bias = 0;  //!< of the source against the reference
+    /// The converged rung's own noise: the RMSE of its seeds' mean about the mean of infinitely
+    /// many (their standard error, over every pixel). Steps whose RMSE is not well above it are
+    /// noise as much as anything, and the sentence says so.
+    double convergedNoiseRmse = 0;
+    /// The same of the screen-space oracle's rung (two halves of its rays with two seeds, their
+    /// difference); 0 for a ray-traced ladder or an oracle of one ray.
+    double oracleNoiseRmse = 0;
     std::vector<DecompositionStepResult> steps;
     std::string sentence;  //!< which step dominates and what would reduce it
     nlohmann::json toJson() const;

@@ -10,6 +10,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace fp::app {
 
@@ -192,17 +193,52 @@ const Image& ErrorBreakdown::oracle(const std::string& port) {
             options.dumps.push_back(key);
     }
     logInfo(fmt::format("error decomposition: {} at {} rays per pixel", first.oracleType, mRays));
-    const RunSetup session(mProbe, config, options);
-    KeepingSink sink;
-    sink.keep = true;
-    mFrames.runApart(session.plan(), mFrame, sink, mFrame);
-    for (const auto& t : mTargets)
-        if (!t.oracleType.empty())
-            mOracle[t.oraclePort] = sink.images.at(std::string(kOracleNode) + "." + t.oraclePort);
+    // Two halves of the rays with two seeds, weighted by their rays: the same rays in all as
+    // one trace, and their difference measures the result's noise. Of halves A and B (a and b
+    // rays), the mean's variance is σ²/mRays for a one-ray variance σ², and A − B's is
+    // σ²(1/a + 1/b): the mean's standard error is RMSE(A − B) · sqrt(1 / (mRays (1/a + 1/b))).
+    const int halves[2] = {mRays - mRays / 2, mRays / 2};
+    std::map<std::string, Image> traced[2];
+    for (int h = 0; h < (mRays >= 2 ? 2 : 1); ++h) {
+        config.graph.nodes.front().params[first.oracleRays] = halves[h];
+        const RunSetup session(mProbe, config, options);
+        KeepingSink sink;
+        sink.keep = true;
+        mFrames.runApart(session.plan(), mFrame, sink, mFrame + h * kFrameSeeds);
+        traced[h] = std::move(sink.images);
+    }
+    for (const auto& t : mTargets) {
+        if (t.oracleType.empty())
+            continue;
+        const std::string key = std::string(kOracleNode) + "." + t.oraclePort;
+        Image mean = traced[0].at(key);
+        double squared = 0;
+        std::size_t values = 0;
+        if (mRays >= 2) {
+            const Image& other = traced[1].at(key);
+            const float wa = float(halves[0]) / float(mRays), wb = float(halves[1]) / float(mRays);
+            for (int c = 0; c < mean.channelCount(); ++c)
+                for (int y = 0; y < mean.height(); ++y)
+                    for (int x = 0; x < mean.width(); ++x, ++values) {
+                        const float a = mean.plane(c).at(x, y), b = other.plane(c).at(x, y);
+                        squared += double(a - b) * double(a - b);
+                        mean.plane(c).at(x, y) = wa * a + wb * b;
+                    }
+            const double scale = 1.0 / (double(mRays) * (1.0 / halves[0] + 1.0 / halves[1]));
+            mOracleNoise[t.oraclePort] = std::sqrt(squared / double(values) * scale);
+        }
+        mOracle[t.oraclePort] = std::move(mean);
+    }
     return mOracle.at(port);
 }
 
-std::map<std::string, Image> ErrorBreakdown::converged(const SetupOptions& setting,
+double ErrorBreakdown::oracleNoise(const std::string& port) const {
+    const auto it = mOracleNoise.find(port);
+    return it == mOracleNoise.end() ? 0.0 : it->second;
+}
+
+std::map<std::string, ErrorBreakdown::Converged> ErrorBreakdown::converged(
+    const SetupOptions& setting,
                                                         const std::string& tracerRays,
                                                         int raysPerSeed,
                                                         const Settings& extraSets,
@@ -213,6 +249,7 @@ std::map<std::string, Image> ErrorBreakdown::converged(const SetupOptions& setti
     options.settings.merge(extraSets);
     const RunSetup session(mProbe, chainWithoutOutputs(mProbe.config()), options);
     std::map<std::string, Image> sum;
+    std::map<std::string, std::vector<double>> squares;  // per value, the sum of its squares
     for (int k = 0; k < kFrameSeeds; ++k) {
         KeepingSink sink;
         sink.keep = true;
@@ -221,21 +258,37 @@ std::map<std::string, Image> ErrorBreakdown::converged(const SetupOptions& setti
             const Image& img = sink.images.at(source);
             if (k == 0) {
                 sum[source] = img;
-                continue;
+                squares[source].assign(std::size_t(img.channelCount()) * img.width() * img.height(), 0.0);
             }
             Image& s = sum.at(source);
+            std::vector<double>& sq = squares.at(source);
+            std::size_t i = 0;
             for (int c = 0; c < s.channelCount(); ++c)
                 for (int y = 0; y < s.height(); ++y)
-                    for (int x = 0; x < s.width(); ++x)
-                        s.plane(c).at(x, y) += img.plane(c).at(x, y);
+                    for (int x = 0; x < s.width(); ++x, ++i) {
+                        const double v = img.plane(c).at(x, y);
+                        sq[i] += v * v;
+                        if (k > 0) s.plane(c).at(x, y) += img.plane(c).at(x, y);
+                    }
         }
     }
-    for (auto& [source, s] : sum)
+    std::map<std::string, Converged> out;
+    for (auto& [source, s] : sum) {
+        // The seeds' unbiased variance over kFrameSeeds of the mean: its squared standard error.
+        const std::vector<double>& sq = squares.at(source);
+        double meanSquaredError = 0;
+        std::size_t i = 0;
         for (int c = 0; c < s.channelCount(); ++c)
             for (int y = 0; y < s.height(); ++y)
-                for (int x = 0; x < s.width(); ++x)
+                for (int x = 0; x < s.width(); ++x, ++i) {
+                    const double total = s.plane(c).at(x, y), n = kFrameSeeds;
+                    const double variance = std::max(0.0, (sq[i] - total * total / n) / (n - 1));
+                    meanSquaredError += variance / n;
                     s.plane(c).at(x, y) /= float(kFrameSeeds);
-    return sum;
+                }
+        out[source] = {std::move(s), std::sqrt(meanSquaredError / double(std::max<std::size_t>(i, 1)))};
+    }
+    return out;
 }
 
 void ErrorBreakdown::decompose(const SetupOptions& options,
@@ -258,7 +311,7 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
                 if (std::find(tr.sources.begin(), tr.sources.end(), t.source) == tr.sources.end())
                     tr.sources.push_back(t.source);
             }
-    std::map<std::string, Image> convergedBySource, allBouncesBySource;
+    std::map<std::string, Converged> convergedBySource, allBouncesBySource;
     // A ray-traced tracer's paths are split over the frame seeds (mRays paths in all, as the
     // screen-space tracer's converged rung averages mRays rays of each seed: its noise is the
     // seed's pattern, not only the ray count).
@@ -286,7 +339,7 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
             continue;
         const bool rayTraced = !t->tracerBounces.empty();
         const StepKind* kinds = rayTraced ? kRayTracedSteps : kSteps;
-        const Image& conv = convergedBySource.at(t->source);
+        const Image& conv = convergedBySource.at(t->source).mean;
         // The rungs: this setting's result (its last timed run), converged, then the oracle
         // (screen space) or every bounce (ray traced), then the truths.
         const Image& result = kept.at(t->source);
@@ -301,7 +354,7 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
             t->source, fmt::format("{} converged ({}.{}={}, {} frame seeds)", t->source, t->tracer,
                                    t->tracerRays, rayTraced ? raysPerSeed : mRays, kFrameSeeds)};
         if (rayTraced) {
-            const Image& all = allBouncesBySource.at(t->source);
+            const Image& all = allBouncesBySource.at(t->source).mean;
             ladder.push_back({&all, isHalf(all, reference)});
             rungNames.push_back(fmt::format("{} converged at {}.{}={}", t->source, t->tracer,
                                             t->tracerBounces, kAllBounces));
@@ -321,6 +374,8 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
         ErrorDecompositionResult d;
         d.rmse = stats.rmse;
         d.bias = stats.bias;
+        d.convergedNoiseRmse = convergedBySource.at(t->source).noiseRmse;
+        if (!rayTraced) d.oracleNoiseRmse = oracleNoise(t->oraclePort);
         std::size_t dominant = 0;
         for (std::size_t k = 0; k < stats.steps.size(); ++k) {
             d.steps.push_back({kinds[k].name, rungNames[k], rungNames[k + 1],
@@ -338,6 +393,18 @@ void ErrorBreakdown::decompose(const SetupOptions& options,
         d.sentence = fmt::format("Most of the error is {} ({:.0f} % of the squared error{}): {}.",
                                  kinds[dominant].phrase, 100.0 * stats.steps[dominant].share,
                                  cancels, kinds[dominant].remedy);
+        // The converged rung and the oracle bound the first steps: their own noise is in those
+        // steps' differences. Over a quarter of the dominant step's RMSE (a sixteenth of its
+        // squared error), it is no longer small beside what the shares apportion: say so, and
+        // what settles it.
+        const double noise = std::hypot(d.convergedNoiseRmse, d.oracleNoiseRmse);
+        const double dominantRmse = stats.steps[dominant].rmse;
+        if (noise > 0.25 * dominantRmse)
+            d.sentence += fmt::format(
+                " But with {} rays the rungs' own noise (RMSE {:.3g}) is over a quarter of the "
+                "dominant step's RMSE ({:.3g}), so the shares of the steps next to them are "
+                "partly noise: take it apart with more rays to trust them.",
+                mRays, noise, dominantRmse);
         e.decomposition = std::move(d);
     }
 }

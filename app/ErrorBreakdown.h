@@ -74,11 +74,19 @@ public:
 
 private:
     const Image& oracle(const std::string& port);
+    /// The oracle's noise of `port` (after oracle(port)); 0 with one ray (not measured).
+    double oracleNoise(const std::string& port) const;
+    /// A source averaged over the frame seeds, and the standard error of that mean: the RMSE
+    /// over every pixel and channel of sqrt(the seeds' variance / kFrameSeeds).
+    struct Converged {
+        Image mean;
+        double noiseRmse = 0;
+    };
     /// The chain with `tracerRays` ("pass.param") at mRays rays, each of `sources` averaged over
     /// the frame seeds.
     /// A ray-traced tracer takes mRays / kFrameSeeds paths per seed (mRays in all); `extraSets`
     /// change the chain further.
-    std::map<std::string, Image> converged(const SetupOptions& options,
+    std::map<std::string, Converged> converged(const SetupOptions& options,
                                            const std::string& tracerRays,
                                            int raysPerSeed,
                                            const Settings& extraSets,
@@ -90,6 +98,9 @@ private:
     int mFrame;
     FrameDriver& mFrames;
     std::map<std::string, Image> mOracle;  //!< oracle port → image, made on first use
+    /// Oracle port → the standard error of that image (RMSE over every value): the oracle is
+    /// traced as two halves of its rays with two seeds, whose difference measures it.
+    std::map<std::string, double> mOracleNoise;
 };
 
 }  // namespace fp::app

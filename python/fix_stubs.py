@@ -13,6 +13,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path = [p for p in sys.path if os.path.abspath(p or ".") != HERE]
 
 
+from framepass._signatures import parameters_text  # noqa: E402  (the built package's)
+
+
 def python_types(text):
     text = text.replace("framepass._framepass.", "")
     text = re.sub(r"numpy\.ndarray\[numpy\.float32\]", "numpy.typing.NDArray[numpy.float32]", text)
@@ -23,24 +26,12 @@ def python_types(text):
 
 def stub_signature(doc, name):
     """`(args) -> result` of pybind11's first docstring line for `name`, defaults as `...`."""
-    first = (doc or "").strip().splitlines()[0] if doc else ""
-    m = re.match(re.escape(name) + r"\((.*)\) -> (.*)$", first)
-    if not m:
+    parsed = parameters_text(doc, name)
+    if parsed is None:
         return None
-    args, result = m.groups()
-    # Split at the top-level commas (a type such as Dict[str, int] holds commas of its own).
-    parts, depth, start = [], 0, 0
-    for i, c in enumerate(args):
-        if c in "[(":
-            depth += 1
-        elif c in "])":
-            depth -= 1
-        elif c == "," and depth == 0:
-            parts.append(args[start:i])
-            start = i + 1
-    parts.append(args[start:])
+    texts, result = parsed
     out = []
-    for p in (p.strip() for p in parts if p.strip()):
+    for p in texts:
         if p.startswith("self:"):
             p = "self"
         if "=" in p:

@@ -10,7 +10,7 @@ A thin door onto framepass's application library (docs/python.md):
 from collections.abc import Iterator, Mapping
 from typing import Any, List, Union
 
-from . import _framepass
+from . import _framepass, _signatures
 from ._framepass import (  # noqa: F401
     Camera,
     Cancelled,
@@ -32,6 +32,16 @@ from ._framepass import (  # noqa: F401
 )
 
 Value = Union[bool, int, float, str]
+
+# Python functions in front of the extension's, with the signatures inspect.signature (and so
+# IDEs and help()) read: the extension's own functions carry them only in their docstrings.
+bench = _signatures.with_signature(_framepass.bench)
+compare = _signatures.with_signature(_framepass.compare)
+exr_metadata = _signatures.with_signature(_framepass.exr_metadata)
+passes = _signatures.with_signature(_framepass.passes)
+read_capture = _signatures.with_signature(_framepass.read_capture)
+read_exr = _signatures.with_signature(_framepass.read_exr)
+write_exr = _signatures.with_signature(_framepass.write_exr)
 
 
 class Cvars(Mapping):
@@ -70,6 +80,10 @@ class Session(_framepass.Session):
     def cvars(self) -> Cvars:
         """The session's cvars as a mapping (framepass.Cvars): read and assign by name."""
         return Cvars(self)
+
+
+for _name in ("__init__", "set_cvar", "set", "run", "plan", "report", "cvar", "cvar_names", "cancel"):
+    setattr(Session, _name, _signatures.with_signature(getattr(_framepass.Session, _name), _name))
 
 
 __all__ = ["Session", "Capture", "Camera", "Cvars", "read_capture", "read_exr", "write_exr",

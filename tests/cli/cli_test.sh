@@ -215,6 +215,11 @@ for name, steps in ((\"vs_full\", [\"noise\", \"approximation\", \"screen-space 
     assert abs(t[\"bias\"] - e[\"metrics\"][\"bias\"]) <= 1e-9 * abs(e[\"metrics\"][\"bias\"]), (t, e)
     assert t[\"steps\"][0][\"rmse\"] > 0 and t[\"steps\"][-1][\"to\"] == e[\"reference\"], t
     assert t[\"sentence\"].startswith(\"Most of the error is \"), t
+    # The rungs measure their own noise; the sentence says when it is not small beside the steps.
+    noise = (t[\"convergedNoiseRmse\"] ** 2 + t[\"oracleNoiseRmse\"] ** 2) ** 0.5
+    assert t[\"convergedNoiseRmse\"] > 0 and t[\"oracleNoiseRmse\"] > 0, t
+    largest = max(t[\"steps\"], key=lambda s: s[\"share\"])[\"rmse\"]
+    assert (\"partly noise\" in t[\"sentence\"]) == (noise > 0.25 * largest), t
 '"
 cat > "$DIR/rtgi_bench.json" <<JSON
 { "version": 1, "capture": "truth.exr", "scene": "$SRC/examples/cornell/scene.json",

@@ -239,6 +239,24 @@ def test_version_and_reprs(config):
     assert "r.SSGI.Quality" in s.cvars._ipython_key_completions_()
 
 
+def test_inspect_reads_the_signatures(config):
+    """inspect.signature (help(), IDEs, notebooks' completion) reads every function and Session
+    method, from the extension's docstrings: names, keyword-only parameters, literal defaults."""
+    import inspect
+
+    bench = inspect.signature(fp.bench).parameters
+    assert list(bench)[:3] == ["config", "sweep", "runs"]
+    assert bench["runs"].default == 5 and bench["sweep"].kind is inspect.Parameter.KEYWORD_ONLY
+    run = inspect.signature(fp.Session(config).run).parameters
+    assert list(run) == ["frame", "outputs", "layout"] and run["layout"].default == "hwc"
+    session = inspect.signature(fp.Session).parameters
+    assert list(session)[0] == "config" and session["threads"].default == 0
+    for f in (fp.compare, fp.read_exr, fp.write_exr, fp.read_capture, fp.exr_metadata):
+        assert "path" in str(inspect.signature(f)) or "a" in inspect.signature(f).parameters, f
+    assert str(inspect.signature(fp.passes)).startswith("()")  # it takes nothing
+    assert fp.bench.__doc__.startswith("bench(")  # help() keeps the docstring
+
+
 def test_outputs_and_captures_cross_into_torch_through_dlpack(config):
     torch = pytest.importorskip("torch")  # Debian's python3-torch (make test installs it)
     s = fp.Session(config)
