@@ -144,4 +144,21 @@ std::string planText(const RunSetup& session, const std::string& config,
     return out;
 }
 
+std::vector<int> upstreamSteps(const Plan& plan, const SourceRef& source) {
+    std::set<int> needed;
+    std::vector<int> open;
+    if (!source.fromCapture && source.step >= 0) open.push_back(source.step);
+    while (!open.empty()) {
+        const int s = open.back();
+        open.pop_back();
+        if (!needed.insert(s).second) continue;
+        for (const auto& [port, ref] : plan.steps[std::size_t(s)].inputs)
+            if (!ref.fromCapture && ref.step >= 0) open.push_back(ref.step);
+    }
+    std::vector<int> out;
+    for (const int s : needed)
+        if (!plan.steps[std::size_t(s)].io.roles.measuresError) out.push_back(s);
+    return out;
+}
+
 }  // namespace fp::app

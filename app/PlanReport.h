@@ -20,4 +20,9 @@ std::string planText(const RunSetup& session, const std::string& config,
 /// GPU) with their ports, the files written, and culled passes greyed with why.
 std::string planDot(const Plan& plan);
 
+/// The steps `source` depends on: the step that makes it and every step upstream of that, in
+/// execution order, leaving out steps that measure errors (a method's own passes: what bench and
+/// the workbench pair an error with). Empty for a capture buffer.
+std::vector<int> upstreamSteps(const Plan& plan, const SourceRef& source);
+
 }  // namespace fp::app

@@ -2,6 +2,7 @@
 
 #include "app/Settings.h"
 #include "app/BenchSweep.h"
+#include "app/PlanReport.h"
 #include "app/ErrorBreakdown.h"
 #include "app/Tune.h"
 #include "color/DisplayTransform.h"
@@ -441,6 +442,28 @@ nlohmann::json Workbench::report() {
     for (const auto& [pass, e] : mLastExecuted)
         executed[pass] = {{"ms", e.ms}, {"generation", e.generation}};
     j["lastExecuted"] = executed;
+    // Each method's cost beside its error: an error measure's RMSE and the time of the passes
+    // its source depends on (their last executed times), not the whole chain's.
+    const std::shared_ptr<const app::RunSetup> kept = planned();
+    nlohmann::json methods = nlohmann::json::array();
+    for (const auto& step : kept->plan().steps) {
+        const auto source = step.inputs.find("source");
+        if (!step.io.roles.measuresError || source == step.inputs.end() || source->second.fromCapture)
+            continue;
+        double ms = 0;
+        nlohmann::json passes = nlohmann::json::array();
+        for (const int s : app::upstreamSteps(kept->plan(), source->second)) {
+            const std::string& name = kept->plan().steps[std::size_t(s)].name;
+            if (const auto e = mLastExecuted.find(name); e != mLastExecuted.end()) ms += e->second.ms;
+            passes.push_back(name);
+        }
+        nlohmann::json m = {{"measure", step.name}, {"source", source->second.key}, {"ms", ms},
+                            {"passes", passes}};
+        if (errors.contains(step.name) && errors[step.name].contains("rmse"))
+            m["rmse"] = errors[step.name]["rmse"];
+        methods.push_back(m);
+    }
+    j["methods"] = methods;
     return j;
 }
 

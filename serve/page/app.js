@@ -285,6 +285,7 @@ const page = window.workbench = {  // window.workbench: for scripts and the brow
   rect: null,             // the statistics rectangle in image pixels [x0, y0, x1, y1), if any
   rectStats: null,        // its statistics (for scripts and the browser test)
   graphFit: true,         // the graph fitted to its panel, else at its natural size
+  methodRuns: [],         // per finished run: {generation, label, methods}, newest first
 };
 
 function setStatus(text, error = false) {
@@ -582,6 +583,51 @@ function buildReport(report) {
   }
 }
 
+// Methods at a glance: each error measure's RMSE against the time of the passes its source
+// depends on (the server pairs them), this run's points bright, earlier settings' dimmed.
+function buildMethods(report, params) {
+  if (!report?.methods) return;
+  const runs = page.methodRuns;
+  if (!runs.length || runs[0].generation !== report.generation)
+    runs.unshift({ generation: report.generation, label: settingsLabel(params.settings), methods: report.methods.filter((m) => m.rmse !== undefined) });
+  runs.length = Math.min(runs.length, 12);
+  const all = runs.flatMap((r) => r.methods);
+  const svgNS = 'http://www.w3.org/2000/svg';
+  const el = (tag, attrs, parent) => {
+    const e = document.createElementNS(svgNS, tag);
+    for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+    parent.append(e);
+    return e;
+  };
+  const W = 320, H = 170, left = 40, bottom = 22, top = 8, right = 8;
+  // Time linear from 0; RMSE on a log scale (measures of one chain differ by decades).
+  const xMax = Math.max(1e-3, ...all.map((m) => m.ms)) * 1.1;
+  const positive = all.map((m) => m.rmse).filter((e) => e > 0);
+  const yMax = Math.max(1e-9, ...positive) * 1.25, yMin = Math.min(yMax / 10, ...positive.map((e) => e * 0.8));
+  const x = (ms) => left + (ms / xMax) * (W - left - right);
+  const y = (e) => H - bottom - (Math.log(Math.max(e, yMin) / yMin) / Math.log(yMax / yMin)) * (H - bottom - top);
+  const svg = document.createElementNS(svgNS, 'svg');
+  svg.setAttribute('viewBox', `0 0 ${W} ${H}`);
+  el('path', { class: 'axis', d: `M${left},${top} V${H - bottom} H${W - right}` }, svg);
+  el('text', { x: left, y: H - 6 }, svg).textContent = '0';
+  el('text', { x: W - right, y: H - 6, 'text-anchor': 'end' }, svg).textContent = `${xMax.toPrecision(2)} ms of its passes`;
+  el('text', { x: left - 3, y: top + 8, 'text-anchor': 'end' }, svg).textContent = yMax.toPrecision(2);
+  el('text', { x: left - 3, y: H - bottom, 'text-anchor': 'end' }, svg).textContent = yMin.toPrecision(2);
+  el('text', { x: left + 4, y: top + 8 }, svg).textContent = 'RMSE (log)';
+  const colours = ['#5fa8ff', '#f0a35e', '#7fd17f', '#e07ad0', '#e0d060', '#60d0d0'];
+  const names = [...new Set(all.map((m) => m.measure))];
+  runs.forEach((run, i) => {
+    const g = el('g', { class: i === 0 ? 'now' : 'earlier' }, svg);
+    for (const m of run.methods) {
+      const c = el('circle', { cx: x(m.ms), cy: y(m.rmse), r: i === 0 ? 4 : 3, fill: colours[names.indexOf(m.measure) % colours.length],
+                               'data-measure': m.measure, 'data-generation': run.generation }, g);
+      el('title', {}, c).textContent = `${m.measure}: RMSE ${m.rmse.toPrecision(3)} at ${m.ms.toFixed(2)} ms (${m.passes.join(', ')}); change ${run.generation}: ${run.label}`;
+      if (i === 0) el('text', { x: x(m.ms) + 6, y: y(m.rmse) + 3 }, g).textContent = m.measure;
+    }
+  });
+  $('methods').replaceChildren(svg);
+}
+
 // The error taken apart, as bench does it: converged, screen-space limit, one bounce, full.
 async function breakdown() {
   const out = $('breakdown-text');
@@ -800,6 +846,7 @@ async function refresh() {
   buildReport(report);
   $('frame-label').textContent = `frame ${params.frame}`;
   if (report) pushHistory(report, params);
+  buildMethods(report, params);
   await images;
   return report;
 }

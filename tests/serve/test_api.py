@@ -466,3 +466,16 @@ def test_a_first_frame_that_fails_is_said_and_a_pinned_cvar_is_marked(missing_ca
         assert all("ms" in t and t["reused"] for t in graph["times"].values())
     finally:
         s.stop()
+
+
+def test_each_method_is_paired_with_the_time_of_what_it_depends_on(server):
+    buffer(server, SOURCE_PORT)  # a finished run
+    status, report = server.json("GET", "/api/report")
+    methods = {m["measure"]: m for m in report["methods"]}
+    # one_bounce_limit compares two capture layers: no method behind it.
+    assert set(methods) == {"ssgi_vs_one_bounce", "ssgi_vs_full", "ao_vs_truth"}
+    m = methods["ssgi_vs_full"]
+    assert m["source"] == SOURCE_PORT
+    assert m["passes"] == ["hzb", "prev_color_reduction", "ssgi", "ssgi_denoise"]
+    assert m["rmse"] == report["errors"]["ssgi_vs_full"]["rmse"]
+    assert abs(m["ms"] - sum(report["lastExecuted"][p]["ms"] for p in m["passes"])) < 1e-9

@@ -79,6 +79,9 @@ def test_the_page_loads_with_the_chain_and_no_errors(browser_run):
 
 def test_a_slider_changes_the_image_and_the_times(browser_run):
     r = browser_run
+    # The methods plot: this run's three measures bright, the settings before dimmed.
+    assert sorted(r["methods"]["now"]) == ["ao_vs_truth", "ssgi_vs_full", "ssgi_vs_one_bounce"]
+    assert r["methods"]["earlier"] >= 3
     assert r["settings"]["cvars"].get("r.SSGI.Quality") == 1
     assert r["imageChanged"]
     assert r["timingAfter"] != r["timingBefore"] and "reused" in r["timingAfter"]

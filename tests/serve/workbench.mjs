@@ -139,6 +139,10 @@ await quality.fill('1');
 await waitForGeneration(g);
 await page.waitForTimeout(200);
 results.timingAfter = await page.locator('#timing').textContent();
+results.methods = await page.evaluate(() => ({
+  now: Array.from(document.querySelectorAll('#methods .now circle'), (c) => c.dataset.measure),
+  earlier: document.querySelectorAll('#methods .earlier circle').length,
+}));
 results.imageChanged = !(await canvasBytes()).equals(before);
 results.settings = await page.evaluate(() => window.workbench.params.settings);
 await shot('02_quality_1.png');
