@@ -1,4 +1,5 @@
 """What the bench scripts share: the Cornell box captured once per size into out/bench/."""
+import json
 import os
 import subprocess
 import sys
@@ -20,3 +21,16 @@ def cornell_capture(framepass, out, width, height, truth_spp=0):
             args += ["--truth", "--truth-spp", str(truth_spp)]
         subprocess.run(args, check=True)
     return exr
+
+
+def workbench_config(framepass, out, width, height, name):
+    """examples/cornell/bench.json on a Cornell capture with truth at width × height, written as
+    OUT/NAME_WxH.json: what the workbench benchmarks serve."""
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    with open(os.path.join(root, "examples/cornell/bench.json")) as f:
+        j = json.load(f)
+    j["capture"] = cornell_capture(framepass, out, width, height, truth_spp=16)
+    config = os.path.join(out, f"{name}_{width}x{height}.json")
+    with open(config, "w") as f:
+        json.dump(j, f)
+    return config

@@ -18,7 +18,7 @@ import signal
 import statistics
 import subprocess
 
-from captures import cornell_capture
+from captures import workbench_config
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -35,13 +35,7 @@ def main():
     a = ap.parse_args()
     rows = []
     for width, height in (tuple(int(v) for v in s.split("x")) for s in a.sizes.split(",")):
-        exr = cornell_capture(a.framepass, a.out, width, height, truth_spp=16)
-        config = os.path.join(a.out, f"workbench_{width}x{height}.json")
-        with open(os.path.join(ROOT, "examples/cornell/bench.json")) as f:
-            j = json.load(f)
-        j["capture"] = exr
-        with open(config, "w") as f:
-            json.dump(j, f)
+        config = workbench_config(a.framepass, a.out, width, height, "workbench")
         server = subprocess.Popen([a.framepass, "serve", config, "--port", "0"], stdout=subprocess.PIPE, text=True)
         url = re.search(r"(http://\S+/)", server.stdout.readline()).group(1)
         out = os.path.join(a.out, f"workbench_{width}x{height}")

@@ -19,7 +19,7 @@ import subprocess
 import threading
 import time
 
-from captures import cornell_capture
+from captures import workbench_config
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -41,13 +41,7 @@ def main():
     ap.add_argument("--seconds", type=float, default=20)
     a = ap.parse_args()
     width, height = (int(v) for v in a.size.split("x"))
-    exr = cornell_capture(a.framepass, a.out, width, height, truth_spp=16)
-    config = os.path.join(a.out, f"workbench_load_{width}x{height}.json")
-    with open(os.path.join(ROOT, "examples/cornell/bench.json")) as f:
-        j = json.load(f)
-    j["capture"] = exr
-    with open(config, "w") as f:
-        json.dump(j, f)
+    config = workbench_config(a.framepass, a.out, width, height, "workbench_load")
     server = subprocess.Popen([a.framepass, "serve", config, "--port", "0"], stdout=subprocess.PIPE,
                               stderr=subprocess.DEVNULL, text=True)
     try:

@@ -293,6 +293,15 @@ function setStatus(text, error = false) {
   $('status').classList.toggle('error', error);
 }
 
+// An SVG element with these attributes, appended to `parent`.
+const SVG_NS = 'http://www.w3.org/2000/svg';
+function svgElement(tag, attrs, parent) {
+  const e = document.createElementNS(SVG_NS, tag);
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  parent.append(e);
+  return e;
+}
+
 function formatValue(v) { return typeof v === 'number' && !Number.isInteger(v) ? +v.toPrecision(4) : v; }
 
 // One control for a parameter or cvar, made from its spec.
@@ -431,13 +440,7 @@ function markShadowed(params) {
 
 function buildGraph(plan) {
   page.plan = plan;
-  const svgNS = 'http://www.w3.org/2000/svg';
-  const el = (tag, attrs, parent) => {
-    const e = document.createElementNS(svgNS, tag);
-    for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
-    parent.append(e);
-    return e;
-  };
+  const el = svgElement;
   const sourceOf = (ref) => (ref.startsWith('capture:') ? 'capture:' : ref.split('.')[0]);
   const reads = plan.steps.flatMap((s) => Object.values(s.inputs)).filter((r) => r.startsWith('capture:'));
   const nodes = [];
@@ -488,7 +491,7 @@ function buildGraph(plan) {
     }
   }
   const width = pad + widest * (nodeW + pad);
-  const svg = document.createElementNS(svgNS, 'svg');
+  const svg = document.createElementNS(SVG_NS, 'svg');
   svg.setAttribute('viewBox', `0 0 ${width} ${y}`);
   // Wider than the panel only when one box is: then scaled to fit, or at its natural size.
   svg.setAttribute('width', page.graphFit ? Math.min(width, panel) : width);
@@ -592,13 +595,7 @@ function buildMethods(report, params) {
     runs.unshift({ generation: report.generation, label: settingsLabel(params.settings), methods: report.methods.filter((m) => m.rmse !== undefined) });
   runs.length = Math.min(runs.length, 12);
   const all = runs.flatMap((r) => r.methods);
-  const svgNS = 'http://www.w3.org/2000/svg';
-  const el = (tag, attrs, parent) => {
-    const e = document.createElementNS(svgNS, tag);
-    for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
-    parent.append(e);
-    return e;
-  };
+  const el = svgElement;
   const W = 320, H = 170, left = 40, bottom = 22, top = 8, right = 8;
   // Time linear from 0; RMSE on a log scale (measures of one chain differ by decades).
   const xMax = Math.max(1e-3, ...all.map((m) => m.ms)) * 1.1;
@@ -606,7 +603,7 @@ function buildMethods(report, params) {
   const yMax = Math.max(1e-9, ...positive) * 1.25, yMin = Math.min(yMax / 10, ...positive.map((e) => e * 0.8));
   const x = (ms) => left + (ms / xMax) * (W - left - right);
   const y = (e) => H - bottom - (Math.log(Math.max(e, yMin) / yMin) / Math.log(yMax / yMin)) * (H - bottom - top);
-  const svg = document.createElementNS(svgNS, 'svg');
+  const svg = document.createElementNS(SVG_NS, 'svg');
   svg.setAttribute('viewBox', `0 0 ${W} ${H}`);
   el('path', { class: 'axis', d: `M${left},${top} V${H - bottom} H${W - right}` }, svg);
   el('text', { x: left, y: H - 6 }, svg).textContent = '0';
