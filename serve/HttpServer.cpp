@@ -59,6 +59,17 @@ std::string rawPixels(const Image& image, bool half) {
     return out;
 }
 
+// A table's planes one after another (R, then G, B), each row after row, as float32: the page's
+// display tables.
+std::string planarBytes(const Image& table) {
+    std::string out;
+    for (int c = 0; c < table.channelCount(); ++c)
+        for (int y = 0; y < table.height(); ++y)
+            out.append(reinterpret_cast<const char*>(table.plane(c).row(y)),
+                       std::size_t(table.width()) * sizeof(float));
+    return out;
+}
+
 // An EXR of one buffer, encoded in memory (no file: nothing for another user to read).
 std::string exrBytes(const BufferImage& b) {
     io::ExrMetadata meta;
@@ -232,12 +243,8 @@ void WorkbenchServer::routes() {
             return sendError(res, 422, fmt::format("view '{}' mixes channels: it has no "
                                                    "per-channel table",
                                                    view));
-        std::string out;
-        for (int c = 0; c < 3; ++c)
-            out.append(reinterpret_cast<const char*>(lut->plane(c).row(0)),
-                       std::size_t(lut->width()) * sizeof(float));
         res.set_header("X-Entries", std::to_string(lut->width()));
-        res.set_content(out, "application/octet-stream");
+        res.set_content(planarBytes(*lut), "application/octet-stream");
     });
 
     // Unreal 4.27's filmic tonemapper (its defaults) and the sRGB encoding baked into a 65³
@@ -245,16 +252,13 @@ void WorkbenchServer::routes() {
     // 65²·b; its size and log2 range in headers. The page's "UE 4.27 film" view.
     s.Get("/api/film-cube", [](const httplib::Request&, httplib::Response& res) {
         constexpr int kSize = 65;
-        const Image cube = DisplayTransform::filmCube(color::FilmParams{}, kSize);
-        std::string out;
-        for (int c = 0; c < 3; ++c)
-            for (int y = 0; y < kSize; ++y)
-                out.append(reinterpret_cast<const char*>(cube.plane(c).row(y)),
-                           std::size_t(kSize) * kSize * sizeof(float));
+        // The same for every request: baked on the first (275k pixels of the curve).
+        static const std::string cube =
+            planarBytes(DisplayTransform::filmCube(color::FilmParams{}, kSize));
         res.set_header("X-Size", std::to_string(kSize));
         res.set_header("X-Log2-Min", fmt::format("{}", DisplayTransform::kFilmCubeLog2Min));
         res.set_header("X-Log2-Max", fmt::format("{}", DisplayTransform::kFilmCubeLog2Max));
-        res.set_content(out, "application/octet-stream");
+        res.set_content(cube, "application/octet-stream");
     });
 
     s.Put("/api/params", [&wb](const httplib::Request& req, httplib::Response& res) {

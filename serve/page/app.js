@@ -231,9 +231,12 @@ class Viewer {
   // The image pixel under a canvas position (CSS pixels), or null outside.
   pixelAt(cx, cy) {
     if (!this.a) return null;
-    const x = Math.floor((cx - this.state.pan[0]) / this.state.zoom);
-    const y = Math.floor((cy - this.state.pan[1]) / this.state.zoom);
+    const [x, y] = this.imagePoint(cx, cy).map(Math.floor);
     return x >= 0 && y >= 0 && x < this.a.width && y < this.a.height ? [x, y] : null;
+  }
+  // A canvas position (CSS pixels) in image pixels, unrounded.
+  imagePoint(cx, cy) {
+    return [(cx - this.state.pan[0]) / this.state.zoom, (cy - this.state.pan[1]) / this.state.zoom];
   }
   draw() {
     const gl = this.gl, c = this.canvas, s = this.state;
@@ -1068,7 +1071,7 @@ async function main() {
   let corner = null;
   const pixelUnder = (e, round) => {
     const rect = canvas.getBoundingClientRect();
-    const x = (e.clientX - rect.left - state.pan[0]) / state.zoom, y = (e.clientY - rect.top - state.pan[1]) / state.zoom;
+    const [x, y] = viewer.imagePoint(e.clientX - rect.left, e.clientY - rect.top);
     const clampTo = (v, hi) => Math.max(0, Math.min(hi, round(v)));
     return [clampTo(x, viewer.a.width), clampTo(y, viewer.a.height)];
   };
