@@ -8,7 +8,7 @@ CLI_PACKAGES = build-essential cmake pkg-config libopenimageio-dev openimageio-t
     doctest-dev libfmt-dev libhwy-dev libtinygltf-dev libtinyobjloader-dev fonts-dejavu-core \
     libcpp-httplib-dev
 DEBIAN_PACKAGES = $(CLI_PACKAGES) chromium python3 python3-jsonschema help2man zsh fish graphviz \
-    pybind11-dev python3-dev python3-numpy python3-pytest python3-venv python3-pip \
+    pybind11-dev libdlpack-dev python3-dev python3-numpy python3-pytest python3-venv python3-pip \
     python3-setuptools python3-wheel mypy python3-torch
 FRAMEPASS = $(BUILD_DIR)/cli/framepass
 # A recipe line piped through grep fails when framepass fails, not only when grep does.

@@ -50,14 +50,20 @@ private:
 class KeepingSink final : public FrameSink {
 public:
     bool keep = false;
+    /// Images a CUDA step made stay on the GPU, in deviceImages.
+    bool onDevice = false;
     std::map<std::string, Image> images;
+    std::map<std::string, DeviceImage> deviceImages;
+    bool takesDeviceImages() const override { return onDevice; }
     void write(const OutputDesc&,
                const std::vector<OutputLayer>& layers,
                const FrameInfo&) override {
         if (!keep)
             return;
-        for (const auto& l : layers)
-            images[l.name] = l.texture->image();
+        for (const auto& l : layers) {
+            if (l.device) deviceImages[l.name] = l.device->image();
+            else images[l.name] = l.texture->image();
+        }
     }
 };
 

@@ -40,18 +40,16 @@ std::string base64(const std::string& bytes) {
 }
 
 // Error measures are roots here even when the config writes none of their outputs; the ports
-// they compare are kept for the report's images and the error decomposition. `sets` ("PASS.X=V",
-// the config's "set" then the command line's and the setting's) may rebind what they compare
-// (--set ERROR.source=…): the rebound source is kept, and the one it replaced is not, so the
-// method it fed is culled.
+// they compare are kept for the report's images and the error decomposition. The config's
+// "inputs" and then the settings' may rebind what they compare (--input ERROR.source=…): the
+// rebound source is kept, and the one it replaced is not, so the method it fed is culled.
 std::vector<std::string> errorDumps(const GraphDesc& graph, const Settings& settings) {
     std::map<std::string, std::string> rebound;  // "error.port" → source
-    for (const auto& [target, value] : graph.sets.items())
+    for (const auto& [target, value] : graph.inputs.items())
         if (value.is_string())
             rebound[target] = value.get<std::string>();
-    for (const auto& [target, value] : settings.sets)
-        if (value.is_string())
-            rebound[target] = value.get<std::string>();
+    for (const auto& [target, source] : settings.inputs)
+        rebound[target] = source;
     std::vector<std::string> dumps;
     for (const NodeDesc* n : errorMeasureNodes(graph)) {
         dumps.push_back(n->name + ".heat");
@@ -188,12 +186,8 @@ void addBareRayLoops(const Plan& plan,
 
 BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
     SetupOptions sessionOptions = mBase;
-    for (const auto& [name, value] : point) {
-        if (isCvarName(name))
-            sessionOptions.settings.setCvar(name, value);
-        else
-            sessionOptions.settings.setParam(name, value);
-    }
+    for (const auto& [name, value] : point)
+        applySetting(sessionOptions.settings, kindOf(name), name, value);
     for (const auto& d : errorDumps(mProbe.config().graph, sessionOptions.settings))
         sessionOptions.dumps.push_back(d);
     const RunSetup session(mProbe, sessionOptions);
@@ -307,11 +301,12 @@ IncrementalTiming Bencher::measureIncremental(const std::string& change) {
     SetupOptions options = mOptions.session;
     options.frames = std::to_string(mProbe.frames().back());
     Session session(options);
-    auto set = [&](const nlohmann::json& value) {
-        if (isCvarName(axis.name))
-            session.setCvar(axis.name, value);
-        else
-            session.setParam(axis.name, value);
+    auto set = [&, kind = kindOf(axis.name)](const nlohmann::json& value) {
+        Settings one;
+        applySetting(one, kind, axis.name, value);  // checks an input's value is a source's name
+        if (kind == SettingKind::Cvar) session.setCvar(axis.name, value);
+        else if (kind == SettingKind::Param) session.setParam(axis.name, value);
+        else session.setInput(axis.name, value.get<std::string>());
     };
     const int frame = mProbe.frames().back();
     std::vector<double> whole, rerun;
@@ -429,6 +424,29 @@ BenchResult Bencher::emptyResult() const {
     result.threads =
         int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     return result;
+}
+
+SettingKind settingKind(const GraphDesc& graph, const std::string& name) {
+    if (isCvarName(name)) return SettingKind::Cvar;
+    const auto dot = name.find('.');
+    if (dot == std::string::npos) return SettingKind::Param;  // the planner says what is wrong
+    for (const auto& n : graph.nodes)
+        if (n.name == name.substr(0, dot))
+            return builtinParam(n.type, name.substr(dot + 1)) || !builtinPasses().find(n.type)
+                       ? SettingKind::Param
+                       : SettingKind::Input;
+    return SettingKind::Param;
+}
+
+void applySetting(Settings& settings, SettingKind kind, const std::string& name,
+                  const nlohmann::json& value) {
+    if (kind == SettingKind::Cvar) settings.setCvar(name, value);
+    else if (kind == SettingKind::Param) settings.setParam(name, value);
+    else if (!value.is_string())
+        throw UsageError(fmt::format("{}: rebinds an input, so its values are sources' names "
+                                     "(pass.port or capture:Buffer), not {}",
+                                     name, value.dump()));
+    else settings.setInput(name, value.get<std::string>());
 }
 
 std::vector<const NodeDesc*> errorMeasureNodes(const GraphDesc& graph) {

@@ -38,9 +38,18 @@ struct BenchOptions {
     int decomposeRays = 256;  //!< 0: no error decomposition
 };
 
-/// A sweep axis or setting names an Unreal cvar ("r.SSGI.Quality") or a pass parameter
-/// ("ssgi.halfRes"): cvars are the names that start with "r.".
+/// A sweep axis or setting names an Unreal cvar ("r.SSGI.Quality") or a pass's parameter or
+/// input ("ssgi.halfRes", "gi.source"): cvars are the names that start with "r.".
 inline bool isCvarName(const std::string& name) { return name.rfind("r.", 0) == 0; }
+
+/// What a sweep axis names on the chain of `graph`: a cvar, a pass parameter (as --set sets
+/// one), or an input (as --input rebinds one: PASS.X where X is no parameter of PASS's type).
+enum class SettingKind { Cvar, Param, Input };
+SettingKind settingKind(const GraphDesc& graph, const std::string& name);
+/// Puts name=value into `settings` as `kind` says; an input's value must be a source's name
+/// (fp::UsageError otherwise).
+void applySetting(Settings& settings, SettingKind kind, const std::string& name,
+                  const nlohmann::json& value);
 
 /// The config's passes whose type measures an error (PassRoles::measuresError), in order: what
 /// bench keeps images of and tune aims at.
@@ -70,6 +79,10 @@ public:
     void expectRuns(int total) { mTotalRuns = total; }
 
     const RunSetup& probe() const { return mProbe; }
+    /// What sweep axis `name` sets on this chain.
+    SettingKind kindOf(const std::string& name) const {
+        return settingKind(mProbe.config().graph, name);
+    }
     const BenchOptions& options() const { return mOptions; }
     /// The header of a result: config, capture, frame, size, runs, threads.
     BenchResult emptyResult() const;

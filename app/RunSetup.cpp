@@ -104,8 +104,10 @@ void RunSetup::plan(const SetupOptions& o) {
     settings.merge(o.settings);
     inputs.overrides.cvars = settings.cvars;
     inputs.overrides.sets = settings.sets;
+    inputs.overrides.inputs = settings.inputs;
     inputs.overrides.cvarOrigin = o.settings.cvarOrigin;
     inputs.overrides.setOrigin = o.settings.setOrigin;
+    inputs.overrides.inputOrigin = o.settings.inputOrigin;
     inputs.overrides.dumps = o.dumps;
     inputs.overrides.dumpOrigin = o.dumpOrigin;
     inputs.allowUnknownCvars = o.allowUnknownCvars;

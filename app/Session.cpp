@@ -1,9 +1,11 @@
 #include "app/Session.h"
 
+#include "foundation/Cuda.h"
 #include "foundation/Error.h"
 #include "foundation/Suggest.h"
 #include "app/Invocation.h"
 #include "framework/CvarTable.h"
+#include "framework/PassRegistry.h"
 #include "framework/SemanticBuffers.h"
 
 #include <algorithm>
@@ -66,9 +68,26 @@ SettingError::Kind setRefusal(const RunSetup& base, const std::string& target,
     const std::string type = passTypeOf(base, target.substr(0, dot));
     if (type.empty()) return SettingError::Kind::UnknownName;
     const ParamInfo* p = builtinParam(type, target.substr(dot + 1));
-    // A name that is no parameter rebinds an input when its value is a source's name.
-    if (!p) return value.is_string() ? SettingError::Kind::BadValue : SettingError::Kind::UnknownName;
+    if (!p) return SettingError::Kind::UnknownName;
     return hasParamType(*p, value) ? SettingError::Kind::BadValue : SettingError::Kind::WrongType;
+}
+
+// Why the planner refused an input's rebinding: the pass or its input is unknown, or the source
+// is not one (an unknown name, the wrong number of channels).
+SettingError::Kind inputRefusal(const RunSetup& base, const std::string& target) {
+    const auto dot = target.find('.');
+    if (dot == std::string::npos) return SettingError::Kind::UnknownName;
+    const PassType* type = builtinPasses().find(passTypeOf(base, target.substr(0, dot)));
+    if (!type) return SettingError::Kind::UnknownName;
+    // The ports of a pass made from its defaults: which inputs it has does not hang on a value.
+    Diagnostics ignored;
+    nlohmann::json params;
+    const auto pass = type->create(nlohmann::json::object(), "", ignored, params);
+    const std::string port = target.substr(dot + 1);
+    const auto& inputs = pass->describe().inputs;
+    return std::any_of(inputs.begin(), inputs.end(), [&](const PortSpec& s) { return s.name == port; })
+               ? SettingError::Kind::BadValue
+               : SettingError::Kind::UnknownName;
 }
 
 }  // namespace
@@ -107,6 +126,8 @@ std::vector<Diagnostic> Session::adopt(const std::function<void(Settings&)>& cha
             refused(o.settings.cvarWhere(name), cvarRefusal(name, value));
         for (const auto& [target, value] : o.settings.sets)
             refused(o.settings.setWhere(target), setRefusal(mBase, target, value));
+        for (const auto& [target, source] : o.settings.inputs)
+            refused(o.settings.inputWhere(target), inputRefusal(mBase, target));
         if (!kind) throw SettingError(SettingError::Kind::BadValue, e.what(), e.problems());
         throw SettingError(*kind, message, std::move(problems));
     }
@@ -131,6 +152,10 @@ std::vector<Diagnostic> Session::setCvar(const std::string& name, nlohmann::json
 
 std::vector<Diagnostic> Session::setParam(const std::string& target, nlohmann::json value) {
     return adopt([&](Settings& s) { s.setParam(target, std::move(value)); });
+}
+
+std::vector<Diagnostic> Session::setInput(const std::string& target, std::string source) {
+    return adopt([&](Settings& s) { s.setInput(target, std::move(source)); });
 }
 
 std::vector<Diagnostic> Session::replaceSettings(Settings replacement) {
@@ -187,7 +212,7 @@ std::shared_ptr<const RunSetup> Session::setup(const std::vector<std::string>& o
     return planned;
 }
 
-FrameResult Session::run(int frame, const std::vector<std::string>& asked) {
+FrameResult Session::run(int frame, const std::vector<std::string>& asked, bool onDevice) {
     std::lock_guard<std::mutex> lock(mRunMutex);
     mCancel = false;
     // Capture buffers are read, the rest planned as dumps (a Truth.* layer's name has a dot too).
@@ -204,6 +229,7 @@ FrameResult Session::run(int frame, const std::vector<std::string>& asked) {
 
     KeepingSink sink;  // every image it is handed, by layer name
     sink.keep = true;
+    sink.onDevice = onDevice;
     const ProgressFn stopBetweenPasses = [this](int done, int total, const PassReport& pass) {
         if (onPass)
             onPass(done, total, pass);
@@ -216,14 +242,22 @@ FrameResult Session::run(int frame, const std::vector<std::string>& asked) {
     result.report = mFrames.run(planned->plan(), frame, sink, stopBetweenPasses).report;
     if (asked.empty() || std::find(outputs.begin(), outputs.end(), "all") != outputs.end()) {
         result.images = std::move(sink.images);
+        result.deviceImages = std::move(sink.deviceImages);
     } else {
         for (const auto& name : outputs) {
+            if (auto it = sink.deviceImages.find(name); it != sink.deviceImages.end()) {
+                result.deviceImages[name] = std::move(it->second);
+                continue;
+            }
             auto it = sink.images.find(name);
             FP_CHECK(it != sink.images.end(), "'{}' was not produced by this run", name);
             result.images[name] = std::move(it->second);
         }
     }
     for (const auto& name : buffers) result.images[name] = loadCaptureBuffer(frame, name);
+    // Nothing downloaded them, so the frame's kernels may still be running: the caller reads
+    // the images next, from any stream.
+    if (!result.deviceImages.empty()) cuda::synchronize("the outputs left on the GPU");
     std::lock_guard<std::mutex> state(mStateMutex);
     mLastReport = result.report;
     return result;

@@ -35,6 +35,9 @@ namespace fp::app {
 struct FrameResult {
     FrameReport report;
     std::map<std::string, Image> images;  //!< sharing the executor's pixels: no copies
+    /// With Session::run's `onDevice`: the outputs a CUDA step made, left on the GPU (sharing
+    /// the executor's memory, which stays allocated while one is held); they are not in images.
+    std::map<std::string, DeviceImage> deviceImages;
 };
 
 class Session {
@@ -50,10 +53,12 @@ public:
     /// does not take. Returns (and logs with logWarning) what the change newly warns of: a
     /// config parameter that shadows the cvar, a cvar framepass does not emulate.
     std::vector<Diagnostic> setCvar(const std::string& name, nlohmann::json value);
-    /// Sets a pass parameter PASS.PARAM (or rebinds input PASS.INPUT to a source), checked as
-    /// setCvar is.
+    /// Sets a pass parameter PASS.PARAM, checked as setCvar is.
     std::vector<Diagnostic> setParam(const std::string& target, nlohmann::json value);
-    /// Replaces every cvar and parameter set so far, checked as one change (named in messages
+    /// Rebinds input PASS.INPUT to `source` ("pass.port" or "capture:Buffer"), checked as
+    /// setCvar is.
+    std::vector<Diagnostic> setInput(const std::string& target, std::string source);
+    /// Replaces every cvar, parameter and input set so far, checked as one change (named in messages
     /// by the replacement's origins).
     std::vector<Diagnostic> replaceSettings(Settings settings);
     /// The cvars and parameters set so far.
@@ -76,8 +81,10 @@ public:
     const std::vector<int>& frames() const { return mBase.frames(); }
 
     /// Runs `frame` and returns `outputs` ("pass.port", a capture buffer, or "all": every pass
-    /// output), with the config's own outputs too. Throws fp::Cancelled when cancel() stopped it.
-    FrameResult run(int frame, const std::vector<std::string>& outputs = {});
+    /// output), with the config's own outputs too. With `onDevice`, the outputs of passes that
+    /// ran on the GPU stay there (FrameResult::deviceImages), not copied to the host. Throws
+    /// fp::Cancelled when cancel() stopped it.
+    FrameResult run(int frame, const std::vector<std::string>& outputs = {}, bool onDevice = false);
     /// Capture buffer or Truth.* layer `name` of `frame`, as the passes read it (through the
     /// profile, sanitised), read once and kept with the frame. Throws fp::UsageError for a
     /// buffer the capture does not have.

@@ -57,9 +57,15 @@ void Settings::setParam(const std::string& target, nlohmann::json value) {
     sets.emplace_back(target, std::move(value));
 }
 
+void Settings::setInput(const std::string& target, std::string source) {
+    std::erase_if(inputs, [&](const auto& s) { return s.first == target; });
+    inputs.emplace_back(target, std::move(source));
+}
+
 void Settings::merge(const Settings& more) {
     for (const auto& [name, value] : more.cvars.items()) setCvar(name, value);
     for (const auto& [target, value] : more.sets) setParam(target, value);
+    for (const auto& [target, source] : more.inputs) setInput(target, source);
 }
 
 const nlohmann::json* Settings::cvar(const std::string& name) const {
@@ -73,7 +79,9 @@ const nlohmann::json* Settings::cvar(const std::string& name) const {
 nlohmann::json Settings::toJson() const {
     nlohmann::json set = nlohmann::json::object();
     for (const auto& [target, value] : sets) set[target] = value;
-    return {{"cvars", cvars}, {"set", set}};
+    nlohmann::json rebound = nlohmann::json::object();
+    for (const auto& [target, source] : inputs) rebound[target] = source;
+    return {{"cvars", cvars}, {"set", set}, {"inputs", rebound}};
 }
 
 std::string Settings::cvarWhere(const std::string& name) const {
@@ -82,6 +90,10 @@ std::string Settings::cvarWhere(const std::string& name) const {
 
 std::string Settings::setWhere(const std::string& target) const {
     return fmt::format(fmt::runtime(setOrigin), target);
+}
+
+std::string Settings::inputWhere(const std::string& target) const {
+    return fmt::format(fmt::runtime(inputOrigin), target);
 }
 
 nlohmann::json Settings::valueFromText(const std::string& text) { return io::parseCliValue(text); }
@@ -102,6 +114,11 @@ void Settings::setCvarText(const std::string& text) {
 void Settings::setParamText(const std::string& text) {
     auto [target, value] = splitAssignment(text, "--set");
     setParam(target, valueFromText(value));
+}
+
+void Settings::setInputText(const std::string& text) {
+    auto [target, source] = splitAssignment(text, "--input");
+    setInput(target, source);
 }
 
 namespace {

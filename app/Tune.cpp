@@ -238,11 +238,12 @@ std::string methodSettings(const TunedSetting& t) {
     return s;
 }
 
-nlohmann::json TuneResult::pointJson(const SweepPoint& point) {
-    nlohmann::json cvars = nlohmann::json::object(), params = nlohmann::json::object();
+nlohmann::json TuneResult::pointJson(const SweepPoint& point) const {
+    nlohmann::json cvars = nlohmann::json::object(), params = nlohmann::json::object(),
+                   inputs = nlohmann::json::object();
     for (const auto& [name, value] : point)
-        (isCvarName(name) ? cvars : params)[name] = value;
-    return {{"cvars", cvars}, {"params", params}};
+        (isCvarName(name) ? cvars : inputAxes.count(name) ? inputs : params)[name] = value;
+    return {{"cvars", cvars}, {"params", params}, {"inputs", inputs}};
 }
 
 std::string TuneResult::bound() const {
@@ -254,7 +255,7 @@ nlohmann::json TuneResult::toJson(const std::string& config) const {
                         {"target",
                          {{"error", target.error}, {"metric", target.metric}, {"max", target.max}}},
                         {"met", choice.has_value()}};
-    auto settingJson = [](const TunedSetting& t) {
+    auto settingJson = [this](const TunedSetting& t) {
         return nlohmann::json{{"label", t.setting.label},
                               {"setting", pointJson(t.point)},
                               {"frameMs", t.frameMs()},
@@ -300,6 +301,8 @@ TuneResult tune(const TuneOptions& opt) {
         for (const auto& axis : sweeps) texts.push_back(axis.text());
         logInfo(fmt::format("tune: searching {}", fmt::join(texts, " × ")));
     }
+    for (const auto& axis : sweeps)
+        if (bencher.kindOf(axis.name) == SettingKind::Input) result.inputAxes.insert(axis.name);
     const std::vector<SweepPoint> grid = sweepGrid(sweeps);
     const int perSetting = opt.bench.warmup + opt.bench.runs;
     bencher.expectRuns(int(grid.size() + std::size_t(opt.refine)) * perSetting);

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -45,8 +46,10 @@ struct TuneResult {
     std::string bound() const;
     /// What `tune --json` prints.
     nlohmann::json toJson(const std::string& config) const;
-    /// A point as {"cvars": {...}, "params": {...}}.
-    static nlohmann::json pointJson(const SweepPoint& point);
+    /// The axes that rebind an input (an error measure's source, say), not a parameter.
+    std::set<std::string> inputAxes;
+    /// A point as {"cvars": {...}, "params": {...}, "inputs": {...}}.
+    nlohmann::json pointJson(const SweepPoint& point) const;
 };
 
 /// Runs the search; throws fp::UsageError for a bad target or when there is nothing to search.

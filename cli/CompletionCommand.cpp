@@ -1,10 +1,10 @@
 // framepass completion bash|zsh|fish: a shell completion script made from the command line itself
 // (its subcommands and options as CLI11 holds them) and from the pass registry (pass types, the
-// cvars they answer to), so it never falls behind the code. After --set and --dump the scripts
-// ask `framepass completion --names CONFIG` for the names of the chain the config on the command
-// line resolves to (a preset's pass names, light templates expanded), never a fixed list. The
-// build writes the three scripts beside the executable and `cmake --install` puts them where the
-// shells look.
+// cvars they answer to), so it never falls behind the code. After --set, --input and --dump the
+// scripts ask `framepass completion --names CONFIG --for KIND` for the names of the chain the
+// config on the command line resolves to (a preset's pass names, light templates expanded), never
+// a fixed list. The build writes the three scripts beside the executable and `cmake --install`
+// puts them where the shells look.
 #include "cli/Commands.h"
 #include "app/Settings.h"
 #include "app/RunSetup.h"
@@ -109,7 +109,8 @@ std::string bashScript(const CLI::App& app) {
     }
     return fmt::format(
         R"SH(# bash completion for framepass (written by `framepass completion bash`)
-# The names after --set and --dump: those of the chain the config on the command line resolves to.
+# The names after --set, --input and --dump ($1: set, input or dump): those of the chain the
+# config on the command line resolves to.
 _framepass_names() {{
     local fp="${{COMP_WORDS[0]}}" cfg="" i seen=""
     for ((i = 1; i < COMP_CWORD; i++)); do
@@ -120,7 +121,7 @@ _framepass_names() {{
         esac
     done
     [[ -n "$cfg" && "$cfg" != - ]] || return 0
-    "${{fp/#\~/$HOME}}" -q completion --names "${{cfg/#\~/$HOME}}" 2>/dev/null
+    "${{fp/#\~/$HOME}}" -q completion --names "${{cfg/#\~/$HOME}}" --for "$1" 2>/dev/null
 }}
 _framepass() {{
     local cur="${{COMP_WORDS[COMP_CWORD]}}" prev="${{COMP_WORDS[COMP_CWORD-1]}}"
@@ -135,11 +136,11 @@ _framepass() {{
     compopt +o nospace 2>/dev/null
     case "$prev" in
         --cvar) COMPREPLY=($(compgen -W "{cvars}" -- "$cur")); compopt -o nospace 2>/dev/null; return ;;
-        --set)
-            while read -r word; do [[ "$word" == *= ]] && names+=("$word"); done < <(_framepass_names)
+        --set|--input)
+            while read -r word; do names+=("$word"); done < <(_framepass_names "${{prev#--}}")
             COMPREPLY=($(compgen -W "${{names[*]}}" -- "$cur")); compopt -o nospace 2>/dev/null; return ;;
         --dump)
-            while read -r word; do [[ "$word" == *= ]] || names+=("$word"); done < <(_framepass_names)
+            while read -r word; do names+=("$word"); done < <(_framepass_names dump)
             COMPREPLY=($(compgen -W "all ${{names[*]}}" -- "$cur")); return ;;
         --profile|--ref-profile) COMPREPLY=($(compgen -W "{profiles}" -- "$cur") $(compgen -f -X '!*.json' -- "$cur")); return ;;
         --device) COMPREPLY=($(compgen -W "cpu cuda" -- "$cur")); return ;;
@@ -199,8 +200,9 @@ std::string zshScript(const CLI::App& app) {
 # zsh completion for framepass (written by `framepass completion zsh`). Put it in a folder of
 # $fpath as _framepass, or `source <(framepass completion zsh)` after compinit.
 
-# The names after --set (PASS.PARAM=, PASS.INPUT=) or --dump (PASS.PORT): those of the chain the
-# config on the command line resolves to, as `framepass completion --names CONFIG` gives them.
+# The names after --set (PASS.PARAM=), --input (PASS.INPUT=) or --dump (PASS.PORT), $1 saying
+# which: those of the chain the config on the command line resolves to, as `framepass completion
+# --names CONFIG --for $1` gives them.
 _framepass_names() {{
     local fp=${{(Q)words[1]}} cfg="" i seen=0
     for ((i = 2; i < CURRENT; i++)); do
@@ -211,7 +213,7 @@ _framepass_names() {{
         esac
     done
     [[ -n $cfg && $cfg != - ]] || return 0
-    ${{fp/#\~/$HOME}} -q completion --names ${{cfg/#\~/$HOME}} 2>/dev/null
+    ${{fp/#\~/$HOME}} -q completion --names ${{cfg/#\~/$HOME}} --for $1 2>/dev/null
 }}
 
 _framepass() {{
@@ -231,8 +233,8 @@ _framepass() {{
     done
     case $prev in
         (--cvar) compadd -S '' -a cvars; return ;;
-        (--set) names=(${{(M)${{(f)"$(_framepass_names)"}}:#*=}}); compadd -S '' -a names; return ;;
-        (--dump) names=(all ${{${{(f)"$(_framepass_names)"}}:#(*=|)}}); compadd -a names; return ;;
+        (--set|--input) names=(${{(f)"$(_framepass_names ${{prev#--}})"}}); compadd -S '' -a names; return ;;
+        (--dump) names=(all ${{(f)"$(_framepass_names dump)"}}); compadd -a names; return ;;
         (--profile|--ref-profile) compadd -a profiles; _files -g '*.json'; return ;;
         (--device) compadd cpu cuda; return ;;
         (--mask) compadd sky none reflected-emitter; compadd -S '' shading-model= id=; _files; return ;;
@@ -290,6 +292,8 @@ std::string fishOptions(const CLI::App& app, const std::string& condition, const
                 line += " -x -a " + fishQuoted(fmt::format("{}", fmt::join(w.cvars, " ")));
             else if (is("set"))
                 line += " -x -a '(__framepass_names set)'";
+            else if (is("input"))
+                line += " -x -a '(__framepass_names input)'";
             else if (is("dump"))
                 line += " -x -a '(__framepass_names dump)'";
             else if (is("profile") || is("ref-profile"))
@@ -345,8 +349,9 @@ function __framepass_using
     test "$cmd" = "$argv[1]"
 end
 
-# The names after --set (PASS.PARAM=, PASS.INPUT=) or --dump (PASS.PORT): those of the chain the
-# config on the command line resolves to, as `framepass completion --names CONFIG` gives them.
+# The names after --set (PASS.PARAM=), --input (PASS.INPUT=) or --dump (PASS.PORT), $argv[1]
+# saying which: those of the chain the config on the command line resolves to, as `framepass
+# completion --names CONFIG --for $argv[1]` gives them.
 function __framepass_names
     set -l tokens (commandline -opc)
     set -l cfg
@@ -374,13 +379,7 @@ function __framepass_names
     end
     test "$argv[1]" = dump; and echo all
     set -l fp (string replace -r '^~/' "$HOME/" -- $tokens[1])
-    for name in ($fp -q completion --names (string replace -r '^~/' "$HOME/" -- $cfg) 2>/dev/null)
-        if string match -q -- '*=' $name
-            test "$argv[1]" = set; and echo $name
-        else
-            test "$argv[1]" = dump; and echo $name
-        end
-    end
+    $fp -q completion --names (string replace -r '^~/' "$HOME/" -- $cfg) --for $argv[1] 2>/dev/null
 end
 
 complete -c framepass -e
@@ -394,11 +393,12 @@ complete -c framepass -n '__framepass_using completion' -f -a 'bash zsh fish'
         fmt::arg("perCommand", perCommand));
 }
 
-// What --set and --dump take on the chain `config` resolves to: PASS.PARAM= and PASS.INPUT=
-// (each ending in '='), then PASS.PORT, in chain order. Every pass is planned (none culled), so
+// What --set, --input and --dump take on the chain `config` resolves to (`kind`: "set", "input"
+// or "dump"; empty: all three, in that order): PASS.PARAM=, PASS.INPUT= and PASS.PORT, in chain
+// order. Every pass is planned (none culled), so
 // a pass the outputs do not reach is there too; where that plan fails (a pass that could only
 // run with inputs the config lacks), the culled passes of the ordinary plan come from their type.
-std::vector<std::string> chainNames(const std::string& config) {
+std::vector<std::string> chainNames(const std::string& config, const std::string& kind) {
     SetupOptions o;
     o.config = config;
     o.allowUnknownCvars = true;
@@ -410,14 +410,14 @@ std::vector<std::string> chainNames(const std::string& config) {
         o.runEveryPass = false;
         setup.emplace(o);
     }
-    std::vector<std::string> sets, dumps;
+    std::vector<std::string> sets, inputs, dumps;
     std::set<std::string> seen;
     auto add = [&](std::vector<std::string>& to, const std::string& word) {
         if (seen.insert(word).second) to.push_back(word);
     };
     auto addPass = [&](const std::string& name, const nlohmann::json& params, const PassIO& io) {
         for (const auto& [param, value] : params.items()) add(sets, name + "." + param + "=");
-        for (const auto& in : io.inputs) add(sets, name + "." + in.name + "=");
+        for (const auto& in : io.inputs) add(inputs, name + "." + in.name + "=");
         for (const auto& out : io.outputs) add(dumps, name + "." + out.name);
     };
     for (const auto& s : setup->plan().steps) addPass(s.name, s.params, s.io);
@@ -430,6 +430,10 @@ std::vector<std::string> chainNames(const std::string& config) {
         if (!pass) continue;
         addPass(c.name, resolved, pass->describe());
     }
+    if (kind == "set") return sets;
+    if (kind == "input") return inputs;
+    if (kind == "dump") return dumps;
+    sets.insert(sets.end(), inputs.begin(), inputs.end());
     sets.insert(sets.end(), dumps.begin(), dumps.end());
     return sets;
 }
@@ -438,7 +442,7 @@ std::vector<std::string> chainNames(const std::string& config) {
 
 Command addCompletionCommand(CLI::App& app) {
     auto shell = std::make_shared<std::string>();
-    auto names = std::make_shared<std::string>();
+    auto names = std::make_shared<std::string>(), kind = std::make_shared<std::string>();
     CLI::App* sub = app.add_subcommand(
         "completion",
         "print a shell completion script (bash, zsh or fish): framepass completion bash > "
@@ -446,14 +450,17 @@ Command addCompletionCommand(CLI::App& app) {
     CLI::Option* shellOption = sub->add_option("shell", *shell, "the shell: bash, zsh or fish")
                                    ->check(CLI::IsMember({"bash", "zsh", "fish"}));
     sub->add_option("--names", *names,
-                    "instead of a script, print what --set and --dump take on the chain CONFIG "
-                    "resolves to, one a line: PASS.PARAM= and PASS.INPUT=, then PASS.PORT (the "
+                    "instead of a script, print what --set, --input and --dump take on the chain "
+                    "CONFIG resolves to, one a line: PASS.PARAM=, PASS.INPUT=, then PASS.PORT (the "
                     "scripts ask this)")
         ->type_name("CONFIG")
         ->excludes(shellOption);
-    return [&app, shell, names]() {
+    sub->add_option("--for", *kind, "with --names: only what that option takes")
+        ->check(CLI::IsMember({"set", "input", "dump"}))
+        ->needs(sub->get_option("--names"));
+    return [&app, shell, names, kind]() {
         if (!names->empty()) {
-            for (const auto& word : chainNames(*names)) std::cout << word << "\n";
+            for (const auto& word : chainNames(*names, *kind)) std::cout << word << "\n";
             return 0;
         }
         if (shell->empty())

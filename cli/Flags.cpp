@@ -50,6 +50,13 @@ void addSetupOptions(CLI::App& sub, app::SetupOptions& o) {
             for (const auto& t : texts) asParseError([&] { o.settings.setParamText(t); });
         },
         "set a pass parameter, e.g. --set hzb.halfPrecision=false");
+    sub.add_option_function<std::vector<std::string>>(
+        "--input",
+        [&o](const std::vector<std::string>& texts) {
+            for (const auto& t : texts) asParseError([&] { o.settings.setInputText(t); });
+        },
+        "rebind a pass's input to another source, e.g. --input gi.source=rtgi.diffuse (a pass "
+        "output PASS.PORT or capture:Buffer)");
     sub.add_option("--dump", o.dumps, "also write PASS.PORT (or 'all') to <out>/dump/");
     sub.add_option("--frames", o.frames, "frame spec (overrides the config), e.g. 1001-1010");
     sub.add_option("--capture", o.capture,

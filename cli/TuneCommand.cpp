@@ -58,8 +58,9 @@ Command addTuneCommand(CLI::App& app) {
                       << app::systemSettings(c);
             for (const auto& [name, value] : c.point)
                 if (!app::isCvarName(name))
-                    std::cout << fmt::format("; framepass only (no Unreal cvar): --set {}={}\n",
-                                             name, app::valueText(value));
+                    std::cout << fmt::format("; framepass only (no Unreal cvar): --{} {}={}\n",
+                                             r.inputAxes.count(name) ? "input" : "set", name,
+                                             app::valueText(value));
             std::cout << app::methodSettings(c);
             return 0;
         }

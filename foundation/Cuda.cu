@@ -268,6 +268,19 @@ Texture download(const DeviceTexture& texture) {
     return Texture(std::move(levels));
 }
 
+DeviceImage copyOnDevice(const DeviceImage& image) {
+    DeviceImage copy = allocateImage(image.width(), image.height(), image.channels(), false);
+    for (int c = 0; c < image.channelCount(); ++c)
+        check(cudaMemcpy2D(copy.plane(c).data, copy.stride() * sizeof(float), image.plane(c).data,
+                           image.stride() * sizeof(float), image.width() * sizeof(float),
+                           image.height(), cudaMemcpyDeviceToDevice),
+              "copying an image on the GPU");
+    // A device-to-device copy does not wait for itself on the host: the caller's next stream may
+    // be any.
+    check(cudaDeviceSynchronize(), "copying an image on the GPU");
+    return copy;
+}
+
 unsigned long long* counterBuffer(int count) {
     static unsigned long long* buffer = nullptr;
     static int capacity = 0;

@@ -50,6 +50,9 @@ void awaitUpload(const DeviceTexture& texture);
 /// last one's end on the upload stream, in the transfer totals.
 void finishUploads();
 Texture download(const DeviceTexture& texture);
+/// A copy of `image` in new device memory, finished when this returns (a door hands it to a
+/// caller that may write into it, where the original is the library's own).
+DeviceImage copyOnDevice(const DeviceImage& image);
 /// Waits for the GPU; a failed kernel becomes an fp::Error naming `what`.
 void synchronize(const char* what);
 /// Device memory for `count` work counters, kept for the process (one launch uses it at a time:

@@ -44,6 +44,9 @@ void finishUploads() {}
 Texture download(const DeviceTexture&) {
     noBackend();
 }
+DeviceImage copyOnDevice(const DeviceImage&) {
+    noBackend();
+}
 void synchronize(const char*) {
     noBackend();
 }

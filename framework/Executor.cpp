@@ -386,6 +386,11 @@ FrameReport executePlan(const Plan& plan,
                 const bool capture = src.rfind("capture:", 0) == 0;
                 if (capture)
                     store.load(src.substr(8), channelsOf(src.substr(8)));
+                if (!capture && sink.takesDeviceImages())
+                    if (auto device = store.shared(src).second) {
+                        layers.push_back({src, nullptr, plan.outputKinds.at(src), device});
+                        continue;
+                    }
                 const Texture* t = store.find(src);
                 FP_CHECK(t && !t->empty(), "frame {}: '{}' was not produced by its pass",
                          frame.number, src);

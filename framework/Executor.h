@@ -40,14 +40,20 @@ public:
 
 struct OutputLayer {
     std::string name;  //!< "pass.port" or the capture buffer name
-    const Texture* texture;
+    const Texture* texture;  //!< null when `device` holds the image instead
     PortKind kind;
+    /// For a sink that takes images where they are (FrameSink::takesDeviceImages): the GPU's
+    /// copy of an image a CUDA step made, shared, not copied (texture is then null).
+    std::shared_ptr<const DeviceTexture> device = nullptr;
 };
 
 /// Where finished outputs go (io/ writes files; tests keep them).
 class FrameSink {
 public:
     virtual ~FrameSink() = default;
+    /// Whether an image on the GPU is handed over there (OutputLayer::device) rather than
+    /// brought to the host first: a door whose caller keeps working on the GPU.
+    virtual bool takesDeviceImages() const { return false; }
     virtual void write(const OutputDesc& output,
                        const std::vector<OutputLayer>& layers,
                        const FrameInfo& frame) = 0;

@@ -49,6 +49,9 @@ struct GraphDesc {
     std::vector<LightTemplate> lightTemplates;        //!< empty once expanded
     nlohmann::json cvars = nlohmann::json::object();  //!< Unreal cvar name → value
     nlohmann::json sets = nlohmann::json::object();   //!< PASS.PARAM → value, as --set
+    /// PASS.INPUT → source ("pass.port" or "capture:Buffer"), as --input: rebinds that input
+    /// on top of the pass's own "inputs".
+    nlohmann::json inputs = nlohmann::json::object();
     std::string engine = "ue4.27";
     std::string device = "cpu";  //!< "cpu" or "cuda": where the passes with a CUDA kernel run
 };
@@ -57,11 +60,12 @@ struct GraphDesc {
 struct PlanOverrides {
     nlohmann::json cvars = nlohmann::json::object();           //!< --cvar NAME=VALUE
     std::vector<std::pair<std::string, nlohmann::json>> sets;  //!< --set PASS.PARAM=VALUE
+    std::vector<std::pair<std::string, std::string>> inputs;   //!< --input PASS.INPUT=SOURCE
     std::vector<std::string> dumps;                            //!< --dump PASS.PORT, or "all"
     std::string device;  //!< --device cpu|cuda ("" = the config's)
-    /// How a message names a cvar and a PASS.PARAM of the two above: fmt patterns taking the name,
+    /// How a message names a cvar, a PASS.PARAM and a PASS.INPUT of the three above: fmt patterns taking the name,
     /// in the terms of the door that set them (the command line's flags, a Python call).
-    std::string cvarOrigin = "--cvar {}", setOrigin = "--set {}";
+    std::string cvarOrigin = "--cvar {}", setOrigin = "--set {}", inputOrigin = "--input {}";
     /// The same for a dump (an output asked for by name).
     std::string dumpOrigin = "--dump {}";
     /// No pass is culled: each runs whether or not a requested output depends on it (the

@@ -25,7 +25,7 @@ struct NodeState {
     std::map<std::string, SourceRef> inputs;
     std::map<std::string, std::string> inputPointers;  // port → where its binding came from
     std::map<std::string, std::string> noPreviousCameraInputs;  // port → capture buffer
-    /// Inputs rebound by "set"/--set PASS.INPUT=SOURCE: port → (source, where it was set).
+    /// Inputs rebound by "inputs"/--input PASS.INPUT=SOURCE: port → (source, where it was set).
     std::map<std::string, std::pair<std::string, std::string>> setInputs;
     bool live = false;
 };
@@ -140,6 +140,7 @@ public:
     /// Makes every pass from its parameters: defaults ← cvars ← config params ← --set.
     void instantiate() {
         const auto sets = setLayers();
+        const auto inputs = inputLayers();
         for (std::size_t i = 0; i < mNodes.size(); ++i) {
             NodeState& n = mNodes[i];
             if (!n.type)
@@ -175,24 +176,20 @@ public:
                     merged[k] = v;
                     n.pinned[k] = paramsPtr + "/" + k;
                 }
-            std::map<std::string, std::pair<std::string, std::string>> maybeInputs;
+            std::vector<std::string> notParams;  // set names that are no parameter of the type
             if (auto it = sets.find(int(i)); it != sets.end()) {
                 // Each value on its own, so that an error names the setting that made it.
                 for (const auto& [k, v] : it->second.values.items()) {
-                    // PASS.INPUT=SOURCE on a name that is no parameter rebinds that input (bench
-                    // and tune sweep which method feeds an error measure so); checked below,
-                    // once the pass's ports are known.
                     const std::string name = k;  // a lambda may not capture a structured binding
-                    const bool isParam = std::any_of(n.type->params.begin(), n.type->params.end(),
-                                                     [&](const ParamInfo& p) { return p.name == name; });
-                    if (!isParam && v.is_string()) {
-                        maybeInputs[k] = {v.get<std::string>(), it->second.where.at(k)};
-                        continue;
+                    if (std::none_of(n.type->params.begin(), n.type->params.end(),
+                                     [&](const ParamInfo& p) { return p.name == name; }))
+                        notParams.push_back(name);
+                    else {
+                        validateLayer(*n.type, nlohmann::json::object({{k, v}}), paramsPtr,
+                                      it->second.where.at(k), "", mDiag);
+                        merged[k] = v;
+                        n.pinned[k] = it->second.where.at(k);
                     }
-                    validateLayer(*n.type, nlohmann::json::object({{k, v}}), paramsPtr,
-                                  it->second.where.at(k), "", mDiag);
-                    merged[k] = v;
-                    n.pinned[k] = it->second.where.at(k);
                 }
             }
             // Every layer was validated above. With errors, the pass is still made from its
@@ -202,13 +199,27 @@ public:
             n.pass = n.type->create(paramsOk ? merged : nlohmann::json::object(), paramsPtr,
                                     ignored, n.params);
             n.io = n.pass->describe();
-            for (const auto& [name, set] : maybeInputs) {
-                if (findPort(n.io.inputs, name))
-                    n.setInputs[name] = set;
-                else  // neither: the parameter check says so, with its did-you-mean
-                    validateLayer(*n.type, nlohmann::json::object({{name, set.first}}), paramsPtr,
-                                  set.second, "", mDiag);
+            for (const auto& name : notParams) {
+                const SetLayer& layer = sets.at(int(i));
+                const std::string& where = layer.where.at(name);
+                if (findPort(n.io.inputs, name))  // a parameter and an input are set apart
+                    mDiag.error(where, fmt::format("'{}' is an input of pass '{}', not a "
+                                                   "parameter: rebind it with {}",
+                                                   name, n.desc->name,
+                                                   inputSpelling(where, n.desc->name + "." + name)));
+                else  // the parameter check says what is wrong, with its did-you-mean
+                    validateLayer(*n.type, nlohmann::json::object({{name, layer.values.at(name)}}),
+                                  paramsPtr, where, "", mDiag);
             }
+            if (auto it = inputs.find(int(i)); it != inputs.end())
+                for (const auto& [port, set] : it->second) {
+                    if (findPort(n.io.inputs, port))
+                        n.setInputs[port] = set;
+                    else
+                        mDiag.error(set.second, fmt::format("pass '{}' ({}) has no input '{}'{}",
+                                                            n.desc->name, n.desc->type, port,
+                                                            didYouMean(port, portNames(n.io.inputs))));
+                }
         }
     }
 
@@ -489,6 +500,43 @@ private:
             layer.where[param] = where;
         }
         return layers;
+    }
+
+    // The config's "inputs" and then --input PASS.INPUT=SOURCE, grouped per pass: port →
+    // (source, where it was set); a later one of a port replaces an earlier one.
+    std::map<int, std::map<std::string, std::pair<std::string, std::string>>> inputLayers() {
+        std::map<int, std::map<std::string, std::pair<std::string, std::string>>> layers;
+        std::vector<std::tuple<std::string, nlohmann::json, std::string>> inputs;
+        for (const auto& [target, value] : mGraph.inputs.items())
+            inputs.emplace_back(target, value, "/inputs/" + jsonPointerEscape(target));
+        for (const auto& [target, source] : mIn.overrides.inputs)
+            inputs.emplace_back(target, source,
+                                fmt::format(fmt::runtime(mIn.overrides.inputOrigin), target));
+        for (const auto& [target, value, where] : inputs) {
+            const auto dot = target.find('.');
+            if (dot == std::string::npos || !value.is_string()) {
+                mDiag.error(where, "expected PASS.INPUT and a source's name (\"pass.port\" or "
+                                   "\"capture:Buffer\")");
+                continue;
+            }
+            const std::string pass = target.substr(0, dot);
+            auto it = mNodeIndex.find(pass);
+            if (it == mNodeIndex.end()) {
+                mDiag.error(where,
+                            fmt::format("no pass named '{}'{}", pass, didYouMean(pass, mAllNames)));
+                continue;
+            }
+            layers[it->second][target.substr(dot + 1)] = {value.get<std::string>(), where};
+        }
+        return layers;
+    }
+
+    // How the door that set `where` rebinds input `target` instead: the config's "inputs" for
+    // the config's "set", else the door's own spelling (--input, set_input(), /inputs/).
+    std::string inputSpelling(const std::string& where, const std::string& target) const {
+        if (where.rfind("/set/", 0) == 0)
+            return fmt::format("\"inputs\": {{\"{}\": …}}", target);
+        return fmt::format(fmt::runtime(mIn.overrides.inputOrigin), target);
     }
 
     // Returns false (with an error) when `text` does not name an existing source.

@@ -245,6 +245,7 @@ const JsonObjectShape& configShape() {
          {"scene", K::String, "scene JSON: its lights expand the light templates, its meshes are read when a pass traces rays"},
          {"cvars", K::ValueMap, "Unreal console variables by their exact names"},
          {"set", K::ValueMap, "pass parameters as PASS.PARAM → value, applied as --set is (after the passes' params)"},
+         {"inputs", K::StringMap, "PASS.INPUT → source ('pass.port' or 'capture:Buffer'), rebinding that input as --input does"},
          {"passes", K::ObjectArray, "the chain", {}, {}, {}, &kPassShape, &kTemplateEntryShape},
          {"outputs", K::ValueMap, "file → 'pass.port' or a list of them (.exr), or one source (.png)"},
          {"color", K::Object, "colour management of previews", {}, {}, {}, &kColorShape},
@@ -379,6 +380,8 @@ RunConfig parseRunConfig(const nlohmann::json& j,
         else
             diag.error("/set", "'set' must be an object of PASS.PARAM → value");
     }
+    if (j.contains("inputs") && j["inputs"].is_object())  // the shape check says what else is wrong
+        rc.graph.inputs = j["inputs"];
     if (j.contains("passes")) {
         parsePasses(j["passes"], "/passes", rc.graph, diag);
         if (j.contains("outputs"))

@@ -13,6 +13,7 @@
 #include "app/Invocation.h"
 #include "app/PassCatalogue.h"
 #include "app/Session.h"
+#include "foundation/Cuda.h"
 #include "foundation/Error.h"
 #include "foundation/Limits.h"
 #include "io/CameraIO.h"
@@ -22,6 +23,7 @@
 #include "io/MemoryCapture.h"
 #include "io/SafeFiles.h"
 
+#include <dlpack/dlpack.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfStringAttribute.h>
@@ -37,6 +39,7 @@
 #include <algorithm>
 #include <cstring>
 #include <functional>
+#include <string_view>
 #include <thread>
 
 namespace py = pybind11;
@@ -112,6 +115,102 @@ py::dict toArrays(const std::map<std::string, Image>& images, Layout layout) {
     for (const auto& [name, image] : images) d[py::str(name)] = toArray(image, layout);
     return d;
 }
+
+// An output that stayed on the GPU (a session with device="cuda"): the library's planes in GPU
+// memory, shared (kept allocated while this object lives), shown as (H, W, C) or (C, H, W) by
+// strides alone. CuPy, Numba and torch.as_tensor read __cuda_array_interface__ (version 3), a
+// zero-copy view that says it is read-only: the session reuses these pixels in its next run. A
+// DLPack tensor (torch.from_dlpack, JAX) cannot say so (its legacy form has no read-only flag,
+// and torch's tensors are always writable), so __dlpack__ hands over a copy made on the GPU,
+// the caller's own: one device-to-device copy, no trip to the host. numpy reads __array__, which
+// copies the pixels to the host. The frame's kernels have finished when run() returns
+// (Session::run synchronises before it hands device images over), so neither protocol names a
+// stream to wait on.
+class CudaArray {
+public:
+    CudaArray(DeviceImage image, Layout layout) : mImage(std::move(image)), mLayout(layout) {}
+
+    // Shape and strides in elements.
+    std::vector<int64_t> shape() const {
+        const int64_t c = mImage.channelCount(), h = mImage.height(), w = mImage.width();
+        return mLayout == Layout::Planar ? std::vector<int64_t>{c, h, w}
+                                         : std::vector<int64_t>{h, w, c};
+    }
+    std::vector<int64_t> strides() const {
+        const int64_t row = mImage.stride(), plane = row * mImage.height();
+        return mLayout == Layout::Planar ? std::vector<int64_t>{plane, row, 1}
+                                         : std::vector<int64_t>{row, 1, plane};
+    }
+    std::uintptr_t pointer() const { return reinterpret_cast<std::uintptr_t>(mImage.plane(0).data); }
+
+    py::dict cudaArrayInterface() const {
+        py::list byteStrides;
+        for (const int64_t s : strides()) byteStrides.append(s * int64_t(sizeof(float)));
+        py::dict d;
+        d["shape"] = py::tuple(py::cast(shape()));
+        d["strides"] = py::tuple(byteStrides);
+        d["typestr"] = "<f4";
+        d["data"] = py::make_tuple(pointer(), true);  // read-only: the library's own pixels
+        d["version"] = 3;
+        d["stream"] = py::none();  // nothing to wait for: see above
+        return d;
+    }
+
+    // A DLPack capsule (the legacy, unversioned DLManagedTensor, which every consumer takes)
+    // over a copy of the image made on the GPU: the manager context holds the copy until the
+    // consumer (or the unconsumed capsule's destructor) calls the deleter.
+    py::capsule dlpack() const {
+        struct Held {
+            DeviceImage image;
+            std::vector<int64_t> shape, strides;
+            DLManagedTensor tensor;
+        };
+        DeviceImage copy;
+        {
+            py::gil_scoped_release release;
+            copy = cuda::copyOnDevice(mImage);
+        }
+        auto* held = new Held{copy, shape(), strides(), {}};
+        DLTensor& t = held->tensor.dl_tensor;
+        t.data = reinterpret_cast<void*>(held->image.plane(0).data);
+        t.device = {kDLCUDA, 0};  // framepass runs on the first GPU
+        t.ndim = 3;
+        t.dtype = {kDLFloat, 32, 1};
+        t.shape = held->shape.data();
+        t.strides = held->strides.data();
+        t.byte_offset = 0;
+        held->tensor.manager_ctx = held;
+        held->tensor.deleter = [](DLManagedTensor* self) { delete static_cast<Held*>(self->manager_ctx); };
+        return py::capsule(&held->tensor, "dltensor", [](PyObject* capsule) {
+            // Not consumed (a consumer renames it "used_dltensor" and calls the deleter itself).
+            if (PyCapsule_IsValid(capsule, "dltensor"))
+                if (auto* m = static_cast<DLManagedTensor*>(PyCapsule_GetPointer(capsule, "dltensor")))
+                    m->deleter(m);
+        });
+    }
+
+    // The pixels copied to the host, in this array's layout.
+    py::array_t<float> toHost() const {
+        Image host;
+        {
+            py::gil_scoped_release release;
+            host = cuda::download(DeviceTexture({mImage})).image();
+        }
+        return toArray(host, mLayout);
+    }
+
+    std::string repr() const {
+        const auto s = shape();
+        return fmt::format("framepass.CudaArray(shape=({}, {}, {}), dtype=float32, channels {}, "
+                           "on cuda:0)",
+                           s[0], s[1], s[2], fmt::join(mImage.channels(), ""));
+    }
+    const std::vector<std::string>& channels() const { return mImage.channels(); }
+
+private:
+    DeviceImage mImage;
+    Layout mLayout;
+};
 
 // The input limits of every image framepass reads (foundation/Limits.h), checked on the shape
 // before an array is converted: a broadcast array of 10⁶ × 10⁶ must not become a copy.
@@ -302,6 +401,7 @@ public:
         // A setting is named in messages by the call that made it.
         o.settings.cvarOrigin = "set_cvar('{}')";
         o.settings.setOrigin = "set('{}')";
+        o.settings.inputOrigin = "set_input('{}')";
         o.dumpOrigin = "outputs=['{}']";
         mConfig = config;
         mSession = std::make_unique<app::Session>(o);
@@ -326,17 +426,23 @@ public:
         py::gil_scoped_release release;
         mSession->setParam(passParam, std::move(v));
     }
+    void setInput(const std::string& passInput, std::string source) {
+        py::gil_scoped_release release;
+        mSession->setInput(passInput, std::move(source));
+    }
     py::dict run(std::optional<int> frame, const std::vector<std::string>& outputs,
-                 const std::string& layout) {
+                 const std::string& layout, std::optional<bool> onDevice) {
         const Layout l = layoutOf(layout);
         const int f = frame ? *frame : mSession->frames().front();
+        // By default a CUDA session's outputs stay where its passes made them.
+        const bool keep = onDevice ? *onDevice : mSession->setup()->plan().device == Device::Cuda;
         app::FrameResult r;
         const py::module_ threading = py::module_::import("threading");
         const bool mainThread =
             threading.attr("current_thread")().is(threading.attr("main_thread")());
         try {
             py::gil_scoped_release release;
-            auto once = [&] { r = mSession->run(f, outputs); };
+            auto once = [&] { r = mSession->run(f, outputs, keep); };
             // One run at a time checks signals: runs on other threads wait for the session.
             std::lock_guard<std::mutex> one(mRunMutex);
             mCheckSignals = mainThread;
@@ -350,7 +456,9 @@ public:
             }
             throw;
         }
-        return toArrays(r.images, l);
+        py::dict d = toArrays(r.images, l);
+        for (auto& [name, image] : r.deviceImages) d[py::str(name)] = CudaArray(std::move(image), l);
+        return d;
     }
     py::object plan(const std::vector<std::string>& outputs) {
         std::shared_ptr<const app::RunSetup> setup;
@@ -367,11 +475,13 @@ public:
     std::string repr() const {
         const app::Settings settings = mSession->settings();
         const auto& frames = mSession->frames();
-        return fmt::format("framepass.Session('{}', frames {}{}, {} cvar{} and {} parameter{} set)",
+        return fmt::format("framepass.Session('{}', frames {}{}, {} cvar{}, {} parameter{} and "
+                           "{} input{} set)",
                            mConfig, frames.front(),
                            frames.size() > 1 ? fmt::format("-{}", frames.back()) : "",
                            settings.cvars.size(), settings.cvars.size() == 1 ? "" : "s",
-                           settings.sets.size(), settings.sets.size() == 1 ? "" : "s");
+                           settings.sets.size(), settings.sets.size() == 1 ? "" : "s",
+                           settings.inputs.size(), settings.inputs.size() == 1 ? "" : "s");
     }
     py::object cvarValue(const std::string& name) const {
         return toPython(mSession->cvarValue(name));
@@ -559,23 +669,27 @@ py::object compare(const py::object& a, const py::object& b, const std::string& 
 
 // bench's cvars= or set= ({name: value}) into `out`, each through `add` (Settings::setCvar or
 // Settings::setParam).
-void addSettings(const py::object& values, const char* what, app::Settings& out,
-                 void (app::Settings::*add)(const std::string&, nlohmann::json)) {
+void addSettings(const py::object& values, const char* what,
+                 const std::function<void(const std::string&, nlohmann::json)>& add) {
     if (values.is_none()) return;
     if (!py::isinstance<py::dict>(values))
         throw py::type_error(fmt::format("bench(): {}= is a dict {{name: value}}", what));
     for (const auto& [k, v] : values.cast<py::dict>()) {
         const std::string name = py::str(k).cast<std::string>();
-        nlohmann::json value = settingValue(fmt::format("bench(): {}['{}']", what, name), v);
-        (out.*add)(name, std::move(value));
+        const std::string where = fmt::format("bench(): {}['{}']", what, name);
+        nlohmann::json value = settingValue(where, v);
+        if (std::string_view(what) == "inputs" && !value.is_string())
+            throw py::type_error(where + " is a source's name (str): 'pass.port' or "
+                                         "'capture:Buffer'");
+        add(name, std::move(value));
     }
 }
 
 py::object bench(const std::string& config, const py::object& sweep, int runs, int warmup,
                  const std::string& capture, const std::string& profile,
                  const std::string& device, const std::string& frames, const py::object& cvars,
-                 const py::object& sets, int decomposeRays, const std::string& incremental,
-                 const std::string& html) {
+                 const py::object& sets, const py::object& inputs, int decomposeRays,
+                 const std::string& incremental, const std::string& html) {
     app::BenchOptions o;
     o.session.config = config;
     o.session.capture = capture;
@@ -584,8 +698,12 @@ py::object bench(const std::string& config, const py::object& sweep, int runs, i
     o.session.frames = frames;
     o.session.settings.cvarOrigin = "bench(): cvars['{}']";
     o.session.settings.setOrigin = "bench(): set['{}']";
-    addSettings(cvars, "cvars", o.session.settings, &app::Settings::setCvar);
-    addSettings(sets, "set", o.session.settings, &app::Settings::setParam);
+    o.session.settings.inputOrigin = "bench(): inputs['{}']";
+    app::Settings& settings = o.session.settings;
+    addSettings(cvars, "cvars", [&](const std::string& n, nlohmann::json v) { settings.setCvar(n, v); });
+    addSettings(sets, "set", [&](const std::string& n, nlohmann::json v) { settings.setParam(n, v); });
+    addSettings(inputs, "inputs",
+                [&](const std::string& n, nlohmann::json v) { settings.setInput(n, v.get<std::string>()); });
     if (runs < 1 || warmup < 0) throw py::value_error("runs is 1 or more, warmup 0 or more");
     o.runs = runs;
     o.warmup = warmup;
@@ -770,6 +888,25 @@ by their canonical names, its camera and its frame number. A Session runs on it 
                                c.capture->extent().height, c.capture->buffers().size());
         });
 
+    py::class_<CudaArray>(m, "CudaArray", R"doc(
+An output left on the GPU by a session running on "cuda": float32 pixels in GPU memory, shared
+with the library and read-only, (height, width, channels) or (channels, height, width) as the
+run's layout asked, by strides alone. cupy.asarray(a) and torch.as_tensor(a, device="cuda") view
+it without a copy (__cuda_array_interface__); torch.from_dlpack(a) gets a copy made on the GPU,
+writable; numpy.asarray(a) and a.numpy() copy it to the host.)doc")
+        .def_property_readonly("shape", [](const CudaArray& a) { return py::tuple(py::cast(a.shape())); })
+        .def_property_readonly("dtype", [](const CudaArray&) { return py::dtype::of<float>(); })
+        .def_property_readonly("channels", &CudaArray::channels, "The channels' names.")
+        .def_property_readonly("__cuda_array_interface__", &CudaArray::cudaArrayInterface)
+        .def("__dlpack__", [](const CudaArray& a, const py::args&, const py::kwargs&) { return a.dlpack(); },
+             "A DLPack capsule over a copy made on the GPU, the caller's to write (stream and "
+             "the other keywords are taken and need nothing: the copy has finished).")
+        .def("__dlpack_device__", [](const CudaArray&) { return py::make_tuple(int(kDLCUDA), 0); })
+        .def("__array__", [](const CudaArray& a, const py::args&, const py::kwargs&) { return a.toHost(); },
+             "The pixels copied to the host as a numpy array.")
+        .def("numpy", &CudaArray::toHost, "The pixels copied to the host as a numpy array.")
+        .def("__repr__", &CudaArray::repr);
+
     py::class_<PySession>(m, "Session", R"doc(
 A config on its capture, held open while its settings change.
 
@@ -794,13 +931,19 @@ says which were reused). Frames run in order carry the temporal passes' history.
              "Sets an Unreal cvar, as --cvar NAME=VALUE.")
         .def("set", &PySession::set, py::arg("param"), py::arg("value"),
              "Sets a pass parameter PASS.PARAM, as --set.")
+        .def("set_input", &PySession::setInput, py::arg("input"), py::arg("source"),
+             "Rebinds input PASS.INPUT to a source ('pass.port' or 'capture:Buffer'), as "
+             "--input.")
         .def("run", &PySession::run, py::arg("frame") = py::none(),
              py::arg("outputs") = std::vector<std::string>{}, py::arg("layout") = "hwc",
+             py::kw_only(), py::arg("on_device") = py::none(),
              "Runs a frame (default: the config's first) and returns {name: float32 array} for "
              "each of outputs ('pass.port' or a capture buffer; 'all' or none: every output the "
              "chain writes and every pass output asked for). layout 'hwc': (height, width, "
              "channels), one copy; 'chw': (channels, height, width), a read-only view over the "
-             "library's pixels, no copy. The GIL is released while it runs.")
+             "library's pixels, no copy. on_device (default: whether the session runs on "
+             "'cuda'): the outputs of passes that ran on the GPU stay there as CudaArray views "
+             "in either layout, no copy. The GIL is released while it runs.")
         .def("plan", &PySession::plan, py::arg("outputs") = std::vector<std::string>{},
              "The resolved chain as a dict (what `framepass plan --json` prints).")
         .def("report", &PySession::report,
@@ -861,9 +1004,9 @@ says which were reused). Frames run in order carry the temporal passes' history.
           py::arg("runs") = 5, py::arg("warmup") = 1, py::arg("capture") = "",
           py::arg("profile") = "", py::arg("device") = "", py::arg("frames") = "",
           py::arg("cvars") = py::none(), py::arg("set") = py::none(),
-          py::arg("decompose_rays") = 256, py::arg("incremental") = "", py::arg("html") = "",
+          py::arg("inputs") = py::none(), py::arg("decompose_rays") = 256, py::arg("incremental") = "", py::arg("html") = "",
           "Times the config's chain as `framepass bench` does and returns what `bench --json` "
-          "prints. sweep: {name: [values]} (a cvar or PASS.PARAM per axis; several make a "
-          "grid) or a list of 'NAME=V1,V2' strings; cvars and set: {name: value} for every "
-          "point; incremental: 'NAME=A,B'; html: also write the HTML report there.");
+          "prints. sweep: {name: [values]} (a cvar, PASS.PARAM or PASS.INPUT per axis; several "
+          "make a grid) or a list of 'NAME=V1,V2' strings; cvars, set and inputs: {name: value} "
+          "for every point; incremental: 'NAME=A,B'; html: also write the HTML report there.");
 }

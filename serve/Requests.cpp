@@ -20,7 +20,7 @@ void checkValue(const nlohmann::json& v, const std::string& pointer) {
                        pointer);
 }
 
-// The body's "cvars" or "set" (key) into `out`.
+// The body's "cvars", "set" or "inputs" (key) into `out`.
 void readSettings(const nlohmann::json& j, const std::string& key, app::Settings& out) {
     if (!j.contains(key)) return;
     const nlohmann::json& map = j[key];
@@ -35,7 +35,13 @@ void readSettings(const nlohmann::json& j, const std::string& key, app::Settings
         // (Filled directly: the request parser links nothing of the passes, and a JSON object
         // names each key once; cvars spelled alike in two cases meet in the planner.)
         if (key == "cvars") out.cvars[name] = value;
-        else out.sets.emplace_back(name, value);
+        else if (key == "set") out.sets.emplace_back(name, value);
+        else if (!value.is_string())
+            throw RequestError(400, fmt::format("{}: an input is rebound to a source's name "
+                                                "(\"pass.port\" or \"capture:Buffer\"), not {}",
+                                                pointer, value.dump()),
+                               pointer);
+        else out.inputs.emplace_back(name, value.get<std::string>());
     }
 }
 
@@ -62,19 +68,21 @@ SettingsChange parseSettingsChange(std::string_view body) {
     }
     if (!j.is_object())
         throw RequestError(400, "the body is a JSON object: {\"cvars\": {…}, \"set\": {…}, "
-                                "\"frame\": N}");
+                                "\"inputs\": {…}, \"frame\": N}");
     for (const auto& [key, value] : j.items())
-        if (key != "cvars" && key != "set" && key != "frame" && key != "show")
+        if (key != "cvars" && key != "set" && key != "inputs" && key != "frame" && key != "show")
             throw RequestError(400, fmt::format("unknown key '{}': the body has \"cvars\", "
-                                                "\"set\", \"frame\" and \"show\"",
+                                                "\"set\", \"inputs\", \"frame\" and \"show\"",
                                                 key),
                                "/" + key);
     SettingsChange change;
     // A refused setting is named by its place in the body.
     change.settings.cvarOrigin = "/cvars/{}";
     change.settings.setOrigin = "/set/{}";
+    change.settings.inputOrigin = "/inputs/{}";
     readSettings(j, "cvars", change.settings);
     readSettings(j, "set", change.settings);
+    readSettings(j, "inputs", change.settings);
     if (j.contains("frame")) {
         const nlohmann::json& f = j["frame"];
         if (!f.is_number_integer() || f.get<int64_t>() < -limits::kMaxFrameNumber ||

@@ -32,7 +32,7 @@ private:
 /// A change of settings, as PUT /api/params sends it: cvars and PASS.PARAM values (as --cvar and
 /// --set read them) and the frame to show.
 struct SettingsChange {
-    app::Settings settings;  //!< "cvars" and "set", values as the body gives them
+    app::Settings settings;  //!< "cvars", "set" and "inputs", values as the body gives them
     std::optional<int> frame;
     /// The buffers the page shows (replacing the last list): the pass outputs among them are
     /// handed back by every run; the others stay where they are made (on the GPU, unread).
@@ -50,7 +50,8 @@ inline constexpr int kRequestThreads = 32;
 /// The most buffers a page may show at once (A, B, and what the probe reads).
 inline constexpr std::size_t kMaxShown = 16;
 
-/// PUT /api/params: {"cvars": {NAME: value}, "set": {"PASS.PARAM": value}, "frame": N,
+/// PUT /api/params: {"cvars": {NAME: value}, "set": {"PASS.PARAM": value}, "inputs":
+/// {"PASS.INPUT": "source"}, "frame": N,
 /// "show": [BUFFER, …]}, values bool, number or string; buffer names as parseBufferQuery takes
 /// them, at most kMaxShown. Throws RequestError 400 (malformed JSON, unknown key, a value that is
 /// an object, array or null) or 413 (over kMaxRequestBody).

@@ -190,6 +190,7 @@ uint64_t Workbench::apply(const SettingsChange& change, std::vector<Diagnostic>*
             settings.merge(change.settings);
             settings.cvarOrigin = change.settings.cvarOrigin;  // named by their place in the body
             settings.setOrigin = change.settings.setOrigin;
+            settings.inputOrigin = change.settings.inputOrigin;
             std::vector<Diagnostic> said = mSession.replaceSettings(std::move(settings));
             if (warnings) *warnings = std::move(said);
             planned();
@@ -505,6 +506,7 @@ nlohmann::json Workbench::exportSettings() {
         cvarPoint.emplace_back(name, value);
     }
     for (const auto& [target, value] : settings.sets) config["set"][target] = value;
+    for (const auto& [target, source] : settings.inputs) config["inputs"][target] = source;
     config["frames"] = std::to_string(mFrame);
     return {{"config", config}, {"ini", app::systemSettings(cvarPoint)}};
 }

@@ -17,6 +17,7 @@ from ._framepass import (  # noqa: F401
     Capture,
     CaptureError,
     ConfigError,
+    CudaArray,
     Error,
     SettingTypeError,
     SettingValueError,
@@ -82,7 +83,7 @@ class Session(_framepass.Session):
         return Cvars(self)
 
 
-for _name in ("__init__", "set_cvar", "set", "run", "plan", "report", "cvar", "cvar_names", "cancel"):
+for _name in ("__init__", "set_cvar", "set", "set_input", "run", "plan", "report", "cvar", "cvar_names", "cancel"):
     setattr(Session, _name, _signatures.with_signature(getattr(_framepass.Session, _name), _name))
 
 

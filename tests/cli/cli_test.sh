@@ -57,10 +57,13 @@ cat > "$DIR/methods.json" <<JSON
     { "name": "gi", "type": "error_measure", "inputs": { "source": "ssgi.diffuse", "reference": "capture:SceneColor" } } ],
   "outputs": { "gi.####.exr": "gi.heat" } }
 JSON
-check "--set PASS.INPUT=SOURCE rebinds an input, and the method it leaves is culled" bash -c "'$FP' plan '$DIR/methods.json' | grep -q '3. ssgi (ssgi)' && ! '$FP' plan '$DIR/methods.json' | grep -q '[0-9]. rtgi' && '$FP' plan '$DIR/methods.json' --set gi.source=rtgi.diffuse > '$DIR/methods_plan.txt' && grep -q 'source←rtgi.diffuse' '$DIR/methods_plan.txt' && grep -q '1. rtgi (rt_global_illumination)' '$DIR/methods_plan.txt' && ! grep -q '[0-9]. ssgi' '$DIR/methods_plan.txt'"
+check "--input PASS.INPUT=SOURCE rebinds an input, and the method it leaves is culled" bash -c "'$FP' plan '$DIR/methods.json' | grep -q '3. ssgi (ssgi)' && ! '$FP' plan '$DIR/methods.json' | grep -q '[0-9]. rtgi' && '$FP' plan '$DIR/methods.json' --input gi.source=rtgi.diffuse > '$DIR/methods_plan.txt' && grep -q 'source←rtgi.diffuse' '$DIR/methods_plan.txt' && grep -q '1. rtgi (rt_global_illumination)' '$DIR/methods_plan.txt' && ! grep -q '[0-9]. ssgi' '$DIR/methods_plan.txt'"
 check "a --set on neither a parameter nor an input is an error" expect_exit 2 "gi" "$FP" plan "$DIR/methods.json" --set gi.sorce=rtgi.diffuse
+check "a --set on an input is an error that says to use --input" expect_exit 2 "--set gi.source: 'source' is an input of pass 'gi', not a parameter: rebind it with --input gi.source" "$FP" plan "$DIR/methods.json" --set gi.source=rtgi.diffuse
+check "an --input on no input of the pass is an error with a did-you-mean" expect_exit 2 "--input gi.sorce: pass 'gi' (error_measure) has no input 'sorce' (did you mean 'source'?)" "$FP" plan "$DIR/methods.json" --input gi.sorce=rtgi.diffuse
+check "the config's \"inputs\" rebind as --input does" bash -c "python3 -c 'import json,sys; c=json.load(open(sys.argv[1])); c[\"inputs\"]={\"gi.source\": \"rtgi.diffuse\"}; json.dump(c, open(sys.argv[2], \"w\"))' '$DIR/methods.json' '$DIR/methods_inputs.json' && '$FP' plan '$DIR/methods_inputs.json' | grep -q 'source←rtgi.diffuse'"
 check "tune searches across methods through an error's source" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=ssgi.diffuse,rtgi.diffuse --runs 1 --warmup 0 2>/dev/null | grep -q 'cheapest setting that meets'"
-check "tune names the Unreal setting of the method it chose" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=rtgi.diffuse --sweep rtgi.samplesPerPixel=1,2 --runs 1 --warmup 0 2>/dev/null | grep -q '; the method rt_global_illumination runs: r.RayTracing.GlobalIllumination=1'"
+check "tune names the Unreal setting of the method it chose, and the method as an --input line" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=rtgi.diffuse --sweep rtgi.samplesPerPixel=1,2 --runs 1 --warmup 0 2>/dev/null > '$DIR/tune_method.txt' && grep -q '; the method rt_global_illumination runs: r.RayTracing.GlobalIllumination=1' '$DIR/tune_method.txt' && grep -q '^; framepass only (no Unreal cvar): --input gi.source=rtgi.diffuse' '$DIR/tune_method.txt' && grep -q '^; framepass only (no Unreal cvar): --set rtgi.samplesPerPixel=' '$DIR/tune_method.txt'"
 check "tune leaves out a cvar the chosen method's chain does not read" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=rtgi.diffuse --sweep r.SSGI.Quality=1,4 --runs 1 --warmup 0 2>/dev/null > '$DIR/tune_idle.txt' && grep -q '^; r.SSGI.Quality=[14] left out: no pass of this chain reads it' '$DIR/tune_idle.txt' && ! grep -q '^r.SSGI.Quality=' '$DIR/tune_idle.txt'"
 check "the ray-traced preset without a scene takes the one the capture was made from" \
     bash -c "'$FP' run '$DIR/rt_noscene.json' -o '$DIR/rt_none' 2>'$DIR/rt_none.log' >/dev/null && grep -q 'using .*examples/cornell/scene.json, the scene the capture was made from' '$DIR/rt_none.log' && cmp '$DIR/rt_none/raytraced.0001.exr' '$DIR/rt_out/raytraced.0001.exr'"
@@ -412,9 +415,20 @@ for s in plan['steps']:
     for o in s['outputs']: assert f\"{s['name']}.{o}\" in names, (s['name'], o)
 assert 'rt_shadows_ceiling.shadow' in names and not any(n.startswith('rt_shadows.') for n in names)
 PY"
+check "completion --names --for: --set's parameters, --input's inputs and --dump's ports apart" bash -c "for k in set input dump; do '$FP' completion --names '$DIR/rt.json' --for \$k > '$DIR/rt_names_'\$k.txt || exit 1; done; python3 - '$DIR/rt_plan.json' '$DIR' <<'PY'
+import json, sys
+plan = json.load(open(sys.argv[1])); d = sys.argv[2]
+got = {k: open(f'{d}/rt_names_{k}.txt').read().split() for k in ('set', 'input', 'dump')}
+assert sorted(sum(got.values(), [])) == sorted(open(f'{d}/rt_names.txt').read().split())
+for s in plan['steps']:
+    for p in s['params']: assert f\"{s['name']}.{p}=\" in got['set'], (s['name'], p)
+    for p in s['inputs']: assert f\"{s['name']}.{p}=\" in got['input'], (s['name'], p)
+    for o in s['outputs']: assert f\"{s['name']}.{o}\" in got['dump'], (s['name'], o)
+assert not set(got['set']) & set(got['input'])
+PY"
 check "every name --names offers for --dump is one the chain takes (and rt_shadows.shadow is not)" bash -c "'$FP' plan '$DIR/rt.json' --dump rt_shadows_ceiling.shadow > /dev/null 2>&1 && ! '$FP' plan '$DIR/rt.json' --dump rt_shadows.shadow > /dev/null 2>&1 && for n in \$(grep -v '=\$' '$DIR/rt_names.txt'); do '$FP' -q plan '$DIR/rt.json' --dump \$n > /dev/null || { echo \"--dump \$n fails\"; exit 1; }; done"
 check "completion --names of a config that does not plan is a usage error" expect_exit 2 "framepass error" "$FP" completion --names "$DIR/no_such_config.json"
-check "bash completion: --set and --dump offer the config's chain" bash -c "$(declare -f complete_words); BUILD='$BUILD'; complete_words '$FP' plan '$DIR/rt.json' --dump rt_sh | tr ' ' '\n' > '$DIR/bash_dump.txt' && grep -qx 'rt_shadows_ceiling.shadow' '$DIR/bash_dump.txt' && ! grep -q '^rt_shadows\.' '$DIR/bash_dump.txt' && complete_words '$FP' run '$DIR/rt.json' -o out --set rt_shadows_c | grep -q 'rt_shadows_ceiling.light=' && [ -z \"\$(complete_words '$FP' run --set rt_sh)\" ]"
+check "bash completion: --set, --input and --dump offer the config's chain" bash -c "$(declare -f complete_words); BUILD='$BUILD'; complete_words '$FP' plan '$DIR/rt.json' --dump rt_sh | tr ' ' '\n' > '$DIR/bash_dump.txt' && grep -qx 'rt_shadows_ceiling.shadow' '$DIR/bash_dump.txt' && ! grep -q '^rt_shadows\.' '$DIR/bash_dump.txt' && complete_words '$FP' run '$DIR/rt.json' -o out --set rt_shadows_c | grep -q 'rt_shadows_ceiling.light=' && [ -z \"\$(complete_words '$FP' run --set rt_sh)\" ] && complete_words '$FP' run '$DIR/rt.json' --input rt_shadows_c | tr ' ' '\n' > '$DIR/bash_input.txt' && grep -q '^rt_shadows_ceiling\..*=\$' '$DIR/bash_input.txt' && ! grep -q 'rt_shadows_ceiling.light=' '$DIR/bash_input.txt'"
 for shell in zsh fish; do
     check "completion $shell: the build's script is what the command prints" bash -c "'$FP' completion $shell | cmp - '$BUILD/cli/framepass.$shell'"
     if command -v $shell > /dev/null; then
@@ -424,7 +438,7 @@ for shell in zsh fish; do
     fi
 done
 if command -v zsh > /dev/null; then
-    check "completion zsh: --set and --dump offer the config's chain" bash -c "zsh -fc 'compdef() { :; }; source \"\$1\"; words=(\"\$2\" plan \"\$3\" --dump \"\"); CURRENT=5; _framepass_names' _ '$BUILD/cli/framepass.zsh' '$FP' '$DIR/rt.json' | grep -qx 'rt_shadows_ceiling.shadow' && zsh -fc 'compdef() { :; }; source \"\$1\"; words=(\"\$2\" --threads 2 run \"\$3\" -o out --set \"\"); CURRENT=8; _framepass_names' _ '$BUILD/cli/framepass.zsh' '$FP' '$DIR/rt.json' | grep -qx 'rt_shadows_ceiling.light='"
+    check "completion zsh: --set and --dump offer the config's chain" bash -c "zsh -fc 'compdef() { :; }; source \"\$1\"; words=(\"\$2\" plan \"\$3\" --dump \"\"); CURRENT=5; _framepass_names dump' _ '$BUILD/cli/framepass.zsh' '$FP' '$DIR/rt.json' | grep -qx 'rt_shadows_ceiling.shadow' && zsh -fc 'compdef() { :; }; source \"\$1\"; words=(\"\$2\" --threads 2 run \"\$3\" -o out --set \"\"); CURRENT=8; _framepass_names set' _ '$BUILD/cli/framepass.zsh' '$FP' '$DIR/rt.json' | grep -qx 'rt_shadows_ceiling.light='"
 fi
 if command -v fish > /dev/null; then
     check "completion fish: commands, options, and the config's chain after --set and --dump" env FP="$FP" SCRIPT="$BUILD/cli/framepass.fish" CFG="$DIR/rt.json" bash -c "fish --no-config -c 'function framepass; \"\$FP\" \$argv; end; source \"\$SCRIPT\"; complete -C\"framepass ru\"; complete -C\"framepass run \$CFG --warm\"; complete -C\"framepass plan \$CFG --dump rt_sh\"; complete -C\"framepass plan \$CFG --set rt_shadows_c\"' > '$DIR/fish.txt' && grep -q '^run' '$DIR/fish.txt' && grep -q '^--warmup-frames' '$DIR/fish.txt' && grep -q '^rt_shadows_ceiling.shadow' '$DIR/fish.txt' && grep -q '^rt_shadows_ceiling.light=' '$DIR/fish.txt' && ! grep -q '^rt_shadows\.' '$DIR/fish.txt'"

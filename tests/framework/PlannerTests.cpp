@@ -7,6 +7,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <set>
 
 using namespace fp;
@@ -375,6 +376,42 @@ TEST_SUITE("planner") {
               std::string::npos);
         in.overrides.sets = {{"b.quality", 1}};
         CHECK(planError(g, in).find("--set b.quality: no pass named 'b'") != std::string::npos);
+    }
+
+    TEST_CASE("inputs are rebound by the config's \"inputs\" and then --input; --set on one "
+              "says to use --input") {
+        // c reads a by its own "inputs"; the config rebinds it to b, the command line to d.
+        auto g = graph({node("a", "depth_reader"), node("b", "depth_reader"),
+                        node("d", "depth_reader"), node("c", "relay", {{"in", "a.out"}})},
+                       {"c.out"});
+        auto sourceOf = [](const Plan& plan) {
+            for (const auto& s : plan.steps)
+                if (s.name == "c") return s.inputs.at("in").key;
+            return std::string();
+        };
+        CHECK(sourceOf(makePlan(g, fakeRegistry(), {})) == "a.out");
+        g.inputs = {{"c.in", "b.out"}};
+        const Plan byConfig = makePlan(g, fakeRegistry(), {});
+        CHECK(sourceOf(byConfig) == "b.out");
+        // The source it no longer reads is culled with its pass.
+        CHECK(std::none_of(byConfig.steps.begin(), byConfig.steps.end(),
+                           [](const PlanStep& s) { return s.name == "a"; }));
+        PlanInputs in;
+        in.overrides.inputs = {{"c.in", "d.out"}};
+        CHECK(sourceOf(makePlan(g, fakeRegistry(), in)) == "d.out");
+        in.overrides.inputs = {{"c.inn", "d.out"}};
+        CHECK(planError(g, in).find("--input c.inn: pass 'c' (relay) has no input 'inn' (did you "
+                                    "mean 'in'?)") != std::string::npos);
+        in.overrides.inputs = {{"c.in", "nowhere.out"}};
+        CHECK(planError(g, in).find("--input c.in: ") != std::string::npos);
+        in.overrides.inputs = {};
+        in.overrides.sets = {{"c.in", "d.out"}};
+        CHECK(planError(g, in).find("--set c.in: 'in' is an input of pass 'c', not a parameter: "
+                                    "rebind it with --input c.in") != std::string::npos);
+        g.inputs = nlohmann::json::object();
+        g.sets = {{"c.in", "d.out"}};
+        CHECK(planError(g, {}).find("/set/c.in: 'in' is an input of pass 'c', not a parameter: "
+                                    "rebind it with \"inputs\": {\"c.in\": …}") != std::string::npos);
     }
 
     TEST_CASE("an unknown cvar is an error with a did-you-mean; an unemulated one a warning") {

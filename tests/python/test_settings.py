@@ -1,5 +1,6 @@
 """Typed settings, Python's errors, Ctrl-C, threads, capture buffers as outputs and write_exr
 (docs/python.md). Run by ctest as test_framepass.py is; every comparison is of bits."""
+import glob
 import json
 import logging
 import os
@@ -75,6 +76,50 @@ def test_a_refused_setting_raises_at_the_call_and_leaves_the_session_as_it_was(c
     s.set_cvar("r.SSGI.Quality", np.int64(2))
     s.set("ssgi_denoise.temporalAccumulation", np.bool_(False).item())
     assert s.cvars["r.SSGI.Quality"] == 2
+
+
+def test_an_input_is_rebound_by_set_input_checked_when_set_with_the_command_lines_bits():
+    with open(os.path.join(SOURCE, "examples/cornell/methods.json")) as f:
+        methods = json.load(f)
+    methods.update(capture=capture("small", 64, 48),
+                   scene=os.path.join(SOURCE, "examples/cornell/scene.json"))
+    methods.pop("description")
+    config = write_config("methods", methods)
+    s = fp.Session(config)
+    steps = lambda: {step["name"] for step in s.plan()["steps"]}
+    assert "ssgi" in steps() and "rtgi_denoise" not in steps()
+    s.set_input("gi_vs_full.source", "rtgi_denoise.diffuse")
+    assert "rtgi_denoise" in steps() and "ssgi" not in steps()  # the method left is culled
+    with pytest.raises(fp.UnknownSettingError, match="did you mean 'source'") as e:
+        s.set_input("gi_vs_full.sorce", "ssgi_denoise.diffuse")
+    assert isinstance(e.value, KeyError) and "set_input('gi_vs_full.sorce')" in str(e.value)
+    with pytest.raises(fp.SettingValueError, match="no_such"):
+        s.set_input("gi_vs_full.source", "no_such.diffuse")
+    with pytest.raises(fp.UnknownSettingError, match=r"not a parameter: rebind it with "
+                                                     r"set_input\('gi_vs_full.source'\)"):
+        s.set("gi_vs_full.source", "ssgi_denoise.diffuse")
+    with pytest.raises(TypeError):
+        s.set_input("gi_vs_full.source", 3)
+    assert "rtgi_denoise" in steps()  # every refusal left the rebinding as it was
+    assert "1 input set" in repr(s)
+    heat = s.run(outputs=["gi_vs_full.heat"])["gi_vs_full.heat"]
+    out = os.path.join(SCRATCH, "methods-cli")
+    subprocess.run([FRAMEPASS, "-q", "run", config, "-o", out, "--input",
+                    "gi_vs_full.source=rtgi_denoise.diffuse", "--dump", "gi_vs_full.heat"], check=True)
+    (dump,) = glob.glob(os.path.join(out, "dump", "gi_vs_full.heat.*.exr"))
+    written = fp.read_exr(dump)["gi_vs_full.heat"]
+    assert same_bits(heat, written)
+
+
+def test_on_device_on_the_cpu_gives_host_arrays(config):
+    # Only a pass that ran on the GPU leaves its output there (a CudaArray: tests/gpu/
+    # cuda_outputs_check.py checks those on a GPU machine); a CPU session's come back as numpy's.
+    s = fp.Session(config)
+    kept = s.run(outputs=OUTPUTS, on_device=True)
+    plain = fp.Session(config).run(outputs=OUTPUTS)
+    for name in OUTPUTS:
+        assert isinstance(kept[name], np.ndarray) and same_bits(kept[name], plain[name]), name
+    assert "__cuda_array_interface__" in dir(fp.CudaArray) and "__dlpack__" in dir(fp.CudaArray)
 
 
 def test_a_cvar_that_a_config_parameter_shadows_reads_as_resolved_and_warns(caplog):
@@ -234,7 +279,7 @@ def test_version_and_reprs(config):
     assert fp.__version__ and fp.__version__ in cli
     s = fp.Session(config)
     s.set_cvar("r.SSGI.Quality", 2)
-    assert repr(s) == f"framepass.Session('{config}', frames 1, 1 cvar and 0 parameters set)"
+    assert repr(s) == f"framepass.Session('{config}', frames 1, 1 cvar, 0 parameters and 0 inputs set)"
     assert repr(s.cvars).startswith("framepass.Cvars(")
     assert "r.SSGI.Quality" in s.cvars._ipython_key_completions_()
 
@@ -248,7 +293,9 @@ def test_inspect_reads_the_signatures(config):
     assert list(bench)[:3] == ["config", "sweep", "runs"]
     assert bench["runs"].default == 5 and bench["sweep"].kind is inspect.Parameter.KEYWORD_ONLY
     run = inspect.signature(fp.Session(config).run).parameters
-    assert list(run) == ["frame", "outputs", "layout"] and run["layout"].default == "hwc"
+    assert list(run) == ["frame", "outputs", "layout", "on_device"] and run["layout"].default == "hwc"
+    assert run["on_device"].kind is inspect.Parameter.KEYWORD_ONLY and run["on_device"].default is None
+    assert list(inspect.signature(fp.Session(config).set_input).parameters) == ["input", "source"]
     session = inspect.signature(fp.Session).parameters
     assert list(session)[0] == "config" and session["threads"].default == 0
     for f in (fp.compare, fp.read_exr, fp.write_exr, fp.read_capture, fp.exr_metadata):

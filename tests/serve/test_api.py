@@ -46,6 +46,8 @@ def cli_now(server, name):
         args += ["--cvar", f"{name_}={json.dumps(value)}"]
     for name_, value in params["settings"]["set"].items():
         args += ["--set", f"{name_}={json.dumps(value)}"]
+    for name_, source in params["settings"]["inputs"].items():
+        args += ["--input", f"{name_}={source}"]
     return cli_dump(server.config, name, *args)
 
 
@@ -109,6 +111,31 @@ def test_a_change_reruns_downstream_and_gives_the_command_lines_bits(server):
     with open(path, "w") as f:
         json.dump(exported["config"], f)
     assert same_bits(cli_dump(path, SOURCE_PORT), served)
+
+
+def test_an_input_is_rebound_under_inputs_with_the_command_lines_bits(server):
+    def refused(body, match):
+        code, headers, data = server.request("PUT", "/api/params", body)
+        j = json.loads(data)
+        assert code == 400 and match in j["error"], (code, j)
+        return j["pointer"]
+
+    assert refused({"inputs": {"ssgi_vs_full.source": 3}}, "a source's name") == "/inputs/ssgi_vs_full.source"
+    assert refused({"inputs": {"ssgi_vs_full.sorce": "ssgi.diffuse"}},
+                   "did you mean 'source'") == "/inputs/ssgi_vs_full.sorce"
+    assert refused({"set": {"ssgi_vs_full.source": "ssgi.diffuse"}},
+                   "not a parameter") == "/set/ssgi_vs_full.source"
+    # The error measure compares the raw SSGI instead of the denoised one.
+    status, outcome = server.json("PUT", "/api/params", {"inputs": {"ssgi_vs_full.source": "ssgi.diffuse"}})
+    assert status == 200 and outcome["status"] == "done", outcome
+    status, params = server.json("GET", "/api/params")
+    assert params["settings"]["inputs"] == {"ssgi_vs_full.source": "ssgi.diffuse"}
+    assert same_bits(buffer(server, "ssgi_vs_full.heat"), cli_now(server, "ssgi_vs_full.heat"))
+    status, exported = server.json("GET", "/api/export")
+    assert exported["config"]["inputs"] == {"ssgi_vs_full.source": "ssgi.diffuse"}
+    # Bound back as the config binds it, for the tests after this one.
+    status, outcome = server.json("PUT", "/api/params", {"inputs": {"ssgi_vs_full.source": SOURCE_PORT}})
+    assert status == 200 and outcome["status"] == "done", outcome
 
 
 def test_a_run_hands_back_only_the_shown_outputs(server):
