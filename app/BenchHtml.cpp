@@ -357,10 +357,16 @@ img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
                 passNames.push_back(p.name);
     const bool anyError = std::any_of(r.settings.begin(), r.settings.end(),
                                       [](const BenchSetting& s) { return s.hasError(); });
+    // FLIP where the error measure takes it (its flip parameter).
+    const bool anyFlip = std::any_of(r.settings.begin(), r.settings.end(), [](const BenchSetting& s) {
+        return s.hasError() && s.errors.front().metrics.count("flip");
+    });
     h << "<h2>Speed against error</h2>\n<table id=\"table\"><tr><th>#</th><th class=\"l\">setting</th>"
          "<th>frame ms (min–max)</th>";
     for (const auto& n : passNames) h << "<th>" << escape(n) << " ms</th>";
-    if (anyError) h << "<th>RMSE</th><th>relMSE</th><th>SMAPE</th><th>reference noise</th><th>Pareto</th>";
+    if (anyError)
+        h << "<th>RMSE</th><th>relMSE</th><th>SMAPE</th>" << (anyFlip ? "<th>FLIP</th>" : "")
+          << "<th>reference noise</th><th>Pareto</th>";
     h << "</tr>\n";
     for (const auto& s : r.settings) {
         h << (s.pareto ? "<tr class=\"front\">" : "<tr>") << "<td>" << (&s - r.settings.data()) + 1
@@ -380,10 +386,11 @@ img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
                     return it == m.end() ? std::string("—") : fmt::format("{:.4g}", it->second);
                 };
                 h << "<td>" << get("rmse") << "</td><td>" << get("relMse") << "</td><td>"
-                  << get("smape") << "</td><td>" << get("referenceNoiseRmse") << "</td><td>"
-                  << (s.pareto ? "✓" : "") << "</td>";
+                  << get("smape") << "</td>" << (anyFlip ? "<td>" + get("flip") + "</td>" : "")
+                  << "<td>" << get("referenceNoiseRmse") << "</td><td>" << (s.pareto ? "✓" : "")
+                  << "</td>";
             } else {
-                h << "<td colspan=\"5\">no error measured</td>";
+                h << "<td colspan=\"" << (anyFlip ? 6 : 5) << "\">no error measured</td>";
             }
         }
         h << "</tr>\n";

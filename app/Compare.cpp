@@ -321,8 +321,42 @@ std::string pngPathFor(const std::string& exr) {
 
 std::string heatmapPngPath(const std::string& exr) { return pngPathFor(exr); }
 
+std::optional<FlipResult> compareFlip(const Image& a, const Image& b, const Image* mask,
+                                      const std::string& mode, bool displayReferred,
+                                      double pixelsPerDegree, Image* map) {
+    if (mode != "auto" && mode != "hdr" && mode != "ldr" && mode != "off")
+        throw UsageError(fmt::format("FLIP is auto, hdr, ldr or off, not '{}'", mode));
+    if (!(std::isfinite(pixelsPerDegree) && pixelsPerDegree > 0))
+        throw UsageError(fmt::format("the pixels per degree of FLIP's observer are a positive "
+                                     "number, not {}",
+                                     pixelsPerDegree));
+    const int c = b.channelCount();
+    if (mode == "off" || (c != 1 && c != 3 && c != 4)) return std::nullopt;
+    FlipOptions o;
+    o.pixelsPerDegree = pixelsPerDegree;
+    o.hdr = mode == "hdr" || (mode == "auto" && !displayReferred);
+    return flip(b, a, mask, o, map);
+}
+
+void addFlipFigures(nlohmann::json& figures, const std::optional<FlipResult>& flip,
+                    double pixelsPerDegree) {
+    if (!flip) {
+        figures["flip"] = nullptr;
+        return;
+    }
+    figures["flip"] = flip->mean;
+    nlohmann::json how = {{"mode", flip->hdr ? "hdr" : "ldr"}, {"pixelsPerDegree", pixelsPerDegree}};
+    if (flip->hdr)
+        how.update({{"exposures", flip->exposures},
+                    {"startExposure", flip->startExposure},
+                    {"stopExposure", flip->stopExposure}});
+    if (flip->nonFinitePixels) how["nonFinitePixels"] = flip->nonFinitePixels;
+    figures["flipSettings"] = how;
+}
+
 nlohmann::json CompareResult::toJson(const CompareOptions& opt) const {
     nlohmann::json j = stats.toJson();
+    addFlipFigures(j, flip, opt.pixelsPerDegree);
     j["a"] = {{"file", opt.a}, {"layer", layerA}};
     j["b"] = {{"file", opt.b}, {"layer", layerB}};
     j["mask"] = maskNote;
@@ -442,6 +476,9 @@ CompareResult compareFiles(const CompareOptions& opt) {
     const Image* kept = mask ? &*mask : nullptr;
     result.stats = compareImages(imgA, imgB, kept, stdErr ? &*stdErr : nullptr, opt.tolerance,
                                  nameA, nameB, &absError);
+    Image flipMap;
+    result.flip = compareFlip(imgA, imgB, kept, opt.flip, a.picture.has_value(),
+                              opt.pixelsPerDegree, &flipMap);
 
     float& scale = result.heatScale;
     if (!opt.heatmap.empty()) {
@@ -452,8 +489,9 @@ CompareResult compareFiles(const CompareOptions& opt) {
         meta.strings["framepass:compare"] = fmt::format("{}[{}] vs {}[{}]", opt.a,
                                                         displayName(layerA), opt.b,
                                                         displayName(layerB));
-        io::writeExr(opt.heatmap, {{"heat", {{"Heat", &heat, true}, {"AbsError", &absError, false}}}},
-                     meta);
+        std::vector<io::ExrLayer> layers = {{"Heat", &heat, true}, {"AbsError", &absError, false}};
+        if (result.flip) layers.push_back({"Flip", &flipMap, false});  // FLIP's per-pixel error
+        io::writeExr(opt.heatmap, {{"heat", layers}}, meta);
         const DisplayTransform display(io::loadColorConfig(opt.ocioConfig), "scene_linear", "",
                                        "", 0.0f, true);
         // The PNG carries its scale: the colour map from 0 to `scale` under the image.

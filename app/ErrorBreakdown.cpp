@@ -204,7 +204,7 @@ const Image& ErrorBreakdown::oracle(const std::string& port) {
         const RunSetup session(mProbe, config, options);
         KeepingSink sink;
         sink.keep = true;
-        mFrames.runApart(session.plan(), mFrame, sink, mFrame + h * kFrameSeeds);
+        mFrames.runApart(session.plan(), mFrame, sink, mFrame + h * kFrameSeeds, onPass);
         traced[h] = std::move(sink.images);
     }
     for (const auto& t : mTargets) {
@@ -253,7 +253,7 @@ std::map<std::string, ErrorBreakdown::Converged> ErrorBreakdown::converged(
     for (int k = 0; k < kFrameSeeds; ++k) {
         KeepingSink sink;
         sink.keep = true;
-        mFrames.runApart(session.plan(), mFrame, sink, mFrame + k);
+        mFrames.runApart(session.plan(), mFrame, sink, mFrame + k, onPass);
         for (const auto& source : sources) {
             const Image& img = sink.images.at(source);
             if (k == 0) {

@@ -59,6 +59,9 @@ public:
                    std::vector<DecompositionTarget> targets, int rays, int frame);
 
     const std::vector<DecompositionTarget>& targets() const { return mTargets; }
+    /// Called after each pass of the chains it runs; it may throw (fp::Cancelled) to stop the
+    /// breakdown there (the workbench's, when a newer change or a cancel request comes).
+    ProgressFn onPass;
     /// Adds the decomposition to every error of `errors` that has a target. `options`: the
     /// setting's --cvar and --set (its dumps are not used); `kept`: the images the run kept of
     /// the frame (the error sources among them; in a sequence, made with history); `label`: the

@@ -134,9 +134,10 @@ FrameRun FrameDriver::run(const Plan& plan, int frame, FrameSink& sink,
     return result;
 }
 
-FrameReport FrameDriver::runApart(const Plan& plan, int frame, FrameSink& sink, int64_t seed) {
+FrameReport FrameDriver::runApart(const Plan& plan, int frame, FrameSink& sink, int64_t seed,
+                                  const ProgressFn& progress) {
     FrameView view(source(frame), true, seed);
-    return executePlan(plan, view, sink);
+    return executePlan(plan, view, sink, progress);
 }
 
 }  // namespace fp::app

@@ -79,7 +79,8 @@ public:
     /// Runs `plan` once on `frame`'s capture (read once and kept with the frame), apart from the
     /// sequence: no history, no StepCache, its random numbers seeded as frame `seed`. The error
     /// breakdown's oracle and converged chains.
-    FrameReport runApart(const Plan& plan, int frame, FrameSink& sink, int64_t seed);
+    FrameReport runApart(const Plan& plan, int frame, FrameSink& sink, int64_t seed,
+                         const ProgressFn& progress = {});
     /// The next frame starts a sequence (a failed or skipped frame, a new timed run).
     void cut();
     /// Forgets the StepCache's outputs: the next run executes every pass.

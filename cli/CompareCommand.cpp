@@ -61,6 +61,14 @@ Command addCompareCommand(CLI::App& app) {
         ->check(CLI::NonNegativeNumber);
     sub->add_option("--ocio-config", opt->ocioConfig,
                     "OCIO config for the PNG preview (default $OCIO, then framepass's own)");
+    sub->add_option("--flip", opt->flip,
+                    "FLIP, NVIDIA's perceptual error, beside the figures: auto (LDR-FLIP when A "
+                    "is a picture, else HDR-FLIP), hdr, ldr or off")
+        ->check(CLI::IsMember({"auto", "hdr", "ldr", "off"}));
+    sub->add_option("--ppd", opt->pixelsPerDegree,
+                    "FLIP's observer in pixels per degree of visual angle (default 67.02: a 0.7 m "
+                    "wide 3840-pixel monitor seen from 0.7 m)")
+        ->check(CLI::PositiveNumber);
 
     return [opt]() {
         const app::CompareResult r = app::compareFiles(*opt);
@@ -95,6 +103,13 @@ Command addCompareCommand(CLI::App& app) {
                                       stats.rmse / std::max(*stats.noiseRmse, 1e-30)));
             else
                 std::cout << "  reference noise unknown (no " << layerB << ".StdErr layer)\n";
+            if (const auto& f = r.flip)
+                std::cout << fmt::format(
+                    "  FLIP            {:.6g} ({}, {:.4g} pixels per degree{})\n", f->mean,
+                    f->hdr ? "HDR-FLIP" : "LDR-FLIP", opt->pixelsPerDegree,
+                    f->hdr ? fmt::format(", {} exposures from {:+.3g} to {:+.3g} stops",
+                                         f->exposures, f->startExposure, f->stopExposure)
+                           : "");
             if (!opt->heatmap.empty())
                 std::cout << fmt::format("heat map: {} and {} (top of the colour map = {:.4g})\n",
                                          opt->heatmap, app::heatmapPngPath(opt->heatmap), scale);

@@ -116,19 +116,19 @@ py::dict toArrays(const std::map<std::string, Image>& images, Layout layout) {
     return d;
 }
 
-// An output that stayed on the GPU (a session with device="cuda"): the library's planes in GPU
-// memory, shared (kept allocated while this object lives), shown as (H, W, C) or (C, H, W) by
-// strides alone. CuPy, Numba and torch.as_tensor read __cuda_array_interface__ (version 3), a
-// zero-copy view that says it is read-only: the session reuses these pixels in its next run. A
-// DLPack tensor (torch.from_dlpack, JAX) cannot say so (its legacy form has no read-only flag,
-// and torch's tensors are always writable), so __dlpack__ hands over a copy made on the GPU,
-// the caller's own: one device-to-device copy, no trip to the host. numpy reads __array__, which
-// copies the pixels to the host. The frame's kernels have finished when run() returns
-// (Session::run synchronises before it hands device images over), so neither protocol names a
-// stream to wait on.
+// An output that stayed on the GPU (a session with device="cuda"): a copy of the library's
+// planes made on the GPU when run() hands it over (one device-to-device copy, no trip to the
+// host), this object's own, so that a caller writing into it cannot change what the session
+// reuses in its next run; shown as (H, W, C) or (C, H, W) by strides alone. CuPy, Numba and
+// torch.as_tensor read __cuda_array_interface__ (version 3), torch.from_dlpack and JAX read
+// __dlpack__: both are views of this object's memory, no copy (as two numpy views of one array
+// share theirs). numpy reads __array__, which copies the pixels to the host. The frame's kernels
+// and the copy have finished when run() returns, so neither protocol names a stream to wait on.
 class CudaArray {
 public:
-    CudaArray(DeviceImage image, Layout layout) : mImage(std::move(image)), mLayout(layout) {}
+    /// Takes a copy of `image` (call with the GIL released).
+    CudaArray(const DeviceImage& image, Layout layout)
+        : mImage(cuda::copyOnDevice(image)), mLayout(layout) {}
 
     // Shape and strides in elements.
     std::vector<int64_t> shape() const {
@@ -150,29 +150,24 @@ public:
         d["shape"] = py::tuple(py::cast(shape()));
         d["strides"] = py::tuple(byteStrides);
         d["typestr"] = "<f4";
-        d["data"] = py::make_tuple(pointer(), true);  // read-only: the library's own pixels
+        d["data"] = py::make_tuple(pointer(), false);  // writable: this object's own copy
         d["version"] = 3;
         d["stream"] = py::none();  // nothing to wait for: see above
         return d;
     }
 
     // A DLPack capsule (the legacy, unversioned DLManagedTensor, which every consumer takes)
-    // over a copy of the image made on the GPU: the manager context holds the copy until the
-    // consumer (or the unconsumed capsule's destructor) calls the deleter.
+    // over this object's memory: the manager context holds a share of it until the consumer (or
+    // the unconsumed capsule's destructor) calls the deleter.
     py::capsule dlpack() const {
         struct Held {
             DeviceImage image;
             std::vector<int64_t> shape, strides;
             DLManagedTensor tensor;
         };
-        DeviceImage copy;
-        {
-            py::gil_scoped_release release;
-            copy = cuda::copyOnDevice(mImage);
-        }
-        auto* held = new Held{copy, shape(), strides(), {}};
+        auto* held = new Held{mImage, shape(), strides(), {}};
         DLTensor& t = held->tensor.dl_tensor;
-        t.data = reinterpret_cast<void*>(held->image.plane(0).data);
+        t.data = reinterpret_cast<void*>(pointer());
         t.device = {kDLCUDA, 0};  // framepass runs on the first GPU
         t.ndim = 3;
         t.dtype = {kDLFloat, 32, 1};
@@ -457,7 +452,14 @@ public:
             throw;
         }
         py::dict d = toArrays(r.images, l);
-        for (auto& [name, image] : r.deviceImages) d[py::str(name)] = CudaArray(std::move(image), l);
+        for (const auto& [name, image] : r.deviceImages) {
+            std::optional<CudaArray> own;
+            {
+                py::gil_scoped_release release;
+                own.emplace(image, l);
+            }
+            d[py::str(name)] = std::move(*own);
+        }
         return d;
     }
     py::object plan(const std::vector<std::string>& outputs) {
@@ -609,7 +611,7 @@ py::object compare(const py::object& a, const py::object& b, const std::string& 
                    const std::string& refLayer, const std::optional<std::string>& metric,
                    const std::vector<std::string>& masks, const py::object& mask,
                    double tolerance, const std::string& profile, const std::string& refProfile,
-                   const std::string& heatmap) {
+                   const std::string& heatmap, const std::string& flip, double pixelsPerDegree) {
     nlohmann::json figures;
     if (py::isinstance<py::str>(a) && py::isinstance<py::str>(b)) {
         if (!mask.is_none())
@@ -624,6 +626,8 @@ py::object compare(const py::object& a, const py::object& b, const std::string& 
         o.profile = profile;
         o.refProfile = refProfile;
         o.heatmap = heatmap;
+        o.flip = flip;
+        o.pixelsPerDegree = pixelsPerDegree;
         app::CompareResult r;
         {
             py::gil_scoped_release release;
@@ -647,11 +651,16 @@ py::object compare(const py::object& a, const py::object& b, const std::string& 
                 imgB.channelCount(),
                 kept ? fmt::format(", the mask {}×{}", kept->height(), kept->width()) : ""));
         ErrorStats stats;
+        std::optional<FlipResult> flipped;
         {
             py::gil_scoped_release release;
             stats = app::compareImages(imgA, imgB, kept ? &*kept : nullptr, nullptr, tolerance);
+            // Arrays say nothing of their encoding: auto takes them as linear (HDR-FLIP).
+            flipped = app::compareFlip(imgA, imgB, kept ? &*kept : nullptr, flip, false,
+                                       pixelsPerDegree);
         }
         figures = stats.toJson();
+        app::addFlipFigures(figures, flipped, pixelsPerDegree);
     } else {
         throw py::type_error("compare two files (paths) or two arrays, not one of each");
     }
@@ -889,18 +898,19 @@ by their canonical names, its camera and its frame number. A Session runs on it 
         });
 
     py::class_<CudaArray>(m, "CudaArray", R"doc(
-An output left on the GPU by a session running on "cuda": float32 pixels in GPU memory, shared
-with the library and read-only, (height, width, channels) or (channels, height, width) as the
-run's layout asked, by strides alone. cupy.asarray(a) and torch.as_tensor(a, device="cuda") view
-it without a copy (__cuda_array_interface__); torch.from_dlpack(a) gets a copy made on the GPU,
-writable; numpy.asarray(a) and a.numpy() copy it to the host.)doc")
+An output left on the GPU by a session running on "cuda": float32 pixels in GPU memory, this
+object's own copy (the session's next run cannot change them, nor writing into them the
+session), (height, width, channels) or (channels, height, width) as the run's layout asked, by
+strides alone. torch.as_tensor(a, device="cuda"), cupy.asarray(a) (__cuda_array_interface__),
+torch.from_dlpack(a) and jax.dlpack (__dlpack__) view it without a copy; numpy.asarray(a) and
+a.numpy() copy it to the host.)doc")
         .def_property_readonly("shape", [](const CudaArray& a) { return py::tuple(py::cast(a.shape())); })
         .def_property_readonly("dtype", [](const CudaArray&) { return py::dtype::of<float>(); })
         .def_property_readonly("channels", &CudaArray::channels, "The channels' names.")
         .def_property_readonly("__cuda_array_interface__", &CudaArray::cudaArrayInterface)
         .def("__dlpack__", [](const CudaArray& a, const py::args&, const py::kwargs&) { return a.dlpack(); },
-             "A DLPack capsule over a copy made on the GPU, the caller's to write (stream and "
-             "the other keywords are taken and need nothing: the copy has finished).")
+             "A DLPack capsule over the array's memory (stream and the other keywords are "
+             "taken and need nothing: the pixels are ready).")
         .def("__dlpack_device__", [](const CudaArray&) { return py::make_tuple(int(kDLCUDA), 0); })
         .def("__array__", [](const CudaArray& a, const py::args&, const py::kwargs&) { return a.toHost(); },
              "The pixels copied to the host as a numpy array.")
@@ -994,12 +1004,14 @@ says which were reused). Frames run in order carry the temporal passes' history.
           py::arg("ref_layer") = "", py::arg("metric") = py::none(),
           py::arg("masks") = std::vector<std::string>{"sky"}, py::arg("mask") = py::none(),
           py::arg("tolerance") = 0.1, py::arg("profile") = "canonical",
-          py::arg("ref_profile") = "", py::arg("heatmap") = "",
+          py::arg("ref_profile") = "", py::arg("heatmap") = "", py::arg("flip") = "auto",
+          py::arg("ppd") = kFlipDefaultPixelsPerDegree,
           "The error of a against reference b: two files (paths; layer, ref_layer, masks, "
-          "profiles and heatmap as `framepass compare` takes them) or two arrays of one shape "
-          "(mask: an array, > 0 where a pixel counts). Returns the figures `compare --json` "
-          "prints, or with metric='rmse' (relMse, smape, mae, bias, maxError, overTolerance) "
-          "that one number.");
+          "profiles, heatmap, flip and ppd as `framepass compare` takes them) or two arrays of "
+          "one shape (mask: an array, > 0 where a pixel counts; flip='auto' takes arrays as "
+          "linear, HDR-FLIP). Returns the figures `compare --json` prints, or with "
+          "metric='rmse' (relMse, smape, mae, bias, maxError, overTolerance, flip) that one "
+          "number.");
     m.def("bench", &bench, py::arg("config"), py::kw_only(), py::arg("sweep") = py::none(),
           py::arg("runs") = 5, py::arg("warmup") = 1, py::arg("capture") = "",
           py::arg("profile") = "", py::arg("device") = "", py::arg("frames") = "",

@@ -235,6 +235,9 @@ void WorkbenchServer::routes() {
     s.Get("/api/breakdown", [&wb](const httplib::Request& req, httplib::Response& res) {
         sendJson(res, wb.breakdown(parseRays(req.params)));
     });
+    s.Delete("/api/breakdown", [&wb](const httplib::Request&, httplib::Response& res) {
+        sendJson(res, wb.cancelBreakdown());
+    });
     // The display view baked over every half value: 3 planes of 65536 float32 (R, then G, B).
     s.Get("/api/lut", [&wb](const httplib::Request& req, httplib::Response& res) {
         const std::string view = req.has_param("view") ? req.get_param_value("view") : "";

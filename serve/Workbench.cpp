@@ -514,39 +514,65 @@ nlohmann::json Workbench::exportSettings() {
 nlohmann::json Workbench::breakdown(int rays) {
     if (rays < 1 || rays > app::kMaxBreakdownRays)
         throw RequestError(400, fmt::format("?rays={}: 1 to {}", rays, app::kMaxBreakdownRays));
+    uint64_t started;  // the newest change, which the breakdown is of
     {
         std::unique_lock<std::mutex> lock(mStateMutex);  // the newest change first
-        const uint64_t newest = mRequested;
-        mChanged.wait(lock, [&] { return mStop || mFinished >= newest; });
+        started = mRequested;
+        mChanged.wait(lock, [&] { return mStop || mFinished >= started; });
     }
-    std::lock_guard<std::mutex> session(mSessionMutex);
-    if (!mLast) throw RequestError(409, "no run has finished yet");
+    // One breakdown at a time. It holds the session only to take what it needs, so settings
+    // change while it runs (and a change cancels it: its figures would be of settings gone).
+    std::lock_guard<std::mutex> one(mBreakdownMutex);
+    const uint64_t cancels = mBreakdownCancels.load();
     const auto start = std::chrono::steady_clock::now();
-    const std::shared_ptr<const app::RunSetup> shown = planned();
-    auto targets = app::decompositionTargets(shown->plan(), shown->availableBuffers());
-    nlohmann::json out = {{"rays", rays}, {"errors", nlohmann::json::array()},
-                          {"generation", mLastGeneration}};
-    if (targets.empty()) return out;
-    // The measured sources, handed back by a run that executes nothing (the step cache has
-    // them) where the page does not show them.
-    std::map<std::string, Image> kept = mLast->images;
-    std::vector<std::string> outputs = shownOutputs();
-    for (const auto& t : targets)
-        if (!kept.count(t.source)) outputs.push_back(t.source);
-    if (outputs.size() > mShown.size()) {
-        app::FrameResult sources = mSession.run(mLastFrame, outputs);
-        for (auto& [name, image] : sources.images) kept.emplace(name, std::move(image));
-    }
-    const std::shared_ptr<const app::RunSetup> current = planned();
-    const app::RunSetup& setup = *current;
-    const Plan& plan = setup.plan();
+    std::shared_ptr<const app::RunSetup> current;
+    std::vector<app::DecompositionTarget> targets;
+    std::map<std::string, Image> kept;
     std::vector<app::ErrorNodeResult> errors;
-    for (std::size_t i = 0; i < plan.steps.size() && i < mLast->report.passes.size(); ++i)
-        if (plan.steps[i].io.roles.measuresError)
-            errors.push_back(app::errorNodeResult(plan.steps[i], mLast->report.passes[i]));
-    app::ErrorBreakdown taker(setup, mSession.frameDriver(), std::move(targets), rays,
-                              mLastFrame);
-    taker.decompose(mSession.options(), kept, "workbench", errors);
+    app::SetupOptions options;
+    int frame = 0;
+    nlohmann::json out = {{"rays", rays}, {"errors", nlohmann::json::array()}};
+    {
+        std::lock_guard<std::mutex> session(mSessionMutex);
+        if (!mLast) throw RequestError(409, "no run has finished yet");
+        out["generation"] = mLastGeneration;
+        const std::shared_ptr<const app::RunSetup> shown = planned();
+        targets = app::decompositionTargets(shown->plan(), shown->availableBuffers());
+        if (targets.empty()) return out;
+        // The measured sources, handed back by a run that executes nothing (the step cache has
+        // them) where the page does not show them.
+        kept = mLast->images;
+        std::vector<std::string> outputs = shownOutputs();
+        for (const auto& t : targets)
+            if (!kept.count(t.source)) outputs.push_back(t.source);
+        if (outputs.size() > mShown.size()) {
+            app::FrameResult sources = mSession.run(mLastFrame, outputs);
+            for (auto& [name, image] : sources.images) kept.emplace(name, std::move(image));
+        }
+        current = planned();
+        const Plan& plan = current->plan();
+        for (std::size_t i = 0; i < plan.steps.size() && i < mLast->report.passes.size(); ++i)
+            if (plan.steps[i].io.roles.measuresError)
+                errors.push_back(app::errorNodeResult(plan.steps[i], mLast->report.passes[i]));
+        options = mSession.options();
+        frame = mLastFrame;
+    }
+    // Its own driver: the session's runs go on beside it with theirs.
+    app::FrameDriver frames(*current, {.keep = app::CaptureKeeping::Neighbours});
+    app::ErrorBreakdown taker(*current, frames, std::move(targets), rays, frame);
+    taker.onPass = [&](int, int, const PassReport&) {
+        if (mBreakdownCancels.load() != cancels)
+            throw Cancelled("cancelled by DELETE /api/breakdown");
+        std::lock_guard<std::mutex> lock(mStateMutex);
+        if (mStop) throw Cancelled("the server is stopping");
+        if (mRequested != started)
+            throw Cancelled(fmt::format("change {} replaced the settings it was of", mRequested));
+    };
+    try {
+        taker.decompose(options, kept, "workbench", errors);
+    } catch (const Cancelled& c) {
+        throw RequestError(409, fmt::format("the breakdown was cancelled: {}", c.what()));
+    }
     for (const auto& e : errors) {
         nlohmann::json j = {{"name", e.name}, {"metrics", e.metrics}};
         if (e.decomposition) {
@@ -558,6 +584,11 @@ nlohmann::json Workbench::breakdown(int rays) {
     out["ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                     .count();
     return out;
+}
+
+nlohmann::json Workbench::cancelBreakdown() {
+    ++mBreakdownCancels;
+    return {{"status", "cancelled"}};
 }
 
 nlohmann::json Workbench::bufferNames() {

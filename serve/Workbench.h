@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -63,6 +64,9 @@ public:
     /// per pixel for the oracle and the converged tracer ({"errors": [{name, metrics,
     /// decomposition, text}], "rays", "ms"}). Costs an oracle trace and 8 converged traces.
     nlohmann::json breakdown(int rays);
+    /// Stops the breakdowns in flight at their next pass (they answer 409); a newer settings
+    /// change stops them too.
+    nlohmann::json cancelBreakdown();
     /// The names /api/buffer serves: pass outputs, capture buffers and truth layers.
     nlohmann::json bufferNames();
     /// The OCIO displays and views the page may bake, with the defaults.
@@ -115,6 +119,8 @@ private:
     // The session and what its runs gave: used by the worker and by requests, one at a time.
     std::mutex mSessionMutex;
     app::Session mSession;
+    std::mutex mBreakdownMutex;  // one breakdown at a time
+    std::atomic<uint64_t> mBreakdownCancels{0};  // cancelBreakdown() calls
     int mFrame = 0;
     std::set<std::string> mShown;  //!< pass outputs the page shows: each run hands them back
     std::optional<app::FrameResult> mLast;

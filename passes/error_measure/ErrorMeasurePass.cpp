@@ -29,6 +29,15 @@ ParamSpec<ErrorMeasureParams> ErrorMeasurePass::paramSpec() {
           "non-zero pixel, e.g. each pixel that reflects an emitter with "
           "capture:Truth.ReflectedEmitter)")
         .range(0, 1e30);
+    s.add("flip", &Params::flip,
+          "FLIP, NVIDIA's perceptual error, beside the figures (metric flip, output flip): hdr "
+          "for linear values (HDR-FLIP, exposures from the reference), ldr for display-referred "
+          "ones in [0, 1]; off. Taken on the CPU")
+        .choices({"off", "hdr", "ldr"});
+    s.add("flipPixelsPerDegree", &Params::flipPixelsPerDegree,
+          "FLIP's observer: pixels per degree of visual angle (67.02: a 0.7 m wide 3840-pixel "
+          "monitor seen from 0.7 m)")
+        .range(1, 1000);
     return s;
 }
 
@@ -60,6 +69,8 @@ PassIO ErrorMeasurePass::describe() const {
          .doc = "|error| as a viridis heat map"},
         {.name = kAbsError, .channels = {"Y"}, .doc = "per-pixel mean |error| over the channels"},
     };
+    if (mParams.flip != "off")
+        io.outputs.push_back({.name = kFlip, .channels = {"Y"}, .doc = "FLIP's per-pixel error, 0 to 1"});
     return io;
 }
 
@@ -118,6 +129,17 @@ void ErrorMeasurePass::execute(PassContext& ctx) {
     }
     if (ctx.isRequested(kAbsError))
         ctx.output(kAbsError, {{b.width(), b.height()}}).image() = std::move(absError);
+    if (mParams.flip != "off") {
+        FP_CHECK(!in.halfSource, "error_measure: FLIP compares images of one size; the source is "
+                                 "at half the reference's resolution");
+        FlipOptions o;
+        o.hdr = mParams.flip == "hdr";
+        o.pixelsPerDegree = mParams.flipPixelsPerDegree;
+        Image map;
+        const FlipResult f = fp::flip(b, a, in.mask, o, ctx.isRequested(kFlip) ? &map : nullptr);
+        ctx.addMetric("flip", f.mean);
+        if (ctx.isRequested(kFlip)) ctx.output(kFlip, {{b.width(), b.height()}}).image() = std::move(map);
+    }
 }
 
 }  // namespace fp

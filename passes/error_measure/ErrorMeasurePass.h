@@ -6,9 +6,11 @@
 #include "framework/Params.h"
 #include "framework/Pass.h"
 #include "metrics/ErrorMetrics.h"
+#include "metrics/Flip.h"
 #include "passes/error_measure/ErrorMask.h"
 
 #include <limits>
+#include <string>
 
 namespace fp {
 
@@ -18,6 +20,8 @@ struct ErrorMeasureParams {
     float heatScale = 0.0f;    //!< |error| at the top of the heat map; 0 = 99th percentile
     float maxRoughness = 0.0f;  //!< > 0: only pixels at most this rough are measured
     float excludeAbove = 0.0f;  //!< with input `exclude`: pixels where it is above this are left out
+    std::string flip = "off";   //!< FLIP beside the figures: off, hdr (linear) or ldr (display-referred)
+    float flipPixelsPerDegree = float(kFlipDefaultPixelsPerDegree);  //!< FLIP's observer
 };
 
 struct ErrorStats;
@@ -31,7 +35,11 @@ public:
     void execute(PassContext& ctx) override;
     PassMemory memoryBytes(Extent frame) const override;
 
-    FP_PASS_HAS_CUDA_KERNEL  // ErrorMeasurePass.cu
+#if FP_HAVE_CUDA
+    // ErrorMeasurePass.cu. FLIP is taken on the host: with it, the pass runs on the CPU.
+    bool hasCudaKernel() const override { return mParams.flip == "off"; }
+    void executeCuda(PassContext& ctx) override;
+#endif
 
     static constexpr const char* kSource = "source";
     static constexpr const char* kReference = "reference";
@@ -40,6 +48,7 @@ public:
     static constexpr const char* kRoughness = "roughness";
     static constexpr const char* kExclude = "exclude";
     static constexpr const char* kAbsError = "absError";
+    static constexpr const char* kFlip = "flip";
 
 private:
     /// Depths at or beyond this are sky.

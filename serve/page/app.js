@@ -574,7 +574,9 @@ function buildReport(report) {
   // The error figures: one row per error measure.
   const table = $('errors');
   table.textContent = '';
+  // FLIP beside them where an error measure takes it (error_measure's flip parameter).
   const figures = ['rmse', 'relMse', 'bias'];
+  if (Object.values(report.errors || {}).some((f) => f.flip !== undefined)) figures.push('flip');
   const head = table.createTHead().insertRow();
   for (const h of ['measure', ...figures]) head.append(Object.assign(document.createElement('th'), { textContent: h }));
   const rows = table.createTBody();
@@ -660,9 +662,10 @@ async function breakdown() {
   }
 }
 
-// The settings ({cvars: {name: value}, set: {name: value}}) as NAME=VALUE words.
+// The settings ({cvars: {name: value}, set: {name: value}, inputs: {name: source}}) as
+// NAME=VALUE words.
 function settingsLabel(settings) {
-  const all = [...Object.entries(settings.cvars), ...Object.entries(settings.set)]
+  const all = [...Object.entries(settings.cvars), ...Object.entries(settings.set), ...Object.entries(settings.inputs || {})]
     .map(([name, value]) => `${name}=${typeof value === 'string' ? value : JSON.stringify(value)}`);
   return all.length ? all.join(' ') : 'as loaded';
 }

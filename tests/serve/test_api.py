@@ -138,6 +138,41 @@ def test_an_input_is_rebound_under_inputs_with_the_command_lines_bits(server):
     assert status == 200 and outcome["status"] == "done", outcome
 
 
+def test_a_breakdown_in_flight_holds_no_setting_back_and_is_cancelled_by_a_change(server):
+    """A long breakdown (1,024 rays: seconds) runs beside the session: a change made meanwhile is
+    answered at once and cancels it (its figures would be of settings gone), as DELETE does."""
+    answers = {}
+
+    def take(key):
+        answers[key] = server.json("GET", "/api/breakdown?rays=1024")
+
+    status, params = server.json("GET", "/api/params")
+    exposure = next(p["value"] for q in params["passes"] if q["name"] == "display"
+                    for p in q["params"] if p["name"] == "exposure")
+    for key in ("changed", "deleted"):
+        t = threading.Thread(target=take, args=(key,))
+        t.start()
+        time.sleep(0.5)  # under way (it takes about 2 s here)
+        t0 = time.monotonic()
+        if key == "changed":
+            status, _ = server.json("PUT", "/api/params?wait=0", {"set": {"display.exposure": exposure + 0.25}})
+            assert status == 202
+        else:
+            status, j = server.json("DELETE", "/api/breakdown")
+            assert status == 200 and j["status"] == "cancelled"
+        assert time.monotonic() - t0 < 2.0  # not held back by the breakdown
+        t.join(timeout=60)
+        assert not t.is_alive()
+        status, j = answers[key]
+        assert status == 409 and "the breakdown was cancelled" in j["error"], j
+        assert ("replaced the settings" if key == "changed" else "DELETE /api/breakdown") in j["error"]
+    # A breakdown after them runs to its end.
+    status, b = server.json("GET", "/api/breakdown?rays=4")
+    assert status == 200 and b["errors"], b
+    status, _ = server.json("PUT", "/api/params", {"set": {"display.exposure": exposure}})
+    assert status == 200
+
+
 def test_a_run_hands_back_only_the_shown_outputs(server):
     # Shown: the measured source and a truth layer (which needs no run).
     status, outcome = server.json("PUT", "/api/params", {"set": {"ssgi.rays": 4},

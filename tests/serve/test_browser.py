@@ -77,6 +77,14 @@ def test_the_page_loads_with_the_chain_and_no_errors(browser_run):
         assert os.path.getsize(shot) > 10_000, shot
 
 
+def test_flip_shows_beside_the_error_figures_when_a_measure_takes_it(browser_run):
+    f = browser_run["flip"]
+    assert f["heads"] == ["measure", "rmse", "relMse", "bias", "flip"]
+    assert 0 < f["api"] <= 1 and float(f["rows"]["ssgi_vs_full"]) == pytest.approx(f["api"], rel=5e-3)
+    assert f["rows"]["ao_vs_truth"] == ""  # the measures that do not take it
+    assert "flip" not in browser_run["flipAfter"]
+
+
 def test_a_slider_changes_the_image_and_the_times(browser_run):
     r = browser_run
     # The methods plot: this run's three measures bright, the settings before dimmed.

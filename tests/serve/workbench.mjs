@@ -132,6 +132,31 @@ await page.evaluate(() => document.activeElement.blur());
 await page.keyboard.press('p');
 results.snapshotLabel = await page.locator('#snapshots li').first().textContent();
 
+// 1e. FLIP beside the error figures: ssgi_vs_full's flip parameter set to hdr on the page, the
+// errors table then has a FLIP column with what /api/report says; set back to off after.
+{
+  const flipKey = '.param[data-key="set:ssgi_vs_full.flip"]';
+  await page.evaluate((k) => { document.querySelector(k).closest('details').open = true; }, flipKey);
+  const setFlip = async (mode) => {
+    const g = await generation();
+    await page.selectOption(`${flipKey} select`, mode);
+    await waitForGeneration(g);
+    await page.waitForTimeout(200);
+  };
+  await setFlip('hdr');
+  results.flip = await page.evaluate(async () => {
+    const t = document.getElementById('errors');
+    const heads = [...t.tHead.rows[0].cells].map((c) => c.textContent);
+    const rows = {};
+    for (const r of t.tBodies[0].rows) rows[r.cells[0].textContent] = r.cells[heads.indexOf('flip')]?.textContent;
+    const report = await (await fetch('/api/report')).json();
+    return { heads, rows, api: report.errors.ssgi_vs_full.flip };
+  });
+  await shot('01e_flip_column.png');
+  await setFlip('off');
+  results.flipAfter = await page.evaluate(() => [...document.getElementById('errors').tHead.rows[0].cells].map((c) => c.textContent));
+}
+
 // 2. A slider: r.SSGI.Quality to 1. The image and the times change.
 const quality = page.locator('.param[data-key="cvar:r.SSGI.Quality"] input[type=range]');
 let g = await generation();
