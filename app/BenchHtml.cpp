@@ -203,6 +203,83 @@ std::string plot(const BenchResult& r) {
     return svg.str();
 }
 
+// Each error measure's method (the passes its source depends on) as one point per setting: the
+// method's time (x) against its RMSE (y), a colour per measure; on the GPU, Lumen's budgets for
+// GI and reflections at 1080p on current consoles, 4 ms ("High") and 8 ms ("Epic"), as lines.
+std::string methodsPlot(const BenchResult& r) {
+    struct Point {
+        const BenchSetting* setting;
+        const ErrorNodeResult* error;
+    };
+    std::vector<Point> pts;
+    std::vector<std::string> measures;
+    for (const auto& s : r.settings)
+        for (const auto& e : s.errors)
+            if (!e.methodPasses.empty() && e.metrics.count("rmse")) {
+                pts.push_back({&s, &e});
+                if (std::find(measures.begin(), measures.end(), e.name) == measures.end())
+                    measures.push_back(e.name);
+            }
+    if (pts.empty()) return "";
+    const bool gpu = r.device == "cuda";
+    const double W = 640, L = 70, R = 20, T = 20, B = 50, plotH = 290;
+    const double H = T + plotH + B + 16.0 * double(measures.size());
+    double x1 = gpu ? 9.0 : 0.0, y1 = 0;
+    for (const auto& p : pts) {
+        x1 = std::max(x1, p.error->methodSeconds * 1e3);
+        y1 = std::max(y1, p.error->metrics.at("rmse"));
+    }
+    x1 = x1 > 0 ? x1 * 1.1 : 1.0;
+    y1 = y1 > 0 ? y1 * 1.15 : 1.0;
+    auto X = [&](double v) { return L + v / x1 * (W - L - R); };
+    auto Y = [&](double v) { return T + plotH - v / y1 * plotH; };
+    std::ostringstream svg;
+    svg << fmt::format(R"(<svg id="methods" xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" )"
+                       R"(viewBox="0 0 {} {}" role="img" font-family="sans-serif">)",
+                       W, H, W, H);
+    svg << fmt::format(R"(<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="#333"/>)", L, T + plotH, W - R, T + plotH);
+    svg << fmt::format(R"(<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="#333"/>)", L, T, L, T + plotH);
+    const double xStep = tickStep(0, x1), yStep = tickStep(0, y1);
+    for (double t = 0; t <= x1; t += xStep)
+        svg << fmt::format(R"(<text x="{:.1f}" y="{}" font-size="11" text-anchor="middle">{:g}</text>)",
+                           X(t), T + plotH + 16, t);
+    for (double t = 0; t <= y1; t += yStep)
+        svg << fmt::format(R"(<text x="{}" y="{:.1f}" font-size="11" text-anchor="end">{:.3g}</text>)"
+                           R"(<line x1="{}" x2="{}" y1="{:.1f}" y2="{:.1f}" stroke="#ddd"/>)",
+                           L - 6, Y(t) + 4, t, L, W - R, Y(t), Y(t));
+    if (gpu)
+        for (const auto& [budget, name] : {std::pair{4.0, "Lumen High, 4 ms"}, std::pair{8.0, "Lumen Epic, 8 ms"}})
+            svg << fmt::format(R"(<line class="budget" x1="{0:.1f}" x2="{0:.1f}" y1="{1}" y2="{2}" )"
+                               R"(stroke="#b03a3a" stroke-dasharray="5 4"/>)"
+                               R"(<text x="{3:.1f}" y="{4}" font-size="11" fill="#b03a3a">{5}</text>)",
+                               X(budget), T, T + plotH, X(budget) + 4, T + 12, name);
+    svg << fmt::format(R"(<text x="{}" y="{}" font-size="12" text-anchor="middle">the method's )"
+                       R"(passes, ms{} (median of {} runs)</text>)",
+                       (L + W - R) / 2, T + plotH + 34, gpu ? " on the GPU" : "", r.runs);
+    svg << fmt::format(R"~(<text x="16" y="{}" font-size="12" text-anchor="middle" )~"
+                       R"~(transform="rotate(-90 16 {})">RMSE against truth</text>)~",
+                       T + plotH / 2, T + plotH / 2);
+    static const char* kColors[] = {"#4a7fb0", "#d0702a", "#6aa84f", "#8e63b5", "#b03a3a", "#555"};
+    for (const auto& p : pts) {
+        const std::size_t m = std::size_t(std::find(measures.begin(), measures.end(), p.error->name) -
+                                          measures.begin());
+        const double px = X(p.error->methodSeconds * 1e3), py = Y(p.error->metrics.at("rmse"));
+        svg << fmt::format(R"(<circle class="method" cx="{:.1f}" cy="{:.1f}" r="5" fill="{}"><title>{} )"
+                           R"(at {}: {} ms ({}), RMSE {:.4g}</title></circle>)",
+                           px, py, kColors[m % 6], escape(p.error->name), escape(p.setting->label),
+                           ms(p.error->methodSeconds), escape(fmt::format("{}", fmt::join(p.error->methodPasses, ", "))),
+                           p.error->metrics.at("rmse"));
+        svg << fmt::format(R"(<text x="{:.1f}" y="{:.1f}" font-size="11">{}</text>)", px + 7, py - 7,
+                           std::size_t(p.setting - r.settings.data()) + 1);
+    }
+    for (std::size_t m = 0; m < measures.size(); ++m)
+        svg << fmt::format(R"(<circle cx="{}" cy="{}" r="5" fill="{}"/><text x="{}" y="{}" font-size="12">{}</text>)",
+                           L + 6, T + plotH + B + 16 * m + 4, kColors[m % 6], L + 16,
+                           T + plotH + B + 16 * m + 8, escape(measures[m]));
+    svg << "</svg>";
+    return svg.str();
+}
+
 // One error_measure taken apart, setting by setting: a diverging stacked bar of the steps'
 // shares of the squared error (a negative share, a step that cancels others, left of 0), then
 // the table of step RMSE, bias and share and the sentence.
@@ -402,6 +479,15 @@ img{image-rendering:pixelated;border:1px solid #ccc;max-width:380px}
           << "). Pareto: no other setting is both faster and more accurate.</p>\n";
     h << measureWarnings(r);
     h << plot(r) << "\n";
+    if (const std::string methods = methodsPlot(r); !methods.empty())
+        h << "<h2>Methods: time against error</h2>\n<p class=\"meta\">Each error measure's "
+             "method, the passes its source depends on (not the whole chain, not the measure), "
+             "timed per setting"
+          << (r.device == "cuda" ? "; the dashed lines are Lumen's budgets for GI and "
+                                   "reflections at 1080p on current consoles"
+                                 : "")
+          << ".</p>\n"
+          << methods << "\n";
     if (const std::string seq = sequencePlot(r); !seq.empty())
         h << "<h2>Error over the sequence</h2>\n<p class=\"meta\">The first error_measure's RMSE "
              "on each frame of the last run, each frame with the history of those before it.</p>\n"

@@ -77,7 +77,7 @@ nlohmann::json BenchResult::toJson() const {
     nlohmann::json j = {{"config", config}, {"capture", capture}, {"frame", frame},
                         {"frames", frames},
                         {"width", extent.width}, {"height", extent.height}, {"runs", runs},
-                        {"warmup", warmup}, {"threads", threads}, {"sweeps", sweeps}};
+                        {"warmup", warmup}, {"threads", threads}, {"sweeps", sweeps}, {"device", device}};
     j["settings"] = nlohmann::json::array();
     for (const auto& s : settings) {
         nlohmann::json sj = {{"label", s.label},
@@ -110,6 +110,8 @@ nlohmann::json BenchResult::toJson() const {
                 sj["errors"].back()["decomposition"] = e.decomposition->toJson();
             if (!e.warnings.empty())
                 sj["errors"].back()["warnings"] = e.warnings;
+            sj["errors"].back()["methodPasses"] = e.methodPasses;
+            sj["errors"].back()["methodSeconds"] = e.methodSeconds;
         }
         if (s.hasError()) sj["pareto"] = s.pareto;
         j["settings"].push_back(sj);

@@ -67,6 +67,11 @@ struct ErrorNodeResult {
     /// The plan's warnings about this measure: a truth of another definition
     /// (app/TruthDefinitions.h), and the like.
     std::vector<std::string> warnings;
+    /// The method the measure judges: the passes its source depends on (app::upstreamSteps,
+    /// error measures left out; none for a capture buffer) and the sum of their median times
+    /// (kernel times for the GPU's): what the method costs a frame, not the whole config's chain.
+    std::vector<std::string> methodPasses;
+    double methodSeconds = 0;
 };
 
 struct BenchSetting {
@@ -98,6 +103,7 @@ struct IncrementalTiming {
 
 struct BenchResult {
     std::string config, capture;
+    std::string device = "cpu";  //!< where the passes with a CUDA kernel ran
     int64_t frame = 0;        //!< the frame whose errors are reported (a sequence's last)
     std::vector<int> frames;  //!< the frames each run goes through, in order
     Extent extent;

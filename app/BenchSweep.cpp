@@ -3,6 +3,7 @@
 #include "app/BareRayLoop.h"
 #include "app/BenchSources.h"
 #include "app/Invocation.h"
+#include "app/PlanReport.h"
 #include "app/Session.h"
 #include "io/ContactSheet.h"
 #include "io/PngWriter.h"
@@ -274,6 +275,12 @@ BenchSetting Bencher::measure(const SweepPoint& point, bool decompose) {
             if (w.pointer == step.pointer) e.warnings.push_back(w.message);
         if (auto it = rmseByFrame.find(s); it != rmseByFrame.end())
             e.rmseByFrame = it->second;
+        if (auto src = step.inputs.find("source"); src != step.inputs.end())
+            for (const int u : upstreamSteps(plan, src->second)) {
+                e.methodPasses.push_back(plan.steps[std::size_t(u)].name);
+                const PassTiming& timed = setting.passes[std::size_t(u)];  // u < s: made already
+                e.methodSeconds += timed.gpuSeconds ? timed.gpuSeconds->median : timed.seconds.median;
+            }
         if (!opt.html.empty())
             e.images = errorImages(step.name + ".heat", e, mFrames.source(frames.back()), sink,
                                    session.inputs());
@@ -420,6 +427,7 @@ BenchResult Bencher::emptyResult() const {
     result.extent = mProbe.extent();
     result.runs = mOptions.runs;
     result.warmup = mOptions.warmup;
+    result.device = mProbe.plan().device == Device::Cuda ? "cuda" : "cpu";
     for (const auto& axis : mOptions.sweeps) result.sweeps.push_back(axis.text());
     result.threads =
         int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));

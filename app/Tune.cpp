@@ -18,6 +18,7 @@
 #include <fmt/ranges.h>
 
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <set>
 
@@ -31,11 +32,13 @@ namespace {
 const std::vector<std::string> kTargetMetrics = {"rmse", "relMse", "smape", "mae", "maxError",
                                                  "overTolerance"};
 
-TuneTarget parseTarget(const std::string& text) {
-    const auto le = text.find("<=");
-    if (le == std::string::npos || le == 0)
+TuneTarget parseTarget(const std::string& text, bool budget) {
+    auto le = text.find("<=");
+    if (le == 0 || (le == std::string::npos && !budget))
         throw UsageError(fmt::format(
-            "--target {}: expected ERROR_PASS<=VALUE or ERROR_PASS.METRIC<=VALUE", text));
+            "--target {}: expected ERROR_PASS<=VALUE or ERROR_PASS.METRIC<=VALUE (with --budget, "
+            "ERROR_PASS alone)",
+            text));
     TuneTarget t;
     t.error = text.substr(0, le);
     if (const auto dot = t.error.find('.'); dot != std::string::npos) {
@@ -48,6 +51,10 @@ TuneTarget parseTarget(const std::string& text) {
                                          text, t.metric, fmt::join(kTargetMetrics, ", "),
                                          didYouMean(t.metric, kTargetMetrics)));
     }
+    if (le == std::string::npos) {
+        t.max = std::numeric_limits<double>::infinity();
+        return t;
+    }
     try {
         std::size_t end = 0;
         const std::string value = text.substr(le + 2);
@@ -58,6 +65,22 @@ TuneTarget parseTarget(const std::string& text) {
         throw UsageError(fmt::format("--target {}: the bound is a number ≥ 0", text));
     }
     return t;
+}
+
+// --budget's text as milliseconds: "4ms", "4" (milliseconds) or "0.004s".
+double parseBudgetMs(const std::string& text) {
+    std::size_t end = 0;
+    double v = 0;
+    try {
+        v = std::stod(text, &end);
+    } catch (const std::exception&) {
+        end = 0;
+    }
+    const std::string unit = end ? text.substr(end) : "";
+    const double scale = unit.empty() || unit == "ms" ? 1.0 : unit == "s" ? 1e3 : 0.0;
+    if (!end || scale == 0 || !std::isfinite(v) || v <= 0)
+        throw UsageError(fmt::format("--budget {}: a time a frame, such as 4ms or 0.004s", text));
+    return v * scale;
 }
 
 // The target's error_measure in the config, or a usage error naming those it has.
@@ -155,6 +178,13 @@ double chainWork(const BenchSetting& s) {
     return work;
 }
 
+// The time of the target measure's method in a setting (its upstream passes), in ms.
+double methodMsOf(const BenchSetting& s, const TuneTarget& t) {
+    for (const auto& e : s.errors)
+        if (e.name == t.error) return e.methodSeconds * 1e3;
+    return 0;
+}
+
 double metricOf(const BenchSetting& s, const TuneTarget& t) {
     for (const auto& e : s.errors)
         if (e.name == t.error) {
@@ -247,24 +277,30 @@ nlohmann::json TuneResult::pointJson(const SweepPoint& point) const {
 }
 
 std::string TuneResult::bound() const {
-    return fmt::format("{} {} ≤ {:g}", target.error, target.metric, target.max);
+    const std::string within = budgetMs ? fmt::format(", its method within {:g} ms", *budgetMs) : "";
+    if (!std::isfinite(target.max)) return fmt::format("{} {}{}", target.error, target.metric, within);
+    return fmt::format("{} {} ≤ {:g}{}", target.error, target.metric, target.max, within);
 }
 
 nlohmann::json TuneResult::toJson(const std::string& config) const {
     nlohmann::json j = {{"config", config},
                         {"target",
-                         {{"error", target.error}, {"metric", target.metric}, {"max", target.max}}},
+                         {{"error", target.error},
+                          {"metric", target.metric},
+                          {"max", std::isfinite(target.max) ? nlohmann::json(target.max) : nlohmann::json()}}},
                         {"met", choice.has_value()}};
+    if (budgetMs) j["budgetMs"] = *budgetMs;
     auto settingJson = [this](const TunedSetting& t) {
         return nlohmann::json{{"label", t.setting.label},
                               {"setting", pointJson(t.point)},
                               {"frameMs", t.frameMs()},
+                              {"methodMs", t.methodMs},
                               {"value", t.value}};
     };
     j["settings"] = nlohmann::json::array();
     for (const TunedSetting& t : tried) {
         nlohmann::json s = settingJson(t);
-        s["meets"] = t.value <= target.max;
+        s["meets"] = t.value <= target.max && (!budgetMs || t.methodMs <= *budgetMs);
         s["refined"] = t.refined;
         j["settings"].push_back(s);
     }
@@ -282,7 +318,8 @@ nlohmann::json TuneResult::toJson(const std::string& config) const {
 
 TuneResult tune(const TuneOptions& opt) {
     TuneResult result;
-    result.target = parseTarget(opt.target);
+    result.target = parseTarget(opt.target, !opt.budget.empty());
+    if (!opt.budget.empty()) result.budgetMs = parseBudgetMs(opt.budget);
     const TuneTarget& target = result.target;
     Bencher bencher(opt.bench);
     targetNode(bencher.probe().config(), target);
@@ -314,10 +351,27 @@ TuneResult tune(const TuneOptions& opt) {
                 return;
         TunedSetting t{bencher.measure(p, false), p, 0, refined};
         t.value = metricOf(t.setting, target);
+        t.methodMs = methodMsOf(t.setting, target);
         tried.push_back(std::move(t));
     };
     for (const auto& p : grid)
         measure(p, false);
+    TunedSetting* mostAccurate = &tried.front();
+    for (TunedSetting& t : tried)
+        if (t.value < mostAccurate->value)
+            mostAccurate = &t;
+    if (result.budgetMs) {
+        // The most accurate setting whose method fits the budget (and meets a bound if one was
+        // given); the grid alone, each setting timed as bench times it.
+        TunedSetting* best = nullptr;
+        for (TunedSetting& t : tried)
+            if (t.methodMs <= *result.budgetMs && t.value <= target.max &&
+                (!best || t.value < best->value))
+                best = &t;
+        if (best) result.choice = std::size_t(best - tried.data());
+        result.mostAccurate = std::size_t(mostAccurate - tried.data());
+        return result;
+    }
 
     // Refine: bisect the one integer axis between the cheapest setting that meets the target
     // and the next faster setting of the Pareto front, while values lie between them.
@@ -392,7 +446,7 @@ TuneResult tune(const TuneOptions& opt) {
         }
         choice = cheapestMeeting();
     }
-    TunedSetting* mostAccurate = &tried.front();
+    mostAccurate = &tried.front();
     for (TunedSetting& t : tried)
         if (t.value < mostAccurate->value)
             mostAccurate = &t;

@@ -14,14 +14,20 @@ namespace fp::app {
 
 struct TuneOptions {
     BenchOptions bench;  //!< the config, its settings, runs; the sweeps (empty: a default grid)
-    std::string target;  //!< ERROR_PASS<=VALUE or ERROR_PASS.METRIC<=VALUE
+    /// ERROR_PASS<=VALUE or ERROR_PASS.METRIC<=VALUE; with a budget the bound may be left out
+    /// (ERROR_PASS or ERROR_PASS.METRIC: the measure whose error is made least).
+    std::string target;
     int refine = 4;      //!< settings at most to try between grid values
+    /// "4ms" (or "4", milliseconds, or "0.004s"): instead of the cheapest setting that meets the
+    /// target, the most accurate whose method (the passes the target's source depends on) takes
+    /// at most this a frame. "" = none.
+    std::string budget;
 };
 
 struct TuneTarget {
     std::string error;            //!< an error measure of the config
     std::string metric = "rmse";  //!< one of its figures
-    double max = 0;
+    double max = 0;               //!< +inf: no bound (a budget's search)
 };
 
 struct TunedSetting {
@@ -29,6 +35,8 @@ struct TunedSetting {
     SweepPoint point;
     double value = 0;  //!< the target's metric
     bool refined = false;
+    /// The time of the target's method: the passes its source depends on (ErrorNodeResult).
+    double methodMs = 0;
     /// The setting's cost: the chain's time per frame.
     double frameMs() const { return setting.chainSeconds() * 1e3; }
 };
@@ -36,13 +44,15 @@ struct TunedSetting {
 struct TuneResult {
     TuneTarget target;
     std::vector<TunedSetting> tried;  //!< in the order measured
-    std::optional<std::size_t> choice;  //!< the cheapest that meets the target
+    /// The cheapest that meets the target; with a budget, the most accurate within it.
+    std::optional<std::size_t> choice;
+    std::optional<double> budgetMs;  //!< the budget searched within
     std::size_t mostAccurate = 0;
     std::string tieNote;  //!< settings whose times could not be told apart, and how one was chosen
     /// Nothing met the target: the most accurate setting's error taken apart.
     std::optional<ErrorDecompositionResult> inTheWay;
 
-    /// "ssgi_error rmse ≤ 0.05"
+    /// "ssgi_error rmse ≤ 0.05", or with a budget "ssgi_error rmse, its method within 4 ms"
     std::string bound() const;
     /// What `tune --json` prints.
     nlohmann::json toJson(const std::string& config) const;

@@ -9,6 +9,8 @@
 #include "app/Invocation.h"
 #include "io/SafeFiles.h"
 
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -59,6 +61,9 @@ void printBench(const BenchResult& result) {
             for (const auto& [k, v] : e.metrics)
                 m += fmt::format(" {}={:.5g}", k, v);
             std::cout << fmt::format("  {} ({} against {}):{}\n", e.name, e.source, e.reference, m);
+            if (!e.methodPasses.empty())
+                std::cout << fmt::format("    the method: {:.2f} ms ({})\n", e.methodSeconds * 1e3,
+                                         fmt::join(e.methodPasses, ", "));
             if (!e.rmseByFrame.empty())
                 std::cout << fmt::format("    RMSE by frame: {:.5g}\n", fmt::join(e.rmseByFrame, " → "));
             if (e.decomposition)

@@ -3,6 +3,7 @@
 #include "cli/Commands.h"
 #include "cli/Flags.h"
 
+#include <algorithm>
 #include <iostream>
 
 namespace fp::cli {
@@ -21,6 +22,10 @@ Command addTuneCommand(CLI::App& app) {
     addSweepOption(*sub, opt->bench.sweeps,
                    "the grid, as bench's --sweep (default: every cvar of the measured chain "
                    "that is a switch or an integer of at most 8 values)");
+    sub->add_option("--budget", opt->budget,
+                    "instead, the most accurate setting whose method (the passes the target's "
+                    "source depends on) takes at most this a frame: 4ms, 0.004s (--target may "
+                    "then name the measure alone)");
     sub->add_option("--refine", opt->refine,
                     "settings at most to try between grid values along the Pareto front "
                     "(default 4)")
@@ -44,18 +49,27 @@ Command addTuneCommand(CLI::App& app) {
         std::cout << fmt::format("tune {}: {} over {} settings ({} on the grid, {} refined)\n",
                                  opt->bench.session.config, r.bound(), r.tried.size(),
                                  r.tried.size() - refined, refined);
-        for (const auto& t : r.tried)
-            std::cout << fmt::format("  {:<48} {:>9.2f} ms  {} {:.5g}{}{}\n", t.setting.label,
+        for (const auto& t : r.tried) {
+            const bool fits = !r.budgetMs || t.methodMs <= *r.budgetMs;
+            std::cout << fmt::format("  {:<48} {:>9.2f} ms  {} {:.5g}{}{}{}\n", t.setting.label,
                                      t.frameMs(), r.target.metric, t.value,
-                                     t.value <= r.target.max ? "  meets" : "",
+                                     r.budgetMs ? fmt::format("  method {:.2f} ms", t.methodMs) : "",
+                                     t.value <= r.target.max && fits ? (r.budgetMs ? "  fits" : "  meets") : "",
                                      t.refined ? "  (refined)" : "");
+        }
         if (!r.tieNote.empty()) std::cout << r.tieNote << "\n";
         if (r.choice) {
             const auto& c = r.tried[*r.choice];
-            std::cout << fmt::format("cheapest setting that meets {}: {} ({:.2f} ms, {} {:.5g})\n",
-                                     r.bound(), c.setting.label, c.frameMs(), r.target.metric,
-                                     c.value)
-                      << app::systemSettings(c);
+            if (r.budgetMs)
+                std::cout << fmt::format("most accurate setting, {}: {} (its method {:.2f} ms, {} "
+                                         "{:.5g})\n",
+                                         r.bound(), c.setting.label, c.methodMs, r.target.metric,
+                                         c.value);
+            else
+                std::cout << fmt::format("cheapest setting that meets {}: {} ({:.2f} ms, {} {:.5g})\n",
+                                         r.bound(), c.setting.label, c.frameMs(), r.target.metric,
+                                         c.value);
+            std::cout << app::systemSettings(c);
             for (const auto& [name, value] : c.point)
                 if (!app::isCvarName(name))
                     std::cout << fmt::format("; framepass only (no Unreal cvar): --{} {}={}\n",
@@ -65,6 +79,14 @@ Command addTuneCommand(CLI::App& app) {
             return 0;
         }
         const auto& m = r.tried[r.mostAccurate];
+        if (r.budgetMs) {
+            const auto fastest = std::min_element(r.tried.begin(), r.tried.end(), [](const auto& a, const auto& b) {
+                return a.methodMs < b.methodMs;
+            });
+            std::cout << fmt::format("no setting meets {}: the fastest method, {}, takes {:.2f} ms\n",
+                                     r.bound(), fastest->setting.label, fastest->methodMs);
+            return 1;
+        }
         std::cout << fmt::format("no setting meets {}: the most accurate, {}, has {} {:.5g} "
                                  "({:.2f} ms)\n",
                                  r.bound(), m.setting.label, r.target.metric, m.value, m.frameMs());

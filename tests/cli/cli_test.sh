@@ -65,6 +65,25 @@ check "the config's \"inputs\" rebind as --input does" bash -c "python3 -c 'impo
 check "tune searches across methods through an error's source" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=ssgi.diffuse,rtgi.diffuse --runs 1 --warmup 0 2>/dev/null | grep -q 'cheapest setting that meets'"
 check "tune names the Unreal setting of the method it chose, and the method as an --input line" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=rtgi.diffuse --sweep rtgi.samplesPerPixel=1,2 --runs 1 --warmup 0 2>/dev/null > '$DIR/tune_method.txt' && grep -q '; the method rt_global_illumination runs: r.RayTracing.GlobalIllumination=1' '$DIR/tune_method.txt' && grep -q '^; framepass only (no Unreal cvar): --input gi.source=rtgi.diffuse' '$DIR/tune_method.txt' && grep -q '^; framepass only (no Unreal cvar): --set rtgi.samplesPerPixel=' '$DIR/tune_method.txt'"
 check "tune leaves out a cvar the chosen method's chain does not read" bash -c "'$FP' tune '$DIR/methods.json' --target 'gi<=1000' --sweep gi.source=rtgi.diffuse --sweep r.SSGI.Quality=1,4 --runs 1 --warmup 0 2>/dev/null > '$DIR/tune_idle.txt' && grep -q '^; r.SSGI.Quality=[14] left out: no pass of this chain reads it' '$DIR/tune_idle.txt' && ! grep -q '^r.SSGI.Quality=' '$DIR/tune_idle.txt'"
+check "bench pairs each error measure with the time of the passes its source depends on" bash -c "'$FP' bench '$DIR/methods.json' --input gi.source=rtgi.diffuse --runs 1 --warmup 0 --json --html '$DIR/methods_bench.html' > '$DIR/methods_bench.json' && python3 - '$DIR/methods_bench.json' <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1])); s = j['settings'][0]
+(e,) = s['errors']
+assert e['methodPasses'] == ['rtgi'], e['methodPasses']  # not the error measure, not the culled SSGI
+median = {p['name']: p['median'] for p in s['passes']}
+assert abs(e['methodSeconds'] - median['rtgi']) < 1e-12 and j['device'] == 'cpu'
+PY
+grep -q '<svg id=\"methods\"' '$DIR/methods_bench.html' && ! grep -q 'class=\"budget\"' '$DIR/methods_bench.html'"
+check "tune --budget picks the most accurate setting whose method fits" bash -c "'$FP' tune '$DIR/methods.json' --target gi --budget 100000ms --sweep gi.source=ssgi.diffuse,rtgi.diffuse --sweep rtgi.samplesPerPixel=1,2 --runs 1 --warmup 0 --json > '$DIR/tune_budget.json' 2>/dev/null && python3 - '$DIR/tune_budget.json' <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+fits = [t for t in j['settings'] if t['methodMs'] <= j['budgetMs']]
+assert j['met'] and j['budgetMs'] == 100000 and j['target']['max'] is None and len(fits) == len(j['settings'])
+assert j['choice']['value'] == min(t['value'] for t in fits), j['choice']
+PY"
+check "tune --budget below every method's time says which is fastest" expect_exit 1 "the fastest method" "$FP" tune "$DIR/methods.json" --target gi --budget 0.000001s --sweep gi.source=ssgi.diffuse,rtgi.diffuse --runs 1 --warmup 0
+check "tune --budget takes a time a frame" expect_exit 2 "a time a frame" "$FP" tune "$DIR/methods.json" --target gi --budget 4fps
+check "tune without --budget needs a bound" expect_exit 2 "ERROR_PASS<=VALUE" "$FP" tune "$DIR/methods.json" --target gi
 check "the ray-traced preset without a scene takes the one the capture was made from" \
     bash -c "'$FP' run '$DIR/rt_noscene.json' -o '$DIR/rt_none' 2>'$DIR/rt_none.log' >/dev/null && grep -q 'using .*examples/cornell/scene.json, the scene the capture was made from' '$DIR/rt_none.log' && cmp '$DIR/rt_none/raytraced.0001.exr' '$DIR/rt_out/raytraced.0001.exr'"
 mkdir -p "$DIR/elsewhere" && cp "$DIR/cornell.exr" "$DIR/elsewhere/cornell.exr"
