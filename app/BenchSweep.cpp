@@ -309,11 +309,9 @@ IncrementalTiming Bencher::measureIncremental(const std::string& change) {
     options.frames = std::to_string(mProbe.frames().back());
     Session session(options);
     auto set = [&, kind = kindOf(axis.name)](const nlohmann::json& value) {
-        Settings one;
-        applySetting(one, kind, axis.name, value);  // checks an input's value is a source's name
-        if (kind == SettingKind::Cvar) session.setCvar(axis.name, value);
-        else if (kind == SettingKind::Param) session.setParam(axis.name, value);
-        else session.setInput(axis.name, value.get<std::string>());
+        Settings next = session.settings();
+        applySetting(next, kind, axis.name, value);
+        session.replaceSettings(std::move(next));
     };
     const int frame = mProbe.frames().back();
     std::vector<double> whole, rerun;

@@ -102,9 +102,6 @@ public:
     /// runs start, not while one is in flight.
     ProgressFn onPass;
 
-    /// The driver the session's frames run through (its captures, kept read): an error breakdown
-    /// of the session's frame reads them from here. Not to be used while a run is in flight.
-    FrameDriver& frameDriver() { return mFrames; }
     /// The report of the last run that finished.
     std::optional<FrameReport> lastReport() const;
 

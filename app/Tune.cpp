@@ -356,10 +356,12 @@ TuneResult tune(const TuneOptions& opt) {
     };
     for (const auto& p : grid)
         measure(p, false);
-    TunedSetting* mostAccurate = &tried.front();
-    for (TunedSetting& t : tried)
-        if (t.value < mostAccurate->value)
-            mostAccurate = &t;
+    auto mostAccurateOf = [&] {
+        TunedSetting* best = &tried.front();
+        for (TunedSetting& t : tried)
+            if (t.value < best->value) best = &t;
+        return best;
+    };
     if (result.budgetMs) {
         // The most accurate setting whose method fits the budget (and meets a bound if one was
         // given); the grid alone, each setting timed as bench times it.
@@ -369,7 +371,7 @@ TuneResult tune(const TuneOptions& opt) {
                 (!best || t.value < best->value))
                 best = &t;
         if (best) result.choice = std::size_t(best - tried.data());
-        result.mostAccurate = std::size_t(mostAccurate - tried.data());
+        result.mostAccurate = std::size_t(mostAccurateOf() - tried.data());
         return result;
     }
 
@@ -446,10 +448,7 @@ TuneResult tune(const TuneOptions& opt) {
         }
         choice = cheapestMeeting();
     }
-    mostAccurate = &tried.front();
-    for (TunedSetting& t : tried)
-        if (t.value < mostAccurate->value)
-            mostAccurate = &t;
+    TunedSetting* mostAccurate = mostAccurateOf();
     if (!choice && opt.bench.decomposeRays > 0) {
         BenchSetting again = bencher.measure(mostAccurate->point, true);
         for (const auto& e : again.errors)

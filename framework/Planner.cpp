@@ -473,50 +473,23 @@ private:
         std::map<std::string, std::string> where;  // parameter → what set it ("--set p.x")
     };
 
-    // The config's "set" and then --set PASS.PARAM=VALUE, grouped per pass (a later value of a
-    // parameter replaces an earlier one).
-    std::map<int, SetLayer> setLayers() {
-        std::map<int, SetLayer> layers;
-        std::vector<std::tuple<std::string, nlohmann::json, std::string>> sets;
-        for (const auto& [target, value] : mGraph.sets.items())
-            sets.emplace_back(target, value, "/set/" + jsonPointerEscape(target));
-        for (const auto& [target, value] : mIn.overrides.sets)
-            sets.emplace_back(target, value, fmt::format(fmt::runtime(mIn.overrides.setOrigin), target));
-        for (const auto& [target, value, where] : sets) {
+    // Each PASS.NAME → value of the config's map `config` (pointers under `prefix`) and then of
+    // a door's `overrides` (named by the fmt pattern `origin`), in that order, handed to `use`
+    // with the step it names; a value `accepts` refuses, a target without a dot (`expected`
+    // says what is) or naming no pass is an error.
+    template <class Overrides, class Accepts, class Use>
+    void forEachTarget(const nlohmann::json& config, const std::string& prefix,
+                       const Overrides& overrides, const std::string& origin,
+                       const char* expected, const Accepts& accepts, const Use& use) {
+        std::vector<std::tuple<std::string, nlohmann::json, std::string>> targets;
+        for (const auto& [target, value] : config.items())
+            targets.emplace_back(target, value, prefix + jsonPointerEscape(target));
+        for (const auto& [target, value] : overrides)
+            targets.emplace_back(target, value, fmt::format(fmt::runtime(origin), target));
+        for (const auto& [target, value, where] : targets) {
             const auto dot = target.find('.');
-            if (dot == std::string::npos) {
-                mDiag.error(where, "expected PASS.PARAM=VALUE");
-                continue;
-            }
-            const std::string pass = target.substr(0, dot), param = target.substr(dot + 1);
-            auto it = mNodeIndex.find(pass);
-            if (it == mNodeIndex.end()) {
-                mDiag.error(where,
-                            fmt::format("no pass named '{}'{}", pass, didYouMean(pass, mAllNames)));
-                continue;
-            }
-            SetLayer& layer = layers[it->second];
-            layer.values[param] = value;
-            layer.where[param] = where;
-        }
-        return layers;
-    }
-
-    // The config's "inputs" and then --input PASS.INPUT=SOURCE, grouped per pass: port →
-    // (source, where it was set); a later one of a port replaces an earlier one.
-    std::map<int, std::map<std::string, std::pair<std::string, std::string>>> inputLayers() {
-        std::map<int, std::map<std::string, std::pair<std::string, std::string>>> layers;
-        std::vector<std::tuple<std::string, nlohmann::json, std::string>> inputs;
-        for (const auto& [target, value] : mGraph.inputs.items())
-            inputs.emplace_back(target, value, "/inputs/" + jsonPointerEscape(target));
-        for (const auto& [target, source] : mIn.overrides.inputs)
-            inputs.emplace_back(target, source,
-                                fmt::format(fmt::runtime(mIn.overrides.inputOrigin), target));
-        for (const auto& [target, value, where] : inputs) {
-            const auto dot = target.find('.');
-            if (dot == std::string::npos || !value.is_string()) {
-                mDiag.error(where, "expected PASS.INPUT and a source's name (\"pass.port\" or "
-                                   "\"capture:Buffer\")");
+            if (dot == std::string::npos || !accepts(value)) {
+                mDiag.error(where, expected);
                 continue;
             }
             const std::string pass = target.substr(0, dot);
@@ -526,8 +499,35 @@ private:
                             fmt::format("no pass named '{}'{}", pass, didYouMean(pass, mAllNames)));
                 continue;
             }
-            layers[it->second][target.substr(dot + 1)] = {value.get<std::string>(), where};
+            use(it->second, target.substr(dot + 1), value, where);
         }
+    }
+
+    // The config's "set" and then --set PASS.PARAM=VALUE, grouped per pass (a later value of a
+    // parameter replaces an earlier one).
+    std::map<int, SetLayer> setLayers() {
+        std::map<int, SetLayer> layers;
+        forEachTarget(mGraph.sets, "/set/", mIn.overrides.sets, mIn.overrides.setOrigin,
+                      "expected PASS.PARAM=VALUE", [](const nlohmann::json&) { return true; },
+                      [&](int step, const std::string& param, const nlohmann::json& value,
+                          const std::string& where) {
+                          layers[step].values[param] = value;
+                          layers[step].where[param] = where;
+                      });
+        return layers;
+    }
+
+    // The config's "inputs" and then --input PASS.INPUT=SOURCE, grouped per pass: port →
+    // (source, where it was set); a later one of a port replaces an earlier one.
+    std::map<int, std::map<std::string, std::pair<std::string, std::string>>> inputLayers() {
+        std::map<int, std::map<std::string, std::pair<std::string, std::string>>> layers;
+        forEachTarget(mGraph.inputs, "/inputs/", mIn.overrides.inputs, mIn.overrides.inputOrigin,
+                      "expected PASS.INPUT and a source's name (\"pass.port\" or \"capture:Buffer\")",
+                      [](const nlohmann::json& v) { return v.is_string(); },
+                      [&](int step, const std::string& port, const nlohmann::json& source,
+                          const std::string& where) {
+                          layers[step][port] = {source.get<std::string>(), where};
+                      });
         return layers;
     }
 

@@ -39,7 +39,6 @@
 #include <algorithm>
 #include <cstring>
 #include <functional>
-#include <string_view>
 #include <thread>
 
 namespace py = pybind11;
@@ -676,8 +675,8 @@ py::object compare(const py::object& a, const py::object& b, const std::string& 
     return toPython(figures[*metric]);
 }
 
-// bench's cvars= or set= ({name: value}) into `out`, each through `add` (Settings::setCvar or
-// Settings::setParam).
+// bench's cvars=, set= or inputs= ({name: value}), each value typed as settings are and handed
+// to `add`.
 void addSettings(const py::object& values, const char* what,
                  const std::function<void(const std::string&, nlohmann::json)>& add) {
     if (values.is_none()) return;
@@ -685,12 +684,7 @@ void addSettings(const py::object& values, const char* what,
         throw py::type_error(fmt::format("bench(): {}= is a dict {{name: value}}", what));
     for (const auto& [k, v] : values.cast<py::dict>()) {
         const std::string name = py::str(k).cast<std::string>();
-        const std::string where = fmt::format("bench(): {}['{}']", what, name);
-        nlohmann::json value = settingValue(where, v);
-        if (std::string_view(what) == "inputs" && !value.is_string())
-            throw py::type_error(where + " is a source's name (str): 'pass.port' or "
-                                         "'capture:Buffer'");
-        add(name, std::move(value));
+        add(name, settingValue(fmt::format("bench(): {}['{}']", what, name), v));
     }
 }
 
@@ -711,8 +705,13 @@ py::object bench(const std::string& config, const py::object& sweep, int runs, i
     app::Settings& settings = o.session.settings;
     addSettings(cvars, "cvars", [&](const std::string& n, nlohmann::json v) { settings.setCvar(n, v); });
     addSettings(sets, "set", [&](const std::string& n, nlohmann::json v) { settings.setParam(n, v); });
-    addSettings(inputs, "inputs",
-                [&](const std::string& n, nlohmann::json v) { settings.setInput(n, v.get<std::string>()); });
+    addSettings(inputs, "inputs", [&](const std::string& n, nlohmann::json v) {
+        if (!v.is_string())
+            throw py::type_error(fmt::format("bench(): inputs['{}'] is a source's name (str): "
+                                             "'pass.port' or 'capture:Buffer'",
+                                             n));
+        settings.setInput(n, v.get<std::string>());
+    });
     if (runs < 1 || warmup < 0) throw py::value_error("runs is 1 or more, warmup 0 or more");
     o.runs = runs;
     o.warmup = warmup;
