@@ -6,12 +6,9 @@
 // the rays' hit distance: a signal varies over a surface about as fast as the things its rays hit
 // are near (for reflections, times the lobe's width), so a far hit allows a wide blur and a near
 // one keeps it tight.
-#include "foundation/Camera.h"
 #include "foundation/Image.h"
 #include "framework/Params.h"
 #include "framework/Pass.h"
-#include "screenspace/Reprojection.h"
-#include "screenspace/Surface.h"
 
 #include <cstdint>
 #include <string>
@@ -43,27 +40,6 @@ struct Stages {
     float historyConvolutionSpread = 3.0f;  //!< its taps' disc radius, pixels
 };
 
-/// One frame's inputs. The signal is 1 to 4 planes of one size: the frame's, or its 1/2, 1/3 or
-/// 1/4 (a screen percentage; the reconstruction upscales it, each texel standing for the top-left
-/// pixel of its block).
-struct Inputs {
-    std::vector<const Plane*> signal{};
-    const Plane* hitDistance = nullptr;  //!< the signal's size; scene units; −1 no hit, < −1.5 no ray
-    const Plane* roughness = nullptr;    //!< Footprint::Specular only
-    SurfaceInputs gbuffer;
-    const Texture* velocity = nullptr;   //!< optional motion for the reprojection
-    CameraView camera{};
-    int64_t frameNumber = 0;
-    /// Last frame's state (stateChannels()) and camera; null without a usable history.
-    const Image* history = nullptr;
-    const CameraView* historyCamera = nullptr;
-};
-
-/// What each stage did, for the pass's work counters.
-struct Counts {
-    uint64_t pixels = 0, skippedPixels = 0, historyPixels = 0;
-};
-
 /// How many frame pixels a signal texel spans along each axis: k when `signal` is the frame's
 /// extent divided by k (rounded up) for k = 1..4 (a ray-traced pass's screen percentage), else 0.
 int upscaleOf(Extent frame, Extent signal);
@@ -72,13 +48,14 @@ int upscaleOf(Extent frame, Extent signal);
 /// sample count, and the surface (view depth, normal) that next frame's validation compares with.
 const std::vector<std::string>& stateChannels();
 
-/// Runs the stages, writing `out` (as many planes as the signal, the frame's size) and, when
-/// `state` is given, the state for the next frame. Pixels with no surface or no ray keep their
-/// input.
-Counts denoise(const Stages& stages,
-               const Inputs& in,
-               const std::vector<Plane*>& out,
-               Image* state);
+/// What a denoising pass asks of ssd::run (SignalDenoiserKernel.h), the same on both backends:
+/// the stages, the ports whose planes (in order) make the signal, and whether to denoise at all
+/// (the denoiser cvar above 0; else the raw signal goes through).
+struct Denoising {
+    Stages stages;
+    std::vector<std::string> signalPorts;
+    bool enabled = true;
+};
 
 /// Unreal's console variables of one signal's denoiser.
 struct DenoiserCvars {
@@ -142,18 +119,7 @@ Stages stagesOf(const P& p, Footprint footprint, float targetSamples) {
 /// GBuffer's depth, normal and shading model (roughness too for reflections), optional velocity.
 std::vector<PortSpec> denoiserInputs(Footprint footprint);
 
-/// A denoising pass's execute: the planes of `signalPorts` (in order) make the signal; reads the
-/// `hitDistance` input, the GBuffer's depth, normal, shading model (and roughness for
-/// reflections), the optional velocity and the pass's history; writes each signal port's
-/// denoised output of the same name, keeps the next state when accumulating, and adds the work
-/// counters (pixels, skippedPixels, historyPixels). Not `enabled` (the denoiser cvar at 0), the
-/// raw signal goes through.
-void denoisePorts(PassContext& ctx,
-                  const Stages& stages,
-                  const std::vector<std::string>& signalPorts,
-                  bool enabled);
-
-/// What denoisePorts allocates for a frame of `frame` pixels and a signal of `channels`: the
+/// What run() (SignalDenoiserKernel.h) allocates for a frame of `frame` pixels and a signal of `channels`: the
 /// surface grid, the kernel radii, the two ping-pong images, the new state (and the history
 /// kept) when accumulating; nothing when not `enabled`. A signal traced at 1/k adds a grid of
 /// 1/k² (not counted: at most a quarter of the grid).

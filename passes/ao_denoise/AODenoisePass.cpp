@@ -1,6 +1,8 @@
 #include "passes/ao_denoise/AODenoisePass.h"
 
-#include "screenspace/SignalDenoiser.h"
+#include "foundation/PerPixel.h"
+#include "framework/PassPorts.h"
+#include "screenspace/SignalDenoiserKernel.h"
 
 namespace fp {
 
@@ -24,10 +26,13 @@ PassIO AODenoisePass::describe() const {
     return io;
 }
 
-void AODenoisePass::execute(PassContext& ctx) {
+ssd::Denoising AODenoisePass::denoising() const {
     // 4096, as the diffuse-and-AO signal's (§12.5: not read for AO).
-    ssd::denoisePorts(ctx, ssd::stagesOf(mParams, ssd::Footprint::Diffuse, 4096.0f), {kAo},
-                      mParams.denoiser > 0);
+    return {ssd::stagesOf(mParams, ssd::Footprint::Diffuse, 4096.0f), {kAo}, mParams.denoiser > 0};
+}
+
+void AODenoisePass::execute(PassContext& ctx) {
+    ssd::run(ctx, HostPorts{ctx}, CpuPixels{}, denoising());
 }
 
 }  // namespace fp

@@ -24,9 +24,13 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    /// What the denoiser runs on either backend.
+    ssd::Denoising denoising() const;
     PassMemory memoryBytes(Extent frame) const override {
         return ssd::memoryOf(frame, 1, mParams.denoiser > 0, mParams.temporalAccumulation);
     }
+
+    FP_PASS_HAS_CUDA_KERNEL  // AODenoisePass.cu
 };
 
 }  // namespace fp

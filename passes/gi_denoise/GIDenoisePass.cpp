@@ -1,6 +1,8 @@
 #include "passes/gi_denoise/GIDenoisePass.h"
 
-#include "screenspace/SignalDenoiser.h"
+#include "foundation/PerPixel.h"
+#include "framework/PassPorts.h"
+#include "screenspace/SignalDenoiserKernel.h"
 
 namespace fp {
 
@@ -37,10 +39,14 @@ PassIO GIDenoisePass::describe() const {
     return io;
 }
 
-void GIDenoisePass::execute(PassContext& ctx) {
+ssd::Denoising GIDenoisePass::denoising() const {
     // 4096: TARGETED_SAMPLE_COUNT of the diffuse-and-AO signal (§12.5).
-    ssd::denoisePorts(ctx, ssd::stagesOf(mParams, ssd::Footprint::Diffuse, 4096.0f),
-                      {kDiffuse, kAo}, mParams.denoiser > 0);
+    return {ssd::stagesOf(mParams, ssd::Footprint::Diffuse, 4096.0f), {kDiffuse, kAo},
+            mParams.denoiser > 0};
+}
+
+void GIDenoisePass::execute(PassContext& ctx) {
+    ssd::run(ctx, HostPorts{ctx}, CpuPixels{}, denoising());
 }
 
 }  // namespace fp

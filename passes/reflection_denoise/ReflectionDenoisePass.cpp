@@ -1,6 +1,8 @@
 #include "passes/reflection_denoise/ReflectionDenoisePass.h"
 
-#include "screenspace/SignalDenoiser.h"
+#include "foundation/PerPixel.h"
+#include "framework/PassPorts.h"
+#include "screenspace/SignalDenoiserKernel.h"
 
 namespace fp {
 
@@ -30,11 +32,15 @@ PassIO ReflectionDenoisePass::describe() const {
     return io;
 }
 
-void ReflectionDenoisePass::execute(PassContext& ctx) {
+ssd::Denoising ReflectionDenoisePass::denoising() const {
     // 128: not read for reflections; SSGI's, a short history (§12.5). Unreal's reflections have
     // no history convolution.
-    ssd::denoisePorts(ctx, ssd::stagesOf(mParams, ssd::Footprint::Specular, 128.0f),
-                      {kReflection}, mParams.denoiser > 0);
+    return {ssd::stagesOf(mParams, ssd::Footprint::Specular, 128.0f), {kReflection},
+            mParams.denoiser > 0};
+}
+
+void ReflectionDenoisePass::execute(PassContext& ctx) {
+    ssd::run(ctx, HostPorts{ctx}, CpuPixels{}, denoising());
 }
 
 }  // namespace fp

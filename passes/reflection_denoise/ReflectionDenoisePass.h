@@ -22,9 +22,13 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+    /// What the denoiser runs on either backend.
+    ssd::Denoising denoising() const;
     PassMemory memoryBytes(Extent frame) const override {
         return ssd::memoryOf(frame, 4, mParams.denoiser > 0, mParams.temporalAccumulation);
     }
+
+    FP_PASS_HAS_CUDA_KERNEL  // ReflectionDenoisePass.cu
 };
 
 }  // namespace fp

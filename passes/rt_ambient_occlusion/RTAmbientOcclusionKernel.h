@@ -3,15 +3,21 @@
 // RayTracingAmbientOcclusionRGS): a pixel's set-up — its position from depth, its geometric
 // normal from the neighbours' depths, how far its shading normal leans from it — each sample's
 // cosine-weighted ray about the geometric normal with its weight, and the resolve. Written as
-// FP_HD functions over plane views, so a GPU kernel can call them as rt_shadows' does.
+// FP_HD functions over plane views: the CPU's Embree path batches their rays into packets, and
+// run() traces them one pixel at a time through framepass's BVH (Bvh.h), on the CPU (traversal
+// "bvh") and on the GPU (RTAmbientOcclusionPass.cu), the same code.
+#include "foundation/Bvh.h"
 #include "foundation/Camera.h"
 #include "foundation/FloatToInt.h"
 #include "foundation/HostDevice.h"
 #include "foundation/Math.h"
+#include "foundation/PerPixel.h"
 #include "foundation/PlaneView.h"
 #include "foundation/Random.h"
 #include "foundation/Sampling.h"
 #include "foundation/ShadingModel.h"
+#include "framework/Pass.h"
+#include "screenspace/GBuffer.h"
 #include "shading/RayOriginBias.h"
 
 #include <cstdint>
@@ -190,6 +196,71 @@ FP_HD inline Resolved resolve(const FrameSetup& s, float shadingDotGeometric, co
     if (!(sums.weights > 0.0f)) return {shadingDotGeometric, -1.0f};
     return {shadingDotGeometric * (sums.weighted / sums.weights),
             sums.closestHit >= 0.0f ? sums.closestHit : s.noHitDistance};
+}
+
+/// The frame's planes and set-up, as the BVH path's pixels read them.
+struct Frame {
+    FrameSetup setup;
+    BvhView bvh;
+    bool wantDistance;  // the closest hit of each blocked ray (the hitDistance output is read)
+    PlaneView depth, model, normal[3];
+    PlaneSpan ao, hitDistance;
+};
+
+enum Counter { kRays, kPixels, kSkipped, kCounterCount };
+
+/// Pixel (x, y) through the BVH: its set-up, each sample's ray (an any-hit query; where the hit
+/// distance is read, a blocked ray's closest hit after it, as Embree's path asks), its resolve.
+FP_HD inline void aoPixel(const Frame& f, int x, int y, WorkCounts<kCounterCount>& work) {
+    Pixel px;
+    if (f.setup.intensity <= 0.0f || !setupPixel(f.setup, f.depth, f.model, f.normal, x, y, px)) {
+        f.ao.at(x, y) = 1.0f;
+        f.hitDistance.at(x, y) = kSkippedHitDistance;
+        ++work.value[kSkipped];
+        return;
+    }
+    Sums sums;
+    for (int k = 0; k < f.setup.spp; ++k) {
+        const AoRay r = sampleRay(f.setup, px);
+        const bool blocked =
+            traceBvh(f.bvh, r.org, r.dir, 0.0f, f.setup.radius, BvhQuery{true, false, 0}) >= 0.0f;
+        const float t = blocked && f.wantDistance
+                            ? traceBvh(f.bvh, r.org, r.dir, 0.0f, f.setup.radius, BvhQuery{})
+                            : -1.0f;
+        sums.add(f.setup, r.weight, blocked, t);
+    }
+    const Resolved res = resolve(f.setup, px.shadingDotGeometric, sums);
+    f.ao.at(x, y) = res.ao;
+    f.hitDistance.at(x, y) = res.hitDistance;
+    work.value[kRays] += uint32_t(f.setup.spp);
+    ++work.value[kPixels];
+}
+
+/// The pass on the BVH path, one pixel at a time through `pixels`: CpuPixels for the CPU's
+/// traversal "bvh", CudaPixels (a thread a pixel) on the GPU. At intensity 0 nothing is traced:
+/// every pixel writes AO 1 and the skipped hit distance, as Unreal skips the pass.
+template <class Ports, class Pixels>
+void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const FrameSetup& setup) {
+    const Extent size = ctx.frame().extent;
+    Frame f{};
+    f.setup = setup;
+    f.bvh = ports.bvh();
+    f.wantDistance = ctx.isRequested(kHitDistance);
+    f.depth = viewOf(ports.input(gbuffer::kDepth)->image().plane(0));
+    f.model = viewOf(ports.input(gbuffer::kShadingModel)->image().plane(0));
+    for (int c = 0; c < 3; ++c)
+        f.normal[c] = viewOf(ports.input(gbuffer::kNormal)->image().plane(c));
+    f.ao = spanOf(ports.overwrite(kAo, {size}).image().plane(0));
+    f.hitDistance = spanOf(ports.overwrite(kHitDistance, {size}).image().plane(0));
+    const auto counts = pixels.template forEach<kCounterCount>(
+        size.width, size.height,
+        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& w) { aoPixel(f, x, y, w); },
+        "rt_ambient_occlusion");
+    if (setup.intensity > 0.0f) {
+        ctx.addWork("rays", counts[kRays]);
+        ctx.addWork("pixels", counts[kPixels]);
+    }
+    ctx.addWork("skippedPixels", counts[kSkipped]);
 }
 
 }  // namespace fp::rtao

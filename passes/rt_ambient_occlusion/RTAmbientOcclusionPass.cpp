@@ -1,6 +1,7 @@
 #include "passes/rt_ambient_occlusion/RTAmbientOcclusionPass.h"
 
 #include "foundation/RayScene.h"
+#include "foundation/PerPixel.h"
 #include "foundation/Tiles.h"
 #include "framework/PassPorts.h"
 #include "passes/rt_ambient_occlusion/RTAmbientOcclusionKernel.h"
@@ -76,6 +77,10 @@ ParamSpec<RTAmbientOcclusionParams> RTAmbientOcclusionPass::paramSpec() {
     s.add("normalBias", &Params::normalBias, "largest normal/camera bias, cm (at N·L = 0)")
         .range(0.01, 1e6)
         .cvar("r.RayTracing.NormalBias");
+    s.add("traversal", &Params::traversal,
+          "\"embree\": Embree's packets; \"bvh\": framepass's own BVH one pixel at a time, the "
+          "code the GPU runs (on the GPU the pass always traverses it)")
+        .choices({"embree", "bvh"});
     return s;
 }
 
@@ -104,27 +109,14 @@ PassIO RTAmbientOcclusionPass::describe() const {
     return io;
 }
 
-void RTAmbientOcclusionPass::execute(PassContext& ctx) {
-    const Extent size = ctx.frame().extent;
-    Plane& ao = ctx.output(rtao::kAo, {size}).image().plane(0);
-    Plane& hitDistance = ctx.output(rtao::kHitDistance, {size}).image().plane(0);
-    const int spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 1;
-    if (mParams.intensity <= 0.0f) {  // Unreal runs no RTAO at intensity 0
-        for (int y = 0; y < size.height; ++y)
-            for (int x = 0; x < size.width; ++x) {
-                ao.at(x, y) = 1.0f;
-                hitDistance.at(x, y) = rtao::kSkippedHitDistance;
-            }
-        ctx.addWork("skippedPixels", uint64_t(size.width) * size.height);
-        return;
-    }
+rtao::FrameSetup RTAmbientOcclusionPass::frameSetup(PassContext& ctx) const {
     const RayScene& rs = ctx.scene();
     const CameraView& cam = ctx.frame().camera.current;
     const float cm = float(rs.scene().centimetre());
     rtao::FrameSetup s{};
     s.camera = cam;
     s.eyeOffset = cam.position - rs.origin();
-    s.spp = spp;
+    s.spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 1;
     s.radius = mParams.radius * cm;
     s.intensity = mParams.intensity;
     const RayBias bias = RayBias::fromCm(mParams.normalBias, cm);
@@ -132,7 +124,21 @@ void RTAmbientOcclusionPass::execute(PassContext& ctx) {
     s.minBias = bias.min;
     s.noHitDistance = rtao::kNoHitCm * cm;
     s.rngKey = Rng::frameKey(ctx.frame().number, kSeed);
+    return s;
+}
 
+void RTAmbientOcclusionPass::execute(PassContext& ctx) {
+    const rtao::FrameSetup s = frameSetup(ctx);
+    // At intensity 0 (Unreal runs no RTAO) run() writes the skipped values and traces nothing.
+    if (mParams.traversal == "bvh" || s.intensity <= 0.0f) {
+        rtao::run(ctx, HostPorts{ctx}, CpuPixels{}, s);
+        return;
+    }
+    const Extent size = ctx.frame().extent;
+    Plane& ao = ctx.output(rtao::kAo, {size}).image().plane(0);
+    Plane& hitDistance = ctx.output(rtao::kHitDistance, {size}).image().plane(0);
+    const int spp = s.spp;
+    const RayScene& rs = ctx.scene();
     const PlaneView depth = viewOf(ctx.input(gbuffer::kDepth)->image().plane(0));
     const PlaneView model = viewOf(ctx.input(gbuffer::kShadingModel)->image().plane(0));
     const Image& n = ctx.input(gbuffer::kNormal)->image();

@@ -26,6 +26,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -294,22 +295,20 @@ void printDifferences(const std::string& what, const Comparison& c) {
                              c.embreeTransmissionMaxAbs, c.embreeHitDistanceMaxRel);
 }
 
+// A plan for a device ("cpu" or "cuda") and rt_shadows' traversal ("" the pass's default, Embree's
+// on the CPU; "bvh" the GPU's own code).
+using PlanFor = std::function<Plan(const std::string& device, const std::string& traversal)>;
+
 // Frames 1–3 of a scene on both devices, the temporal passes' history carried from frame to frame
 // (on the GPU it stays in device memory). Every layer of every frame, and every metric.
-Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, bool halfRes = false,
-                   bool film = false) {
+Comparison runPlans(const std::string& scene, Extent extent, const PlanFor& planFor,
+                    bool film = false) {
     Comparison out;
     out.film = film;
-    HistoryStore cpuHistory, gpuHistory;
-    ChainOptions o{.dumps = {"all"}, .errors = true, .reflections = true, .quality = quality,
-                   .halfRes = halfRes, .lights = lightsOf(io::loadScene(scenePath(scene)).scene),
-                   .film = film};
-    const Plan embreePlan = chainPlan(o);
-    o.traversal = "bvh";  // the GPU's own traversal on the CPU: the same bits
-    const Plan cpuPlan = chainPlan(o);
-    o.device = "cuda";
-    const Plan gpuPlan = chainPlan(o);
-    HistoryStore embreeHistory;
+    const Plan embreePlan = planFor("cpu", "");
+    const Plan cpuPlan = planFor("cpu", "bvh");  // the GPU's own traversal on the CPU: same bits
+    const Plan gpuPlan = planFor("cuda", "bvh");
+    HistoryStore cpuHistory, gpuHistory, embreeHistory;
     for (int frame = 1; frame <= 3; ++frame) {
         auto cap = captureScene(scene, extent, frame);
         cap->source.info.firstInSequence = frame == 1;
@@ -338,6 +337,56 @@ Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, boo
     return out;
 }
 
+// The check's chain (chainPlan) on both devices.
+Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, bool halfRes = false,
+                   bool film = false) {
+    const ChainOptions o{.dumps = {"all"}, .errors = true, .reflections = true,
+                         .quality = quality, .halfRes = halfRes,
+                         .lights = lightsOf(io::loadScene(scenePath(scene)).scene), .film = film};
+    return runPlans(
+        scene, extent,
+        [&](const std::string& device, const std::string& traversal) {
+            ChainOptions d = o;
+            d.device = device;
+            d.traversal = traversal;
+            return chainPlan(d);
+        },
+        film);
+}
+
+// The ray-traced preset (configs/ue4.27-raytracing.json) as a user runs it, every output dumped:
+// the passes without a CUDA kernel run on the CPU in both plans, so each kernel (rt_ambient_occlusion's,
+// the signal denoisers') is compared on the same inputs.
+Plan raytracedPlan(const std::string& device, const std::string& traversal,
+                   const std::vector<std::string>& lights) {
+    std::ifstream file(sourceDir() + "/configs/ue4.27-raytracing.json");
+    REQUIRE_MESSAGE(file, "cannot read configs/ue4.27-raytracing.json under " << sourceDir());
+    nlohmann::json config = nlohmann::json::parse(file, nullptr, true, /*ignore_comments=*/true);
+    config["capture"] = "memory.exr";
+    // The ray tracers with a GPU kernel take the traversal asked for (on the GPU they always
+    // traverse framepass's BVH).
+    for (nlohmann::json& pass : config["passes"]) {
+        if (traversal.empty()) continue;
+        if (pass.contains("forEachLight"))
+            pass["forEachLight"]["passes"][0]["params"]["traversal"] = traversal;
+        else if (pass.value("type", "") == "rt_ambient_occlusion")
+            pass["params"]["traversal"] = traversal;
+    }
+    io::RunConfig rc = io::parseRunConfig(config, "gpu check", sourceDir());
+    PlanInputs inputs;
+    inputs.overrides.device = device;
+    inputs.overrides.dumps = {"all"};
+    inputs.lightNames = lights;
+    return makePlan(rc.graph, builtinPasses(), inputs);
+}
+
+Comparison runRaytraced(const std::string& scene, Extent extent) {
+    const std::vector<std::string> lights = lightsOf(io::loadScene(scenePath(scene)).scene);
+    return runPlans(scene, extent, [&](const std::string& device, const std::string& traversal) {
+        return raytracedPlan(device, traversal, lights);
+    });
+}
+
 // The tolerance of each output (docs/gpu.md). The kernels run the CPU's own FP_HD code without
 // FMA contraction, with IEEE division and square root, and the CPU traces rt_shadows' rays through
 // the GPU's own BVH code (traversal "bvh"), so outputs are expected bit for bit except:
@@ -353,7 +402,7 @@ Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, boo
 //   of glibc's; 1e-6 relative.
 // - error_measure figures (the run report): the same terms summed in another order in double;
 //   N ≤ 10⁷ terms give a relative difference below N·2⁻⁵³ ≈ 1e-9 (sums of non-negative terms).
-void checkAgreement(const Comparison& c) {
+void checkAgreement(const Comparison& c, int minMetrics = 3 * 2 * 7) {
     REQUIRE(c.layers.size() >= 3 * 9);  // every pass of the chain wrote something, every frame
     for (const auto& d : c.layers) {
         INFO(d.layer << ": " << d.first);
@@ -368,7 +417,7 @@ void checkAgreement(const Comparison& c) {
             CHECK(d.differing == 0);
     }
     INFO(c.metricWorst);
-    CHECK(c.metrics >= 3 * 2 * 7);
+    CHECK(c.metrics >= minMetrics);
     CHECK(c.metricMaxRel <= 1e-9);
     // Against Embree (tests/foundation/BvhTests.cpp and the rt_shadows tests bound the same on
     // the CPU): a pixel differs only where one of its rays passes within a few float steps of a
@@ -564,6 +613,14 @@ TEST_CASE("gpu: the check's chain runs on the CPU, with every figure it compares
             for (int x = 0; x < alpha.width(); ++x) coverage += alpha.at(x, y);
         CHECK(coverage > 1.0);
     }
+    // The ray-traced preset as the GPU case plans it.
+    test::MemorySink sink;
+    executePlan(raytracedPlan("cpu", "bvh", lightsOf(cap->scene.scene)), cap->source, sink);
+    CHECK(sink.layers.count("ao_denoise.ao") == 1);
+    CHECK(sink.layers.count("reflection_denoise.reflection") == 1);
+    REQUIRE(sink.layers.count("rt_global_illumination.diffuse") == 1);
+    CHECK(sink.layers.at("rt_global_illumination.diffuse").image().width() == 32);  // 50 %
+    CHECK(sink.layers.at("gi_denoise.diffuse").image().width() == 64);
 }
 
 TEST_CASE("gpu: the chain on the GPU matches the CPU on the Cornell capture") {
@@ -604,6 +661,28 @@ TEST_CASE("gpu: quality 1 at half resolution on the GPU matches the CPU (8 pixel
     const auto diffs = runBoth("cornell", {250, 190}, 1, true);
     printDifferences("Cornell 250×190, r.SSGI.Quality 1, half resolution, frames 1–3", diffs);
     checkAgreement(diffs);
+}
+
+// The ray-traced preset: the signal denoisers (ao_denoise, gi_denoise at the preset's 50 % screen
+// percentage, so its upscaling reconstruction too; reflection_denoise) and every other kernel of
+// the chain, frames 1–3 with their histories, on the three captures.
+TEST_CASE("gpu: the ray-traced preset on the GPU matches the CPU on the Cornell, glossy and hard captures") {
+    if (skipWithoutGpu())
+        return;
+    for (const auto& [scene, extent] :
+         std::vector<std::pair<std::string, Extent>>{{"cornell", {256, 256}},
+                                                     {"glossy", {256, 192}},
+                                                     {"hard", {256, 192}}}) {
+        const auto diffs = runRaytraced(scene, extent);
+        printDifferences(fmt::format("ray-traced preset, {} {}×{}, frames 1–3", scene, extent.width,
+                                     extent.height),
+                         diffs);
+        checkAgreement(diffs, 0);
+        bool denoised = false;
+        for (const auto& d : diffs.layers)
+            denoised |= d.layer.find("gi_denoise.diffuse") != std::string::npos;
+        CHECK(denoised);
+    }
 }
 
 int main(int argc, char** argv) {

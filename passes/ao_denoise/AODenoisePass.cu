@@ -1,0 +1,13 @@
+// AODenoisePass on the GPU: ssd::run with device images; the history stays on the GPU.
+#include "foundation/CudaLaunch.cuh"
+#include "framework/PassPorts.h"
+#include "passes/ao_denoise/AODenoisePass.h"
+#include "screenspace/SignalDenoiserKernel.h"
+
+namespace fp {
+
+void AODenoisePass::executeCuda(PassContext& ctx) {
+    ssd::run(ctx, DevicePorts{ctx}, CudaPixels{}, denoising());
+}
+
+}  // namespace fp
