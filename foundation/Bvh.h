@@ -41,12 +41,42 @@ struct alignas(16) BvhTriangle {
 };
 static_assert(sizeof(BvhTriangle) == 48, "a triangle is three 16-byte fetches");
 
+/// What shading a hit of a leaf's triangle reads, beside it in leaf order: its vertex normals
+/// (smooth = 0: a mesh without normals, shaded by the geometric normal), its material, and
+/// whether its mesh is a light's visible shape (which sends no emission to other surfaces: the
+/// light delivers its light).
+struct alignas(16) BvhShading {
+    Vec3f n0;
+    uint32_t material;
+    Vec3f n1;
+    uint32_t smooth;
+    Vec3f n2;
+    uint32_t lightShape;
+};
+static_assert(sizeof(BvhShading) == 48, "three 16-byte fetches");
+
+/// A material as a hit's shading reads it (of the scene's Material).
+struct BvhMaterial {
+    Vec3f baseColor;
+    float metallic, specular, roughness;
+    Vec3f emission;
+};
+
 /// The tree as the traversal reads it, in host or device memory. nodeCount 0: no geometry.
 struct BvhView {
     const BvhNode* nodes = nullptr;
     const BvhTriangle* triangles = nullptr;
     int nodeCount = 0;
     Vec3f lo, hi;  //!< the scene's bounds (RayScene's)
+    const BvhShading* shading = nullptr;     //!< one a triangle, in the triangles' order
+    const BvhMaterial* materials = nullptr;  //!< the scene's, by BvhShading::material
+};
+
+/// A closest hit: its distance and the index of its triangle in BvhView::triangles (−1, −1: none).
+struct BvhHit {
+    float t = -1.0f;
+    int triangle = -1;
+    FP_HD bool hit() const { return triangle >= 0; }
 };
 
 /// Most nodes a path from the root may pass: the build's depth limit, and the traversal's stack.
@@ -83,9 +113,13 @@ FP_HD inline ShearedRay shear(const Vec3f& dir) {
     return r;
 }
 
-/// The distance t ∈ [tnear, tfar] at which the ray from `org` meets the triangle, or −1.
-FP_HD inline float hitTriangle(const ShearedRay& r, const Vec3f& org, const BvhTriangle& tri,
-                               float tnear, float tfar) {
+/// The watertight test's scaled barycentrics of the ray's crossing of the triangle's plane —
+/// U, V, W the weights of v0, v1, v2 times their sum — and the hit's scaled distance T.
+struct TriangleWeights {
+    float U, V, W, T;
+};
+FP_HD inline TriangleWeights triangleWeights(const ShearedRay& r, const Vec3f& org,
+                                             const BvhTriangle& tri) {
     const Vec3f A = tri.v0 - org, B = tri.v1 - org, C = tri.v2 - org;
     const float az = component(A, r.kz), bz = component(B, r.kz), cz = component(C, r.kz);
     const float ax = component(A, r.kx) - r.sx * az, ay = component(A, r.ky) - r.sy * az;
@@ -98,11 +132,18 @@ FP_HD inline float hitTriangle(const ShearedRay& r, const Vec3f& org, const BvhT
         V = float(double(ax) * double(cy) - double(ay) * double(cx));
         W = float(double(bx) * double(ay) - double(by) * double(ax));
     }
+    return {U, V, W, U * (r.sz * az) + V * (r.sz * bz) + W * (r.sz * cz)};
+}
+
+/// The distance t ∈ [tnear, tfar] at which the ray from `org` meets the triangle, or −1.
+FP_HD inline float hitTriangle(const ShearedRay& r, const Vec3f& org, const BvhTriangle& tri,
+                               float tnear, float tfar) {
+    const TriangleWeights w = triangleWeights(r, org, tri);
+    const float U = w.U, V = w.V, W = w.W;
     if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return -1.0f;
     const float det = U + V + W;
     if (det == 0.0f) return -1.0f;
-    const float T = U * (r.sz * az) + V * (r.sz * bz) + W * (r.sz * cz);
-    const float t = T / det;
+    const float t = w.T / det;
     return t >= tnear && t <= tfar ? t : -1.0f;
 }
 
@@ -192,13 +233,14 @@ struct BvhQuery {
 /// nearer child is visited first and a stacked one is dropped once a hit is nearer than where the
 /// ray enters it; neither changes the result (the closest of the triangle tests' distances, each
 /// computed the same whatever the order), only how much is read.
-FP_HD FP_BVH_NOINLINE inline float traceBvh(const BvhView bvh, const Vec3f org, const Vec3f dir,
-                                            float tnear, float tfar, const BvhQuery q) {
+FP_HD FP_BVH_NOINLINE inline BvhHit traceBvhHit(const BvhView bvh, const Vec3f org,
+                                                const Vec3f dir, float tnear, float tfar,
+                                                const BvhQuery q) {
     using namespace bvh_detail;
-    if (bvh.nodeCount == 0 || !(tnear <= tfar)) return -1.0f;
+    if (bvh.nodeCount == 0 || !(tnear <= tfar)) return {};
     const ShearedRay sheared = shear(dir);
     const Vec3f inv{1.0f / dir.x, 1.0f / dir.y, 1.0f / dir.z};
-    float best = -1.0f;
+    BvhHit best;
     int stackNode[kBvhMaxDepth];
     float stackEnter[kBvhMaxDepth];
     int depth = 0, node = 0;
@@ -219,8 +261,8 @@ FP_HD FP_BVH_NOINLINE inline float traceBvh(const BvhView bvh, const Vec3f org, 
                 if (q.oneInstance && tri.instanceId != q.instanceId) continue;
                 const float t = hitTriangle(sheared, org, tri, tnear, tfar);
                 if (t < 0.0f) continue;
-                if (q.anyHit) return t;
-                best = t;
+                if (q.anyHit) return {t, i};
+                best = {t, i};
                 tfar = t;  // nearer hits only from here on
             }
         }
@@ -243,6 +285,24 @@ FP_HD FP_BVH_NOINLINE inline float traceBvh(const BvhView bvh, const Vec3f org, 
         }
         node = stackNode[depth];
     }
+}
+
+/// traceBvhHit's distance alone (−1: no hit).
+FP_HD inline float traceBvh(const BvhView bvh, const Vec3f org, const Vec3f dir, float tnear,
+                            float tfar, const BvhQuery q) {
+    return traceBvhHit(bvh, org, dir, tnear, tfar, q).t;
+}
+
+/// Where a closest hit lies on its triangle: the barycentric weights (u, v) of v1 and v2 (v0's is
+/// 1 − u − v), as the traversal's own triangle test computes them.
+FP_HD inline void hitBarycentrics(const BvhView& bvh, const BvhHit& hit, const Vec3f& org,
+                                  const Vec3f& dir, float& u, float& v) {
+    using namespace bvh_detail;
+    const TriangleWeights w =
+        triangleWeights(shear(dir), org, loadTriangle(bvh.triangles + hit.triangle));
+    const float det = w.U + w.V + w.W;
+    u = w.V / det;
+    v = w.W / det;
 }
 
 /// The farthest distance from `p` to any point of the box [lo, hi]: how far a ray from `p` can

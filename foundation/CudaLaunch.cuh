@@ -11,6 +11,8 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <vector>
 
 namespace fp::cuda {
 
@@ -82,6 +84,30 @@ std::array<uint64_t, N> forEachPixel(int width, int height, const F& f, const ch
         result[i] = host[i];
     return result;
 }
+
+/// Counters every pixel of a launch adds to (addSharedCount, PerPixel.h), in device memory of
+/// their own and zeroed; totals() waits for the kernels before it and reads them.
+class SharedCounters {
+public:
+    SharedCounters(int count, const char* what)
+        : mCount(count), mWhat(what), mMemory(allocateBytes(sizeof(unsigned long long) * count)) {
+        checkStatus(cudaMemsetAsync(data(), 0, sizeof(unsigned long long) * count), what);
+    }
+    unsigned long long* data() const { return static_cast<unsigned long long*>(mMemory.get()); }
+    std::vector<unsigned long long> totals() const {
+        std::vector<unsigned long long> host(mCount);
+        // The copy waits for the kernel; a failure inside it surfaces here.
+        checkStatus(cudaMemcpy(host.data(), data(), sizeof(unsigned long long) * mCount,
+                               cudaMemcpyDeviceToHost),
+                    mWhat);
+        return host;
+    }
+
+private:
+    int mCount;
+    const char* mWhat;
+    std::shared_ptr<void> mMemory;
+};
 
 }  // namespace fp::cuda
 

@@ -14,6 +14,17 @@
 
 namespace fp {
 
+/// Adds `v` to a counter every pixel shares — a pass's counts that its per-pixel function cannot
+/// return through WorkCounts (a callable's inside another pass's kernel): an atomic add on
+/// either backend, so any order gives the same total.
+FP_HD inline void addSharedCount(unsigned long long* counter, unsigned long long v) {
+#if defined(__CUDA_ARCH__)
+    atomicAdd(counter, v);
+#else
+    std::atomic_ref<unsigned long long>(*counter).fetch_add(v, std::memory_order_relaxed);
+#endif
+}
+
 /// The GPU's Pixels (CudaLaunch.cuh), named here for the rare pass that gives it its own code.
 struct CudaPixels;
 

@@ -67,7 +67,10 @@ RayScene::RayScene(const Scene& scene, const Vec3d& origin) : mScene(scene), mOr
 struct RayScene::OwnBvh {
     std::vector<BvhNode> nodes;
     std::vector<BvhTriangle> triangles;
-    std::shared_ptr<void> deviceNodes, deviceTriangles;  // null until deviceBvh()
+    std::vector<BvhShading> shading;
+    std::vector<BvhMaterial> materials;
+    // null until deviceBvh()
+    std::shared_ptr<void> deviceNodes, deviceTriangles, deviceShading, deviceMaterials;
 };
 
 RayScene::~RayScene() {
@@ -286,8 +289,13 @@ class BvhFlattener {
 public:
     BvhFlattener(const Scene& scene, const std::vector<std::array<Vec3f, 3>>& corners,
                  const std::vector<std::size_t>& firstTriangle, std::vector<BvhNode>& nodes,
-                 std::vector<BvhTriangle>& triangles)
-        : mScene(scene), mCorners(corners), mFirst(firstTriangle), mNodes(nodes), mTriangles(triangles) {}
+                 std::vector<BvhTriangle>& triangles, std::vector<BvhShading>& shading)
+        : mScene(scene),
+          mCorners(corners),
+          mFirst(firstTriangle),
+          mNodes(nodes),
+          mTriangles(triangles),
+          mShading(shading) {}
 
     int inner(const BuildInner& b) {
         const int index = int(mNodes.size());
@@ -333,8 +341,20 @@ private:
             tri.v0 = v[0];
             tri.v1 = v[1];
             tri.v2 = v[2];
-            tri.instanceId = mScene.meshes[leaf.mesh[i]].instanceId;
+            const Mesh& mesh = mScene.meshes[leaf.mesh[i]];
+            tri.instanceId = mesh.instanceId;
             mTriangles.push_back(tri);
+            BvhShading shading{};
+            shading.material = uint32_t(mesh.material);
+            shading.lightShape = mesh.shapeOf >= 0 ? 1u : 0u;
+            if (!mesh.normals.empty()) {
+                const uint32_t* corner = &mesh.indices[3 * std::size_t(leaf.triangle[i])];
+                shading.smooth = 1;
+                shading.n0 = mesh.normals[corner[0]];
+                shading.n1 = mesh.normals[corner[1]];
+                shading.n2 = mesh.normals[corner[2]];
+            }
+            mShading.push_back(shading);
         }
         return {first, int32_t(leaf.count)};
     }
@@ -344,6 +364,7 @@ private:
     const std::vector<std::size_t>& mFirst;
     std::vector<BvhNode>& mNodes;
     std::vector<BvhTriangle>& mTriangles;
+    std::vector<BvhShading>& mShading;
 };
 }  // namespace
 
@@ -400,14 +421,17 @@ BvhView RayScene::bvh() const {
                                         tEmbreeError.empty() ? "no tree" : tEmbreeError));
             }
             own->triangles.reserve(prims.size());
-            BvhFlattener(mScene, corners, firstTriangle, own->nodes, own->triangles)
+            own->shading.reserve(prims.size());
+            BvhFlattener(mScene, corners, firstTriangle, own->nodes, own->triangles, own->shading)
                 .root(*root, mBoundsLo, mBoundsHi);
             rtcReleaseBVH(tree);
         }
+        for (const Material& m : mScene.materials)
+            own->materials.push_back({m.baseColor, m.metallic, m.specular, m.roughness, m.emission});
         mBvh = std::move(own);
     }
     return {mBvh->nodes.data(), mBvh->triangles.data(), int(mBvh->nodes.size()), mBoundsLo,
-            mBoundsHi};
+            mBoundsHi,          mBvh->shading.data(),   mBvh->materials.data()};
 }
 
 BvhView RayScene::deviceBvh() const {
@@ -417,10 +441,16 @@ BvhView RayScene::deviceBvh() const {
         mBvh->deviceNodes = cuda::uploadBytes(view.nodes, sizeof(BvhNode) * mBvh->nodes.size());
         mBvh->deviceTriangles =
             cuda::uploadBytes(view.triangles, sizeof(BvhTriangle) * mBvh->triangles.size());
+        mBvh->deviceShading =
+            cuda::uploadBytes(view.shading, sizeof(BvhShading) * mBvh->shading.size());
+        mBvh->deviceMaterials =
+            cuda::uploadBytes(view.materials, sizeof(BvhMaterial) * mBvh->materials.size());
     }
     if (view.nodeCount > 0) {
         view.nodes = static_cast<const BvhNode*>(mBvh->deviceNodes.get());
         view.triangles = static_cast<const BvhTriangle*>(mBvh->deviceTriangles.get());
+        view.shading = static_cast<const BvhShading*>(mBvh->deviceShading.get());
+        view.materials = static_cast<const BvhMaterial*>(mBvh->deviceMaterials.get());
     }
     return view;
 }

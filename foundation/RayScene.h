@@ -36,7 +36,7 @@ struct Ray {
 /// error of a computed hit point does (Wächter and Binder, "A Fast and Robust Method for
 /// Avoiding Self-Intersection", Ray Tracing Gems ch. 6: 256 ulps, and 2⁻¹⁶ absolute for
 /// components within 1/32 of 0, where ulps vanish).
-inline Vec3f offsetRayOrigin(const Vec3f& p, const Vec3f& away) {
+FP_HD inline Vec3f offsetRayOrigin(const Vec3f& p, const Vec3f& away) {
     constexpr float kNearZero = 1.0f / 32.0f, kAbsoluteScale = 1.0f / 65536.0f, kUlps = 256.0f;
     auto offset = [&](float x, float a) {
         if (std::fabs(x) < kNearZero) return x + kAbsoluteScale * a;

@@ -4,9 +4,18 @@
 // sample their extent (sphere radius, source angle) only for the shadow; rect lights are
 // integrated by area sampling. The per-light sample is public so the reference tracer can
 // measure each light's visibility with the same geometry.
+#include "foundation/Bvh.h"
+#include "foundation/HostDevice.h"
 #include "foundation/RayScene.h"
 #include "foundation/Random.h"
+#include "foundation/Sampling.h"
+#include "foundation/SinCos.h"
 #include "shading/BRDF.h"
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
 
 namespace fp {
 
@@ -23,12 +32,50 @@ struct SurfacePoint {
     /// (or behind it, after rounding), where half its rays meet that surface at t ≈ 0 or pass
     /// through it; every surface the arriving ray could have hit faces the viewer, so the step
     /// back puts the origin in front of both (TruthTests: AO at a concave edge).
-    Vec3f rayOrigin() const { return offsetRayOrigin(position, geometricNormal + toViewer); }
+    FP_HD Vec3f rayOrigin() const { return offsetRayOrigin(position, geometricNormal + toViewer); }
 };
 
-/// The shading point of a hit of the ray org + t·dir; both normals are turned to face the ray
-/// (surfaces are two-sided, as the capture's GBuffer sees them).
+/// The shading point of org + t·dir on a surface of geometric normal `ng` and shading normal `n`
+/// (either side); both normals are turned to face the ray (surfaces are two-sided, as the
+/// capture's GBuffer sees them).
+FP_HD inline SurfacePoint surfacePoint(Vec3f ng, Vec3f n, const BvhMaterial& m, const Vec3f& org,
+                                       const Vec3f& dir, float t) {
+    if (dot(ng, dir) > 0.0f) ng = -ng;
+    if (dot(n, ng) < 0.0f) n = -n;
+    return {org + dir * t, n, ng, -dir,
+            SurfaceBRDF::fromMaterial(m.baseColor, m.metallic, m.specular, m.roughness),
+            m.emission};
+}
+
+/// The shading point of a hit of the ray org + t·dir (Embree's), its emission the material's.
 SurfacePoint surfaceAt(const RayScene& scene, const RayHit& hit, const Vec3f& org, const Vec3f& dir);
+
+/// The shading point of a closest hit through framepass's BVH (Bvh.h), on either backend: the
+/// geometric normal of the triangle as stored, the vertex normals interpolated at the traversal's
+/// barycentrics (RayScene::shadingNormal's rule), the emission it sends other surfaces (none
+/// from a light's visible shape: Scene::emissionTowardsSurfaces).
+FP_HD inline SurfacePoint surfaceAt(const BvhView& bvh, const BvhHit& hit, const Vec3f& org,
+                                    const Vec3f& dir) {
+    const BvhTriangle tri = bvh_detail::loadTriangle(bvh.triangles + hit.triangle);
+    const Vec3f ng = normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+    const BvhShading& sh = bvh.shading[hit.triangle];
+    float u, v;
+    hitBarycentrics(bvh, hit, org, dir, u, v);
+    const float w = 1.0f - u - v;
+    Vec3f n = ng;
+    if (sh.smooth) {
+        const Vec3f interpolated = normalize(sh.n0 * w + sh.n1 * u + sh.n2 * v);
+        if (length(interpolated) > 0.5f) n = interpolated;
+    }
+    SurfacePoint s = surfacePoint(ng, n, bvh.materials[sh.material], org, dir, hit.t);
+    // The point from the triangle's own corners, not org + t·dir: the watertight test's distance
+    // can be some 10⁻⁵ off along a grazing ray, enough to put the point behind the surface
+    // (where rayOrigin()'s step no longer clears it and the hit shadows itself); the corners'
+    // weighted sum lies on the triangle to within their own rounding (Wächter and Binder).
+    s.position = tri.v0 * w + tri.v1 * u + tri.v2 * v;
+    if (sh.lightShape) s.emission = {};
+    return s;
+}
 
 /// One sample of a light as seen from a surface point.
 struct LightSample {
@@ -39,13 +86,131 @@ struct LightSample {
 
     /// False when the light sends nothing to the point (behind a rect light, outside a spot's
     /// cone): no shadow ray is worth tracing.
-    bool reaches() const { return irradiance.x + irradiance.y + irradiance.z > 0.0f; }
+    FP_HD bool reaches() const { return irradiance.x + irradiance.y + irradiance.z > 0.0f; }
 };
+
+/// A light as per-pixel code samples it, on either backend: a Light relative to a RayScene's
+/// origin, with what its sampling needs worked out once on the host.
+struct LightView {
+    LightType type = LightType::Point;
+    Vec3f radiance;        //!< colour × intensity
+    Vec3d position;        //!< relative to the origin (point, spot, rect centre)
+    Vec3f direction;       //!< unit, the way the light travels (directional, spot axis)
+    Vec3f halfU, halfV;    //!< rect
+    float extent = 0;      //!< sphere radius (point, spot) or the cone's half angle (directional)
+    float tanExtent = 0;   //!< tan(extent) (directional)
+    float cosOuter = 0, cosInner = 1;  //!< spot
+
+    static LightView of(const Light& light, const Vec3d& origin);
+    /// A rect light, a directional light with a source angle, a point or spot with a radius.
+    FP_HD bool hasExtent() const { return type == LightType::Rect || extent > 0.0f; }
+};
+
+/// Samples `light` at (u, v) ∈ [0,1)² for the point `s` (DirectLighting::sample).
+FP_HD inline LightSample sampleLight(const LightView& light, const SurfacePoint& s, float u,
+                                     float v) {
+    const Vec3f P = s.position;
+    LightSample out;
+    if (light.type == LightType::Rect) {
+        const Vec3f c = Vec3f(light.position);
+        const Vec3f hu = light.halfU, hv = light.halfV;
+        const Vec3f nl = normalize(cross(hu, hv));
+        const float area = 4.0f * length(cross(hu, hv));
+        const Vec3f q = c + hu * (2.0f * u - 1.0f) + hv * (2.0f * v - 1.0f);
+        const Vec3f d = q - s.rayOrigin();
+        const float dist = length(d);
+        out.L = out.shadowDir = d / dist;
+        // Stop just short of the emitter so its own quad does not shadow it.
+        out.shadowDistance = dist * (1.0f - 1e-4f);
+        const float cosL = -dot(out.L, nl);
+        if (cosL > 0.0f) out.irradiance = light.radiance * (cosL * area / (dist * dist));
+        return out;
+    }
+    float maxDist;
+    float irradiance;
+    if (light.type == LightType::Directional) {
+        out.L = -light.direction;
+        irradiance = 1.0f;
+        maxDist = std::numeric_limits<float>::infinity();
+    } else {
+        const Vec3d toLight = light.position - Vec3d(P);
+        const double dist = length(toLight);
+        out.L = Vec3f(toLight / dist);
+        irradiance = float(1.0 / (dist * dist));
+        maxDist = float(dist);
+        if (light.type == LightType::Spot)
+            irradiance *= Light::spotMaskOf(dot(-out.L, light.direction), light.cosOuter,
+                                            light.cosInner);
+    }
+    out.irradiance = light.radiance * irradiance;
+    out.shadowDir = out.L;
+    float tfar = maxDist;
+    if (light.extent > 0.0f) {
+        Vec3f t, b;
+        orthonormalBasis(out.L, t, b);
+        float sinPhi, cosPhi;
+        sinCos(2.0f * kPiF * v, sinPhi, cosPhi);
+        const float r = std::sqrt(u);
+        const Vec3f disk = t * cosPhi + b * sinPhi;
+        if (light.type == LightType::Directional) {
+            // A disk of the cone's tangent at unit distance approximates the cone.
+            out.shadowDir = normalize(out.L + disk * (r * light.tanExtent));
+        } else {
+            const Vec3f q = out.L * maxDist + disk * (r * light.extent);
+            tfar = length(q);
+            out.shadowDir = q / tfar;
+        }
+    }
+    out.shadowDistance = tfar * (1.0f - 1e-5f);
+    return out;
+}
+
+/// Jittered stratified 2D sample k of n (n rounded to a square grid; else two plain draws).
+FP_HD inline void stratifiedSample(int k, int n, Rng& rng, float& u, float& v) {
+    const int rounded = int(std::sqrt(float(n)) + 0.5f);  // lround: n > 0
+    const int side = rounded > 1 ? rounded : 1;
+    if (side * side != n) {
+        u = rng.nextFloat();
+        v = rng.nextFloat();
+        return;
+    }
+    u = (float(k % side) + rng.nextFloat()) / float(side);
+    v = (float(k / side) + rng.nextFloat()) / float(side);
+}
+
+/// Reflected radiance towards V from every light of `lights` (DirectLighting, or a tracer of
+/// Bvh.h's on either backend: lightCount(), lightView(i), visible(s, sample)): `samples` stratified
+/// samples of a light with extent, one of a punctual light; `shadowed` false traces no shadow
+/// rays (every light unshadowed).
+template <class Lights, class Count>
+FP_HD Vec3f shadeLights(const Lights& lights, int samples, const SurfacePoint& s, Rng& rng,
+                        Count& shadowRays, bool shadowed) {
+    Vec3f total;
+    for (int i = 0; i < lights.lightCount(); ++i) {
+        const LightView& light = lights.lightView(i);
+        const int n = light.hasExtent() ? samples : 1;
+        Vec3f sum;
+        for (int k = 0; k < n; ++k) {
+            float u = 0.5f, v = 0.5f;
+            if (n > 1 || light.type == LightType::Rect) stratifiedSample(k, n, rng, u, v);
+            const LightSample ls = sampleLight(light, s, u, v);
+            const float NoL = dot(s.normal, ls.L);
+            if (NoL <= 0.0f || !ls.reaches()) continue;
+            if (shadowed) {
+                ++shadowRays;
+                if (!lights.visible(s, ls)) continue;
+            }
+            sum += s.brdf.evaluate(s.normal, s.toViewer, ls.L) * ls.irradiance * NoL;
+        }
+        total += sum * (1.0f / float(n));
+    }
+    return total;
+}
 
 class DirectLighting {
 public:
     /// `samples`: shadow (and area) samples for lights with extent; punctual lights use one.
-    DirectLighting(const RayScene& scene, int samples) : mScene(scene), mSamples(samples) {}
+    DirectLighting(const RayScene& scene, int samples);
 
     /// Reflected radiance towards V from all lights; `shadowed` false traces no shadow rays (every
     /// light unshadowed).
@@ -59,10 +224,17 @@ public:
     int samplesFor(const Light& light) const { return hasExtent(light) ? mSamples : 1; }
     /// A rect light, a directional light with a source angle, a point or spot with a radius.
     static bool hasExtent(const Light& light);
+    /// The scene's lights as sampleLight reads them, in the scene's order.
+    const std::vector<LightView>& lightViews() const { return mLights; }
+    int lightCount() const { return int(mLights.size()); }
+    const LightView& lightView(int i) const { return mLights[std::size_t(i)]; }
+    /// Light samples per light with extent (the constructor's `samples`).
+    int samples() const { return mSamples; }
 
 private:
     const RayScene& mScene;
     int mSamples;
+    std::vector<LightView> mLights;
 };
 
 }  // namespace fp

@@ -7,9 +7,14 @@
 // sampled with shadow rays, no emission, `maxBounces` diffuse bounces. Lumen's screen traces
 // before its ray-traced fallback are the precedent. With `continueOnScreen`, an on-screen hit
 // also continues as a scene path for the bounces last frame's colour lacks, where that colour
-// holds direct light only (a capture's). CPU, one ray at a time.
+// holds direct light only (a capture's). SSGI's own kernel runs every ray (ssgi::run), handed
+// the scene paths as its fallback (HybridKernel.h), through Embree or through framepass's own
+// BVH (traversal "bvh": the GPU's code, which the GPU runs).
 #include "framework/Params.h"
 #include "framework/Pass.h"
+
+#include <cstdint>
+#include <string>
 
 namespace fp {
 
@@ -20,7 +25,16 @@ struct HybridParams {
     int nextEventEstimationSamples = 2;  //!< light samples at each fallback hit
     float normalBias = 0.1f;  //!< cm (min 0.01): the fallback ray's origin, as the RT passes
     bool continueOnScreen = false;  //!< on-screen hits continue as paths of maxBounces − 1
+    std::string traversal = "embree";  //!< the scene paths': "embree" or "bvh" (the GPU's code)
 };
+
+struct BvhTracer;
+struct BvhView;
+struct LightView;
+namespace hybrid {
+template <class Tracer>
+struct GiFallback;
+}
 
 class HybridPass final : public PassWithParams<HybridParams> {
 public:
@@ -29,6 +43,17 @@ public:
 
     PassIO describe() const override;
     void execute(PassContext& ctx) override;
+
+    FP_PASS_HAS_CUDA_KERNEL  // HybridPass.cu
+
+private:
+    /// The fallback through framepass's BVH `bvh` and its lights where the pixels run, counting
+    /// into `counts` (hybrid::HybridCounter, where the pixels run); its planes not yet bound.
+    hybrid::GiFallback<BvhTracer> bvhFallback(PassContext& ctx, const BvhView& bvh,
+                                              const LightView* lights, int lightCount,
+                                              unsigned long long* counts) const;
+    /// The fallback's counts, with `rays` (SSGI's count, on screen and not) for the on-screen ones.
+    void addFallbackWork(PassContext& ctx, uint64_t rays, const unsigned long long* counts) const;
 };
 
 }  // namespace fp

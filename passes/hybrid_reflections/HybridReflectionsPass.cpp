@@ -1,11 +1,13 @@
 #include "passes/hybrid_reflections/HybridReflectionsPass.h"
 
 #include "framework/PassPorts.h"
+#include "foundation/Error.h"
+#include "foundation/PerPixel.h"
+#include "passes/hybrid_reflections/HybridReflectionsKernel.h"
 #include "passes/ssr/SSRKernel.h"
 #include "shading/DirectLighting.h"
 #include "shading/RayOriginBias.h"
 
-#include <atomic>
 #include <bit>
 #include <limits>
 
@@ -14,48 +16,6 @@ namespace fp {
 namespace {
 
 constexpr uint32_t kSeed = 0x48524546u;  // "HREF"
-// A fallback ray that saw the sky: its distance, as rt_reflections writes it (Unreal's).
-constexpr double kSkyDistance = 1e20;
-
-enum FallbackCounter {
-    kFallbackRays, kFallbackHits, kSkyRays, kShadowRays, kIndirectRays, kFallbackCounters
-};
-
-// SSR's fallback (ssr::ssrPixel): the ray the screen could not finish, traced from the pixel's
-// surface through the scene and lit as rt_reflections lights its hits (algorithms §12.3).
-struct SceneFallback {
-    ReflectionHitLighting hits;
-    Vec3d eyeOffset;  // the camera relative to the scene's origin
-    RayBias bias;
-    uint32_t rngKey;
-    std::atomic<uint64_t>* counts;  // FallbackCounter
-
-    ssr::RaySample operator()(int x, int y, const Vec3d& offset, const Vec3f& N, const Vec3f& L,
-                              float roughness) const {
-        counts[kFallbackRays].fetch_add(1, std::memory_order_relaxed);
-        const Vec3f org = biasedRayOrigin(pixelSurfaceAt(eyeOffset, offset), N, dot(N, L), bias);
-        const Vec3f eyeToOrigin = org - Vec3f(eyeOffset);
-        ssr::RaySample s;
-        const RayHit hit = hits.scene->intersect(org, L, 0.0f, std::numeric_limits<float>::infinity());
-        if (!hit.hit) {
-            if (!hits.sky)
-                return s;  // nothing: the sample's share of the coverage is the captures'
-            counts[kSkyRays].fetch_add(1, std::memory_order_relaxed);
-            const Vec3f c = hits.sky->miss(L, roughness);
-            s = {true, {c.x, c.y, c.z}, 1.0f, Vec3d(eyeToOrigin) + Vec3d(L) * kSkyDistance};
-            return s;
-        }
-        counts[kFallbackHits].fetch_add(1, std::memory_order_relaxed);
-        // Each ray its own light samples: the key takes the direction's bits.
-        Rng rng = Rng::fromKey(rngKey ^ std::bit_cast<uint32_t>(L.x) ^ (std::bit_cast<uint32_t>(L.y) << 1), x, y);
-        ReflectionHitWork work;
-        const Vec3f c = shadeReflectionHit(hits, hit, org, L, rng, work);
-        counts[kShadowRays].fetch_add(work.shadowRays, std::memory_order_relaxed);
-        counts[kIndirectRays].fetch_add(work.indirectRays, std::memory_order_relaxed);
-        s = {true, {c.x, c.y, c.z}, 1.0f, Vec3d(eyeToOrigin + L * hit.t)};
-        return s;
-    }
-};
 
 }  // namespace
 
@@ -73,6 +33,11 @@ ParamSpec<HybridReflectionsParams> HybridReflectionsPass::paramSpec() {
           "a fallback hit's diffuse indirect light, as rt_reflections': 0 the sky light's SH, "
           "n > 0 traced by one cosine path of n bounces")
         .range(0, 16);
+    s.add("traversal", &Params::traversal,
+          "the fallback rays' \"embree\": Embree's scene; \"bvh\": framepass's own BVH, the "
+          "code the GPU runs (on the GPU the pass always traverses it; hitIndirectBounces > 0 "
+          "keeps the pass on the CPU, and \"bvh\" is refused there under a sky light)")
+        .choices({"embree", "bvh"});
     return s;
 }
 
@@ -89,25 +54,58 @@ PassMemory HybridReflectionsPass::memoryBytes(Extent frame) const {
     return SSRPass(mParams).memoryBytes(frame);  // SSR's rays and SSR's history
 }
 
-void HybridReflectionsPass::execute(PassContext& ctx) {
+hybrid_reflections::SceneFallback<BvhTracer> HybridReflectionsPass::bvhFallback(
+    PassContext& ctx, const BvhView& bvh, const LightView* lights, int lightCount,
+    const rtr::Sky& sky, unsigned long long* counts) {
     const RayScene& rs = ctx.scene();
-    mSky = ReflectedSky::of(rs.scene().environment.sky, mSky);
-    const DirectLighting lighting(rs, 1);
-    const CameraView& cam = ctx.frame().camera.current;
-    std::atomic<uint64_t> counts[kFallbackCounters] = {};
-    SceneFallback fallback{{&rs, &lighting, mSky.get(), mParams.shadows != 0, mParams.hitIndirectBounces},
-                           cam.position - rs.origin(),
-                           RayBias::fromCm(mParams.normalBias, float(rs.scene().centimetre())),
-                           Rng::frameKey(ctx.frame().number, kSeed),
-                           counts};
-    ssr::run(ctx, HostPorts{ctx}, CpuPixels{},
-             ssr::effectiveQuality(mParams.quality, mParams.postProcessQuality, mParams.intensity),
-             mParams.maxRoughness, mParams.intensity, mParams.temporal, fallback);
+    return {BvhTracer{bvh, lights, lightCount},
+            sky,
+            mParams.shadows != 0,
+            1,
+            mParams.hitIndirectBounces,
+            ctx.frame().camera.current.position - rs.origin(),
+            RayBias::fromCm(mParams.normalBias, float(rs.scene().centimetre())),
+            Rng::frameKey(ctx.frame().number, kSeed),
+            counts};
+}
+
+void HybridReflectionsPass::addFallbackWork(PassContext& ctx, const unsigned long long* counts) const {
+    using namespace hybrid_reflections;
     ctx.addWork("fallbackRays", counts[kFallbackRays]);
     ctx.addWork("fallbackHits", counts[kFallbackHits]);
     ctx.addWork("skyRays", counts[kSkyRays]);
     ctx.addWork("shadowRays", counts[kShadowRays]);
     if (mParams.hitIndirectBounces > 0) ctx.addWork("indirectRays", counts[kIndirectRays]);
+}
+
+void HybridReflectionsPass::execute(PassContext& ctx) {
+    using namespace hybrid_reflections;
+    const RayScene& rs = ctx.scene();
+    mSky = ReflectedSky::of(rs.scene().environment.sky, mSky);
+    const DirectLighting lighting(rs, 1);
+    rtr::Sky sky;
+    if (mSky) sky = {true, mSky->cube.view(), mSky->sh};
+    unsigned long long counts[kFallbackCounters] = {};
+    SceneFallback<BvhTracer> bvh = bvhFallback(ctx, HostPorts{ctx}.bvh(), lighting.lightViews().data(),
+                                               lighting.lightCount(), sky, counts);
+    if (mParams.traversal == "bvh") {
+        if (mSky && mParams.hitIndirectBounces > 0)
+            throw UsageError("hybrid_reflections: traversal \"bvh\" reads no sky along a hit's "
+                             "indirect path, and hitIndirectBounces asks for one under the scene's "
+                             "sky light: use traversal \"embree\"");
+        hybrid_reflections::runSsr(ctx, HostPorts{ctx}, CpuPixels{}, mParams, bvh);
+    } else {
+        DiffusePathSetup paths;
+        paths.scene = &rs;
+        paths.lighting = &lighting;
+        paths.lights = &rs.scene().lights;
+        paths.sky = mSky ? mSky->source : nullptr;
+        const SceneFallback<EmbreeTracer> embree{EmbreeTracer{paths}, bvh.sky, bvh.shadowed,
+                                                 bvh.lightSamples, bvh.indirectBounces,
+                                                 bvh.eyeOffset, bvh.bias, bvh.rngKey, counts};
+        hybrid_reflections::runSsr(ctx, HostPorts{ctx}, CpuPixels{}, mParams, embree);
+    }
+    addFallbackWork(ctx, counts);
 }
 
 }  // namespace fp

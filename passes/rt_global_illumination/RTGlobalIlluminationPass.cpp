@@ -1,6 +1,7 @@
 #include "passes/rt_global_illumination/RTGlobalIlluminationPass.h"
 
 #include "foundation/Camera.h"
+#include "foundation/Error.h"
 #include "foundation/FloatToInt.h"
 #include "foundation/Random.h"
 #include "foundation/RayScene.h"
@@ -12,6 +13,7 @@
 #include "screenspace/GBuffer.h"
 #include "screenspace/Surface.h"
 #include "screenspace/TraceResolution.h"
+#include "passes/rt_global_illumination/RTGlobalIlluminationKernel.h"
 #include "shading/DiffusePaths.h"
 #include "shading/RayOriginBias.h"
 
@@ -22,18 +24,11 @@ namespace fp {
 
 namespace {
 
-constexpr const char* kDiffuse = "diffuse";
-constexpr const char* kAo = "ao";
-constexpr const char* kHitDistance = "hitDistance";
+using rtgi::kAo;
+using rtgi::kDiffuse;
+using rtgi::kHitDistance;
 constexpr uint32_t kSeed = 0x52544749u;    // "RTGI"
 constexpr float kTMinCm = 0.01f;           // the first ray's TMin
-
-// One pixel's sums over its paths.
-struct PixelSums {
-    Vec3f radiance;
-    int aoHits = 0, hits = 0;
-    double hitDistance = 0;
-};
 
 }  // namespace
 
@@ -73,6 +68,11 @@ ParamSpec<RTGlobalIlluminationParams> RTGlobalIlluminationPass::paramSpec() {
           "with its denoiser, which upscales: gi_denoise does); 100 traces every pixel")
         .range(25.0, 100.0)
         .cvar("r.RayTracing.GlobalIllumination.ScreenPercentage");
+    s.add("traversal", &Params::traversal,
+          "\"embree\": Embree's scene; \"bvh\": framepass's own BVH, the code the GPU runs (on "
+          "the GPU the pass always traverses it; its paths read no sky, so with evalSkyLight the "
+          "pass runs on the CPU and \"bvh\" is refused)")
+        .choices({"embree", "bvh"});
     return s;
 }
 
@@ -115,91 +115,54 @@ PassIO RTGlobalIlluminationPass::describe() const {
     return io;
 }
 
-void RTGlobalIlluminationPass::execute(PassContext& ctx) {
-    const Extent frame = ctx.frame().extent;
-    const int k = upscale();
-    const Extent size = outputExtents(kDiffuse, frame).front();
-    Image& diffuse = ctx.output(kDiffuse, {size}).image();
-    Plane& ao = ctx.output(kAo, {size}).image().plane(0);
-    Plane& hitDistance = ctx.output(kHitDistance, {size}).image().plane(0);
+rtgi::FrameSetup RTGlobalIlluminationPass::frameSetup(PassContext& ctx) const {
     const RayScene& rs = ctx.scene();
-    const DirectLighting lighting(rs, 1);
     const CameraView& cam = ctx.frame().camera.current;
     const float cm = float(rs.scene().centimetre());
-    const Vec3d eyeOffset = cam.position - rs.origin();
-    const int spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 4;
-    const float aoRadius = mParams.aoRadius * cm, tMin = kTMinCm * cm;
-    const RayBias bias = RayBias::fromCm(mParams.normalBias, cm);
+    rtgi::FrameSetup s{};
+    s.camera = cam;
+    s.eyeOffset = cam.position - rs.origin();
+    s.frame = ctx.frame().extent;
+    s.upscale = upscale();
+    s.spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 4;
+    s.aoRadius = mParams.aoRadius * cm;
+    s.tMin = kTMinCm * cm;
+    s.diffuseThreshold = mParams.diffuseThreshold;
+    s.bias = RayBias::fromCm(mParams.normalBias, cm);
+    s.paths.bounces = mParams.maxBounces > 0 ? mParams.maxBounces : 1;
+    s.paths.nee = mParams.nextEventEstimationSamples;
+    s.paths.giDistance = float(std::min(double(mParams.maxRayDistance) * cm, 1e30));
+    s.paths.reach = std::max(s.paths.giDistance, s.aoRadius);
+    s.rngKey = Rng::frameKey(ctx.frame().number, kSeed);
+    return s;
+}
+
+void RTGlobalIlluminationPass::execute(PassContext& ctx) {
+    const rtgi::FrameSetup setup = frameSetup(ctx);
+    const Extent trace = outputExtents(kDiffuse, ctx.frame().extent).front();
+    const RayScene& rs = ctx.scene();
+    const DirectLighting lighting(rs, 1);
+    const SkyLight* sky = mParams.evalSkyLight && rs.scene().environment.sky.enabled
+                              ? &rs.scene().environment.sky
+                              : nullptr;
+    if (mParams.traversal == "bvh") {
+        if (sky)
+            throw UsageError("rt_global_illumination: traversal \"bvh\" reads no sky, and "
+                             "evalSkyLight asks for it with the scene's sky on: use traversal "
+                             "\"embree\"");
+        const BvhTracer tracer{HostPorts{ctx}.bvh(), lighting.lightViews().data(),
+                               int(lighting.lightViews().size())};
+        rtgi::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, trace, tracer, "rt_global_illumination");
+        return;
+    }
     DiffusePathSetup paths;
+    static_cast<DiffusePathSettings&>(paths) = setup.paths;
     paths.scene = &rs;
     paths.lighting = &lighting;
     paths.lights = &rs.scene().lights;
-    paths.sky = mParams.evalSkyLight && rs.scene().environment.sky.enabled
-                    ? &rs.scene().environment.sky
-                    : nullptr;
-    paths.bounces = mParams.maxBounces > 0 ? mParams.maxBounces : 1;
-    paths.nee = mParams.nextEventEstimationSamples;
-    paths.giDistance = float(std::min(double(mParams.maxRayDistance) * cm, 1e30));
-    paths.reach = std::max(paths.giDistance, aoRadius);
-    const uint32_t rngKey = Rng::frameKey(ctx.frame().number, kSeed);
-
-    const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
-    const Plane& model = ctx.input(gbuffer::kShadingModel)->image().plane(0);
-    const Image& normal = ctx.input(gbuffer::kNormal)->image();
-    const Image& baseColor = ctx.input(gbuffer::kBaseColor)->image();
-    const Plane& metallic = ctx.input(gbuffer::kMetallic)->image().plane(0);
-
-    forEachTile(size.width, size.height, [&](const Tile& t) {
-        uint64_t rays = 0, shadowRays = 0, pixels = 0, skipped = 0;
-        for (int y = t.y0; y < t.y1; ++y)
-            for (int x = t.x0; x < t.x1; ++x) {
-                // Texel (x, y) traces from the top-left pixel of its k × k block.
-                const auto [px, py] = fullResPixel(x, y, k, frame.width, frame.height);
-                const double d = depth.at(px, py);
-                const float m = metallic.at(px, py);
-                const Vec3f albedo{baseColor.plane(0).at(px, py), baseColor.plane(1).at(px, py),
-                                   baseColor.plane(2).at(px, py)};
-                const Vec3f diffuseColor = gbufferDiffuseColor(albedo, m, model.at(px, py));
-                if (!isLitSurface(d, model.at(px, py)) ||
-                    ue::luma(diffuseColor.x, diffuseColor.y, diffuseColor.z) < mParams.diffuseThreshold) {
-                    for (int ch = 0; ch < 3; ++ch) diffuse.plane(ch).at(x, y) = 0.0f;
-                    ao.at(x, y) = 0.0f;
-                    hitDistance.at(x, y) = -1.0f;
-                    ++skipped;
-                    continue;
-                }
-                const PixelSurface surface = pixelSurface(cam, eyeOffset, px, py, d);
-                const Vec3f n{normal.plane(0).at(px, py), normal.plane(1).at(px, py),
-                              normal.plane(2).at(px, py)};
-                Rng rng = Rng::fromKey(rngKey, px, py);
-                PixelSums sums;
-                for (int k = 0; k < spp; ++k) {
-                    // A cosine ray about the GBuffer normal from the biased position (§12.2).
-                    const float u = rng.nextFloat(), v = rng.nextFloat();
-                    const Vec3f dir = cosineHemisphere(n, u, v);
-                    const Vec3f org = biasedRayOrigin(surface, n, dot(n, dir), bias);
-                    const DiffusePath path =
-                        traceDiffusePath(paths, org, dir, tMin, rng, rays, shadowRays);
-                    sums.radiance += path.radiance;
-                    if (path.firstHit >= 0.0f) {
-                        ++sums.hits;
-                        sums.hitDistance += path.firstHit;
-                        if (path.firstHit < aoRadius) ++sums.aoHits;
-                    }
-                }
-                const float inv = 1.0f / float(spp);
-                diffuse.plane(0).at(x, y) = sums.radiance.x * inv;
-                diffuse.plane(1).at(x, y) = sums.radiance.y * inv;
-                diffuse.plane(2).at(x, y) = sums.radiance.z * inv;
-                ao.at(x, y) = 1.0f - float(sums.aoHits) * inv;
-                hitDistance.at(x, y) = sums.hits > 0 ? float(sums.hitDistance / sums.hits) : -1.0f;
-                ++pixels;
-            }
-        ctx.addWork("rays", rays);
-        ctx.addWork("shadowRays", shadowRays);
-        ctx.addWork("pixels", pixels);
-        ctx.addWork("skippedPixels", skipped);
-    });
+    paths.sky = sky;
+    rtgi::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, trace, EmbreeTracer{paths},
+              "rt_global_illumination");
 }
 
 }  // namespace fp

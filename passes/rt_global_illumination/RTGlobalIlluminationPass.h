@@ -3,9 +3,12 @@
 // RayTracingGlobalIlluminationRGS): per pixel, cosine-weighted paths of up to `maxBounces`
 // diffuse bounces through the scene; at every hit the lights are sampled with shadow rays (next
 // event estimation), and neither the hit's emission nor, unless asked, the sky is added. The
-// result is irradiance/π, as SSGI's, for the composite's DiffuseColor × GI. CPU, through Embree.
+// result is irradiance/π, as SSGI's, for the composite's DiffuseColor × GI. Traced through Embree,
+// or through framepass's own BVH (traversal "bvh": the GPU's code, which the GPU runs).
 #include "framework/Params.h"
 #include "framework/Pass.h"
+
+#include <string>
 
 namespace fp {
 
@@ -19,7 +22,12 @@ struct RTGlobalIlluminationParams {
     float diffuseThreshold = 0.01f;  //!< pixels whose diffuse colour is darker trace nothing
     float normalBias = 0.1f;    //!< cm (min 0.01), as rt_shadows
     float screenPercentage = 100.0f;  //!< 25–100: trace one pixel of each block (gi_denoise upscales)
+    std::string traversal = "embree";  //!< "embree" or "bvh" (the GPU's code)
 };
+
+namespace rtgi {
+struct FrameSetup;
+}
 
 class RTGlobalIlluminationPass final : public PassWithParams<RTGlobalIlluminationParams> {
 public:
@@ -32,6 +40,16 @@ public:
     /// Frame pixels per traced texel along each axis: int(100 / screenPercentage), as Unreal's
     /// UpscaleFactor (100 → 1, 50 → 2, 33 → 3, 25 → 4).
     int upscale() const;
+
+#if FP_HAVE_CUDA
+    /// The GPU's paths read no sky (BvhTracer): with evalSkyLight the pass stays on the CPU.
+    bool hasCudaKernel() const override { return !mParams.evalSkyLight; }
+    void executeCuda(PassContext& ctx) override;  // RTGlobalIlluminationPass.cu
+#endif
+
+private:
+    /// What every texel of the frame shares (either backend).
+    rtgi::FrameSetup frameSetup(PassContext& ctx) const;
 };
 
 }  // namespace fp

@@ -1,6 +1,7 @@
 #include "passes/rt_reflections/RTReflectionsPass.h"
 
 #include "foundation/Environment.h"
+#include "foundation/Error.h"
 #include "foundation/FloatToInt.h"
 #include "foundation/Random.h"
 #include "foundation/RayScene.h"
@@ -13,6 +14,7 @@
 #include "screenspace/TraceResolution.h"
 #include "shading/DirectLighting.h"
 #include "shading/RayOriginBias.h"
+#include "passes/rt_reflections/RTReflectionsKernel.h"
 #include "shading/ReflectionHits.h"
 
 #include <algorithm>
@@ -22,19 +24,10 @@ namespace fp {
 
 namespace {
 
-constexpr const char* kReflection = "reflection";
-constexpr const char* kHitDistance = "hitDistance";
-constexpr uint32_t kSeed = 0x52545246u;     // "RTRF"
-constexpr float kMirrorRoughness = 0.001f;  // below it the ray is the mirror direction
-constexpr float kImportantSampleBias = 0.1f;  // GGX_IMPORTANT_SAMPLE_BIAS: the tail left out
-constexpr float kSkyHitDistance = 1e20f;      // Unreal's hit distance for a ray that saw the sky
-constexpr float kHybridDepthCm = 5.0f;        // hybrid: a hit this close behind the depth buffer is the pixel's
-constexpr const char* kSceneColor = "sceneColor";
-
-// Unreal's RoughnessFade: 1 up to half the cutoff, 0 at it.
-float roughnessFade(float roughness, float maxRoughness) {
-    return std::clamp(2.0f - 2.0f * roughness / maxRoughness, 0.0f, 1.0f);
-}
+using rtr::kHitDistance;
+using rtr::kReflection;
+using rtr::kSceneColor;
+constexpr uint32_t kSeed = 0x52545246u;  // "RTRF"
 
 }  // namespace
 
@@ -72,6 +65,12 @@ ParamSpec<RTReflectionsParams> RTReflectionsPass::paramSpec() {
           "n > 0 (framepass's) traced from the hit by one cosine path of n bounces, which sees "
           "the sky only through the scene's openings and other surfaces lit by the lights")
         .range(0, 16);
+    s.add("traversal", &Params::traversal,
+          "\"embree\": Embree's scene; \"bvh\": framepass's own BVH, the code the GPU runs (on "
+          "the GPU the pass always traverses it; a hit's traced indirect light, "
+          "hitIndirectBounces > 0, keeps the pass on the CPU under a sky light, and \"bvh\" is "
+          "refused there)")
+        .choices({"embree", "bvh"});
     return s;
 }
 
@@ -109,131 +108,54 @@ PassIO RTReflectionsPass::describe() const {
     return io;
 }
 
-void RTReflectionsPass::execute(PassContext& ctx) {
-    const Extent frame = ctx.frame().extent;
-    const int upscale = screenPercentageUpscale(mParams.screenPercentage);
-    const Extent size = traceExtent(frame, upscale);
-    Image& reflection = ctx.output(kReflection, {size}).image();
-    Plane& hitDistance = ctx.output(kHitDistance, {size}).image().plane(0);
+rtr::FrameSetup RTReflectionsPass::frameSetup(PassContext& ctx) {
     const RayScene& rs = ctx.scene();
     mSky = ReflectedSky::of(rs.scene().environment.sky, mSky);
-    const ReflectedSky* sky = mSky.get();
-    const DirectLighting lighting(rs, 1);
-    const ReflectionHitLighting hitLighting{&rs, &lighting, sky, mParams.shadows != 0,
-                                            mParams.hitIndirectBounces};
     const CameraView& cam = ctx.frame().camera.current;
     const float cm = float(rs.scene().centimetre());
-    const Vec3d eyeOffset = cam.position - rs.origin();
-    const int spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 1;
-    const float maxRoughness =
+    rtr::FrameSetup s{};
+    s.camera = cam;
+    s.eyeOffset = cam.position - rs.origin();
+    s.origin = rs.origin();
+    s.frame = ctx.frame().extent;
+    s.upscale = screenPercentageUpscale(mParams.screenPercentage);
+    s.spp = mParams.samplesPerPixel > 0 ? mParams.samplesPerPixel : 1;
+    s.maxRoughness =
         std::clamp(mParams.maxRoughness < 0.0f ? 0.6f : mParams.maxRoughness, 0.01f, 1.0f);
-    const RayBias bias = RayBias::fromCm(mParams.normalBias, cm);
-    const uint32_t rngKey = Rng::frameKey(ctx.frame().number, kSeed);
+    s.bias = RayBias::fromCm(mParams.normalBias, cm);
+    s.hybridDepth = rtr::kHybridDepthCm * cm;
+    s.shadowed = mParams.shadows != 0;
+    s.lightSamples = 1;  // DirectLighting(rs, 1): one sample a light
+    s.indirectBounces = mParams.hitIndirectBounces;
+    s.rngKey = Rng::frameKey(ctx.frame().number, kSeed);
+    return s;
+}
 
-    const Plane& depth = ctx.input(gbuffer::kDepth)->image().plane(0);
-    const Plane& model = ctx.input(gbuffer::kShadingModel)->image().plane(0);
-    const Image& normal = ctx.input(gbuffer::kNormal)->image();
-    const Plane& roughnessPlane = ctx.input(gbuffer::kRoughness)->image().plane(0);
-    const Image* sceneColor = mParams.hybrid ? &ctx.input(kSceneColor)->image() : nullptr;
-    const float hybridDepth = kHybridDepthCm * cm;
-
-    forEachTile(size.width, size.height, [&](const Tile& t) {
-        uint64_t rays = 0, pixels = 0, skipped = 0, skyRays = 0, screenHits = 0;
-        ReflectionHitWork hitWork;
-        for (int y = t.y0; y < t.y1; ++y)
-            for (int x = t.x0; x < t.x1; ++x) {
-                // Texel (x, y) traces from the top-left pixel of its block (§12.2's convention).
-                const auto [px, py] = fullResPixel(x, y, upscale, frame.width, frame.height);
-                const double d = depth.at(px, py);
-                const float roughness = roughnessPlane.at(px, py);
-                const float fade = roughnessFade(roughness, maxRoughness);
-                if (!isLitSurface(d, model.at(px, py)) || truncToInt(model.at(px, py), 0, 255) == kHair ||
-                    fade <= 0.0f) {
-                    for (int c = 0; c < 4; ++c) reflection.plane(c).at(x, y) = 0.0f;
-                    hitDistance.at(x, y) = -2.0f;
-                    ++skipped;
-                    continue;
-                }
-                const PixelSurface surface = pixelSurface(cam, eyeOffset, px, py, d);
-                const Vec3f& V = surface.toEye;
-                const Vec3f N{normal.plane(0).at(px, py), normal.plane(1).at(px, py),
-                              normal.plane(2).at(px, py)};
-                Rng rng = Rng::fromKey(rngKey, px, py);
-                Vec3f sum;
-                double distanceSum = 0;
-                int hits = 0, sawSky = 0;
-                for (int k = 0; k < spp; ++k) {
-                    const float e1 = rng.nextFloat(), e2 = rng.nextFloat();
-                    Vec3f L;
-                    if (roughness < kMirrorRoughness) {
-                        L = reflect(V, N);
-                    } else {
-                        // GGX visible normals with a² = roughness⁴; the disk's radius coordinate
-                        // scaled by 0.9 leaves out the lobe's tail.
-                        const Vec3f H = sampleGgxVisibleNormal(N, V, roughness * roughness,
-                                                               e2 * (1.0f - kImportantSampleBias), e1);
-                        L = reflect(V, H);
-                    }
-                    const float NoL = dot(N, L);
-                    if (NoL < 0.0f) L = normalize(L - N * (2.0f * NoL));  // mirrored back above
-                    const Vec3f org = biasedRayOrigin(surface, N, dot(N, L), bias);
-                    ++rays;
-                    const RayHit hit = rs.intersect(org, L, 0.0f, std::numeric_limits<float>::infinity());
-                    if (!hit.hit) {
-                        if (sky) {
-                            sum += sky->miss(L, roughness);
-                            ++sawSky;
-                        }
-                        continue;
-                    }
-                    ++hits;
-                    distanceSum += hit.t;
-                    const Vec3f hitPoint = org + L * hit.t;  // relative to the scene's origin
-                    if (sceneColor) {
-                        // Unreal's hybrid: on screen, in front of the camera, and at most 5 cm
-                        // behind the depth buffer there: the lit colour of that pixel, point
-                        // sampled, no shading.
-                        const CameraView::Projection pr = cam.projectOffset(Vec3d(hitPoint), rs.origin());
-                        if (pr.depth > 0.0 && pr.px >= 0.0 && pr.py >= 0.0 && pr.px < frame.width &&
-                            pr.py < frame.height) {
-                            const int hx = int(pr.px), hy = int(pr.py);
-                            const double there = depth.at(hx, hy);
-                            if (std::isfinite(there) && pr.depth - there < hybridDepth) {
-                                sum += Vec3f{sceneColor->plane(0).at(hx, hy),
-                                             sceneColor->plane(1).at(hx, hy),
-                                             sceneColor->plane(2).at(hx, hy)};
-                                ++screenHits;
-                                continue;
-                            }
-                        }
-                    }
-                    // Hybrid: shaded hits look from the camera, so both kinds match (knowingly
-                    // wrong for the specular term, as in Unreal).
-                    const Vec3f fromCamera =
-                        sceneColor ? normalize(Vec3f(eyeOffset) - hitPoint) : Vec3f{};
-                    sum += shadeReflectionHit(hitLighting, hit, org, L, rng, hitWork,
-                                              sceneColor ? &fromCamera : nullptr);
-                }
-                const float scale = fade / float(spp);
-                reflection.plane(0).at(x, y) = sum.x * scale;
-                reflection.plane(1).at(x, y) = sum.y * scale;
-                reflection.plane(2).at(x, y) = sum.z * scale;
-                // Coverage: the samples that found something (a surface, or the sky); a miss
-                // with no sky light leaves its share to the reflection captures.
-                reflection.plane(3).at(x, y) = fade * float(hits + sawSky) / float(spp);
-                hitDistance.at(x, y) = hits > 0 ? float(distanceSum / hits)
-                                                : (sawSky > 0 ? kSkyHitDistance : -1.0f);
-                skyRays += uint64_t(sawSky);
-                ++pixels;
-            }
-        ctx.addWork("rays", rays);
-        ctx.addWork("shadowRays", hitWork.shadowRays);
-        if (mParams.hitIndirectBounces > 0) ctx.addWork("indirectRays", hitWork.indirectRays);
-        ctx.addWork("skyRays", skyRays);
-        if (sceneColor) ctx.addWork("screenHits", screenHits);
-        ctx.addWork("pixels", pixels);
-        ctx.addWork("skippedPixels", skipped);
-    });
+void RTReflectionsPass::execute(PassContext& ctx) {
+    const rtr::FrameSetup setup = frameSetup(ctx);
+    const Extent trace = outputExtents(kReflection, ctx.frame().extent).front();
+    const RayScene& rs = ctx.scene();
+    const DirectLighting lighting(rs, setup.lightSamples);
+    rtr::Sky sky;
+    if (mSky) sky = {true, mSky->cube.view(), mSky->sh};
+    if (mParams.traversal == "bvh") {
+        if (mSky && mParams.hitIndirectBounces > 0)
+            throw UsageError("rt_reflections: traversal \"bvh\" reads no sky along a hit's "
+                             "indirect path, and hitIndirectBounces asks for one under the scene's "
+                             "sky light: use traversal \"embree\"");
+        const BvhTracer tracer{HostPorts{ctx}.bvh(), lighting.lightViews().data(),
+                               lighting.lightCount()};
+        rtr::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, sky, trace, tracer, mParams.hybrid,
+                 "rt_reflections");
+        return;
+    }
+    DiffusePathSetup paths;
+    paths.scene = &rs;
+    paths.lighting = &lighting;
+    paths.lights = &rs.scene().lights;
+    paths.sky = mSky ? mSky->source : nullptr;
+    rtr::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, sky, trace, EmbreeTracer{paths},
+             mParams.hybrid, "rt_reflections");
 }
 
 }  // namespace fp

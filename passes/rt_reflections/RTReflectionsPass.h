@@ -3,12 +3,14 @@
 // a mirror or GGX (visible-normal) ray, its closest hit shaded with the scene's material and
 // lights (one shadow ray a light), its emission and the sky light's diffuse; a miss takes the sky.
 // The output is what SSR's is — pre-BRDF radiance with coverage in alpha — so
-// reflection_environment takes it in SSR's place and applies EnvBRDF. CPU, through Embree.
+// reflection_environment takes it in SSR's place and applies EnvBRDF. Traced through Embree, or
+// through framepass's own BVH (traversal "bvh": the GPU's code, which the GPU runs).
 #include "framework/Params.h"
 #include "framework/Pass.h"
 #include "shading/ReflectionHits.h"
 
 #include <memory>
+#include <string>
 
 namespace fp {
 
@@ -25,7 +27,12 @@ struct RTReflectionsParams {
     /// A hit's diffuse indirect light: 0, Unreal's, the sky light's SH; n > 0 traced by one
     /// cosine path of n bounces (framepass's; ReflectionHitLighting::indirectBounces).
     int hitIndirectBounces = 0;
+    std::string traversal = "embree";  //!< "embree" or "bvh" (the GPU's code)
 };
+
+namespace rtr {
+struct FrameSetup;
+}
 
 class RTReflectionsPass final : public PassWithParams<RTReflectionsParams> {
 public:
@@ -36,7 +43,16 @@ public:
     void execute(PassContext& ctx) override;
     std::vector<Extent> outputExtents(std::string_view port, Extent frame) const override;
 
+#if FP_HAVE_CUDA
+    /// The GPU's paths read no sky: a hit's traced indirect light keeps the pass on the CPU (under
+    /// a sky light it would see it).
+    bool hasCudaKernel() const override { return mParams.hitIndirectBounces == 0; }
+    void executeCuda(PassContext& ctx) override;  // RTReflectionsPass.cu
+#endif
+
 private:
+    /// What every texel of the frame shares (either backend); makes the sky's cubemap first.
+    rtr::FrameSetup frameSetup(PassContext& ctx);
     std::shared_ptr<const ReflectedSky> mSky;  // made once per sky light
 };
 

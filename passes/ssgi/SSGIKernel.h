@@ -172,24 +172,54 @@ FP_HD inline RayTrace shadeHit(const TraceSetup& s,
     return weighHit(s, p, hit, c, wantDistance);
 }
 
+/// What SSGI's rays do beyond the screen: in Unreal's SSGI, nothing — a ray its march cannot
+/// finish brings no light, and an on-screen hit brings last frame's colour alone. framepass's
+/// hybrid passes a callable of the same shape (passes/hybrid/HybridKernel.h) that traces such a
+/// ray through the scene and may continue an on-screen hit's path; its per-pixel state is
+/// `Pixel`, made once a pixel by begin().
+struct NoFallback {
+    struct Pixel {};
+    FP_HD Pixel begin(const Frame&, int, int) const { return {}; }
+    /// Whether on-screen hits go through onScreenHit (else their colour is last frame's alone).
+    FP_HD bool continuesHits() const { return false; }
+    /// Adds to `c` (last frame's colour at an on-screen hit) what the path after it brings.
+    FP_HD void onScreenHit(Pixel&, const RayPoint&, float[3]) const {}
+    /// What ray `L` (view space) of pixel (x, y), which the screen could not finish, brings.
+    FP_HD RayTrace miss(Pixel&, int, int, const Vec3f&) const { return {}; }
+    /// After the pixel's last ray (the fallback's own counts).
+    FP_HD void end(Pixel&) const {}
+};
+
 // algorithms §4.4–4.7 for ray `r` of a traced pixel, one ray at a time: the scalar reference that
-// the CPU's SIMD lanes (SSGILanes.cpp) reproduce bit for bit, and the GPU's per-thread loop.
+// the CPU's SIMD lanes (SSGILanes.cpp) reproduce bit for bit, and the GPU's per-thread loop;
+// with a fallback (the hybrid's), what the screen cannot finish is the fallback's.
+template <class Fallback = NoFallback>
 FP_HD inline RayTrace traceRay(const TraceSetup& s,
                                const PixelStart& p,
                                int x,
                                int y,
                                int r,
                                bool wantDistance,
-                               unsigned& hzbSamples) {
+                               unsigned& hzbSamples,
+                               const Fallback& fallback = {},
+                               typename Fallback::Pixel* pixel = nullptr) {
     const Vec3f L = rayDirection(p.nView, x, y, s.frameMod8, r, s.rays);
     RaySteps steps;
-    if (!raySteps(s, p, L, steps))
-        return {};
-    float level;
-    const int hitSample = marchHzb(s.hzb, steps, s.steps, s.levelStep, level, hzbSamples);
-    if (hitSample < 0)
-        return {};
-    return shadeHit(s, p, steps, hitSample, level, wantDistance);
+    if (raySteps(s, p, L, steps)) {
+        float level;
+        const int hitSample = marchHzb(s.hzb, steps, s.steps, s.levelStep, level, hzbSamples);
+        if (hitSample >= 0) {
+            if (!fallback.continuesHits())
+                return shadeHit(s, p, steps, hitSample, level, wantDistance);
+            // Last frame's colour at the hit, plus what the fallback's path after it brings.
+            const RayPoint hit = rayPointAt(steps, float(hitSample));
+            float c[3];
+            hitColor(s, hit, level, c);
+            fallback.onScreenHit(*pixel, hit, c);
+            return weighHit(s, p, hit, c, wantDistance);
+        }
+    }
+    return pixel ? fallback.miss(*pixel, x, y, L) : RayTrace{};
 }
 
 // What one pixel's rays gathered, summed in ray order.
@@ -243,16 +273,21 @@ FP_HD inline bool beginPixel(const Frame& f, int x, int y, unsigned long long* c
     return true;
 }
 
-/// One trace pixel (x, y) of the frame: skipped (unlit or sky) or traced ray after ray, its
-/// outputs written and its work added to `counts` (indexed by Counter).
-FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* counts) {
+/// One trace pixel (x, y) of the frame: skipped (unlit or sky) or traced ray after ray (what the
+/// screen cannot finish the fallback's), its outputs written and its work added to `counts`
+/// (indexed by Counter).
+template <class Fallback = NoFallback>
+FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* counts,
+                            const Fallback& fallback = {}) {
     PixelStart start;
     if (!beginPixel(f, x, y, counts, start))
         return;
     PixelTrace t;
     unsigned hzbSamples = 0;  // a pixel's rays × steps fits; one 32-bit register on the GPU
+    typename Fallback::Pixel pixel = fallback.begin(f, x, y);
     for (int r = 0; r < f.setup.rays; ++r)
-        t.add(traceRay(f.setup, start, x, y, r, bool(f.hitDistance), hzbSamples));
+        t.add(traceRay(f.setup, start, x, y, r, bool(f.hitDistance), hzbSamples, fallback, &pixel));
+    fallback.end(pixel);
     counts[kRays] += (unsigned long long)f.setup.rays;
     counts[kHzbSamples] += hzbSamples;
     finishPixel(f, x, y, t);
@@ -322,22 +357,26 @@ inline void reportWork(PassContext& ctx, const std::array<uint64_t, kCounterCoun
 }
 
 /// The whole pass one ray at a time (PerPixel.h): one ssgiPixel per trace pixel. The GPU runs
-/// this; the CPU too when `ssgi.lanes` is off.
-template <class Ports, class Pixels>
-void run(PassContext& ctx,
+/// this; the CPU too when `ssgi.lanes` is off, and the hybrid with its fallback.
+template <class Ports, class Pixels, class Fallback = NoFallback>
+std::array<uint64_t, kCounterCount> run(PassContext& ctx,
          const Ports& ports,
          const Pixels& pixels,
          int rays,
          int steps,
          bool halfRes,
-         float colorScale) {
+         float colorScale,
+         const Fallback& fallback = {},
+         const char* what = "ssgi") {
     const Frame f = bindFrame(ports, ctx.frame(), rays, steps, halfRes, colorScale);
-    reportWork(ctx, pixels.template forEach<kCounterCount>(
-                        f.ao.width, f.ao.height,
-                        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& c) {
-                            ssgiPixel(f, x, y, c.value);
-                        },
-                        "ssgi"));
+    const auto counts = pixels.template forEach<kCounterCount>(
+        f.ao.width, f.ao.height,
+        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& c) {
+            ssgiPixel(f, x, y, c.value, fallback);
+        },
+        what);
+    reportWork(ctx, counts);
+    return counts;
 }
 
 }  // namespace fp::ssgi

@@ -98,7 +98,8 @@ std::vector<std::string> lightsOf(const Scene& scene) {
 
 // The engine preset's chain: its screen-space passes, then where asked each light's shadow rays,
 // their denoiser and the deferred lighting, and SSR and the reflection environment before the
-// display (without either it is the demo chain of `make demo`). The errors are
+// display (without either it is the demo chain of `make demo`), with framepass's two hybrids
+// beside them for their dumps. The errors are
 // the GI against the capture's colour, with a standard error, and the AO against the GBuffer's
 // AO, with the screen-space oracle beside them. SSR runs at Epic (12 glossy rays, the single
 // mirror ray below roughness 0.1) with its temporal smoothing, and traces every surface up to
@@ -144,6 +145,20 @@ Plan chainPlan(const ChainOptions& o) {
                           {"params", {{"quality", 4}, {"postProcessQuality", 100},
                                       {"maxRoughness", 1.0}, {"temporal", true}}},
                           {"inputs", {{"furthestHzb", "hzb.furthest"}}}});
+        // framepass's two hybrids beside them, run for their dumps: SSGI's rays with the scene
+        // behind them (2 bounces, on-screen hits continued), SSR's with the scene behind them.
+        passes.push_back({{"name", "hybrid"},
+                          {"type", "hybrid"},
+                          {"params", {{"quality", 1}, {"maxBounces", 2}, {"continueOnScreen", true}}},
+                          {"inputs", {{"furthestHzb", "hzb.furthest"},
+                                      {"reducedColor", "prev_color_reduction.color"}}}});
+        if (!o.traversal.empty()) passes.back()["params"]["traversal"] = o.traversal;
+        passes.push_back({{"name", "hybrid_reflections"},
+                          {"type", "hybrid_reflections"},
+                          {"params", {{"quality", 4}, {"postProcessQuality", 100},
+                                      {"maxRoughness", 1.0}, {"temporal", true}}},
+                          {"inputs", {{"furthestHzb", "hzb.furthest"}}}});
+        if (!o.traversal.empty()) passes.back()["params"]["traversal"] = o.traversal;
         passes.push_back({{"name", "reflection_environment"},
                           {"type", "reflection_environment"},
                           {"inputs", {{"color", lit}, {"reflection", "ssr.reflection"},
@@ -355,8 +370,8 @@ Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, boo
 }
 
 // The ray-traced preset (configs/ue4.27-raytracing.json) as a user runs it, every output dumped:
-// the passes without a CUDA kernel run on the CPU in both plans, so each kernel (rt_ambient_occlusion's,
-// the signal denoisers') is compared on the same inputs.
+// the passes without a CUDA kernel run on the CPU in both plans, so each kernel (the ray tracers'
+// against the CPU's traversal "bvh", the signal denoisers') is compared on the same inputs.
 Plan raytracedPlan(const std::string& device, const std::string& traversal,
                    const std::vector<std::string>& lights) {
     std::ifstream file(sourceDir() + "/configs/ue4.27-raytracing.json");
@@ -369,7 +384,7 @@ Plan raytracedPlan(const std::string& device, const std::string& traversal,
         if (traversal.empty()) continue;
         if (pass.contains("forEachLight"))
             pass["forEachLight"]["passes"][0]["params"]["traversal"] = traversal;
-        else if (pass.value("type", "") == "rt_ambient_occlusion")
+        else if (pass.value("type", "").rfind("rt_", 0) == 0)  // the ray tracers
             pass["params"]["traversal"] = traversal;
     }
     io::RunConfig rc = io::parseRunConfig(config, "gpu check", sourceDir());
@@ -612,6 +627,8 @@ TEST_CASE("gpu: the check's chain runs on the CPU, with every figure it compares
         for (int y = 0; y < alpha.height(); ++y)
             for (int x = 0; x < alpha.width(); ++x) coverage += alpha.at(x, y);
         CHECK(coverage > 1.0);
+        CHECK(sink.layers.count("hybrid_reflections.reflection") == 1);
+        CHECK(sink.layers.count("hybrid.diffuse") == 1);
     }
     // The ray-traced preset as the GPU case plans it.
     test::MemorySink sink;
@@ -663,9 +680,10 @@ TEST_CASE("gpu: quality 1 at half resolution on the GPU matches the CPU (8 pixel
     checkAgreement(diffs);
 }
 
-// The ray-traced preset: the signal denoisers (ao_denoise, gi_denoise at the preset's 50 % screen
-// percentage, so its upscaling reconstruction too; reflection_denoise) and every other kernel of
-// the chain, frames 1–3 with their histories, on the three captures.
+// The ray-traced preset: rt_global_illumination (at the preset's 50 % screen percentage),
+// rt_ambient_occlusion and rt_reflections, the signal denoisers (gi_denoise's upscaling
+// reconstruction too) and every other kernel of the chain, frames 1–3 with their histories, on
+// the three captures.
 TEST_CASE("gpu: the ray-traced preset on the GPU matches the CPU on the Cornell, glossy and hard captures") {
     if (skipWithoutGpu())
         return;

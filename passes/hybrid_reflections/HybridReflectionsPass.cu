@@ -1,0 +1,31 @@
+// HybridReflectionsPass on the GPU: SSR's kernel with the fallback through framepass's BVH in
+// device memory, the scene's lights and the sky light's cubemap copied with the frame; the
+// fallback's counts summed on the GPU and read back once.
+#include "foundation/CudaLaunch.cuh"
+#include "framework/PassPorts.h"
+#include "passes/hybrid_reflections/HybridReflectionsKernel.h"
+#include "passes/hybrid_reflections/HybridReflectionsPass.h"
+
+namespace fp {
+
+void HybridReflectionsPass::executeCuda(PassContext& ctx) {
+    using namespace hybrid_reflections;
+    const DevicePorts ports{ctx};
+    mSky = ReflectedSky::of(ctx.scene().scene().environment.sky, mSky);
+    const DirectLighting lighting(ctx.scene(), 1);
+    const std::vector<LightView>& views = lighting.lightViews();
+    const auto lights = ports.constants(views.data(), views.size());
+    rtr::Sky sky;
+    std::shared_ptr<const Vec3f> cubeTexels;  // alive until the pixels are done
+    if (mSky) {
+        const Cubemap& cube = mSky->cube;
+        cubeTexels = ports.constants(cube.texels().data(), cube.texels().size());
+        sky = {true, cube.view().rebased(cube.texels().data(), cubeTexels.get()), mSky->sh};
+    }
+    const cuda::SharedCounters counts(kFallbackCounters, "hybrid_reflections");
+    runSsr(ctx, ports, CudaPixels{}, mParams,
+           bvhFallback(ctx, ports.bvh(), lights.get(), int(views.size()), sky, counts.data()));
+    addFallbackWork(ctx, counts.totals().data());
+}
+
+}  // namespace fp

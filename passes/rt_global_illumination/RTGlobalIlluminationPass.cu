@@ -1,0 +1,22 @@
+// RTGlobalIlluminationPass on the GPU: rtgi::run through framepass's BVH in device memory, the
+// scene's lights copied with the frame, one thread per traced texel.
+#include "foundation/CudaLaunch.cuh"
+#include "framework/PassPorts.h"
+#include "passes/rt_global_illumination/RTGlobalIlluminationKernel.h"
+#include "passes/rt_global_illumination/RTGlobalIlluminationPass.h"
+
+namespace fp {
+
+void RTGlobalIlluminationPass::executeCuda(PassContext& ctx) {
+    const DevicePorts ports{ctx};
+    const DirectLighting lighting(ctx.scene(), 1);
+    const std::vector<LightView>& views = lighting.lightViews();
+    const auto lights = ports.constants(views.data(), views.size());
+    const BvhTracer tracer{ports.bvh(), lights.get(), int(views.size())};
+    // A warp traces 8×4 neighbouring texels' paths (CudaLaunch.cuh's PixelBlock), as rt_shadows.
+    rtgi::run(ctx, ports, CudaPixels{cuda::PixelBlock::Squares}, frameSetup(ctx),
+              outputExtents(rtgi::kDiffuse, ctx.frame().extent).front(), tracer,
+              "rt_global_illumination");
+}
+
+}  // namespace fp

@@ -1,0 +1,30 @@
+// RTReflectionsPass on the GPU: rtr::run through framepass's BVH in device memory, the scene's
+// lights and the sky light's cubemap copied with the frame, one thread per traced texel.
+#include "foundation/CudaLaunch.cuh"
+#include "framework/PassPorts.h"
+#include "passes/rt_reflections/RTReflectionsKernel.h"
+#include "passes/rt_reflections/RTReflectionsPass.h"
+
+namespace fp {
+
+void RTReflectionsPass::executeCuda(PassContext& ctx) {
+    const DevicePorts ports{ctx};
+    const rtr::FrameSetup setup = frameSetup(ctx);
+    const DirectLighting lighting(ctx.scene(), setup.lightSamples);
+    const std::vector<LightView>& views = lighting.lightViews();
+    const auto lights = ports.constants(views.data(), views.size());
+    const BvhTracer tracer{ports.bvh(), lights.get(), int(views.size())};
+    rtr::Sky sky;
+    std::shared_ptr<const Vec3f> cubeTexels;  // alive until the pixels are done
+    if (mSky) {
+        const Cubemap& cube = mSky->cube;
+        cubeTexels = ports.constants(cube.texels().data(), cube.texels().size());
+        sky = {true, cube.view().rebased(cube.texels().data(), cubeTexels.get()), mSky->sh};
+    }
+    // A warp traces 8×4 neighbouring texels' rays (CudaLaunch.cuh's PixelBlock), as rt_shadows.
+    rtr::run(ctx, ports, CudaPixels{cuda::PixelBlock::Squares}, setup, sky,
+             outputExtents(rtr::kReflection, ctx.frame().extent).front(), tracer, mParams.hybrid,
+             "rt_reflections");
+}
+
+}  // namespace fp
