@@ -35,9 +35,9 @@ FP_HD constexpr Vec3T<T> cross(const Vec3T<T>& a, const Vec3T<T>& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 template <class T>
-FP_HD T length(const Vec3T<T>& a) { return std::sqrt(dot(a, a)); }
+FP_HD FP_HOT_INLINE T length(const Vec3T<T>& a) { return std::sqrt(dot(a, a)); }
 template <class T>
-FP_HD Vec3T<T> normalize(const Vec3T<T>& a) {
+FP_HD FP_HOT_INLINE Vec3T<T> normalize(const Vec3T<T>& a) {
     T l = length(a);
     return l > T(0) ? a / l : Vec3T<T>{};
 }

@@ -105,7 +105,7 @@ FP_HD inline float lobeOverlap(const Vec3f& a, const Vec3f& b) {
 /// left and right neighbours the shorter, the same up and down, crossed and turned towards the
 /// camera. The shading normal where a side has no surface on either hand (the screen's edge, sky)
 /// or the vectors are parallel, and for two-sided foliage (thin: its faces bound nothing).
-FP_HD inline Vec3f geometricNormal(const FrameSetup& s, const PlaneView& depth, int x, int y,
+FP_HD FP_HOT_INLINE Vec3f geometricNormal(const FrameSetup& s, const PlaneView& depth, int x, int y,
                                    const Vec3d& centre, const Vec3f& shading, int model,
                                    const Vec3f& toEye) {
     if (model == kTwoSidedFoliage) return shading;
@@ -135,7 +135,7 @@ FP_HD inline Vec3f geometricNormal(const FrameSetup& s, const PlaneView& depth, 
 }
 
 /// Pixel (x, y)'s set-up; false for sky and unlit pixels (they trace nothing).
-FP_HD inline bool setupPixel(const FrameSetup& s, const PlaneView& depth, const PlaneView& model,
+FP_HD FP_HOT_INLINE bool setupPixel(const FrameSetup& s, const PlaneView& depth, const PlaneView& model,
                              const PlaneView (&normal)[3], int x, int y, Pixel& px) {
     const double d = depth.at(x, y);
     const float m = model.at(x, y);
@@ -160,7 +160,7 @@ struct AoRay {
     Vec3f org, dir;
     float weight;
 };
-FP_HD inline AoRay sampleRay(const FrameSetup& s, Pixel& px) {
+FP_HD FP_HOT_INLINE AoRay sampleRay(const FrameSetup& s, Pixel& px) {
     Rng rng = Rng::resume(px.rng);
     const float u = rng.nextFloat(), v = rng.nextFloat();
     px.rng = rng.state();
