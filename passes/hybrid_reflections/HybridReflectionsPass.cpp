@@ -83,8 +83,8 @@ void HybridReflectionsPass::execute(PassContext& ctx) {
     const RayScene& rs = ctx.scene();
     mSky = ReflectedSky::of(rs.scene().environment.sky, mSky);
     const DirectLighting lighting(rs, 1);
-    rtr::Sky sky;
-    if (mSky) sky = {true, mSky->cube.view(), mSky->sh};
+    std::shared_ptr<const Vec3f> cubeTexels;
+    const rtr::Sky sky = rtr::skyFor(HostPorts{ctx}, mSky.get(), cubeTexels);
     unsigned long long counts[kFallbackCounters] = {};
     SceneFallback<BvhTracer> bvh = bvhFallback(ctx, HostPorts{ctx}.bvh(), lighting.lightViews().data(),
                                                lighting.lightCount(), sky, counts);

@@ -15,13 +15,8 @@ void HybridReflectionsPass::executeCuda(PassContext& ctx) {
     const DirectLighting lighting(ctx.scene(), 1);
     const std::vector<LightView>& views = lighting.lightViews();
     const auto lights = ports.constants(views.data(), views.size());
-    rtr::Sky sky;
-    std::shared_ptr<const Vec3f> cubeTexels;  // alive until the pixels are done
-    if (mSky) {
-        const Cubemap& cube = mSky->cube;
-        cubeTexels = ports.constants(cube.texels().data(), cube.texels().size());
-        sky = {true, cube.view().rebased(cube.texels().data(), cubeTexels.get()), mSky->sh};
-    }
+    std::shared_ptr<const Vec3f> cubeTexels;
+    const rtr::Sky sky = rtr::skyFor(ports, mSky.get(), cubeTexels);
     const cuda::SharedCounters counts(kFallbackCounters, "hybrid_reflections");
     runSsr(ctx, ports, CudaPixels{}, mParams,
            bvhFallback(ctx, ports.bvh(), lights.get(), int(views.size()), sky, counts.data()));

@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 
 namespace fp::rtr {
 
@@ -65,6 +66,17 @@ struct Sky {
     CubemapView cube;  // a miss
     SH3 sh;            // a hit's diffuse
 };
+
+/// The sky light as the pixels read it, its cubemap's texels where they run (`texels` keeps a
+/// device copy alive until the pixels are done; on the host they are the cubemap's own); off
+/// without a sky light.
+template <class Ports>
+Sky skyFor(const Ports& ports, const ReflectedSky* sky, std::shared_ptr<const Vec3f>& texels) {
+    if (!sky) return {};
+    const Cubemap& cube = sky->cube;
+    texels = ports.constants(cube.texels().data(), cube.texels().size());
+    return {true, cube.view().rebased(cube.texels().data(), texels.get()), sky->sh};
+}
 
 /// The frame's planes, as the texels read and write them.
 struct Frame {

@@ -136,8 +136,8 @@ void RTReflectionsPass::execute(PassContext& ctx) {
     const Extent trace = outputExtents(kReflection, ctx.frame().extent).front();
     const RayScene& rs = ctx.scene();
     const DirectLighting lighting(rs, setup.lightSamples);
-    rtr::Sky sky;
-    if (mSky) sky = {true, mSky->cube.view(), mSky->sh};
+    std::shared_ptr<const Vec3f> cubeTexels;
+    const rtr::Sky sky = rtr::skyFor(HostPorts{ctx}, mSky.get(), cubeTexels);
     if (mParams.traversal == "bvh") {
         if (mSky && mParams.hitIndirectBounces > 0)
             throw UsageError("rt_reflections: traversal \"bvh\" reads no sky along a hit's "

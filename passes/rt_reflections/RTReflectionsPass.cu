@@ -14,13 +14,8 @@ void RTReflectionsPass::executeCuda(PassContext& ctx) {
     const std::vector<LightView>& views = lighting.lightViews();
     const auto lights = ports.constants(views.data(), views.size());
     const BvhTracer tracer{ports.bvh(), lights.get(), int(views.size())};
-    rtr::Sky sky;
-    std::shared_ptr<const Vec3f> cubeTexels;  // alive until the pixels are done
-    if (mSky) {
-        const Cubemap& cube = mSky->cube;
-        cubeTexels = ports.constants(cube.texels().data(), cube.texels().size());
-        sky = {true, cube.view().rebased(cube.texels().data(), cubeTexels.get()), mSky->sh};
-    }
+    std::shared_ptr<const Vec3f> cubeTexels;
+    const rtr::Sky sky = rtr::skyFor(ports, mSky.get(), cubeTexels);
     // A warp traces 8×4 neighbouring texels' rays (CudaLaunch.cuh's PixelBlock), as rt_shadows.
     rtr::run(ctx, ports, CudaPixels{cuda::PixelBlock::Squares}, setup, sky,
              outputExtents(rtr::kReflection, ctx.frame().extent).front(), tracer, mParams.hybrid,
