@@ -305,6 +305,15 @@ FP_HD inline void hitBarycentrics(const BvhView& bvh, const BvhHit& hit, const V
     v = w.W / det;
 }
 
+/// A hit's shading normal: the vertex normals weighted by its barycentrics (u, v of n1, n2),
+/// normalised, or `fallback` (the geometric normal) where they cancel — RayScene's rule for
+/// Embree's hits and the BVH's alike.
+FP_HD inline Vec3f interpolatedNormal(const Vec3f& n0, const Vec3f& n1, const Vec3f& n2, float u,
+                                      float v, const Vec3f& fallback) {
+    const Vec3f n = normalize(n0 * (1.0f - u - v) + n1 * u + n2 * v);
+    return length(n) > 0.5f ? n : fallback;
+}
+
 /// The farthest distance from `p` to any point of the box [lo, hi]: how far a ray from `p` can
 /// travel inside a scene of those bounds (RayScene::farthestDistance and the GPU's alike).
 FP_HD inline float farthestDistance(const Vec3f& lo, const Vec3f& hi, const Vec3f& p) {

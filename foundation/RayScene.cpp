@@ -471,10 +471,8 @@ Vec3f RayScene::shadingNormal(const RayHit& hit) const {
     const Mesh& m = mScene.meshes[hit.mesh];
     if (m.normals.empty()) return hit.geometricNormal;
     const uint32_t* tri = &m.indices[3 * hit.triangle];
-    const float w = 1.0f - hit.u - hit.v;
-    Vec3f n = m.normals[tri[0]] * w + m.normals[tri[1]] * hit.u + m.normals[tri[2]] * hit.v;
-    n = normalize(n);
-    return length(n) > 0.5f ? n : hit.geometricNormal;
+    return interpolatedNormal(m.normals[tri[0]], m.normals[tri[1]], m.normals[tri[2]], hit.u, hit.v,
+                              hit.geometricNormal);
 }
 
 const Material& RayScene::material(const RayHit& hit) const {

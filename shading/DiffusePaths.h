@@ -40,8 +40,7 @@ struct DiffusePathSettings {
 
 struct DiffusePathSetup : DiffusePathSettings {
     const RayScene* scene = nullptr;
-    const DirectLighting* lighting = nullptr;
-    const std::vector<Light>* lights = nullptr;
+    const DirectLighting* lighting = nullptr;  //!< the scene's lights, sampled
     const SkyLight* sky = nullptr;  //!< null: a bounce ray's miss adds nothing
 };
 
@@ -73,7 +72,7 @@ struct EmbreeTracer {
         h.surface.emission = c.scene->scene().emissionTowardsSurfaces(hit.mesh);
         return h;
     }
-    int lightCount() const { return int(c.lights->size()); }
+    int lightCount() const { return c.lighting->lightCount(); }
     const LightView& lightView(int i) const { return c.lighting->lightView(i); }
     bool visible(const SurfacePoint& s, const LightSample& ls) const {
         return c.lighting->visible(s, ls);

@@ -62,11 +62,7 @@ FP_HD inline SurfacePoint surfaceAt(const BvhView& bvh, const BvhHit& hit, const
     float u, v;
     hitBarycentrics(bvh, hit, org, dir, u, v);
     const float w = 1.0f - u - v;
-    Vec3f n = ng;
-    if (sh.smooth) {
-        const Vec3f interpolated = normalize(sh.n0 * w + sh.n1 * u + sh.n2 * v);
-        if (length(interpolated) > 0.5f) n = interpolated;
-    }
+    const Vec3f n = sh.smooth ? interpolatedNormal(sh.n0, sh.n1, sh.n2, u, v, ng) : ng;
     SurfacePoint s = surfacePoint(ng, n, bvh.materials[sh.material], org, dir, hit.t);
     // The point from the triangle's own corners, not org + t·dir: the watertight test's distance
     // can be some 10⁻⁵ off along a grazing ray, enough to put the point behind the surface
@@ -220,8 +216,6 @@ public:
     LightSample sample(const Light& light, const SurfacePoint& s, float u, float v) const;
     /// True when nothing blocks the sample's shadow ray from `s`.
     bool visible(const SurfacePoint& s, const LightSample& ls) const;
-    /// Samples a light needs: 1 for a punctual light, `samples` for one with extent.
-    int samplesFor(const Light& light) const { return hasExtent(light) ? mSamples : 1; }
     /// A rect light, a directional light with a source angle, a point or spot with a radius.
     static bool hasExtent(const Light& light);
     /// The scene's lights as sampleLight reads them, in the scene's order.

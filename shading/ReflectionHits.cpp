@@ -29,7 +29,6 @@ Vec3f shadeReflectionHit(const ReflectionHitLighting& how, const RayHit& hit, co
     DiffusePathSetup paths;
     paths.scene = &scene;
     paths.lighting = how.lighting;
-    paths.lights = &scene.scene().lights;
     paths.sky = how.sky ? how.sky->source : nullptr;
     return lightReflectionHit(EmbreeTracer{paths}, s, how.sky ? &how.sky->sh : nullptr,
                               how.shadowed, how.lighting->samples(), how.indirectBounces, rng,

@@ -142,7 +142,6 @@ void HybridPass::execute(PassContext& ctx) {
         DiffusePathSetup paths;
         paths.scene = &rs;
         paths.lighting = &lighting;
-        paths.lights = &rs.scene().lights;
         const hybrid::GiFallback<EmbreeTracer> embree{
             EmbreeTracer{paths}, bvh.paths, bvh.onward, bvh.continuing, bvh.cam, bvh.eyeOffset,
             bvh.bias, bvh.rngKey, bvh.onwardKey, bvh.wantDistance, bvh.depth,

@@ -98,7 +98,6 @@ void HybridReflectionsPass::execute(PassContext& ctx) {
         DiffusePathSetup paths;
         paths.scene = &rs;
         paths.lighting = &lighting;
-        paths.lights = &rs.scene().lights;
         paths.sky = mSky ? mSky->source : nullptr;
         const SceneFallback<EmbreeTracer> embree{EmbreeTracer{paths}, bvh.sky, bvh.shadowed,
                                                  bvh.lightSamples, bvh.indirectBounces,

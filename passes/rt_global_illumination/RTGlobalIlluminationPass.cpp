@@ -159,7 +159,6 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
     static_cast<DiffusePathSettings&>(paths) = setup.paths;
     paths.scene = &rs;
     paths.lighting = &lighting;
-    paths.lights = &rs.scene().lights;
     paths.sky = sky;
     rtgi::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, trace, EmbreeTracer{paths},
               "rt_global_illumination");

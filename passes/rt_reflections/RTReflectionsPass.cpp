@@ -152,7 +152,6 @@ void RTReflectionsPass::execute(PassContext& ctx) {
     DiffusePathSetup paths;
     paths.scene = &rs;
     paths.lighting = &lighting;
-    paths.lights = &rs.scene().lights;
     paths.sky = mSky ? mSky->source : nullptr;
     rtr::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, sky, trace, EmbreeTracer{paths},
              mParams.hybrid, "rt_reflections");
