@@ -41,12 +41,16 @@ void main() { screen = corner; gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
 
 // The display maths of the library's display pass (passes/display/DisplayKernel.h): exposure,
 // the channel mapping of a preview, the baked view looked up between neighbouring halves, clamp.
-const FRAGMENT = `#version 300 es
+// What a draw shows is compiled in (#define, see Viewer.programFor): a software renderer runs
+// every line of a shader for every pixel, taken or not, so each view gets only its own lines.
+const FRAGMENT = `
 precision highp float; precision highp int; precision highp usampler2D; precision highp sampler3D;
-in vec2 screen; out vec4 color;
+in vec2 screen;
+layout(location = 0) out vec4 color;
+layout(location = 1) out vec4 pictureB;
 uniform sampler2D imgA, imgB, lut;
 uniform sampler3D cube;
-uniform int channelsA, channelsB, mode, isolate, falseColor, colorA, colorB, haveB, film;
+uniform int channelsA, channelsB, isolate;
 uniform float cubeLog2Min, cubeLog2Max;
 uniform float gain, falseMax, wipe;
 uniform vec2 canvasSize, sizeA, pan; uniform float zoom;
@@ -99,8 +103,10 @@ float scalarOf(vec4 v, int channels) {
   if (channels == 1) return v.r;
   return dot(v.rgb, vec3(0.2126, 0.7152, 0.0722));
 }
-vec3 preview(vec4 v, int channels, int managed) {
-  if (falseColor == 1) return viridis(finite(scalarOf(v, channels) * gain) / falseMax);
+vec3 preview(vec4 v, int channels, bool managed) {
+#if FALSE_COLOR
+  return viridis(finite(scalarOf(v, channels) * gain) / falseMax);
+#else
   vec3 rgb;
   if (isolate >= 1 && isolate <= 4) rgb = vec3(v[min(isolate - 1, channels - 1)]);
   else if (isolate == 5) rgb = vec3(scalarOf(v, channels));
@@ -109,26 +115,66 @@ vec3 preview(vec4 v, int channels, int managed) {
     rgb[c] = from < channels ? v[from] : 0.0;
   }
   for (int c = 0; c < 3; ++c) rgb[c] = finite(rgb[c] * gain);
-  if (managed == 1 && film == 1) return clamp(filmLookup(rgb), 0.0, 1.0);
-  for (int c = 0; c < 3; ++c) rgb[c] = clamp(managed == 1 ? lookup(rgb[c], c) : rgb[c], 0.0, 1.0);
+  if (!managed) return clamp(rgb, 0.0, 1.0);
+#if FILM
+  return clamp(filmLookup(rgb), 0.0, 1.0);
+#else
+  for (int c = 0; c < 3; ++c) rgb[c] = clamp(lookup(rgb[c], c), 0.0, 1.0);
   return rgb;
+#endif
+#endif
+}
+vec4 difference(vec4 a, vec4 b) {
+  float d = 0.0;
+  for (int c = 0; c < 4; ++c) if (c < channelsA) d += abs(finite(a[c]) - finite(b[c]));
+  return vec4(viridis(d / float(channelsA) / falseMax), 1.0);
 }
 void main() {
+#if TO_IMAGE
+  // One fragment an image pixel, into the two images the blit places on the canvas: A's
+  // picture (or the difference) and B's where it is shown.
+  ivec2 px = ivec2(int(gl_FragCoord.x), int(sizeA.y) - 1 - int(gl_FragCoord.y));
+#else
   vec2 p = (vec2(screen.x, 1.0 - screen.y) * canvasSize - pan) / zoom;  // image pixels, y down
   if (p.x < 0.0 || p.y < 0.0 || p.x >= sizeA.x || p.y >= sizeA.y) { color = vec4(0.0); return; }
   ivec2 px = ivec2(floor(p));
+#endif
   vec4 a = texelFetch(imgA, px, 0);
-  vec4 b = haveB == 1 ? texelFetch(imgB, px, 0) : a;
-  bool showB = mode == 1 || (mode == 2 && p.x >= wipe * sizeA.x);
-  if (mode == 3) {
-    float d = 0.0;
-    for (int c = 0; c < 4; ++c) if (c < channelsA) d += abs(finite(a[c]) - finite(b[c]));
-    color = vec4(viridis(d / float(channelsA) / falseMax), 1.0);
-    return;
-  }
-  vec3 rgb = showB ? preview(b, channelsB, colorB) : preview(a, channelsA, colorA);
-  if (mode == 2 && abs(p.x - wipe * sizeA.x) < 0.75 / zoom) rgb = vec3(1.0);
+#if MODE == 0
+  color = vec4(preview(a, channelsA, COLOR_A == 1), 1.0);
+#else
+  vec4 b = texelFetch(imgB, px, 0);
+#if MODE == 3
+  color = difference(a, b);
+#elif TO_IMAGE
+  color = vec4(preview(a, channelsA, COLOR_A == 1), 1.0);
+  pictureB = vec4(preview(b, channelsB, COLOR_B == 1), 1.0);
+#else
+  bool showB = MODE == 1 || p.x >= wipe * sizeA.x;
+  vec3 rgb = showB ? preview(b, channelsB, COLOR_B == 1) : preview(a, channelsA, COLOR_A == 1);
+  if (MODE == 2 && abs(p.x - wipe * sizeA.x) < 0.75 / zoom) rgb = vec3(1.0);
   color = vec4(rgb, 1.0);
+#endif
+#endif
+}`;
+
+// Places the images FRAGMENT drew at image resolution on the canvas: zoom, pan, the wipe and its
+// line, as FRAGMENT's canvas path does.
+const BLIT = `
+precision highp float;
+in vec2 screen; out vec4 color;
+uniform sampler2D shownA, shownB;
+uniform int mode;
+uniform float wipe, zoom;
+uniform vec2 canvasSize, sizeA, pan;
+void main() {
+  vec2 p = (vec2(screen.x, 1.0 - screen.y) * canvasSize - pan) / zoom;
+  if (p.x < 0.0 || p.y < 0.0 || p.x >= sizeA.x || p.y >= sizeA.y) { color = vec4(0.0); return; }
+  ivec2 px = ivec2(floor(p));
+  px.y = int(sizeA.y) - 1 - px.y;  // the images are stored bottom row first
+  bool showB = mode == 1 || (mode == 2 && p.x >= wipe * sizeA.x);
+  color = showB ? texelFetch(shownB, px, 0) : texelFetch(shownA, px, 0);
+  if (mode == 2 && abs(p.x - wipe * sizeA.x) < 0.75 / zoom) color = vec4(1.0);
 }`;
 
 class Viewer {
@@ -143,19 +189,43 @@ class Viewer {
       if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
       return s;
     };
-    const prog = this.program = gl.createProgram();
-    gl.attachShader(prog, shader(gl.VERTEX_SHADER, VERTEX));
-    gl.attachShader(prog, shader(gl.FRAGMENT_SHADER, FRAGMENT));
-    gl.linkProgram(prog);
-    if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(prog));
-    gl.useProgram(prog);
+    const program = (fragment) => {
+      const prog = gl.createProgram();
+      gl.attachShader(prog, shader(gl.VERTEX_SHADER, VERTEX));
+      gl.attachShader(prog, shader(gl.FRAGMENT_SHADER, `#version 300 es\n${fragment}`));
+      gl.bindAttribLocation(prog, 0, 'corner');
+      gl.linkProgram(prog);
+      if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(prog));
+      return prog;
+    };
+    // FRAGMENT's programs by what they show, made when first drawn.
+    this.programs = new Map();
+    this.programFor = (defines) => {
+      const key = JSON.stringify(defines);
+      if (!this.programs.has(key)) {
+        const prog = program(Object.entries(defines).map(([k, v]) => `#define ${k} ${+v}\n`).join('') + FRAGMENT);
+        gl.useProgram(prog);
+        for (const [name, unit] of [['imgA', 0], ['imgB', 1], ['lut', 2], ['cube', 3]])
+          gl.uniform1i(gl.getUniformLocation(prog, name), unit);
+        this.programs.set(key, prog);
+      }
+      return this.programs.get(key);
+    };
+    this.cubeRange = [0, 1];
+    this.blit = program(BLIT);
     const quad = gl.createBuffer();
     gl.bindBuffer(gl.ARRAY_BUFFER, quad);
     gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([0, 0, 1, 0, 0, 1, 1, 1]), gl.STATIC_DRAW);
-    const loc = gl.getAttribLocation(prog, 'corner');
-    gl.enableVertexAttribArray(loc);
-    gl.vertexAttribPointer(loc, 2, gl.FLOAT, false, 0, 0);
+    gl.enableVertexAttribArray(0);
+    gl.vertexAttribPointer(0, 2, gl.FLOAT, false, 0, 0);
+    // The pictures at image resolution (8 bits, as the canvas keeps them) and their framebuffer.
+    this.shown = { key: null, width: 0, height: 0, a: gl.createTexture(), b: gl.createTexture(), fbo: gl.createFramebuffer() };
+    gl.useProgram(this.blit);
+    gl.uniform1i(gl.getUniformLocation(this.blit, 'shownA'), 4);
+    gl.uniform1i(gl.getUniformLocation(this.blit, 'shownB'), 5);
     this.textures = { imgA: gl.createTexture(), imgB: gl.createTexture(), lut: gl.createTexture(), cube: gl.createTexture() };
+    this.uploads = 0;  // counts uploads: a picture drawn from older images is drawn again
+    this.perImagePixel = true;  // false: FRAGMENT once a canvas pixel always (the browser test compares)
     // The film table's unit from the start (a 3D sampler left on unit 0 with the images' 2D ones
     // would make every draw fail), holding one black entry until the film view is chosen.
     this.setFilmCube(new Float32Array(3), 1, 0, 1);
@@ -179,12 +249,12 @@ class Viewer {
     const gl = this.gl;
     const formats = [null, [gl.R32F, gl.RED], [gl.RG32F, gl.RG], [gl.RGB32F, gl.RGB], [gl.RGBA32F, gl.RGBA]];
     const [internal, format] = formats[image.channels.length];
+    this.uploads += 1;
     gl.activeTexture(gl.TEXTURE0 + unit);
     gl.bindTexture(gl.TEXTURE_2D, this.textures[name]);
     gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
     gl.texImage2D(gl.TEXTURE_2D, 0, internal, image.width, image.height, 0, format, gl.FLOAT, image.data);
     for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
-    gl.uniform1i(gl.getUniformLocation(this.program, name), unit);
   }
   setLut(table) {  // 3 planes of 65536 → a 256 × 256 RGB texture
     const rgb = new Float32Array(65536 * 3);
@@ -196,6 +266,7 @@ class Viewer {
   // each channel from log2Min to log2Max.
   setFilmCube(table, size, log2Min, log2Max) {
     const gl = this.gl, n = size * size * size;
+    this.uploads += 1;
     const rgb = new Float32Array(n * 3);
     for (let i = 0; i < n; ++i) for (let c = 0; c < 3; ++c) rgb[i * 3 + c] = table[c * n + i];
     gl.activeTexture(gl.TEXTURE3);
@@ -203,9 +274,7 @@ class Viewer {
     gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
     gl.texImage3D(gl.TEXTURE_3D, 0, gl.RGB32F, size, size, size, 0, gl.RGB, gl.FLOAT, rgb);
     for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_3D, p, gl.NEAREST);
-    gl.uniform1i(gl.getUniformLocation(this.program, 'cube'), 3);
-    gl.uniform1f(gl.getUniformLocation(this.program, 'cubeLog2Min'), log2Min);
-    gl.uniform1f(gl.getUniformLocation(this.program, 'cubeLog2Max'), log2Max);
+    this.cubeRange = [log2Min, log2Max];
     if (this.a) this.draw();
   }
   setA(image) { const first = !this.a; this.a = image; this.upload(0, 'imgA', image); if (first) this.fit(); this.draw(); }
@@ -238,34 +307,81 @@ class Viewer {
   imagePoint(cx, cy) {
     return [(cx - this.state.pan[0]) / this.state.zoom, (cy - this.state.pan[1]) / this.state.zoom];
   }
+  // Where the image has fewer pixels than the canvas (a small capture, a fitted or zoomed-in view)
+  // FRAGMENT runs once an image pixel into this.shown, again only when what it computes changes,
+  // and BLIT places that on the canvas; otherwise FRAGMENT runs once a canvas pixel. With software
+  // rendering FRAGMENT is what a draw costs (about 1 µs a pixel on SwiftShader).
   draw() {
     const gl = this.gl, c = this.canvas, s = this.state;
     const w = c.clientWidth, h = c.clientHeight;
     if (c.width !== w || c.height !== h) { c.width = w; c.height = h; }
+    if (!this.a || !this.perImagePixel || this.a.width * this.a.height > w * h) return this.drawPicture(w, h, false);
+    const sh = this.shown, a = this.a;
+    const key = JSON.stringify([this.uploads, !!this.b, a.color, this.b?.color, this.lutReady, s.mode, s.isolate, s.falseColor, s.film, s.gain, s.falseMax]);
+    if (sh.key !== key || sh.width !== a.width || sh.height !== a.height) {
+      if (sh.width !== a.width || sh.height !== a.height) {
+        for (const [unit, t] of [[4, sh.a], [5, sh.b]]) {
+          gl.activeTexture(gl.TEXTURE0 + unit);
+          gl.bindTexture(gl.TEXTURE_2D, t);
+          gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, a.width, a.height, 0, gl.RGBA, gl.UNSIGNED_BYTE, null);
+          for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
+        }
+        gl.bindFramebuffer(gl.FRAMEBUFFER, sh.fbo);
+        gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, sh.a, 0);
+        gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT1, gl.TEXTURE_2D, sh.b, 0);
+        sh.width = a.width;
+        sh.height = a.height;
+      }
+      gl.bindFramebuffer(gl.FRAMEBUFFER, sh.fbo);
+      this.drawPicture(a.width, a.height, true);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      sh.key = key;
+    }
+    gl.useProgram(this.blit);
+    const u = (n) => gl.getUniformLocation(this.blit, n);
+    gl.uniform1i(u('mode'), this.b && this.b.width === a.width && this.b.height === a.height ? s.mode : 0);
+    gl.uniform1f(u('wipe'), s.wipe);
+    gl.uniform2f(u('canvasSize'), w, h);
+    gl.uniform2f(u('sizeA'), a.width, a.height);
+    gl.uniform2f(u('pan'), s.pan[0], s.pan[1]);
+    gl.uniform1f(u('zoom'), s.zoom);
+    gl.viewport(0, 0, w, h);
+    gl.clearColor(0, 0, 0, 0);
+    gl.clear(gl.COLOR_BUFFER_BIT);
+    gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4);
+    if (this.onDraw) this.onDraw();
+  }
+  // FRAGMENT over a w × h target: the canvas (toImage false) or this.shown's two images.
+  drawPicture(w, h, toImage) {
+    const gl = this.gl, s = this.state;
     gl.viewport(0, 0, w, h);
     gl.clearColor(0, 0, 0, 0);
     gl.clear(gl.COLOR_BUFFER_BIT);
     if (!this.a) return;
-    const u = (n) => gl.getUniformLocation(this.program, n);
     const b = this.b && this.b.width === this.a.width && this.b.height === this.a.height ? this.b : null;
+    const prog = this.programFor({
+      TO_IMAGE: toImage, MODE: b ? s.mode : 0, FALSE_COLOR: s.falseColor, FILM: s.film,
+      COLOR_A: this.a.color && this.lutReady, COLOR_B: !!b && b.color && this.lutReady,
+    });
+    gl.useProgram(prog);
+    // B's picture is drawn (and written) only where it is shown.
+    const withB = b && (s.mode === 1 || s.mode === 2);
+    if (toImage) gl.drawBuffers([gl.COLOR_ATTACHMENT0, withB ? gl.COLOR_ATTACHMENT1 : gl.NONE]);
+    const u = (n) => gl.getUniformLocation(prog, n);
     gl.uniform1i(u('channelsA'), this.a.channels.length);
     gl.uniform1i(u('channelsB'), b ? b.channels.length : this.a.channels.length);
-    gl.uniform1i(u('haveB'), b ? 1 : 0);
-    gl.uniform1i(u('colorA'), this.a.color && this.lutReady ? 1 : 0);
-    gl.uniform1i(u('colorB'), b && b.color && this.lutReady ? 1 : 0);
-    gl.uniform1i(u('mode'), b ? s.mode : 0);
-    gl.uniform1i(u('film'), s.film ? 1 : 0);
     gl.uniform1i(u('isolate'), s.isolate);
-    gl.uniform1i(u('falseColor'), s.falseColor);
     gl.uniform1f(u('gain'), s.gain);
     gl.uniform1f(u('falseMax'), Math.max(s.falseMax, 1e-20));
     gl.uniform1f(u('wipe'), s.wipe);
+    gl.uniform1f(u('cubeLog2Min'), this.cubeRange[0]);
+    gl.uniform1f(u('cubeLog2Max'), this.cubeRange[1]);
     gl.uniform2f(u('canvasSize'), w, h);
     gl.uniform2f(u('sizeA'), this.a.width, this.a.height);
     gl.uniform2f(u('pan'), s.pan[0], s.pan[1]);
     gl.uniform1f(u('zoom'), s.zoom);
     gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4);
-    if (this.onDraw) this.onDraw();
+    if (!toImage && this.onDraw) this.onDraw();
   }
 }
 
@@ -840,8 +956,13 @@ function probe(ev) {
 // A capture buffer or truth layer does not change with the settings; a pass output does.
 const isPassOutput = (name) => name && name.includes('.') && !name.startsWith('Truth.');
 
+// A run shorter than this shows no per-pass progress.
+const kQuietRunMs = 250;
+
+// The picture first, the panels after it: on a machine of few cores the server, the page's
+// layout and the browser's drawing share them, and the image is what the user waits for.
 async function refresh() {
-  const images = Promise.all(['a', 'b'].map((w) => (isPassOutput(page.shown[w]) || !page.viewer[w] ? loadShown(w) : null)));
+  await Promise.all(['a', 'b'].map((w) => (isPassOutput(page.shown[w]) || !page.viewer[w] ? loadShown(w) : null)));
   const [params, plan, report] = await Promise.all([getJSON('/api/params'), getJSON('/api/graph'), getJSON('/api/report')]);
   page.params = params;
   markShadowed(params);
@@ -850,7 +971,6 @@ async function refresh() {
   $('frame-label').textContent = `frame ${params.frame}`;
   if (report) pushHistory(report, params);
   buildMethods(report, params);
-  await images;
   return report;
 }
 
@@ -896,6 +1016,9 @@ function listen() {
   events.onmessage = async (msg) => {
     const e = JSON.parse(msg.data);
     if (e.type === 'pass') {
+      // Progress only for a run that lasts: each update is a redraw of the page, which on a
+      // software-rendered browser takes the cores the run needs.
+      if (!page.pending || performance.now() - page.pending.sent < kQuietRunMs) return;
       $('progress').max = e.total;
       $('progress').value = e.done;
       setStatus(`change ${e.generation}: ${e.pass} (${e.done}/${e.total})`);

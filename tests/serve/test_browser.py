@@ -111,6 +111,18 @@ def test_wipe_shows_a_left_and_b_right(browser_run):
     assert w["aRight"] != w["bRight"]
 
 
+def test_both_ways_of_drawing_give_the_same_canvas(browser_run):
+    # Once an image pixel into an 8-bit image then placed, or once a canvas pixel: the same
+    # shader values written to an 8-bit target either way, so the same bytes.
+    paths = browser_run["drawPaths"]
+    assert set(paths) == {"a", "b", "wipe", "diff", "falseColour"}
+    for mode, p in paths.items():
+        assert p["perImagePixel"] == p["perCanvasPixel"], mode
+    # The modes drew different things (the comparison is not of blank canvases).
+    assert paths["a"]["perImagePixel"] != paths["b"]["perImagePixel"]
+    assert paths["diff"]["perImagePixel"] != paths["a"]["perImagePixel"]
+
+
 def test_the_probe_reads_the_command_lines_value(browser_run, server):
     r = browser_run
     # The pixel the probe read, as it says (the mouse was put on the centre of this one).

@@ -35,7 +35,10 @@ const stop = (server) => new Promise((resolve) => { server.child.once('exit', re
 
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
+  // WebGL2 on SwiftShader, the page composited in software: what Chromium does where no GPU
+  // is (compositing through SwiftShader costs about 30 ms of CPU a frame, drawn or not).
+  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
+         '--disable-gpu-compositing', ...(process.env.FP_CHROMIUM_FLAGS || '').split(' ').filter(Boolean)],
 });
 const page = await (await browser.newContext({ viewport: { width: 1400, height: 860 } })).newPage();
 const status = () => page.locator('#status').textContent();
