@@ -39,6 +39,15 @@ const VERTEX = `#version 300 es
 in vec2 corner; out vec2 screen;
 void main() { screen = corner; gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0); }`;
 
+// Where a canvas fragment falls on the image (image pixels, y down) and where the wipe is: the
+// one placement of FRAGMENT's canvas path and of BLIT.
+const PLACE = `
+uniform vec2 canvasSize, sizeA, pan; uniform float zoom, wipe;
+vec2 imagePoint() { return (vec2(screen.x, 1.0 - screen.y) * canvasSize - pan) / zoom; }
+bool outsideImage(vec2 p) { return p.x < 0.0 || p.y < 0.0 || p.x >= sizeA.x || p.y >= sizeA.y; }
+bool rightOfWipe(vec2 p) { return p.x >= wipe * sizeA.x; }
+bool onWipeLine(vec2 p) { return abs(p.x - wipe * sizeA.x) < 0.75 / zoom; }`;
+
 // The display maths of the library's display pass (passes/display/DisplayKernel.h): exposure,
 // the channel mapping of a preview, the baked view looked up between neighbouring halves, clamp.
 // What a draw shows is compiled in (#define, see Viewer.programFor): a software renderer runs
@@ -52,8 +61,8 @@ uniform sampler2D imgA, imgB, lut;
 uniform sampler3D cube;
 uniform int channelsA, channelsB, isolate;
 uniform float cubeLog2Min, cubeLog2Max;
-uniform float gain, falseMax, wipe;
-uniform vec2 canvasSize, sizeA, pan; uniform float zoom;
+uniform float gain, falseMax;
+${PLACE}
 
 uint halfBitsBelow(float a) {
   if (a >= 65504.0) return 0x7BFFu;
@@ -135,8 +144,8 @@ void main() {
   // picture (or the difference) and B's where it is shown.
   ivec2 px = ivec2(int(gl_FragCoord.x), int(sizeA.y) - 1 - int(gl_FragCoord.y));
 #else
-  vec2 p = (vec2(screen.x, 1.0 - screen.y) * canvasSize - pan) / zoom;  // image pixels, y down
-  if (p.x < 0.0 || p.y < 0.0 || p.x >= sizeA.x || p.y >= sizeA.y) { color = vec4(0.0); return; }
+  vec2 p = imagePoint();
+  if (outsideImage(p)) { color = vec4(0.0); return; }
   ivec2 px = ivec2(floor(p));
 #endif
   vec4 a = texelFetch(imgA, px, 0);
@@ -150,9 +159,9 @@ void main() {
   color = vec4(preview(a, channelsA, COLOR_A == 1), 1.0);
   pictureB = vec4(preview(b, channelsB, COLOR_B == 1), 1.0);
 #else
-  bool showB = MODE == 1 || p.x >= wipe * sizeA.x;
+  bool showB = MODE == 1 || rightOfWipe(p);
   vec3 rgb = showB ? preview(b, channelsB, COLOR_B == 1) : preview(a, channelsA, COLOR_A == 1);
-  if (MODE == 2 && abs(p.x - wipe * sizeA.x) < 0.75 / zoom) rgb = vec3(1.0);
+  if (MODE == 2 && onWipeLine(p)) rgb = vec3(1.0);
   color = vec4(rgb, 1.0);
 #endif
 #endif
@@ -165,16 +174,15 @@ precision highp float;
 in vec2 screen; out vec4 color;
 uniform sampler2D shownA, shownB;
 uniform int mode;
-uniform float wipe, zoom;
-uniform vec2 canvasSize, sizeA, pan;
+${PLACE}
 void main() {
-  vec2 p = (vec2(screen.x, 1.0 - screen.y) * canvasSize - pan) / zoom;
-  if (p.x < 0.0 || p.y < 0.0 || p.x >= sizeA.x || p.y >= sizeA.y) { color = vec4(0.0); return; }
+  vec2 p = imagePoint();
+  if (outsideImage(p)) { color = vec4(0.0); return; }
   ivec2 px = ivec2(floor(p));
   px.y = int(sizeA.y) - 1 - px.y;  // the images are stored bottom row first
-  bool showB = mode == 1 || (mode == 2 && p.x >= wipe * sizeA.x);
+  bool showB = mode == 1 || (mode == 2 && rightOfWipe(p));
   color = showB ? texelFetch(shownB, px, 0) : texelFetch(shownA, px, 0);
-  if (mode == 2 && abs(p.x - wipe * sizeA.x) < 0.75 / zoom) color = vec4(1.0);
+  if (mode == 2 && onWipeLine(p)) color = vec4(1.0);
 }`;
 
 class Viewer {
@@ -339,7 +347,7 @@ class Viewer {
     }
     gl.useProgram(this.blit);
     const u = (n) => gl.getUniformLocation(this.blit, n);
-    gl.uniform1i(u('mode'), this.b && this.b.width === a.width && this.b.height === a.height ? s.mode : 0);
+    gl.uniform1i(u('mode'), this.comparableB() ? s.mode : 0);
     gl.uniform1f(u('wipe'), s.wipe);
     gl.uniform2f(u('canvasSize'), w, h);
     gl.uniform2f(u('sizeA'), a.width, a.height);
@@ -351,6 +359,10 @@ class Viewer {
     gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4);
     if (this.onDraw) this.onDraw();
   }
+  // B where it can be drawn beside A (the same size), else null.
+  comparableB() {
+    return this.b && this.b.width === this.a.width && this.b.height === this.a.height ? this.b : null;
+  }
   // FRAGMENT over a w × h target: the canvas (toImage false) or this.shown's two images.
   drawPicture(w, h, toImage) {
     const gl = this.gl, s = this.state;
@@ -358,7 +370,7 @@ class Viewer {
     gl.clearColor(0, 0, 0, 0);
     gl.clear(gl.COLOR_BUFFER_BIT);
     if (!this.a) return;
-    const b = this.b && this.b.width === this.a.width && this.b.height === this.a.height ? this.b : null;
+    const b = this.comparableB();
     const prog = this.programFor({
       TO_IMAGE: toImage, MODE: b ? s.mode : 0, FALSE_COLOR: s.falseColor, FILM: s.film,
       COLOR_A: this.a.color && this.lutReady, COLOR_B: !!b && b.color && this.lutReady,
@@ -956,9 +968,6 @@ function probe(ev) {
 // A capture buffer or truth layer does not change with the settings; a pass output does.
 const isPassOutput = (name) => name && name.includes('.') && !name.startsWith('Truth.');
 
-// A run shorter than this shows no per-pass progress.
-const kQuietRunMs = 250;
-
 // The picture first, the panels after it: on a machine of few cores the server, the page's
 // layout and the browser's drawing share them, and the image is what the user waits for.
 async function refresh() {
@@ -996,8 +1005,12 @@ async function resync() {
   return s;
 }
 
+// A run shorter than this shows no per-pass progress.
+const kQuietRunMs = 250;
+
 function listen() {
   const events = new EventSource('/api/events');
+  let run = { generation: -1, started: 0 };  // the run the pass events are of, and its first event's time
   events.onerror = () => {
     if (document.body.dataset.connection !== 'lost')
       setConnection('lost', 'lost the server: it stopped or cannot be reached; reconnecting…');
@@ -1016,9 +1029,11 @@ function listen() {
   events.onmessage = async (msg) => {
     const e = JSON.parse(msg.data);
     if (e.type === 'pass') {
-      // Progress only for a run that lasts: each update is a redraw of the page, which on a
-      // software-rendered browser takes the cores the run needs.
-      if (!page.pending || performance.now() - page.pending.sent < kQuietRunMs) return;
+      // Progress only for a run that lasts (any run: a slider's, the first frame's, another
+      // client's): each update is a redraw of the page, which on a software-rendered browser
+      // takes the cores the run needs.
+      if (e.generation !== run.generation) run = { generation: e.generation, started: performance.now() };
+      if (performance.now() - run.started < kQuietRunMs) return;
       $('progress').max = e.total;
       $('progress').value = e.done;
       setStatus(`change ${e.generation}: ${e.pass} (${e.done}/${e.total})`);
