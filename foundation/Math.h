@@ -28,6 +28,24 @@ struct Vec3T {
 using Vec3f = Vec3T<float>;
 using Vec3d = Vec3T<double>;
 
+// The primitives a per-pixel kernel written once for float and for LaneFloat (LaneFloat.h, a
+// SIMD vector of pixels) shares: a comparison gives a mask (bool here), and the kernel chooses
+// with ifThenElse, asks anyLane and takes maxLike (std::max's rule, NaN included) and sqrtOf
+// instead of `?:`, `if`, std::max and std::sqrt. LaneFloat defines the same names for lanes.
+FP_HD constexpr float ifThenElse(bool m, float a, float b) { return m ? a : b; }
+FP_HD constexpr double ifThenElse(bool m, double a, double b) { return m ? a : b; }
+FP_HD constexpr bool anyLane(bool m) { return m; }
+FP_HD inline float sqrtOf(float x) { return std::sqrt(x); }
+FP_HD inline double sqrtOf(double x) { return std::sqrt(x); }
+/// std::max(a, b): (a < b) ? b : a.
+template <class T>
+FP_HD constexpr T maxLike(T a, T b) { return ifThenElse(a < b, b, a); }
+/// m ? a : b for each component (m: one mask for all three).
+template <class M, class T>
+FP_HD constexpr Vec3T<T> ifThenElse(const M& m, const Vec3T<T>& a, const Vec3T<T>& b) {
+    return {ifThenElse(m, a.x, b.x), ifThenElse(m, a.y, b.y), ifThenElse(m, a.z, b.z)};
+}
+
 template <class T>
 FP_HD constexpr T dot(const Vec3T<T>& a, const Vec3T<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 template <class T>
@@ -35,11 +53,11 @@ FP_HD constexpr Vec3T<T> cross(const Vec3T<T>& a, const Vec3T<T>& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 template <class T>
-FP_HD FP_HOT_INLINE T length(const Vec3T<T>& a) { return std::sqrt(dot(a, a)); }
+FP_HD FP_HOT_INLINE T length(const Vec3T<T>& a) { return sqrtOf(dot(a, a)); }
 template <class T>
 FP_HD FP_HOT_INLINE Vec3T<T> normalize(const Vec3T<T>& a) {
-    T l = length(a);
-    return l > T(0) ? a / l : Vec3T<T>{};
+    const T l = length(a);
+    return ifThenElse(l > T(0), a / l, Vec3T<T>{});
 }
 
 /// Clamp to [0, 1] (HLSL saturate).

@@ -14,36 +14,45 @@ namespace fp {
 /// Dirac lobe, which a finite BRDF value cannot represent (and would turn into NaN).
 constexpr float kMinLightRoughness = 0.02f;
 
+// The terms below are templates on their number type T: float, or a SIMD vector of pixels
+// (foundation/LaneFloat.h), the same operations either way.
+
 /// Unreal's Pow4 and Pow5 (Common.ush): products, not pow().
-FP_HD inline float pow4(float x) {
-    const float x2 = x * x;
+template <class T>
+FP_HD T pow4(T x) {
+    const T x2 = x * x;
     return x2 * x2;
 }
 
-FP_HD inline float pow5(float x) {
+template <class T>
+FP_HD T pow5(T x) {
     return pow4(x) * x;
 }
 
-FP_HD inline float ggxD(float a2, float NoH) {
-    const float d = (NoH * a2 - NoH) * NoH + 1.0f;
+template <class T>
+FP_HD T ggxD(T a2, T NoH) {
+    const T d = (NoH * a2 - NoH) * NoH + 1.0f;
     return a2 / (kPiF * d * d);
 }
 
 /// Vis = G/(4·NoL·NoV), Heitz's joint Smith approximation as Unreal writes it.
-FP_HD inline float smithJointApproxVis(float a2, float NoV, float NoL) {
-    const float a = std::sqrt(a2);
-    const float visV = NoL * (NoV * (1.0f - a) + a);
-    const float visL = NoV * (NoL * (1.0f - a) + a);
-    return 0.5f / std::max(visV + visL, 1e-8f);
+template <class T>
+FP_HD T smithJointApproxVis(T a2, T NoV, T NoL) {
+    const T a = sqrtOf(a2);
+    const T visV = NoL * (NoV * (1.0f - a) + a);
+    const T visL = NoV * (NoL * (1.0f - a) + a);
+    return 0.5f / maxLike(visV + visL, T(1e-8f));
 }
 
 /// Schlick with Unreal's rule that F0 below 2% means "no specular at all" (saturate(50·F0.g)).
 /// Fc = Pow5(1 − VoH) as Unreal's F_Schlick writes it (inferred from memory of BRDF.ush): three
 /// multiplies, which SIMD lanes repeat exactly where std::pow has no exact vector twin.
-FP_HD inline Vec3f schlickF(const Vec3f& F0, float VoH) {
-    const float fc = pow5(1.0f - std::clamp(VoH, 0.0f, 1.0f));
-    const float cut = std::clamp(50.0f * F0.y, 0.0f, 1.0f);
-    return Vec3f{cut * fc, cut * fc, cut * fc} + F0 * (1.0f - fc);
+template <class T>
+FP_HD Vec3T<T> schlickF(const Vec3T<T>& F0, T VoH) {
+    const T fc = pow5(T(1.0f) - saturate(VoH));
+    const T cut = saturate(50.0f * F0.y);
+    const T cutFc = cut * fc;
+    return Vec3T<T>{cutFc, cutFc, cutFc} + F0 * (1.0f - fc);
 }
 
 struct SurfaceBRDF {

@@ -27,31 +27,44 @@ struct BxDFSurface {
 };
 
 /// Each term per unit light falloff colour (irradiance at normal incidence); the surface terms
-/// already carry NoL, the transmission term does not.
-struct BxDFTerms {
-    Vec3f diffuse, specular, transmission;
+/// already carry NoL, the transmission term does not. T: float, or a SIMD vector of pixels
+/// (foundation/LaneFloat.h) for the default-lit lobe.
+template <class T>
+struct BxDFTermsT {
+    Vec3T<T> diffuse, specular, transmission;
 };
+using BxDFTerms = BxDFTermsT<float>;
+
+/// The light a pixel takes from one direction: the terms × the falloff colour, the surface terms
+/// dimmed by the surface shadow and transmission by the transmission shadow (algorithms §9.5).
+template <class T>
+FP_HD Vec3T<T> shadowedLight(const BxDFTermsT<T>& b, T surfaceShadow, T transmissionShadow, const Vec3T<T>& falloff) {
+    return ((b.diffuse + b.specular) * surfaceShadow + b.transmission * transmissionShadow) * falloff;
+}
 
 namespace bxdf_detail {
 
 // The angles every lobe needs, with the guards that keep them finite.
-struct Geometry {
-    float NoL;  // dot(N, L), unclamped: transmission terms need its sign
-    float NoV;  // ≥ 1e-4: views at or below the horizon still give finite lobes
-    float NoH, VoH;
+template <class T>
+struct GeometryT {
+    T NoL;  // dot(N, L), unclamped: transmission terms need its sign
+    T NoV;  // ≥ 1e-4: views at or below the horizon still give finite lobes
+    T NoH, VoH;
     // Zero when V = −L (our normalize of a zero vector), which keeps NoH and VoH at 0 where
     // HLSL's normalize would give NaN.
-    Vec3f H;
+    Vec3T<T> H;
 };
+using Geometry = GeometryT<float>;
 
-FP_HD inline Geometry geometryOf(const Vec3f& N, const Vec3f& V, const Vec3f& L) {
-    Geometry g;
+template <class T>
+FP_HD GeometryT<T> geometryOf(const Vec3T<T>& N, const Vec3T<T>& V, const Vec3T<T>& L) {
+    GeometryT<T> g;
     g.NoL = dot(N, L);
     // As SurfaceBRDF, so the lighting passes agree with the capture renderer. Unreal 4.27 takes
     // saturate(|N·V| + 1e-5) instead (inferred from memory of DefaultLitBxDF); they differ only
     // for back-facing views.
-    const float NoV = dot(N, V);
-    g.NoV = NoV < 1e-4f ? 1e-4f : NoV;  // std::max's choice, NaN included
+    const T NoV = dot(N, V);
+    g.NoV = ifThenElse(NoV < 1e-4f, T(1e-4f), NoV);  // std::max's choice, NaN included
     g.H = normalize(V + L);
     g.NoH = saturate(dot(N, g.H));
     g.VoH = saturate(dot(V, g.H));
@@ -59,25 +72,35 @@ FP_HD inline Geometry geometryOf(const Vec3f& N, const Vec3f& V, const Vec3f& L)
 }
 
 // α = roughness², a2 = α², with roughness held off 0 as for every analytic light (BRDF.h).
-FP_HD inline float lightA2(float roughness) {
-    return pow4(roughness < kMinLightRoughness ? kMinLightRoughness : roughness);
+template <class T>
+FP_HD T lightA2(T roughness) {
+    return pow4(ifThenElse(roughness < kMinLightRoughness, T(kMinLightRoughness), roughness));
 }
 
 // GGX specular × NoL, Unreal's default-lit lobe, with the terms the capture renderer uses (BRDF.h).
-FP_HD inline Vec3f ggxSpecular(const Vec3f& specularColor, float roughness, const Geometry& g, float NoL) {
-    const float a2 = lightA2(roughness);
+template <class T>
+FP_HD Vec3T<T> ggxSpecular(const Vec3T<T>& specularColor, T roughness, const GeometryT<T>& g, T NoL) {
+    const T a2 = lightA2(roughness);
     return schlickF(specularColor, g.VoH) *
            (ggxD(a2, g.NoH) * smithJointApproxVis(a2, g.NoV, NoL) * NoL);
 }
 
-// The default-lit surface terms, which every lit model starts from.
-FP_HD inline BxDFTerms defaultLit(const BxDFSurface& s, const Geometry& g) {
-    BxDFTerms t;
-    if (g.NoL <= 0.0f)
+// The default-lit surface terms, which every lit model starts from: zero where L is below the
+// surface (NoL ≤ 0).
+template <class T>
+FP_HD BxDFTermsT<T> defaultLitLobe(const Vec3T<T>& diffuseColor, const Vec3T<T>& specularColor, T roughness,
+                                   const GeometryT<T>& g) {
+    BxDFTermsT<T> t;
+    const auto lit = !(g.NoL <= 0.0f);
+    if (!anyLane(lit))
         return t;
-    t.diffuse = s.diffuseColor * (g.NoL / kPiF);
-    t.specular = ggxSpecular(s.specularColor, s.roughness, g, g.NoL);
+    t.diffuse = ifThenElse(lit, diffuseColor * (g.NoL / kPiF), Vec3T<T>{});
+    t.specular = ifThenElse(lit, ggxSpecular(specularColor, roughness, g, g.NoL), Vec3T<T>{});
     return t;
+}
+
+FP_HD inline BxDFTerms defaultLit(const BxDFSurface& s, const Geometry& g) {
+    return defaultLitLobe(s.diffuseColor, s.specularColor, s.roughness, g);
 }
 
 // algorithms §9.6 subsurface (2): wrap-around back scatter plus a forward in-scatter lobe towards

@@ -1,8 +1,9 @@
 #pragma once
-// deferred_lighting's per-pixel work (algorithms §9.5–9.6), written once for both backends: the
-// scalar reference that DeferredLightingPass::execute runs for every pixel its SIMD lanes do not
-// take (DeferredLightingLanes.h gives the same bits for default-lit pixels of a rect light), and
-// that DeferredLightingPass.cu runs for every pixel on the GPU.
+// deferred_lighting's per-pixel work (algorithms §9.5–9.6), written once: DeferredLightingPass's
+// tile loop runs it pixel by pixel on the CPU, DeferredLightingPass.cu once a thread on the GPU,
+// and for default-lit pixels of a rect light rectDefaultLit runs a SIMD vector of neighbouring
+// pixels at a time (DeferredLightingLanes.cpp instantiates it over foundation/LaneFloat.h), the
+// same operations lane by lane, so the same bits.
 #include "foundation/Camera.h"
 #include "foundation/FloatToInt.h"
 #include "foundation/HostDevice.h"
@@ -105,6 +106,48 @@ FP_HD inline void shadowsAt(const Frame& f, int x, int y, float& surfaceShadow, 
     }
 }
 
+/// Calls `fn(L, falloff, inFront)` for each grid point of the rect light with the unit direction
+/// from camera-relative p towards it and the unshadowed irradiance it brings at normal incidence,
+/// where `inFront` (a mask: T is float or lanes of pixels) says which of the p see the emitting
+/// side; points that no p sees are left out. Returns the mask of the p that saw any point.
+template <class T, class Fn>
+FP_HD auto forEachRectPoint(const LightShape& light, const Vec3T<T>& p, Fn&& fn) {
+    const Vec3T<T> normal(light.rectNormal), color(light.color);
+    decltype(p.x < p.x) reached{};
+    for (int k = 0; k < light.rectCount; ++k) {
+        const Vec3T<T> d = Vec3T<T>(light.rectPoints[k]) - p;
+        const T dist2 = dot(d, d);
+        const Vec3T<T> L = d / sqrtOf(dist2);
+        const T cosL = -dot(L, normal);
+        const auto inFront = !(cosL <= 0.0f);
+        if (!anyLane(inFront)) continue;
+        fn(L, color * (cosL * light.rectCellArea / dist2), inFront);
+        reached = reached | inFront;
+    }
+    return reached;
+}
+
+/// The default-lit BxDF of the pixels of `s` (a surface in T: float, or lanes of pixels) summed
+/// over the rect light's grid, each point's light shadowed (shadowedLight) and added where the
+/// pixel sees it; `reached` says which pixels saw any point. evaluateBxDF's default-lit case, as
+/// shadePixel sums it.
+template <class T>
+struct DefaultLitPixel {
+    Vec3T<T> p, V, N, diffuseColor, specularColor;  // p camera-relative, V = normalize(−p)
+    T roughness, surfaceShadow, transmissionShadow;
+};
+
+template <class T>
+FP_HD Vec3T<T> rectDefaultLit(const LightShape& light, const DefaultLitPixel<T>& s, decltype(T() < T())& reached) {
+    Vec3T<T> sum;
+    reached = forEachRectPoint(light, s.p, [&](const Vec3T<T>& L, const Vec3T<T>& falloff, const auto& inFront) {
+        const BxDFTermsT<T> b =
+            bxdf_detail::defaultLitLobe(s.diffuseColor, s.specularColor, s.roughness, bxdf_detail::geometryOf(s.N, s.V, L));
+        sum = ifThenElse(inFront, sum + shadowedLight(b, s.surfaceShadow, s.transmissionShadow, falloff), sum);
+    });
+    return sum;
+}
+
 /// Calls `fn(L, falloff)` for each direction towards the light that reaches camera-relative p,
 /// with the unshadowed irradiance it brings at normal incidence: one, or the rect light's grid
 /// points in front of the emitter. Returns how many (0: out of the light's reach).
@@ -116,15 +159,10 @@ FP_HD int forEachIncoming(const LightShape& light, const Vec3f& p, Fn&& fn) {
     }
     if (light.type == LightType::Rect) {
         int n = 0;
-        for (int k = 0; k < light.rectCount; ++k) {
-            const Vec3f d = light.rectPoints[k] - p;
-            const float dist2 = dot(d, d);
-            const Vec3f L = d / std::sqrt(dist2);
-            const float cosL = -dot(L, light.rectNormal);
-            if (cosL <= 0.0f) continue;
-            fn(L, light.color * (cosL * light.rectCellArea / dist2));
+        forEachRectPoint(light, p, [&](const Vec3f& L, const Vec3f& falloff, bool) {
+            fn(L, falloff);
             ++n;
-        }
+        });
         return n;
     }
     const Vec3f d = light.position - p;
@@ -153,8 +191,7 @@ FP_HD inline void shadePixel(const Frame& f, int x, int y, PixelStart s, unsigne
         shadowsAt(f, x, y, surfaceShadow, transmissionShadow);
         const Vec3f V = normalize(-s.p);
         n = forEachIncoming(f.light, s.p, [&](const Vec3f& L, const Vec3f& falloff) {
-            const BxDFTerms b = evaluateBxDF(m, V, L, f.skin);
-            sum += ((b.diffuse + b.specular) * surfaceShadow + b.transmission * transmissionShadow) * falloff;
+            sum += shadowedLight(evaluateBxDF(m, V, L, f.skin), surfaceShadow, transmissionShadow, falloff);
         });
     }
     if (n == 0) {

@@ -1,14 +1,18 @@
 #pragma once
-// deferred_lighting's rect-light integral with pixels in SIMD lanes (Google Highway, the widest
-// instruction set the CPU has, chosen at run time). A rect light is an N×N grid of points and
-// every point needs the whole default-lit BxDF: sixteen of them a pixel at the default grid. Here
-// one vector holds neighbouring pixels and each grid point is one pass over the vector, with the
-// scalar code's IEEE operations in the same order (no fused multiply-add: the build sets
-// -ffp-contract=off), so the sums are the same bits (DeferredLightingTests checks it on every
-// instruction set the CPU runs).
+// deferred_lighting's rect-light integral for default-lit pixels a SIMD vector at a time on the
+// CPU (the widest x86 instruction set the CPU has, chosen at run time). A rect light is an N×N
+// grid of points and every point needs the whole default-lit BxDF: sixteen a pixel at the default
+// grid. Here neighbouring pixels share a vector and each grid point is one pass over it. The
+// arithmetic is DeferredLightingKernel.h's rectDefaultLit, the kernel's own code over lanes
+// (foundation/LaneFloat.h), so the sums are the scalar reference's bits (DeferredLightingTests
+// checks it on every instruction set the CPU runs).
 #include "foundation/Math.h"
 
 #include <vector>
+
+namespace fp::deferred_lighting {
+struct LightShape;
+}
 
 namespace fp::deferred {
 
@@ -44,9 +48,9 @@ struct LaneSums {
     bool reached[kMaxLanes];
 };
 
-/// Pixels one call takes on this CPU (8 with AVX2).
+/// Pixels one call takes on this CPU (8 with AVX2, 16 with AVX-512).
 int lanes();
-/// The default-lit BxDF of every pixel of `in` integrated over the grid.
-void shadeRectDefaultLit(const RectGrid& grid, const PixelLanes& in, LaneSums& out);
+/// The default-lit BxDF of every pixel of `in` integrated over the rect `light`'s grid.
+void shadeRectDefaultLit(const deferred_lighting::LightShape& light, const PixelLanes& in, LaneSums& out);
 
 }  // namespace fp::deferred

@@ -167,7 +167,7 @@ void DeferredLightingPass::execute(PassContext& ctx) {
                                      group.transmissionShadow})
                         a[k] = a[0];
                 deferred::LaneSums sums;
-                deferred::shadeRectDefaultLit(rect, group, sums);
+                deferred::shadeRectDefaultLit(f.light, group, sums);
                 for (int k = 0; k < group.count; ++k) {
                     Vec3f c = laneColor[k];
                     if (!sums.reached[k]) {
