@@ -127,16 +127,16 @@ FP_HD auto forEachRectPoint(const LightShape& light, const Vec3T<T>& p, Fn&& fn)
     return reached;
 }
 
-/// The default-lit BxDF of the pixels of `s` (a surface in T: float, or lanes of pixels) summed
-/// over the rect light's grid, each point's light shadowed (shadowedLight) and added where the
-/// pixel sees it; `reached` says which pixels saw any point. evaluateBxDF's default-lit case, as
-/// shadePixel sums it.
+/// A default-lit pixel as rectDefaultLit reads it (T: float, or lanes of pixels).
 template <class T>
 struct DefaultLitPixel {
     Vec3T<T> p, V, N, diffuseColor, specularColor;  // p camera-relative, V = normalize(−p)
     T roughness, surfaceShadow, transmissionShadow;
 };
 
+/// The default-lit BxDF of the pixels of `s` summed over the rect light's grid, each point's light
+/// shadowed (shadowedLight) and added where the pixel sees it; `reached` says which pixels saw any
+/// point. evaluateBxDF's default-lit case, as shadePixel sums it.
 template <class T>
 FP_HD Vec3T<T> rectDefaultLit(const LightShape& light, const DefaultLitPixel<T>& s, decltype(T() < T())& reached) {
     Vec3T<T> sum;
