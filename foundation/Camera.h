@@ -11,6 +11,13 @@
 
 namespace fp {
 
+/// Device Z = P22 + P23/depth (P22 for an infinite depth) of the projection's `zScale` (P22) and
+/// `zOffset` (P23); D: double, or double lanes (LaneFloat.h).
+template <class D>
+FP_HD D deviceZFromDepthOf(double zScale, double zOffset, D depth) {
+    return ifThenElse(isInfOf(depth), D(zScale), zScale + zOffset / depth);
+}
+
 class CameraView {
 public:
     Vec3d position;                    //!< world position of the eye, scene units
@@ -41,9 +48,7 @@ public:
     }
     /// Device Z = P22 + P23/depth (algorithms §1.2: NearZ/SceneDepth for the infinite variant).
     FP_HD double deviceZFromDepth(double depth) const {
-        if (std::isinf(depth))
-            return projectionZScale();
-        return projectionZScale() + projectionZOffset() / depth;
+        return deviceZFromDepthOf(projectionZScale(), projectionZOffset(), depth);
     }
     /// Inverse of deviceZFromDepth; device Z at or below the far value gives +∞ (sky).
     FP_HD double depthFromDeviceZ(double deviceZ) const {

@@ -3,6 +3,7 @@
 // outside int's range is undefined behaviour in C++, so every such conversion goes through here:
 // the value is clamped in floating point first and NaN goes to `lo`.
 #include "foundation/HostDevice.h"
+#include "foundation/Math.h"
 
 #include <algorithm>
 #include <cmath>
@@ -22,12 +23,17 @@ FP_HD inline int floorToInt(double v, int lo, int hi) {
 /// at a fraction of the float rate, and the HZB march does this at every sample). Clamping v to
 /// the integers [lo, hi] before the floor gives the same integer as clamping after it, so this is
 /// two min/max and one converting floor. Identical results while |lo| and |hi| are at most 2²⁴
-/// (exact in float), which image coordinates are.
-FP_HD inline int floorToInt(float v, int lo, int hi) {
-    float c = v >= float(lo) ? v : float(lo);  // NaN and −inf give lo
-    c = c <= float(hi) ? c : float(hi);
-    return int(std::floor(c));
+/// (exact in float), which image coordinates are. floorToIntOf is the same for float lanes
+/// (LaneFloat.h), `hi` then an int or each lane's own bound.
+template <class T, class I>
+FP_HD inline IntOf<T> floorToIntOf(T v, int lo, I hi) {
+    T c = ifThenElse(v >= float(lo), v, T(float(lo)));  // NaN and −inf give lo
+    const T top = toFloat(hi);
+    c = ifThenElse(c <= top, c, top);
+    // c lies in [lo, hi]: with lo ≥ 0 truncation is the floor (and saves a rounding a lane).
+    return lo >= 0 ? toInt(c) : toInt(floorOf(c));
 }
+FP_HD inline int floorToInt(float v, int lo, int hi) { return floorToIntOf(v, lo, hi); }
 
 /// v rounded towards zero and clamped to [lo, hi]; NaN gives lo.
 FP_HD inline int truncToInt(double v, int lo, int hi) {

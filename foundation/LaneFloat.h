@@ -1,24 +1,35 @@
 #pragma once
-// The number type that lets a kernel be written once for one pixel and for a SIMD vector of
-// pixels. A kernel templated on its number type T runs with T = float for one pixel (the CPU's
-// scalar reference and the CUDA thread) and with T = LaneFloat<N> for N pixels at once on the CPU.
-// Its comparisons give a mask (bool for float, LaneMask<N> here), which it combines with
-// ifThenElse, anyLane, maxLike and saturate (Math.h for float, the friends below for lanes)
-// instead of `?:`, `if` or std::max: the only spellings both types share.
+// The number types that let a kernel be written once for one pixel (or ray) and for a SIMD vector
+// of them. A kernel templated on its number type T runs with T = float for one (the CPU's scalar
+// reference and the CUDA thread) and with T = LaneFloat<N> for N at once on the CPU. Its
+// comparisons give a mask (bool for float, LaneMask<N> here), which it combines with ifThenElse,
+// anyLane, countLanes, minLike, maxLike and saturate instead of `?:`, `if` or std::min/max; its
+// integers are IntOf<T> / UIntOf<T> and its doubles DoubleOf<T> (int, uint32_t and double for
+// float; LaneInt, LaneUInt and LaneDouble of N lanes here), converted with toFloat, toDouble and
+// toInt; a lane reads memory at its own index with gatherAt / gatherOf / laneByLane. Math.h gives
+// every one of these names for float; the definitions below give them for lanes.
 //
-// LaneFloat is a GCC vector (vector_size): the compiler lowers its operators to the instructions
-// of the function they end up in. A per-instruction-set function (Highway's foreach_target.h
-// compiles one per x86 target) that is __attribute__((flatten)) inlines the whole templated
-// kernel, so the kernel becomes SSE4, AVX2 or AVX-512 code there. Every operation is the IEEE
-// operation the scalar code does, lane by lane, in the same order (no contraction: the build sets
-// -ffp-contract=off), so each lane gives the scalar code's bits. sqrtOf is a loop of
-// __builtin_sqrtf that the vectoriser turns into one vector square root when the file is built
-// with -fno-math-errno (the result is the same correctly rounded root either way).
+// The lane types are GCC vectors (vector_size): the compiler lowers their operators to the
+// instructions of the function they end up in. A per-instruction-set function (Highway's
+// foreach_target.h compiles one per x86 target) that is __attribute__((flatten)) inlines the whole
+// templated kernel, so the kernel becomes SSE4, AVX2 or AVX-512 code there. Every operation is the
+// IEEE operation the scalar code does, lane by lane, in the same order (no contraction: the build
+// sets -ffp-contract=off), so each lane gives the scalar code's bits. sqrtOf and floorOf are loops
+// of __builtin_sqrtf / __builtin_floorf that the vectoriser turns into one vector instruction when
+// the file is built with -fno-math-errno (the results are the same correctly rounded values).
 //
 // Host only: the CUDA kernels instantiate the same templates with float.
 #include "foundation/Math.h"
+#include "foundation/PlaneView.h"
 
+#include <cstdint>
 #include <cstring>
+#if defined(__x86_64__)
+#include <immintrin.h>  // declares the gather builtins gatherAt uses
+#endif
+#include <limits>
+#include <type_traits>
+#include <utility>
 
 #if defined(__CUDACC__)
 #error "LaneFloat.h is the CPU's lane type; CUDA kernels run the templates with float"
@@ -27,93 +38,302 @@
 namespace fp {
 
 template <int N>
-struct LaneVectors;  // the GCC vector types of N floats and N ints (vector_size takes no template value)
+struct LaneVectors;  // GCC vector types of N lanes (vector_size takes no template value)
 template <>
 struct LaneVectors<4> {
     typedef float F __attribute__((vector_size(16)));
     typedef int I __attribute__((vector_size(16)));
+    typedef uint32_t U __attribute__((vector_size(16)));
+    typedef float FH __attribute__((vector_size(8)));  // half the lanes
+    typedef double DH __attribute__((vector_size(16)));
+    typedef long long LH __attribute__((vector_size(16)));
 };
 template <>
 struct LaneVectors<8> {
     typedef float F __attribute__((vector_size(32)));
     typedef int I __attribute__((vector_size(32)));
+    typedef uint32_t U __attribute__((vector_size(32)));
+    typedef float FH __attribute__((vector_size(16)));  // half the lanes
+    typedef double DH __attribute__((vector_size(32)));
+    typedef long long LH __attribute__((vector_size(32)));
 };
 template <>
 struct LaneVectors<16> {
     typedef float F __attribute__((vector_size(64)));
     typedef int I __attribute__((vector_size(64)));
+    typedef uint32_t U __attribute__((vector_size(64)));
+    typedef float FH __attribute__((vector_size(32)));  // half the lanes
+    typedef double DH __attribute__((vector_size(64)));
+    typedef long long LH __attribute__((vector_size(64)));
 };
 
 #define FP_LANE_OP __attribute__((always_inline)) inline
 
-/// N comparisons' outcomes: all bits set in a lane where true (GCC's vector comparison result).
-template <int N>
-struct LaneMask {
-    typename LaneVectors<N>::I v;
+namespace lanes_detail {
+/// The lanes I… of a and b (a's lanes first), one shuffle.
+template <class V, std::size_t... I>
+FP_LANE_OP auto pick(V a, V b, std::index_sequence<I...>) { return __builtin_shufflevector(a, b, I...); }
+template <std::size_t Offset, std::size_t... I>
+constexpr std::index_sequence<(Offset + I)...> shifted(std::index_sequence<I...>) { return {}; }
+template <std::size_t... I>
+constexpr std::index_sequence<(I * 0)...> zeros(std::index_sequence<I...>) { return {}; }
+/// Every lane of a V of N lanes `x`: lane 0 shuffled into all, which GCC and clang make one
+/// broadcast instruction (x − V{} became a chain of inserts in a large function).
+template <class V, int N, class E>
+FP_LANE_OP V broadcast(E x) {
+    V first{};
+    first[0] = x;
+    return pick(first, first, zeros(std::make_index_sequence<N>{}));
+}
+}  // namespace lanes_detail
 
-    friend FP_LANE_OP LaneMask operator!(LaneMask a) { return {a.v == 0}; }
-    friend FP_LANE_OP LaneMask operator|(LaneMask a, LaneMask b) { return {a.v | b.v}; }
-    friend FP_LANE_OP LaneMask operator&(LaneMask a, LaneMask b) { return {a.v & b.v}; }
-    friend FP_LANE_OP bool anyLane(LaneMask a) {
-        unsigned long long words[N / 2];
+/// N comparisons' outcomes, V a GCC vector of N integers as wide as the compared lanes: all bits
+/// set in a lane where true (GCC's vector comparison result).
+template <class V, int N>
+struct LaneMaskOf {
+    V v;
+
+    friend FP_LANE_OP LaneMaskOf operator!(LaneMaskOf a) { return {a.v == 0}; }
+    friend FP_LANE_OP LaneMaskOf operator|(LaneMaskOf a, LaneMaskOf b) { return {a.v | b.v}; }
+    friend FP_LANE_OP LaneMaskOf operator&(LaneMaskOf a, LaneMaskOf b) { return {a.v & b.v}; }
+    friend FP_LANE_OP bool anyLane(LaneMaskOf a) {
+        unsigned long long words[sizeof(V) / 8];
         std::memcpy(words, &a.v, sizeof words);
         unsigned long long any = 0;
         for (unsigned long long w : words) any |= w;
         return any != 0;
     }
+    /// How many lanes are true.
+    friend FP_LANE_OP int countLanes(LaneMaskOf a) {
+        int n = 0;
+        for (int i = 0; i < N; ++i) n += a.v[i] != 0;
+        return n;
+    }
+    friend FP_LANE_OP bool laneOf(LaneMaskOf a, int i) { return a.v[i] != 0; }
     /// Lane i's outcome (0 or 1) into out[i].
     FP_LANE_OP void store(bool* out) const {
         for (int i = 0; i < N; ++i) out[i] = v[i] != 0;
     }
 };
-
-/// N floats, one a lane; every operator is the float operator lane by lane.
 template <int N>
-struct LaneFloat {
-    using V = typename LaneVectors<N>::F;
-    using Mask = LaneMask<N>;
-    static constexpr int kLanes = N;
+using LaneMask = LaneMaskOf<typename LaneVectors<N>::I, N>;
+
+/// N integers (E: int or uint32_t), one a lane; every operator is E's lane by lane (uint32_t's
+/// shifts are logical, int's arithmetic).
+template <class V, class E, int N>
+struct LaneIntegers {
     V v;
 
-    LaneFloat() = default;
-    FP_LANE_OP constexpr LaneFloat(V x) : v(x) {}
-    /// Every lane `x`: x − 0 keeps −0 and NaN as they are (0 + x would turn −0 into +0).
-    FP_LANE_OP constexpr LaneFloat(float x) : v(x - V{}) {}
+    LaneIntegers() = default;
+    FP_LANE_OP constexpr LaneIntegers(V x) : v(x) {}
+    /// Every lane `x` (lanes_detail::broadcast).
+    FP_LANE_OP LaneIntegers(E x) : v(lanes_detail::broadcast<V, N>(x)) {}
 
-    /// N floats from `p` (unaligned) and back.
-    static FP_LANE_OP LaneFloat load(const float* p) {
-        LaneFloat r;
+    friend FP_LANE_OP LaneIntegers operator+(LaneIntegers a, LaneIntegers b) { return a.v + b.v; }
+    friend FP_LANE_OP LaneIntegers operator-(LaneIntegers a, LaneIntegers b) { return a.v - b.v; }
+    friend FP_LANE_OP LaneIntegers operator*(LaneIntegers a, LaneIntegers b) { return a.v * b.v; }
+    friend FP_LANE_OP LaneIntegers operator&(LaneIntegers a, LaneIntegers b) { return a.v & b.v; }
+    friend FP_LANE_OP LaneIntegers operator|(LaneIntegers a, LaneIntegers b) { return a.v | b.v; }
+    friend FP_LANE_OP LaneIntegers operator^(LaneIntegers a, LaneIntegers b) { return a.v ^ b.v; }
+    friend FP_LANE_OP LaneIntegers operator<<(LaneIntegers a, E bits) { return a.v << bits; }
+    friend FP_LANE_OP LaneIntegers operator>>(LaneIntegers a, E bits) { return a.v >> bits; }
+    friend FP_LANE_OP LaneMask<N> operator<(LaneIntegers a, LaneIntegers b) { return {a.v < b.v}; }
+    friend FP_LANE_OP LaneMask<N> operator==(LaneIntegers a, LaneIntegers b) { return {a.v == b.v}; }
+    friend FP_LANE_OP E laneOf(LaneIntegers a, int i) { return a.v[i]; }
+};
+template <int N>
+using LaneInt = LaneIntegers<typename LaneVectors<N>::I, int, N>;
+template <int N>
+using LaneUInt = LaneIntegers<typename LaneVectors<N>::U, uint32_t, N>;
+
+/// N reals (E: float or double), one a lane; every operator is E's lane by lane. `Mask` is the
+/// outcome of their comparisons.
+template <class V, class E, class Mask, int N>
+struct LaneReals {
+    V v;
+
+    LaneReals() = default;
+    FP_LANE_OP constexpr LaneReals(V x) : v(x) {}
+    /// Every lane `x`, −0 and NaN as they are (lanes_detail::broadcast).
+    FP_LANE_OP LaneReals(E x) : v(lanes_detail::broadcast<V, N>(x)) {}
+
+    /// N values from `p` (unaligned) and back.
+    static FP_LANE_OP LaneReals load(const E* p) {
+        LaneReals r;
         std::memcpy(&r.v, p, sizeof r.v);
         return r;
     }
-    FP_LANE_OP void store(float* p) const { std::memcpy(p, &v, sizeof v); }
+    FP_LANE_OP void store(E* p) const { std::memcpy(p, &v, sizeof v); }
 
-    friend FP_LANE_OP LaneFloat operator+(LaneFloat a, LaneFloat b) { return a.v + b.v; }
-    friend FP_LANE_OP LaneFloat operator-(LaneFloat a, LaneFloat b) { return a.v - b.v; }
-    friend FP_LANE_OP LaneFloat operator*(LaneFloat a, LaneFloat b) { return a.v * b.v; }
-    friend FP_LANE_OP LaneFloat operator/(LaneFloat a, LaneFloat b) { return a.v / b.v; }
-    friend FP_LANE_OP LaneFloat operator-(LaneFloat a) { return -a.v; }
-    FP_LANE_OP LaneFloat& operator+=(LaneFloat o) { v += o.v; return *this; }
-    FP_LANE_OP LaneFloat& operator*=(LaneFloat o) { v *= o.v; return *this; }
+    friend FP_LANE_OP LaneReals operator+(LaneReals a, LaneReals b) { return a.v + b.v; }
+    friend FP_LANE_OP LaneReals operator-(LaneReals a, LaneReals b) { return a.v - b.v; }
+    friend FP_LANE_OP LaneReals operator*(LaneReals a, LaneReals b) { return a.v * b.v; }
+    friend FP_LANE_OP LaneReals operator/(LaneReals a, LaneReals b) { return a.v / b.v; }
+    friend FP_LANE_OP LaneReals operator-(LaneReals a) { return -a.v; }
+    FP_LANE_OP LaneReals& operator+=(LaneReals o) { v += o.v; return *this; }
+    FP_LANE_OP LaneReals& operator*=(LaneReals o) { v *= o.v; return *this; }
 
-    // Ordered comparisons, as float's: false in a lane where either side is NaN.
-    friend FP_LANE_OP Mask operator<(LaneFloat a, LaneFloat b) { return {a.v < b.v}; }
-    friend FP_LANE_OP Mask operator<=(LaneFloat a, LaneFloat b) { return {a.v <= b.v}; }
-    friend FP_LANE_OP Mask operator>(LaneFloat a, LaneFloat b) { return {a.v > b.v}; }
-    friend FP_LANE_OP Mask operator>=(LaneFloat a, LaneFloat b) { return {a.v >= b.v}; }
+    // Ordered comparisons, as E's: false in a lane where either side is NaN (!= true there).
+    friend FP_LANE_OP Mask operator<(LaneReals a, LaneReals b) { return {a.v < b.v}; }
+    friend FP_LANE_OP Mask operator<=(LaneReals a, LaneReals b) { return {a.v <= b.v}; }
+    friend FP_LANE_OP Mask operator>(LaneReals a, LaneReals b) { return {a.v > b.v}; }
+    friend FP_LANE_OP Mask operator>=(LaneReals a, LaneReals b) { return {a.v >= b.v}; }
+    friend FP_LANE_OP Mask operator==(LaneReals a, LaneReals b) { return {a.v == b.v}; }
+    friend FP_LANE_OP Mask operator!=(LaneReals a, LaneReals b) { return {a.v != b.v}; }
 
     /// m ? a : b, lane by lane.
-    friend FP_LANE_OP LaneFloat ifThenElse(Mask m, LaneFloat a, LaneFloat b) { return m.v ? a.v : b.v; }
-    friend FP_LANE_OP LaneFloat sqrtOf(LaneFloat a) {
-        V r;
-        for (int i = 0; i < N; ++i) r[i] = __builtin_sqrtf(a.v[i]);
+    friend FP_LANE_OP LaneReals ifThenElse(Mask m, LaneReals a, LaneReals b) { return m.v ? a.v : b.v; }
+    friend FP_LANE_OP LaneReals sqrtOf(LaneReals a) {
+        return map(a, [](E x) { return fp::sqrtOf(x); });
+    }
+    friend FP_LANE_OP LaneReals floorOf(LaneReals a) {
+        return map(a, [](E x) { return fp::floorOf(x); });
+    }
+    /// |a| and |mag| with sign's sign bit: the sign bit cleared or copied, as fabs and copysign.
+    friend FP_LANE_OP LaneReals absOf(LaneReals a) { return (V)((Bits)a.v & ~kSign); }
+    friend FP_LANE_OP LaneReals copySignOf(LaneReals mag, LaneReals sign) {
+        return (V)(((Bits)mag.v & ~kSign) | ((Bits)sign.v & kSign));
+    }
+    friend FP_LANE_OP Mask isFiniteOf(LaneReals a) { return absOf(a) < LaneReals(kInfinity); }
+    friend FP_LANE_OP Mask isInfOf(LaneReals a) { return absOf(a) == LaneReals(kInfinity); }
+    friend FP_LANE_OP E laneOf(LaneReals a, int i) { return a.v[i]; }
+    /// Math.h's saturateOf, lane by lane.
+    friend FP_LANE_OP LaneReals saturate(LaneReals a) { return saturateOf(a); }
+
+private:
+    /// Math.h's `fn` of each lane: a loop the vectoriser makes one instruction (see the top).
+    template <class Fn>
+    static FP_LANE_OP LaneReals map(LaneReals a, Fn fn) {
+        V r = a.v;
+        for (int i = 0; i < N; ++i) r[i] = fn(a.v[i]);
         return r;
     }
-    /// Math.h's saturate (v < 0 ? 0 : (v > 1 ? 1 : v)), lane by lane.
-    friend FP_LANE_OP LaneFloat saturate(LaneFloat a) {
-        return ifThenElse(a < 0.0f, 0.0f, ifThenElse(a > 1.0f, 1.0f, a));
+    using Bits = decltype(Mask{}.v);  // integers as wide as E
+    using BitsE = std::conditional_t<sizeof(E) == 4, int, long long>;
+    static constexpr BitsE kSign = std::numeric_limits<BitsE>::min();  // the sign bit alone
+    static constexpr E kInfinity = __builtin_inf();
+};
+template <int N>
+using LaneFloat = LaneReals<typename LaneVectors<N>::F, float, LaneMask<N>, N>;
+
+/// Two halves of lanes (H: a LaneReals or its mask) that act as one vector of twice the lanes:
+/// N doubles are twice as wide as N floats, so the double lanes of an N-float kernel are two
+/// target-wide vectors (GCC lowers a generic vector wider than the target lane by lane).
+template <class H>
+struct LanePair {
+    H lo, hi;
+
+    LanePair() = default;
+    FP_LANE_OP LanePair(H l, H h) : lo(l), hi(h) {}
+    /// Every lane `x`.
+    template <class E, class = std::enable_if_t<std::is_arithmetic_v<E>>>
+    FP_LANE_OP LanePair(E x) : lo(x), hi(x) {}
+
+    friend FP_LANE_OP LanePair operator+(LanePair a, LanePair b) { return {a.lo + b.lo, a.hi + b.hi}; }
+    friend FP_LANE_OP LanePair operator-(LanePair a, LanePair b) { return {a.lo - b.lo, a.hi - b.hi}; }
+    friend FP_LANE_OP LanePair operator*(LanePair a, LanePair b) { return {a.lo * b.lo, a.hi * b.hi}; }
+    friend FP_LANE_OP LanePair operator/(LanePair a, LanePair b) { return {a.lo / b.lo, a.hi / b.hi}; }
+    friend FP_LANE_OP LanePair operator-(LanePair a) { return {-a.lo, -a.hi}; }
+    friend FP_LANE_OP auto operator==(LanePair a, LanePair b) { return pairOf(a.lo == b.lo, a.hi == b.hi); }
+    friend FP_LANE_OP auto operator<(LanePair a, LanePair b) { return pairOf(a.lo < b.lo, a.hi < b.hi); }
+    friend FP_LANE_OP LanePair operator&(LanePair a, LanePair b) { return {a.lo & b.lo, a.hi & b.hi}; }
+    friend FP_LANE_OP LanePair operator|(LanePair a, LanePair b) { return {a.lo | b.lo, a.hi | b.hi}; }
+    friend FP_LANE_OP LanePair operator!(LanePair a) { return {!a.lo, !a.hi}; }
+    template <class M>
+    friend FP_LANE_OP LanePair ifThenElse(LanePair<M> m, LanePair a, LanePair b) {
+        return {ifThenElse(m.lo, a.lo, b.lo), ifThenElse(m.hi, a.hi, b.hi)};
+    }
+    friend FP_LANE_OP LanePair floorOf(LanePair a) { return {floorOf(a.lo), floorOf(a.hi)}; }
+    friend FP_LANE_OP LanePair sqrtOf(LanePair a) { return {sqrtOf(a.lo), sqrtOf(a.hi)}; }
+    friend FP_LANE_OP LanePair absOf(LanePair a) { return {absOf(a.lo), absOf(a.hi)}; }
+    friend FP_LANE_OP auto isInfOf(LanePair a) { return pairOf(isInfOf(a.lo), isInfOf(a.hi)); }
+
+private:
+    template <class M>
+    static FP_LANE_OP LanePair<M> pairOf(M l, M h) { return {l, h}; }
+};
+
+template <int N>
+using LaneDoubleHalf = LaneReals<typename LaneVectors<N>::DH, double,
+                                 LaneMaskOf<typename LaneVectors<N>::LH, N / 2>, N / 2>;
+/// N doubles: the double lanes of an N-float kernel (sinCos, a device Z in double).
+template <int N>
+using LaneDouble = LanePair<LaneDoubleHalf<N>>;
+
+/// A float kernel's companion types and lane count for N float lanes (Math.h: float's).
+template <class V, class M, int N>
+struct LaneTypes<LaneReals<V, float, M, N>> {
+    using Int = LaneInt<N>;
+    using UInt = LaneUInt<N>;
+    using Double = LaneDouble<N>;
+    using Mask = M;
+    static constexpr int kCount = N;
+    /// 0, 1, …, N − 1.
+    static FP_LANE_OP UInt indices() {
+        UInt r(0u);
+        for (int i = 0; i < N; ++i) r.v[i] = uint32_t(i);
+        return r;
     }
 };
+
+// Conversions between lane types: the C++ conversion of each lane (toInt truncates; the caller
+// keeps the value in int's range, as floorToIntOf does).
+template <int N>
+FP_LANE_OP LaneDouble<N> toDouble(LaneFloat<N> a) {
+    using DH = typename LaneVectors<N>::DH;
+    constexpr auto half = std::make_index_sequence<N / 2>{};
+    return {__builtin_convertvector(lanes_detail::pick(a.v, a.v, half), DH),
+            __builtin_convertvector(lanes_detail::pick(a.v, a.v, lanes_detail::shifted<N / 2>(half)), DH)};
+}
+template <class V, class M, int Half, int N = 2 * Half>
+FP_LANE_OP LaneFloat<N> toFloat(LanePair<LaneReals<V, double, M, Half>> a) {
+    using FH = typename LaneVectors<N>::FH;
+    return lanes_detail::pick(__builtin_convertvector(a.lo.v, FH), __builtin_convertvector(a.hi.v, FH),
+                              std::make_index_sequence<N>{});
+}
+template <class V, class E, int N>
+FP_LANE_OP LaneFloat<N> toFloat(LaneIntegers<V, E, N> a) { return __builtin_convertvector(a.v, typename LaneVectors<N>::F); }
+template <int N>
+FP_LANE_OP LaneInt<N> toInt(LaneFloat<N> a) { return __builtin_convertvector(a.v, typename LaneVectors<N>::I); }
+/// The floats whose bits are the lanes of `bits` (std::bit_cast lane by lane).
+template <int N>
+FP_LANE_OP LaneFloat<N> floatFromBits(LaneInt<N> bits) { return (typename LaneVectors<N>::F)bits.v; }
+
+/// Each lane's texel of `p` at (x, y) of that lane (PlaneView::at lane by lane). 8 and 16 lanes
+/// are the AVX2 and AVX-512 builds' widths, so there the read is the instruction set's gather
+/// (GCC's builtin, which the function it is inlined into enables); other widths read a lane at a
+/// time.
+template <int N>
+FP_LANE_OP LaneFloat<N> gatherAt(const PlaneView& p, LaneInt<N> x, LaneInt<N> y) {
+    const LaneInt<N> index = y * int(p.stride) + x;
+#if defined(__x86_64__) && !defined(__clang__)
+    using F = typename LaneVectors<N>::F;
+    if constexpr (N == 8)
+        return __builtin_ia32_gathersiv8sf(F{}, p.data, index.v, (F)(index.v == index.v), 4);
+    else if constexpr (N == 16)
+        return __builtin_ia32_gathersiv16sf(F{}, p.data, index.v, (unsigned short)0xFFFF, 4);
+#endif
+    LaneFloat<N> r(0.0f);
+    for (int i = 0; i < N; ++i) r.v[i] = p.data[index.v[i]];
+    return r;
+}
+
+/// table[index] lane by lane.
+template <int N>
+FP_LANE_OP LaneInt<N> gatherOf(const int* table, LaneInt<N> index) {
+    LaneInt<N> r = index;
+    for (int i = 0; i < N; ++i) r.v[i] = table[index.v[i]];
+    return r;
+}
+/// fn(the lane's integers) in each lane where `where` holds, 0 elsewhere: a read whose source
+/// (a plane, a mip) differs from lane to lane.
+template <int N, class Fn, class... I>
+FP_LANE_OP LaneFloat<N> laneByLane(LaneMask<N> where, Fn fn, I... a) {
+    LaneFloat<N> r(0.0f);
+    for (int i = 0; i < N; ++i)
+        if (where.v[i]) r.v[i] = fn(laneOf(a, i)...);
+    return r;
+}
 
 /// Three planes' floats at `x`, `y`, `z` (N each) as a vector of N points.
 template <class T>

@@ -4,7 +4,9 @@
 #include "foundation/HostDevice.h"
 
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 namespace fp {
 
@@ -35,11 +37,68 @@ using Vec3d = Vec3T<double>;
 FP_HD constexpr float ifThenElse(bool m, float a, float b) { return m ? a : b; }
 FP_HD constexpr double ifThenElse(bool m, double a, double b) { return m ? a : b; }
 FP_HD constexpr bool anyLane(bool m) { return m; }
+FP_HD constexpr int countLanes(bool m) { return m ? 1 : 0; }
 FP_HD inline float sqrtOf(float x) { return std::sqrt(x); }
 FP_HD inline double sqrtOf(double x) { return std::sqrt(x); }
+FP_HD inline float floorOf(float x) { return std::floor(x); }
+FP_HD inline double floorOf(double x) { return std::floor(x); }
+FP_HD inline float absOf(float x) { return std::fabs(x); }
+FP_HD inline double absOf(double x) { return std::fabs(x); }
+FP_HD inline float copySignOf(float mag, float sign) { return std::copysign(mag, sign); }
+FP_HD inline bool isFiniteOf(float x) { return std::isfinite(x); }
+FP_HD inline bool isInfOf(double x) { return std::isinf(x); }
+// Conversions (LaneFloat.h: lane by lane). toInt truncates; its caller keeps x in int's range.
+FP_HD constexpr double toDouble(float x) { return x; }
+FP_HD constexpr float toFloat(double x) { return float(x); }
+FP_HD constexpr float toFloat(int x) { return float(x); }
+FP_HD constexpr float toFloat(uint32_t x) { return float(x); }
+FP_HD constexpr int toInt(float x) { return int(x); }
+FP_HD inline float floatFromBits(int bits) { return std::bit_cast<float>(bits); }
+/// One value's lane 0: itself (LaneFloat.h: lane i of a vector).
+FP_HD constexpr float laneOf(float v, int) { return v; }
+FP_HD constexpr bool laneOf(bool v, int) { return v; }
+FP_HD constexpr int laneOf(int v, int) { return v; }
+/// table[index] (LaneFloat.h: lane by lane).
+FP_HD constexpr int gatherOf(const int* table, int index) { return table[index]; }
+/// fn(a…) where `where` holds, else 0 (LaneFloat.h: in each lane with that lane's integers).
+template <class Fn, class... I>
+FP_HD float laneByLane(bool where, Fn fn, I... a) { return where ? fn(a...) : 0.0f; }
+/// Lane i of three components (a Vec3f of lanes: one point of the vector).
+template <class T>
+FP_HD constexpr Vec3f laneOf(const Vec3T<T>& a, int i) {
+    return {laneOf(a.x, i), laneOf(a.y, i), laneOf(a.z, i)};
+}
 /// std::max(a, b): (a < b) ? b : a.
 template <class T>
 FP_HD constexpr T maxLike(T a, T b) { return ifThenElse(a < b, b, a); }
+/// std::min(a, b): (b < a) ? b : a.
+template <class T>
+FP_HD constexpr T minLike(T a, T b) { return ifThenElse(b < a, b, a); }
+
+/// A kernel's number type T and its companions: integers, unsigned integers and doubles with as
+/// many lanes, the outcome of a comparison, and the lane count (LaneFloat.h: for N lanes).
+template <class T>
+struct LaneTypes;
+template <>
+struct LaneTypes<float> {
+    using Int = int;
+    using UInt = uint32_t;
+    using Double = double;
+    using Mask = bool;
+    static constexpr int kCount = 1;
+    /// Each lane's index: 0, 1, …, kCount − 1.
+    FP_HD static constexpr UInt indices() { return 0; }
+};
+template <class T>
+using IntOf = typename LaneTypes<T>::Int;
+template <class T>
+using UIntOf = typename LaneTypes<T>::UInt;
+template <class T>
+using DoubleOf = typename LaneTypes<T>::Double;
+template <class T>
+using MaskOf = typename LaneTypes<T>::Mask;
+template <class T>
+constexpr int kLanesOf = LaneTypes<T>::kCount;
 /// m ? a : b for each component (m: one mask for all three).
 template <class M, class T>
 FP_HD constexpr Vec3T<T> ifThenElse(const M& m, const Vec3T<T>& a, const Vec3T<T>& b) {
@@ -60,8 +119,10 @@ FP_HD FP_HOT_INLINE Vec3T<T> normalize(const Vec3T<T>& a) {
     return ifThenElse(l > T(0), a / l, Vec3T<T>{});
 }
 
-/// Clamp to [0, 1] (HLSL saturate).
-FP_HD inline float saturate(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
+/// Clamp to [0, 1] (HLSL saturate): v < 0 ? 0 : (v > 1 ? 1 : v), NaN kept; T: float or lanes.
+template <class T>
+FP_HD constexpr T saturateOf(T v) { return ifThenElse(v < T(0.0f), T(0.0f), ifThenElse(v > T(1.0f), T(1.0f), v)); }
+FP_HD inline float saturate(float v) { return saturateOf(v); }
 
 /// Row-major 4×4 double matrix acting on column vectors: p' = M·p.
 struct Mat4d {

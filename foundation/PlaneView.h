@@ -32,6 +32,9 @@ struct PlaneView {
     }
 };
 
+/// p.at(x, y): the scalar form of a read that LaneFloat.h makes at each lane's own (x, y).
+FP_HD inline float gatherAt(const PlaneView& p, int x, int y) { return p.at(x, y); }
+
 /// Writable view of a plane; `data == nullptr` for an output nobody asked for.
 struct PlaneSpan {
     float* data = nullptr;

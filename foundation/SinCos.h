@@ -8,8 +8,10 @@
 // float once: the scalar code, the lanes (LaneMath.h sinCosLanes) and CUDA (-fmad=false) agree,
 // and each result is within 1 ulp of the correctly rounded value (SinCosTests).
 #include "foundation/HostDevice.h"
+#include "foundation/Math.h"
 
 #include <cmath>
+#include <type_traits>
 
 namespace fp {
 
@@ -23,22 +25,26 @@ constexpr double C1 = -1.0 / 2.0, C2 = 1.0 / 24.0, C3 = -1.0 / 720.0, C4 = 1.0 /
                  C5 = -1.0 / 3628800.0, C6 = 1.0 / 479001600.0, C7 = -1.0 / 87178291200.0;
 }  // namespace sincos_terms
 
-/// s = sin(angle), c = cos(angle) for |angle| ≤ 2π (accurate to 1 ulp up to about 10⁴).
-FP_HD inline void sinCos(float angle, float& s, float& c) {
+/// s = sin(angle), c = cos(angle) for |angle| ≤ 2π (accurate to 1 ulp up to about 10⁴); T: float
+/// or float lanes (LaneFloat.h), evaluated in DoubleOf<T>.
+template <class T>
+FP_HD inline void sinCos(std::type_identity_t<T> angle, T& s, T& c) {
     using namespace sincos_terms;
-    const double x = angle;
-    const double q = std::floor(x * kTwoOverPi + 0.5);  // the nearest multiple of π/2
-    const double r = x - q * kHalfPi;                     // |r| ≤ π/4 (plus rounding)
-    const double r2 = r * r;
-    const double sinR = r + r * r2 * (S1 + r2 * (S2 + r2 * (S3 + r2 * (S4 + r2 * (S5 + r2 * S6)))));
-    const double cosR =
-        1.0 + r2 * (C1 + r2 * (C2 + r2 * (C3 + r2 * (C4 + r2 * (C5 + r2 * (C6 + r2 * C7))))));
-    const double quadrant = q - 4.0 * std::floor(q * 0.25);  // 0, 1, 2 or 3, exactly
-    // (Selected in the lanes' order, so a NaN angle gives the same NaN everywhere.)
-    const double sinX = quadrant == 1.0 ? cosR : quadrant == 2.0 ? -sinR : quadrant == 3.0 ? -cosR : sinR;
-    const double cosX = quadrant == 1.0 ? -sinR : quadrant == 2.0 ? -cosR : quadrant == 3.0 ? sinR : cosR;
-    s = float(sinX);
-    c = float(cosX);
+    using D = DoubleOf<T>;
+    const D x = toDouble(angle);
+    const D q = floorOf(x * kTwoOverPi + 0.5);  // the nearest multiple of π/2
+    const D r = x - q * kHalfPi;                  // |r| ≤ π/4 (plus rounding)
+    const D r2 = r * r;
+    const D sinR = r + r * r2 * (S1 + r2 * (S2 + r2 * (S3 + r2 * (S4 + r2 * (S5 + r2 * S6)))));
+    const D cosR = 1.0 + r2 * (C1 + r2 * (C2 + r2 * (C3 + r2 * (C4 + r2 * (C5 + r2 * (C6 + r2 * C7))))));
+    const D quadrant = q - 4.0 * floorOf(q * 0.25);  // 0, 1, 2 or 3, exactly
+    // (Selected in this order, so a NaN angle gives the same NaN everywhere.)
+    const D sinX = ifThenElse(quadrant == 1.0, cosR,
+                              ifThenElse(quadrant == 2.0, -sinR, ifThenElse(quadrant == 3.0, -cosR, sinR)));
+    const D cosX = ifThenElse(quadrant == 1.0, -sinR,
+                              ifThenElse(quadrant == 2.0, -cosR, ifThenElse(quadrant == 3.0, sinR, cosR)));
+    s = toFloat(sinX);
+    c = toFloat(cosX);
 }
 
 }  // namespace fp

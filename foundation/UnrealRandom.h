@@ -3,6 +3,7 @@
 // an Unreal shader draws the same numbers for the same pixel and frame index: interleaved gradient
 // noise, the 16-bit PCG hash of (x, y, frame) and the scrambled Hammersley point set.
 #include "foundation/HostDevice.h"
+#include "foundation/Math.h"
 #include "foundation/SinCos.h"
 
 #include <cmath>
@@ -40,7 +41,9 @@ FP_HD constexpr Rand3 rand3DPCG16(int32_t px, int32_t py, int32_t pz) {
     return {x >> 16u, y >> 16u, z >> 16u};
 }
 
-FP_HD constexpr uint32_t reverseBits32(uint32_t v) {
+/// The 32 bits of v in reverse order; U: uint32_t or unsigned lanes (LaneFloat.h).
+template <class U>
+FP_HD constexpr U reverseBits32(U v) {
     v = ((v >> 1u) & 0x55555555u) | ((v & 0x55555555u) << 1u);
     v = ((v >> 2u) & 0x33333333u) | ((v & 0x33333333u) << 2u);
     v = ((v >> 4u) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4u);
@@ -49,28 +52,33 @@ FP_HD constexpr uint32_t reverseBits32(uint32_t v) {
 }
 
 /// Point `index` of `count` of the Hammersley set, scrambled by a 16-bit seed pair:
-/// E1 = frac(i/N + seed.x/65536), E2 = ((reverse(i) >> 16) xor seed.y)/65536.
-FP_HD inline void hammersley16(uint32_t index, uint32_t count, uint32_t seedX, uint32_t seedY, float& e1,
-                         float& e2) {
-    const float a = float(index) / float(count) + float(seedX & 0xFFFFu) * (1.0f / 65536.0f);
-    e1 = a - std::floor(a);
-    e2 = float(((reverseBits32(index) >> 16u) ^ seedY) & 0xFFFFu) * (1.0f / 65536.0f);
+/// E1 = frac(i/N + seed.x/65536), E2 = ((reverse(i) >> 16) xor seed.y)/65536. T: float, or float
+/// lanes with `index` in UIntOf<T> (a point a lane).
+template <class T>
+FP_HD inline void hammersley16(UIntOf<T> index, uint32_t count, uint32_t seedX, uint32_t seedY, T& e1,
+                               T& e2) {
+    const T a = toFloat(index) / float(count) + float(seedX & 0xFFFFu) * (1.0f / 65536.0f);
+    e1 = a - floorOf(a);
+    e2 = toFloat(((reverseBits32(index) >> 16u) ^ seedY) & 0xFFFFu) * (1.0f / 65536.0f);
 }
 
 /// Unreal's concentric disk mapping (algorithms §1.9): the angle is built in the first quadrant
 /// from Lo/Hi and the signs of the input are copied onto the result.
-FP_HD inline void concentricDisk(float e1, float e2, float& x, float& y) {
-    const float px = 2.0f * e1 - 1.0f, py = 2.0f * e2 - 1.0f;
-    const float ax = std::fabs(px), ay = std::fabs(py);
-    const float lo = ax < ay ? ax : ay, hi = ax < ay ? ay : ax;
-    const float phi = 0.78539816f * (lo / (hi + 5.42101086243e-20f) + (ay >= ax ? 2.0f : 0.0f));
-    float sinPhi, cosPhi;
+template <class T>
+FP_HD inline void concentricDisk(T e1, T e2, T& x, T& y) {
+    const T px = 2.0f * e1 - 1.0f, py = 2.0f * e2 - 1.0f;
+    const T ax = absOf(px), ay = absOf(py);
+    const auto xBelowY = ax < ay;
+    const T lo = ifThenElse(xBelowY, ax, ay), hi = ifThenElse(xBelowY, ay, ax);
+    const T phi = 0.78539816f * (lo / (hi + 5.42101086243e-20f) + ifThenElse(ay >= ax, T(2.0f), T(0.0f)));
+    T sinPhi, cosPhi;
     sinCos(phi, sinPhi, cosPhi);  // the same bits on the CPU, in SIMD lanes and on the GPU
-    x = std::copysign(std::fabs(cosPhi) * hi, px);
-    y = std::copysign(std::fabs(sinPhi) * hi, py);
+    x = copySignOf(absOf(cosPhi) * hi, px);
+    y = copySignOf(absOf(sinPhi) * hi, py);
 }
 
 /// Unreal's luminance weights (Common.ush Luminance), used by Karis weighting.
-FP_HD inline float luma(float r, float g, float b) { return 0.3f * r + 0.59f * g + 0.11f * b; }
+template <class T>
+FP_HD inline T luma(T r, T g, T b) { return 0.3f * r + 0.59f * g + 0.11f * b; }
 
 }  // namespace fp::ue

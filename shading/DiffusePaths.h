@@ -21,6 +21,7 @@
 #include "shading/DirectLighting.h"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace fp {
@@ -103,6 +104,17 @@ struct BvhTracer {
     FP_HD bool hasSky() const { return false; }
     FP_HD Vec3f sky(const Vec3f&) const { return {}; }
 };
+
+/// A BvhTracer over `ports`' BVH (HostPorts or DevicePorts) and `lighting`'s lights: read in place
+/// on the host, copied to the device for a GPU pass, where `keep` holds the copy while the pass's
+/// kernels run. Every pass that traces framepass's BVH makes its tracer here.
+template <class Ports>
+BvhTracer bvhTracerFor(const Ports& ports, const DirectLighting& lighting,
+                       std::shared_ptr<const LightView>& keep) {
+    const std::vector<LightView>& views = lighting.lightViews();
+    keep = ports.constants(views.data(), views.size());
+    return {ports.bvh(), keep.get(), int(views.size())};
+}
 
 /// The colour a GBuffer pixel's diffuse light is multiplied by: BaseColor·(1 − Metallic), or the
 /// stored base colour itself for a subsurface-profile pixel (algorithms §12.2).

@@ -35,7 +35,7 @@ __attribute__((flatten)) void shadeRect(const deferred_lighting::LightShape& lig
     s.roughness = T::load(in.roughness);
     s.surfaceShadow = T::load(in.surfaceShadow);
     s.transmissionShadow = T::load(in.transmissionShadow);
-    T::Mask reached;
+    MaskOf<T> reached;
     const Vec3T<T> sum = deferred_lighting::rectDefaultLit(light, s, reached);
     storeLanes3(sum, out.r, out.g, out.b);
     reached.store(out.reached);

@@ -6,10 +6,6 @@
 // arithmetic is DeferredLightingKernel.h's rectDefaultLit, the kernel's own code over lanes
 // (foundation/LaneFloat.h), so the sums are the scalar reference's bits (DeferredLightingTests
 // checks it on every instruction set the CPU runs).
-#include "foundation/Math.h"
-
-#include <vector>
-
 namespace fp::deferred_lighting {
 struct LightShape;
 }
@@ -17,16 +13,6 @@ struct LightShape;
 namespace fp::deferred {
 
 constexpr int kMaxLanes = 16;  // AVX-512
-
-/// A rect light as the pass integrates it: the centres of an N×N grid of cells, camera-relative,
-/// in the scalar loop's order (row j outer, column i inner), the emitter's unit normal, a cell's
-/// area and the light's colour × intensity.
-struct RectGrid {
-    std::vector<Vec3f> points;
-    Vec3f normal;
-    float cellArea = 0;
-    Vec3f color;
-};
 
 /// Up to lanes() default-lit pixels, one a lane (structure of arrays). Lanes past `count` are
 /// ignored.

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace fp {
 
@@ -18,19 +19,19 @@ namespace {
 using deferred_lighting::kAttenuation;
 using deferred_lighting::kColor;
 
-// A rect light's grid × grid cell centres, emitter normal and cell area.
-deferred::RectGrid rectGrid(const Light& light, const Vec3f& position, const Vec3f& color,
-                            int grid) {
-    deferred::RectGrid g;
+// A rect light's grid × grid cell centres (camera-relative, row j outer, column i inner) into
+// `points`, and its emitter normal, cell area and point count into `shape`.
+void rectGrid(const Light& light, int grid, deferred_lighting::LightShape& shape,
+              std::vector<Vec3f>& points) {
     const Vec3f hu(light.halfU), hv(light.halfV);
-    g.normal = normalize(cross(hu, hv));
-    g.cellArea = 4.0f * length(cross(hu, hv)) / float(grid * grid);
-    g.color = color;
+    shape.rectNormal = normalize(cross(hu, hv));
+    shape.rectCellArea = 4.0f * length(cross(hu, hv)) / float(grid * grid);
+    points.clear();
     for (int j = 0; j < grid; ++j)
         for (int i = 0; i < grid; ++i)
-            g.points.push_back(position + hu * ((2.0f * i + 1.0f) / grid - 1.0f) +
-                               hv * ((2.0f * j + 1.0f) / grid - 1.0f));
-    return g;
+            points.push_back(shape.position + hu * ((2.0f * i + 1.0f) / grid - 1.0f) +
+                             hv * ((2.0f * j + 1.0f) / grid - 1.0f));
+    shape.rectCount = int(points.size());
 }
 
 }  // namespace
@@ -88,7 +89,8 @@ void put(float* x, float* y, float* z, int k, const Vec3f& v) {
 
 }  // namespace
 
-deferred_lighting::LightShape DeferredLightingPass::lightShape(PassContext& ctx, deferred::RectGrid& grid) const {
+deferred_lighting::LightShape DeferredLightingPass::lightShape(PassContext& ctx,
+                                                              std::vector<Vec3f>& rectPoints) const {
     const CameraView& cam = ctx.frame().camera.current;
     const Light& light = namedLight(ctx.lights(), mParams.light);
     deferred_lighting::LightShape shape{};
@@ -99,22 +101,17 @@ deferred_lighting::LightShape DeferredLightingPass::lightShape(PassContext& ctx,
     shape.attenuationRadius = light.attenuationRadius;
     shape.cosOuter = light.cosOuterCone();
     shape.cosInner = light.cosInnerCone();
-    if (light.type == LightType::Rect) {
-        grid = rectGrid(light, shape.position, shape.color, mParams.rectSamples);
-        shape.rectCount = int(grid.points.size());
-        shape.rectNormal = grid.normal;
-        shape.rectCellArea = grid.cellArea;
-    }
+    if (light.type == LightType::Rect) rectGrid(light, mParams.rectSamples, shape, rectPoints);
     return shape;
 }
 
 void DeferredLightingPass::execute(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
     const Extent size = frame.extent;
-    deferred::RectGrid rect;
-    const deferred_lighting::LightShape light = lightShape(ctx, rect);
+    std::vector<Vec3f> rectPoints;
+    const deferred_lighting::LightShape light = lightShape(ctx, rectPoints);
     const deferred_lighting::Frame f = deferred_lighting::bindFrame(
-        HostPorts{ctx}, frame, light, rect.points.data(), PreintegratedSkinLut::instance().view());
+        HostPorts{ctx}, frame, light, rectPoints.data(), PreintegratedSkinLut::instance().view());
     // Only a rect light's grid is worth a vector: other lights have one direction a pixel, and
     // their per-pixel set-up (position, material, view) costs as much as their one BxDF (tried:
     // the same 82 ms at 1080p in lanes as one pixel at a time).

@@ -10,9 +10,9 @@ namespace fp {
 void DeferredLightingPass::executeCuda(PassContext& ctx) {
     const FrameInfo& frame = ctx.frame();
     const DevicePorts ports{ctx};
-    deferred::RectGrid rect;
-    const deferred_lighting::LightShape light = lightShape(ctx, rect);
-    const auto points = ports.constants(rect.points.data(), rect.points.size());
+    std::vector<Vec3f> rectPoints;
+    const deferred_lighting::LightShape light = lightShape(ctx, rectPoints);
+    const auto points = ports.constants(rectPoints.data(), rectPoints.size());
     const PreintegratedSkinLut& skin = PreintegratedSkinLut::instance();
     const auto skinTexels = ports.constants(skin.texels().data(), skin.texels().size());
     const deferred_lighting::Frame f =

@@ -11,6 +11,7 @@
 #include "passes/deferred_lighting/DeferredLightingLanes.h"
 
 #include <string>
+#include <vector>
 
 namespace fp {
 
@@ -31,9 +32,9 @@ public:
     FP_PASS_HAS_CUDA_KERNEL  // DeferredLightingPass.cu
 
 private:
-    /// The light as the pixels read it, relative to this frame's eye; a rect light's grid goes
-    /// to `grid` (the shape points into it on the host).
-    deferred_lighting::LightShape lightShape(PassContext& ctx, deferred::RectGrid& grid) const;
+    /// The light as the pixels read it, relative to this frame's eye; a rect light's grid points
+    /// go to `rectPoints` (bindFrame points the shape at them, or at their device copy).
+    deferred_lighting::LightShape lightShape(PassContext& ctx, std::vector<Vec3f>& rectPoints) const;
 };
 
 }  // namespace fp

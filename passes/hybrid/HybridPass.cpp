@@ -93,13 +93,12 @@ PassIO HybridPass::describe() const {
     return io;
 }
 
-hybrid::GiFallback<BvhTracer> HybridPass::bvhFallback(PassContext& ctx, const BvhView& bvh,
-                                                      const LightView* lights, int lightCount,
+hybrid::GiFallback<BvhTracer> HybridPass::bvhFallback(PassContext& ctx, const BvhTracer& tracer,
                                                       unsigned long long* counts) const {
     const RayScene& rs = ctx.scene();
     const CameraView& cam = ctx.frame().camera.current;
     hybrid::GiFallback<BvhTracer> f{};
-    f.tracer = {bvh, lights, lightCount};
+    f.tracer = tracer;
     f.paths.bounces = mParams.maxBounces;
     f.paths.nee = mParams.nextEventEstimationSamples;
     f.onward = f.paths;
@@ -132,8 +131,8 @@ void HybridPass::execute(PassContext& ctx) {
     const DirectLighting lighting(rs, 1);
     unsigned long long counts[hybrid::kHybridCounters] = {};
     const HostPorts ports{ctx};
-    hybrid::GiFallback<BvhTracer> bvh =
-        bvhFallback(ctx, ports.bvh(), lighting.lightViews().data(), lighting.lightCount(), counts);
+    std::shared_ptr<const LightView> lights;
+    hybrid::GiFallback<BvhTracer> bvh = bvhFallback(ctx, bvhTracerFor(ports, lighting, lights), counts);
     hybrid::bindPlanes(ports, bvh);
     std::array<uint64_t, ssgi::kCounterCount> ssgiCounts;
     if (mParams.traversal == "bvh") {

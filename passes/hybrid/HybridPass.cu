@@ -13,11 +13,10 @@ void HybridPass::executeCuda(PassContext& ctx) {
     const SSGIQuality q = SSGIPass::traced(mParams.quality, mParams.rays);
     const DevicePorts ports{ctx};
     const DirectLighting lighting(ctx.scene(), 1);
-    const std::vector<LightView>& views = lighting.lightViews();
-    const auto lights = ports.constants(views.data(), views.size());
+    std::shared_ptr<const LightView> lights;
     const cuda::SharedCounters counts(hybrid::kHybridCounters, "hybrid");
     hybrid::GiFallback<BvhTracer> fallback =
-        bvhFallback(ctx, ports.bvh(), lights.get(), int(views.size()), counts.data());
+        bvhFallback(ctx, bvhTracerFor(ports, lighting, lights), counts.data());
     hybrid::bindPlanes(ports, fallback);
     const auto ssgiCounts =
         ssgi::run(ctx, ports, CudaPixels{}, q.rays, q.steps, false, 1.0f, fallback, "hybrid");

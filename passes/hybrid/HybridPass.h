@@ -29,8 +29,6 @@ struct HybridParams {
 };
 
 struct BvhTracer;
-struct BvhView;
-struct LightView;
 namespace hybrid {
 template <class Tracer>
 struct GiFallback;
@@ -47,10 +45,10 @@ public:
     FP_PASS_HAS_CUDA_KERNEL  // HybridPass.cu
 
 private:
-    /// The fallback through framepass's BVH `bvh` and its lights where the pixels run, counting
-    /// into `counts` (hybrid::HybridCounter, where the pixels run); its planes not yet bound.
-    hybrid::GiFallback<BvhTracer> bvhFallback(PassContext& ctx, const BvhView& bvh,
-                                              const LightView* lights, int lightCount,
+    /// The fallback through `tracer` (framepass's BVH and the lights where the pixels run),
+    /// counting into `counts` (hybrid::HybridCounter, where the pixels run); its planes not yet
+    /// bound.
+    hybrid::GiFallback<BvhTracer> bvhFallback(PassContext& ctx, const BvhTracer& tracer,
                                               unsigned long long* counts) const;
     /// The fallback's counts, with `rays` (SSGI's count, on screen and not) for the on-screen ones.
     void addFallbackWork(PassContext& ctx, uint64_t rays, const unsigned long long* counts) const;

@@ -55,10 +55,9 @@ PassMemory HybridReflectionsPass::memoryBytes(Extent frame) const {
 }
 
 hybrid_reflections::SceneFallback<BvhTracer> HybridReflectionsPass::bvhFallback(
-    PassContext& ctx, const BvhView& bvh, const LightView* lights, int lightCount,
-    const rtr::Sky& sky, unsigned long long* counts) {
+    PassContext& ctx, const BvhTracer& tracer, const rtr::Sky& sky, unsigned long long* counts) {
     const RayScene& rs = ctx.scene();
-    return {BvhTracer{bvh, lights, lightCount},
+    return {tracer,
             sky,
             mParams.shadows != 0,
             1,
@@ -86,8 +85,9 @@ void HybridReflectionsPass::execute(PassContext& ctx) {
     std::shared_ptr<const Vec3f> cubeTexels;
     const rtr::Sky sky = rtr::skyFor(HostPorts{ctx}, mSky.get(), cubeTexels);
     unsigned long long counts[kFallbackCounters] = {};
-    SceneFallback<BvhTracer> bvh = bvhFallback(ctx, HostPorts{ctx}.bvh(), lighting.lightViews().data(),
-                                               lighting.lightCount(), sky, counts);
+    std::shared_ptr<const LightView> lights;
+    SceneFallback<BvhTracer> bvh =
+        bvhFallback(ctx, bvhTracerFor(HostPorts{ctx}, lighting, lights), sky, counts);
     if (mParams.traversal == "bvh") {
         if (mSky && mParams.hitIndirectBounces > 0)
             throw UsageError("hybrid_reflections: traversal \"bvh\" reads no sky along a hit's "

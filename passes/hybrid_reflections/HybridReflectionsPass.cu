@@ -13,13 +13,12 @@ void HybridReflectionsPass::executeCuda(PassContext& ctx) {
     const DevicePorts ports{ctx};
     mSky = ReflectedSky::of(ctx.scene().scene().environment.sky, mSky);
     const DirectLighting lighting(ctx.scene(), 1);
-    const std::vector<LightView>& views = lighting.lightViews();
-    const auto lights = ports.constants(views.data(), views.size());
+    std::shared_ptr<const LightView> lights;
     std::shared_ptr<const Vec3f> cubeTexels;
     const rtr::Sky sky = rtr::skyFor(ports, mSky.get(), cubeTexels);
     const cuda::SharedCounters counts(kFallbackCounters, "hybrid_reflections");
     runSsr(ctx, ports, CudaPixels{}, mParams,
-           bvhFallback(ctx, ports.bvh(), lights.get(), int(views.size()), sky, counts.data()));
+           bvhFallback(ctx, bvhTracerFor(ports, lighting, lights), sky, counts.data()));
     addFallbackWork(ctx, counts.totals().data());
 }
 

@@ -25,8 +25,6 @@ struct HybridReflectionsParams : SSRParams {
 };
 
 struct BvhTracer;
-struct BvhView;
-struct LightView;
 namespace rtr {
 struct Sky;
 }
@@ -51,11 +49,10 @@ public:
 #endif
 
 private:
-    /// The fallback through framepass's BVH `bvh`, its lights and sky where the pixels run,
-    /// counting into `counts` (hybrid_reflections::FallbackCounter, where the pixels run).
-    hybrid_reflections::SceneFallback<BvhTracer> bvhFallback(PassContext& ctx, const BvhView& bvh,
-                                                             const LightView* lights,
-                                                             int lightCount, const rtr::Sky& sky,
+    /// The fallback through `tracer` (framepass's BVH and the lights where the pixels run) and
+    /// `sky`, counting into `counts` (hybrid_reflections::FallbackCounter, where the pixels run).
+    hybrid_reflections::SceneFallback<BvhTracer> bvhFallback(PassContext& ctx, const BvhTracer& tracer,
+                                                             const rtr::Sky& sky,
                                                              unsigned long long* counts);
     void addFallbackWork(PassContext& ctx, const unsigned long long* counts) const;
     std::shared_ptr<const ReflectedSky> mSky;  // made once per sky light

@@ -150,9 +150,9 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
             throw UsageError("rt_global_illumination: traversal \"bvh\" reads no sky, and "
                              "evalSkyLight asks for it with the scene's sky on: use traversal "
                              "\"embree\"");
-        const BvhTracer tracer{HostPorts{ctx}.bvh(), lighting.lightViews().data(),
-                               int(lighting.lightViews().size())};
-        rtgi::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, trace, tracer, "rt_global_illumination");
+        std::shared_ptr<const LightView> lights;
+        rtgi::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, trace,
+                  bvhTracerFor(HostPorts{ctx}, lighting, lights), "rt_global_illumination");
         return;
     }
     DiffusePathSetup paths;

@@ -10,9 +10,8 @@ namespace fp {
 void RTGlobalIlluminationPass::executeCuda(PassContext& ctx) {
     const DevicePorts ports{ctx};
     const DirectLighting lighting(ctx.scene(), 1);
-    const std::vector<LightView>& views = lighting.lightViews();
-    const auto lights = ports.constants(views.data(), views.size());
-    const BvhTracer tracer{ports.bvh(), lights.get(), int(views.size())};
+    std::shared_ptr<const LightView> lights;
+    const BvhTracer tracer = bvhTracerFor(ports, lighting, lights);
     // A warp traces 8×4 neighbouring texels' paths (CudaLaunch.cuh's PixelBlock), as rt_shadows.
     rtgi::run(ctx, ports, CudaPixels{cuda::PixelBlock::Squares}, frameSetup(ctx),
               outputExtents(rtgi::kDiffuse, ctx.frame().extent).front(), tracer,

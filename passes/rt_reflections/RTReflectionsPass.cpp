@@ -143,10 +143,9 @@ void RTReflectionsPass::execute(PassContext& ctx) {
             throw UsageError("rt_reflections: traversal \"bvh\" reads no sky along a hit's "
                              "indirect path, and hitIndirectBounces asks for one under the scene's "
                              "sky light: use traversal \"embree\"");
-        const BvhTracer tracer{HostPorts{ctx}.bvh(), lighting.lightViews().data(),
-                               lighting.lightCount()};
-        rtr::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, sky, trace, tracer, mParams.hybrid,
-                 "rt_reflections");
+        std::shared_ptr<const LightView> lights;
+        rtr::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, sky, trace,
+                 bvhTracerFor(HostPorts{ctx}, lighting, lights), mParams.hybrid, "rt_reflections");
         return;
     }
     DiffusePathSetup paths;

@@ -11,9 +11,8 @@ void RTReflectionsPass::executeCuda(PassContext& ctx) {
     const DevicePorts ports{ctx};
     const rtr::FrameSetup setup = frameSetup(ctx);
     const DirectLighting lighting(ctx.scene(), setup.lightSamples);
-    const std::vector<LightView>& views = lighting.lightViews();
-    const auto lights = ports.constants(views.data(), views.size());
-    const BvhTracer tracer{ports.bvh(), lights.get(), int(views.size())};
+    std::shared_ptr<const LightView> lights;
+    const BvhTracer tracer = bvhTracerFor(ports, lighting, lights);
     std::shared_ptr<const Vec3f> cubeTexels;
     const rtr::Sky sky = rtr::skyFor(ports, mSky.get(), cubeTexels);
     // A warp traces 8×4 neighbouring texels' rays (CudaLaunch.cuh's PixelBlock), as rt_shadows.

@@ -1,7 +1,9 @@
 #pragma once
-// SSGI's per-pixel work (algorithms §4.3–4.8), written once for both backends: SSGIPass::execute
-// calls ssgiPixel from its tile loop, SSGIPass.cu from one CUDA thread per traced pixel. Everything
-// a pixel reads is in SSGIFrame, plain views passed by value.
+// SSGI's per-pixel work (algorithms §4.3–4.8), written once for every backend: ssgiPixel<float>
+// is the scalar reference (SSGIPass::execute's tile loop with `lanes` off, SSGIPass.cu's CUDA
+// thread per traced pixel, the hybrid), and SSGILanes.cpp runs ssgiPixel<LaneFloat<N>>, a pixel's
+// rays N at a time, the same operations in every lane. Everything a pixel reads is in Frame,
+// plain views passed by value.
 #include "screenspace/GBuffer.h"
 #include "screenspace/HzbMarch.h"
 #include "screenspace/Surface.h"
@@ -67,18 +69,31 @@ FP_HD inline Vec3f quantiseNormal(const Vec3f& n) {
     return normalize(Vec3f{q(n.x), q(n.y), q(n.z)});
 }
 
-/// Ray `index` of `count` of trace pixel (x, y) on frame index `frameMod8`, in view space around
-/// unit view-space normal `n` (algorithms §4.4: PCG seed, Hammersley, concentric-disk cosine).
-FP_HD inline Vec3f rayDirection(const Vec3f& n, int x, int y, uint32_t frameMod8, int index,
-                                int count) {
-    const ue::Rand3 seed = ue::rand3DPCG16(x, y, int32_t(frameMod8));
-    float e1, e2, dx, dy;
-    ue::hammersley16(uint32_t(index), uint32_t(count), seed.x, seed.y, e1, e2);
+/// What every ray of a trace pixel shares in its direction (algorithms §4.4): the PCG seed of the
+/// pixel and frame index, and the tangent frame around the unit view-space normal.
+struct RayBasis {
+    ue::Rand3 seed;
+    Vec3f n, t, b;
+};
+
+FP_HD inline RayBasis rayBasis(const Vec3f& n, int x, int y, uint32_t frameMod8) {
+    RayBasis r;
+    r.seed = ue::rand3DPCG16(x, y, int32_t(frameMod8));
+    r.n = n;
+    orthonormalBasis(n, r.t, r.b);
+    return r;
+}
+
+/// Ray `index` of `count` in view space (algorithms §4.4: Hammersley scrambled by the pixel's
+/// seed, concentric-disk cosine around its normal). T: float, or float lanes with each lane's ray
+/// index in `index`.
+template <class T>
+FP_HD inline Vec3T<T> rayDirection(const RayBasis& basis, UIntOf<T> index, int count) {
+    T e1, e2, dx, dy;
+    ue::hammersley16(index, uint32_t(count), basis.seed.x, basis.seed.y, e1, e2);
     ue::concentricDisk(e1, e2, dx, dy);
-    const float dz = std::sqrt(std::max(0.0f, 1.0f - dx * dx - dy * dy));
-    Vec3f t, b;
-    orthonormalBasis(n, t, b);
-    return t * dx + b * dy + n * dz;
+    const T dz = sqrtOf(maxLike(T(0.0f), 1.0f - dx * dx - dy * dy));
+    return Vec3T<T>(basis.t) * dx + Vec3T<T>(basis.b) * dy + Vec3T<T>(basis.n) * dz;
 }
 
 // The per-pixel start of every ray (algorithms §4.3–4.5): the shared origin and the quantised
@@ -102,19 +117,31 @@ pixelStart(const Frame& f, int x, int y, int px, int py, double d) {
 }
 
 // algorithms §4.5 with SSGI's tolerance.
-FP_HD inline bool raySteps(const TraceSetup& s, const PixelStart& p, const Vec3f& L, RaySteps& r) {
+template <class T>
+FP_HD inline MaskOf<T> raySteps(const TraceSetup& s, const PixelStart& p, const Vec3T<T>& L,
+                                RayStepsT<T>& r) {
     return screenRaySteps(s, p, L, kToleranceScale, r);
 }
 
-// Last frame's colour where a ray hit, at the level it reached (point, nearest mip; §4.7).
-FP_HD inline void hitColor(const TraceSetup& s, const RayPoint& hit, float level, float c[3]) {
-    const int mip = nearestMip(level, kReducedMips);
-    const float scale = inversePowerOfTwo(mip);
-    const int rx = floorToInt(hit.hx * scale, 0, s.reducedMaxX[mip]);
-    const int ry = floorToInt(hit.hy * scale, 0, s.reducedMaxY[mip]);
-    c[0] = s.reduced[mip][0].at(rx, ry);
-    c[1] = s.reduced[mip][1].at(rx, ry);
-    c[2] = s.reduced[mip][2].at(rx, ry);
+// Last frame's colour where a ray hit, at the level it reached (point, nearest mip; §4.7); 0
+// where `where` does not hold. Each lane reads the mip of its own level.
+template <class T>
+FP_HD inline void hitColor(const TraceSetup& s, const RayPointT<T>& hit, T level, MaskOf<T> where, T c[3]) {
+    const IntOf<T> mip = nearestMipOf(level, kReducedMips);
+    const T scale = inversePowerOfTwoOf(mip);
+    const IntOf<T> rx = floorToIntOf(hit.hx * scale, 0, gatherOf(s.reducedMaxX, mip));
+    const IntOf<T> ry = floorToIntOf(hit.hy * scale, 0, gatherOf(s.reducedMaxY, mip));
+    for (int ch = 0; ch < 3; ++ch)
+        c[ch] = laneByLane(where, [&](int m, int tx, int ty) { return s.reduced[m][ch].at(tx, ty); },
+                           mip, rx, ry);
+}
+
+// §4.7's Karis weight of colour c: c / (1 + luma(c)).
+template <class T>
+FP_HD inline void karisWeighted(const T c[3], T weighted[3]) {
+    const T karis = 1.0f / (1.0f + ue::luma(c[0], c[1], c[2]));
+    for (int ch = 0; ch < 3; ++ch)
+        weighted[ch] = c[ch] * karis;
 }
 
 // View-space distance from the pixel to a hit (debug output); false for a hit on the sky.
@@ -150,26 +177,10 @@ FP_HD inline RayTrace weighHit(const TraceSetup& s,
                                const float c[3],
                                bool wantDistance) {
     RayTrace t;
-    const float karis = 1.0f / (1.0f + ue::luma(c[0], c[1], c[2]));
-    for (int ch = 0; ch < 3; ++ch)
-        t.weighted[ch] = c[ch] * karis;
+    karisWeighted(c, t.weighted);
     t.hit = true;
     t.measured = wantDistance && viewDistanceToHit(s, p, hit, t.distance);
     return t;
-}
-
-// algorithms §4.7 for a ray that hit at sample `hitSample` having reached mip level `level`:
-// last frame's colour there, Karis-weighted, and (when wanted) the distance to the hit.
-FP_HD inline RayTrace shadeHit(const TraceSetup& s,
-                               const PixelStart& p,
-                               const RaySteps& steps,
-                               int hitSample,
-                               float level,
-                               bool wantDistance) {
-    const RayPoint hit = rayPointAt(steps, float(hitSample));
-    float c[3];
-    hitColor(s, hit, level, c);
-    return weighHit(s, p, hit, c, wantDistance);
 }
 
 /// What SSGI's rays do beyond the screen: in Unreal's SSGI, nothing — a ray its march cannot
@@ -190,38 +201,6 @@ struct NoFallback {
     FP_HD void end(Pixel&) const {}
 };
 
-// algorithms §4.4–4.7 for ray `r` of a traced pixel, one ray at a time: the scalar reference that
-// the CPU's SIMD lanes (SSGILanes.cpp) reproduce bit for bit, and the GPU's per-thread loop;
-// with a fallback (the hybrid's), what the screen cannot finish is the fallback's.
-template <class Fallback = NoFallback>
-FP_HD inline RayTrace traceRay(const TraceSetup& s,
-                               const PixelStart& p,
-                               int x,
-                               int y,
-                               int r,
-                               bool wantDistance,
-                               unsigned& hzbSamples,
-                               const Fallback& fallback = {},
-                               typename Fallback::Pixel* pixel = nullptr) {
-    const Vec3f L = rayDirection(p.nView, x, y, s.frameMod8, r, s.rays);
-    RaySteps steps;
-    if (raySteps(s, p, L, steps)) {
-        float level;
-        const int hitSample = marchHzb(s.hzb, steps, s.steps, s.levelStep, level, hzbSamples);
-        if (hitSample >= 0) {
-            if (!fallback.continuesHits())
-                return shadeHit(s, p, steps, hitSample, level, wantDistance);
-            // Last frame's colour at the hit, plus what the fallback's path after it brings.
-            const RayPoint hit = rayPointAt(steps, float(hitSample));
-            float c[3];
-            hitColor(s, hit, level, c);
-            fallback.onScreenHit(*pixel, hit, c);
-            return weighHit(s, p, hit, c, wantDistance);
-        }
-    }
-    return pixel ? fallback.miss(*pixel, x, y, L) : RayTrace{};
-}
-
 // What one pixel's rays gathered, summed in ray order.
 struct PixelTrace {
     float sum[3] = {0, 0, 0};
@@ -241,6 +220,71 @@ struct PixelTrace {
         }
     }
 };
+
+/// algorithms §4.4–4.7 for the rays `first`, `first` + 1, … of a traced pixel, kLanesOf<T> at a
+/// time (T: float, the scalar reference and the GPU's per-thread loop; float lanes on the CPU, a
+/// ray a lane, the same operations in every lane), their light added to `trace` in ray order.
+/// With a fallback (the hybrid's), what the screen cannot finish is the fallback's.
+template <class T, class Fallback>
+FP_HD inline void traceRays(const TraceSetup& s,
+                            const PixelStart& p,
+                            const RayBasis& basis,
+                            int x,
+                            int y,
+                            int first,
+                            bool wantDistance,
+                            unsigned& hzbSamples,
+                            PixelTrace& trace,
+                            const Fallback& fallback,
+                            typename Fallback::Pixel& pixel) {
+    using M = MaskOf<T>;
+    const UIntOf<T> index = LaneTypes<T>::indices() + uint32_t(first);
+    const M inUse = index < uint32_t(s.rays);
+    const Vec3T<T> L = rayDirection<T>(basis, index, s.rays);
+    RayStepsT<T> steps{};  // (set where a lane is traced; the march reads no other lane)
+    const M traced = inUse & raySteps(s, p, L, steps);
+    T level;
+    const T hitSample = marchHzb(s.hzb, steps, s.steps, s.levelStep, level, hzbSamples, (T*)nullptr, traced);
+    const M hits = traced & (hitSample >= 0.0f);
+    const int count = s.rays - first < kLanesOf<T> ? s.rays - first : kLanesOf<T>;
+    if (!anyLane(hits)) {
+        for (int i = 0; i < count; ++i)
+            trace.add(fallback.miss(pixel, x, y, laneOf(L, i)));
+        return;
+    }
+    const RayPointT<T> hit = rayPointAt(steps, hitSample);
+    if (!wantDistance && !fallback.continuesHits()) {
+        // The hits' colours and Karis weights, every lane at once.
+        T c[3], weighted[3];
+        hitColor(s, hit, level, hits, c);
+        karisWeighted(c, weighted);
+        for (int i = 0; i < count; ++i) {
+            if (!laneOf(hits, i)) {
+                trace.add(fallback.miss(pixel, x, y, laneOf(L, i)));
+                continue;
+            }
+            RayTrace t;
+            t.hit = true;
+            for (int ch = 0; ch < 3; ++ch)
+                t.weighted[ch] = laneOf(weighted[ch], i);
+            trace.add(t);
+        }
+        return;
+    }
+    // One hit at a time: the debug distance, or a fallback that continues the hit's path.
+    for (int i = 0; i < count; ++i) {
+        if (!laneOf(hits, i)) {
+            trace.add(fallback.miss(pixel, x, y, laneOf(L, i)));
+            continue;
+        }
+        const RayPoint h{laneOf(hit.hx, i), laneOf(hit.hy, i), laneOf(hit.z, i)};
+        float c[3];
+        hitColor(s, h, laneOf(level, i), true, c);
+        if (fallback.continuesHits())
+            fallback.onScreenHit(pixel, h, c);  // adds what the path after the hit brings
+        trace.add(weighHit(s, p, h, c, wantDistance));
+    }
+}
 
 /// algorithms §4.8: the mean of the rays with the Karis weighting undone, written out.
 FP_HD inline void finishPixel(const Frame& f, int x, int y, const PixelTrace& t) {
@@ -273,20 +317,22 @@ FP_HD inline bool beginPixel(const Frame& f, int x, int y, unsigned long long* c
     return true;
 }
 
-/// One trace pixel (x, y) of the frame: skipped (unlit or sky) or traced ray after ray (what the
-/// screen cannot finish the fallback's), its outputs written and its work added to `counts`
-/// (indexed by Counter).
-template <class Fallback = NoFallback>
+/// One trace pixel (x, y) of the frame: skipped (unlit or sky) or traced, kLanesOf<T> rays at a
+/// time (what the screen cannot finish the fallback's), its outputs written and its work added to
+/// `counts` (indexed by Counter). T = float is the scalar reference (the GPU's thread, the CPU
+/// with `ssgi.lanes` off, the hybrid); SSGILanes.cpp runs it with float lanes, the same bits.
+template <class T = float, class Fallback = NoFallback>
 FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* counts,
                             const Fallback& fallback = {}) {
     PixelStart start;
     if (!beginPixel(f, x, y, counts, start))
         return;
+    const RayBasis basis = rayBasis(start.nView, x, y, f.setup.frameMod8);
     PixelTrace t;
     unsigned hzbSamples = 0;  // a pixel's rays × steps fits; one 32-bit register on the GPU
     typename Fallback::Pixel pixel = fallback.begin(f, x, y);
-    for (int r = 0; r < f.setup.rays; ++r)
-        t.add(traceRay(f.setup, start, x, y, r, bool(f.hitDistance), hzbSamples, fallback, &pixel));
+    for (int first = 0; first < f.setup.rays; first += kLanesOf<T>)
+        traceRays<T>(f.setup, start, basis, x, y, first, bool(f.hitDistance), hzbSamples, t, fallback, pixel);
     fallback.end(pixel);
     counts[kRays] += (unsigned long long)f.setup.rays;
     counts[kHzbSamples] += hzbSamples;

@@ -1,8 +1,8 @@
 #pragma once
-// SSGI on the CPU with a pixel's rays in SIMD lanes (Google Highway, the widest instruction set the
-// CPU has, chosen at run time): the same arithmetic as the scalar ssgiPixel, lane by lane, so the
-// outputs are the same bits (SSGITests checks it). SSGIPass::execute uses it unless `ssgi.lanes`
-// is off.
+// SSGI on the CPU with a pixel's rays in SIMD lanes (the widest x86 instruction set the CPU has,
+// chosen at run time): the kernel's own ssgiPixel over float lanes (foundation/LaneFloat.h), so the
+// outputs are the scalar reference's bits (SSGITests checks it on every instruction set).
+// SSGIPass::execute uses it unless `ssgi.lanes` is off.
 #include "passes/ssgi/SSGIKernel.h"
 
 #include <array>

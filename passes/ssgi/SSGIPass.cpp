@@ -95,7 +95,7 @@ Vec3f SSGIPass::rayDirection(const Vec3f& n,
                              uint32_t frameMod8,
                              int index,
                              int count) {
-    return ssgi::rayDirection(n, x, y, frameMod8, index, count);
+    return ssgi::rayDirection<float>(ssgi::rayBasis(n, x, y, frameMod8), uint32_t(index), count);
 }
 
 void SSGIPass::execute(PassContext& ctx) {
