@@ -1,8 +1,9 @@
 #pragma once
 // SSGI's per-pixel work (algorithms §4.3–4.8), written once for every backend: ssgiPixel<float>
 // is the scalar reference (SSGIPass::execute's tile loop with `lanes` off, SSGIPass.cu's CUDA
-// thread per traced pixel, the hybrid), and SSGILanes.cpp runs ssgiPixel<LaneFloat<N>>, a pixel's
-// rays N at a time, the same operations in every lane. Everything a pixel reads is in Frame,
+// thread per traced pixel, the hybrid), and SSGILanes.cpp's SSE4 and AVX2 builds run
+// ssgiPixel<LaneFloat<N>>, a pixel's rays N at a time, the same operations in every lane (its
+// AVX-512 build is still Highway's spelling, SSGILanes.cpp says why). Everything a pixel reads is in Frame,
 // plain views passed by value.
 #include "screenspace/GBuffer.h"
 #include "screenspace/HzbMarch.h"
@@ -320,7 +321,8 @@ FP_HD inline bool beginPixel(const Frame& f, int x, int y, unsigned long long* c
 /// One trace pixel (x, y) of the frame: skipped (unlit or sky) or traced, kLanesOf<T> rays at a
 /// time (what the screen cannot finish the fallback's), its outputs written and its work added to
 /// `counts` (indexed by Counter). T = float is the scalar reference (the GPU's thread, the CPU
-/// with `ssgi.lanes` off, the hybrid); SSGILanes.cpp runs it with float lanes, the same bits.
+/// with `ssgi.lanes` off, the hybrid); SSGILanes.cpp's SSE4 and AVX2 builds run it with float
+/// lanes, the same bits.
 template <class T = float, class Fallback = NoFallback>
 FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* counts,
                             const Fallback& fallback = {}) {
