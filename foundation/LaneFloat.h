@@ -85,6 +85,32 @@ FP_LANE_OP V broadcast(E x) {
     first[0] = x;
     return pick(first, first, zeros(std::make_index_sequence<N>{}));
 }
+
+// A vector comparison's mask type is fixed when GCC parses the function that holds it, from that
+// function's instruction set: lanes of all-ones bits below AVX-512, mask registers for 512-bit
+// vectors with AVX-512. A 512-bit comparison or select parsed in a default-target helper and
+// inlined into an AVX-512 function keeps the former, which AVX-512 has no instruction for, so GCC
+// 12 compares lane by lane (4.5× slower SSGI). So every comparison and select of the lane types
+// goes through compared/selected below, and their 512-bit versions carry AVX-512's target: plain
+// inline, not always_inline (GCC refuses to force a function of a wider target into the kernel
+// templates, which have the default one); the flatten of the AVX-512 function that runs a kernel
+// inlines them there.
+enum class Compare { less, lessEqual, equal, notEqual };
+#define FP_WIDE_LANE_OP __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) inline
+#define FP_LANE_MASK_PRIMITIVES(ATTRIBUTES, WIDE)                                   \
+    template <Compare C, class V, std::enable_if_t<(sizeof(V) == 64) == WIDE, int> = 0> \
+    ATTRIBUTES auto compared(V a, V b) {                                            \
+        if constexpr (C == Compare::less) return a < b;                             \
+        else if constexpr (C == Compare::lessEqual) return a <= b;                  \
+        else if constexpr (C == Compare::equal) return a == b;                      \
+        else return a != b;                                                         \
+    }                                                                               \
+    template <class M, class V, std::enable_if_t<(sizeof(V) == 64) == WIDE, int> = 0> \
+    ATTRIBUTES V selected(M m, V a, V b) { return m ? a : b; }
+FP_LANE_MASK_PRIMITIVES(FP_LANE_OP, false)
+FP_LANE_MASK_PRIMITIVES(FP_WIDE_LANE_OP, true)
+#undef FP_LANE_MASK_PRIMITIVES
+#undef FP_WIDE_LANE_OP
 }  // namespace lanes_detail
 
 /// N comparisons' outcomes, V a GCC vector of N integers as wide as the compared lanes: all bits
@@ -93,7 +119,9 @@ template <class V, int N>
 struct LaneMaskOf {
     V v;
 
-    friend FP_LANE_OP LaneMaskOf operator!(LaneMaskOf a) { return {a.v == 0}; }
+    friend FP_LANE_OP LaneMaskOf operator!(LaneMaskOf a) {
+        return {lanes_detail::compared<lanes_detail::Compare::equal>(a.v, V{})};
+    }
     friend FP_LANE_OP LaneMaskOf operator|(LaneMaskOf a, LaneMaskOf b) { return {a.v | b.v}; }
     friend FP_LANE_OP LaneMaskOf operator&(LaneMaskOf a, LaneMaskOf b) { return {a.v & b.v}; }
     friend FP_LANE_OP bool anyLane(LaneMaskOf a) {
@@ -137,8 +165,12 @@ struct LaneIntegers {
     friend FP_LANE_OP LaneIntegers operator^(LaneIntegers a, LaneIntegers b) { return a.v ^ b.v; }
     friend FP_LANE_OP LaneIntegers operator<<(LaneIntegers a, E bits) { return a.v << bits; }
     friend FP_LANE_OP LaneIntegers operator>>(LaneIntegers a, E bits) { return a.v >> bits; }
-    friend FP_LANE_OP LaneMask<N> operator<(LaneIntegers a, LaneIntegers b) { return {a.v < b.v}; }
-    friend FP_LANE_OP LaneMask<N> operator==(LaneIntegers a, LaneIntegers b) { return {a.v == b.v}; }
+    friend FP_LANE_OP LaneMask<N> operator<(LaneIntegers a, LaneIntegers b) {
+        return {lanes_detail::compared<lanes_detail::Compare::less>(a.v, b.v)};
+    }
+    friend FP_LANE_OP LaneMask<N> operator==(LaneIntegers a, LaneIntegers b) {
+        return {lanes_detail::compared<lanes_detail::Compare::equal>(a.v, b.v)};
+    }
     friend FP_LANE_OP E laneOf(LaneIntegers a, int i) { return a.v[i]; }
 };
 template <int N>
@@ -174,15 +206,17 @@ struct LaneReals {
     FP_LANE_OP LaneReals& operator*=(LaneReals o) { v *= o.v; return *this; }
 
     // Ordered comparisons, as E's: false in a lane where either side is NaN (!= true there).
-    friend FP_LANE_OP Mask operator<(LaneReals a, LaneReals b) { return {a.v < b.v}; }
-    friend FP_LANE_OP Mask operator<=(LaneReals a, LaneReals b) { return {a.v <= b.v}; }
-    friend FP_LANE_OP Mask operator>(LaneReals a, LaneReals b) { return {a.v > b.v}; }
-    friend FP_LANE_OP Mask operator>=(LaneReals a, LaneReals b) { return {a.v >= b.v}; }
-    friend FP_LANE_OP Mask operator==(LaneReals a, LaneReals b) { return {a.v == b.v}; }
-    friend FP_LANE_OP Mask operator!=(LaneReals a, LaneReals b) { return {a.v != b.v}; }
+    friend FP_LANE_OP Mask operator<(LaneReals a, LaneReals b) { return compare<Compare::less>(a, b); }
+    friend FP_LANE_OP Mask operator<=(LaneReals a, LaneReals b) { return compare<Compare::lessEqual>(a, b); }
+    friend FP_LANE_OP Mask operator>(LaneReals a, LaneReals b) { return compare<Compare::less>(b, a); }
+    friend FP_LANE_OP Mask operator>=(LaneReals a, LaneReals b) { return compare<Compare::lessEqual>(b, a); }
+    friend FP_LANE_OP Mask operator==(LaneReals a, LaneReals b) { return compare<Compare::equal>(a, b); }
+    friend FP_LANE_OP Mask operator!=(LaneReals a, LaneReals b) { return compare<Compare::notEqual>(a, b); }
 
     /// m ? a : b, lane by lane.
-    friend FP_LANE_OP LaneReals ifThenElse(Mask m, LaneReals a, LaneReals b) { return m.v ? a.v : b.v; }
+    friend FP_LANE_OP LaneReals ifThenElse(Mask m, LaneReals a, LaneReals b) {
+        return lanes_detail::selected(m.v, a.v, b.v);
+    }
     friend FP_LANE_OP LaneReals sqrtOf(LaneReals a) {
         return map(a, [](E x) { return fp::sqrtOf(x); });
     }
@@ -201,6 +235,11 @@ struct LaneReals {
     friend FP_LANE_OP LaneReals saturate(LaneReals a) { return saturateOf(a); }
 
 private:
+    using Compare = lanes_detail::Compare;
+    template <Compare C>
+    static FP_LANE_OP Mask compare(LaneReals a, LaneReals b) {
+        return {(Bits)lanes_detail::compared<C>(a.v, b.v)};  // double lanes compare to long, not long long
+    }
     /// Math.h's `fn` of each lane: a loop the vectoriser makes one instruction (see the top).
     template <class Fn>
     static FP_LANE_OP LaneReals map(LaneReals a, Fn fn) {
