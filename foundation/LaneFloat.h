@@ -96,7 +96,11 @@ FP_LANE_OP V broadcast(E x) {
 // templates, which have the default one); the flatten of the AVX-512 function that runs a kernel
 // inlines them there.
 enum class Compare { less, lessEqual, equal, notEqual };
+#if defined(__clang__)  // clang picks mask types when it generates code (the fuzz build): as any other
+#define FP_WIDE_LANE_OP FP_LANE_OP
+#else
 #define FP_WIDE_LANE_OP __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) inline
+#endif
 #define FP_LANE_MASK_PRIMITIVES(ATTRIBUTES, WIDE)                                   \
     template <Compare C, class V, std::enable_if_t<(sizeof(V) == 64) == WIDE, int> = 0> \
     ATTRIBUTES auto compared(V a, V b) {                                            \

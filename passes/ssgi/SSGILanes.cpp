@@ -4,10 +4,9 @@
 // vector at a time), inlined whole (flatten) so it compiles to that instruction set.
 //
 // With AVX-512 it is still a second spelling of the kernel in Highway's operations (below), kept
-// equal by SSGITests' bit-for-bit test: GCC 12 lowers the generic 512-bit vectors' mask
-// arithmetic of the templated kernel (comparisons combined with &, parsed outside the target's
-// pragma) a lane at a time, 4.5× slower than this code; 8 lanes of 256 bits on an AVX-512 CPU were
-// 1.7–1.9× slower (the H200 host's Xeon, docs/results/speed-1080p.md). Every lane of it does the
+// equal by SSGITests' bit-for-bit test: the templated kernel at 16 lanes, with LaneFloat.h's
+// AVX-512 comparisons and AVX-512's gather in the march, measured 13–16 % slower than this code
+// (its hit colours and table reads are a load a lane; docs/results/speed-1080p.md). Every lane of it does the
 // scalar reference's arithmetic (rayDirection, screenRaySteps, marchHzb) in the same order, one
 // IEEE operation for one, with no fused multiply-add (-ffp-contract=off): the disk angle's sine
 // and cosine (SinCos.h, in double lanes), the march, the colour reads of the hits (one gather per
