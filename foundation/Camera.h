@@ -62,9 +62,15 @@ public:
     FP_HD double screenY(double py) const { return 1.0 - (py + 0.5) / height * 2.0; }
     /// Offset from the eye of the surface at pixel (px, py) and view depth `depth`.
     FP_HD Vec3d translatedFromPixel(double px, double py, double depth) const {
-        const double vx = (screenX(px) - cx) * depth / fx;
-        const double vy = (screenY(py) - cy) * depth / fy;
-        return right * vx + up * vy + forward * depth;
+        return translatedFromPixelOf<double>(px, py, depth);
+    }
+    /// The same for D: double, or double lanes (LaneFloat.h) of pixels of one row, each lane the
+    /// same operations in the same order.
+    template <class D>
+    FP_HD Vec3T<D> translatedFromPixelOf(D px, double py, D depth) const {
+        const D vx = (((px + 0.5) / double(width) * 2.0 - 1.0) - cx) * depth / fx;
+        const D vy = D(screenY(py) - cy) * depth / fy;
+        return Vec3T<D>(right) * vx + Vec3T<D>(up) * vy + Vec3T<D>(forward) * depth;
     }
     /// World position of that surface (double: eye + offset).
     Vec3d worldFromPixel(double px, double py, double depth) const {

@@ -6,7 +6,7 @@
 // anyLane, countLanes, minLike, maxLike and saturate instead of `?:`, `if` or std::min/max; its
 // integers are IntOf<T> / UIntOf<T> and its doubles DoubleOf<T> (int, uint32_t and double for
 // float; LaneInt, LaneUInt and LaneDouble of N lanes here), converted with toFloat, toDouble and
-// toInt; a lane reads memory at its own index with gatherAt / gatherOf / laneByLane. Math.h gives
+// toInt; a lane reads memory at its own index with gatherAt. Math.h gives
 // every one of these names for float; the definitions below give them for lanes.
 //
 // The lane types are GCC vectors (vector_size): the compiler lowers their operators to the
@@ -95,31 +95,83 @@ FP_LANE_OP V broadcast(E x) {
 // inline, not always_inline (GCC refuses to force a function of a wider target into the kernel
 // templates, which have the default one); the flatten of the AVX-512 function that runs a kernel
 // inlines them there.
+//
+// With GCC the 512-bit outcome is kept as AVX-512 keeps it, one bit a lane (a mask register):
+// a comparison is the AVX-512 compare into a mask register and a select the masked blend. Held
+// as a vector of all-ones lanes instead, each outcome went from the mask register into a vector
+// and back before each select (two instructions more on the march's critical path: SSGI's
+// AVX-512 lanes 15 % slower than Highway's, which keeps its masks in mask registers).
 enum class Compare { less, lessEqual, equal, notEqual };
+#if defined(__x86_64__) && !defined(__clang__)
+inline constexpr bool kBitMasks = true;
+#else
+inline constexpr bool kBitMasks = false;
+#endif
+/// Whether comparisons of vector V give a bit a lane (else a vector of all-ones lanes).
+template <class V>
+inline constexpr bool kBitMaskOf = kBitMasks && sizeof(V) == 64;
+
 #if defined(__clang__)  // clang picks mask types when it generates code (the fuzz build): as any other
 #define FP_WIDE_LANE_OP FP_LANE_OP
 #else
 #define FP_WIDE_LANE_OP __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) inline
 #endif
-#define FP_LANE_MASK_PRIMITIVES(ATTRIBUTES, WIDE)                                   \
-    template <Compare C, class V, std::enable_if_t<(sizeof(V) == 64) == WIDE, int> = 0> \
-    ATTRIBUTES auto compared(V a, V b) {                                            \
-        if constexpr (C == Compare::less) return a < b;                             \
-        else if constexpr (C == Compare::lessEqual) return a <= b;                  \
-        else if constexpr (C == Compare::equal) return a == b;                      \
-        else return a != b;                                                         \
-    }                                                                               \
-    template <class M, class V, std::enable_if_t<(sizeof(V) == 64) == WIDE, int> = 0> \
-    ATTRIBUTES V selected(M m, V a, V b) { return m ? a : b; }
-FP_LANE_MASK_PRIMITIVES(FP_LANE_OP, false)
-FP_LANE_MASK_PRIMITIVES(FP_WIDE_LANE_OP, true)
-#undef FP_LANE_MASK_PRIMITIVES
+template <Compare C, class V, std::enable_if_t<!kBitMaskOf<V>, int> = 0>
+FP_LANE_OP auto compared(V a, V b) {
+    if constexpr (C == Compare::less) return a < b;
+    else if constexpr (C == Compare::lessEqual) return a <= b;
+    else if constexpr (C == Compare::equal) return a == b;
+    else return a != b;
+}
+template <class M, class V, std::enable_if_t<!kBitMaskOf<V>, int> = 0>
+FP_LANE_OP V selected(M m, V a, V b) { return m ? a : b; }
+
+#if defined(__x86_64__) && !defined(__clang__)
+/// The comparison's outcome a bit a lane: AVX-512's compare of floats, doubles, ints or unsigned
+/// ints with C's predicate (the float ones ordered and signalling, as C's <, <= and ==; != true
+/// where either side is NaN).
+template <Compare C, class V, std::enable_if_t<kBitMaskOf<V>, int> = 0>
+FP_WIDE_LANE_OP auto compared(V a, V b) {
+    using E = std::remove_cv_t<std::remove_reference_t<decltype(a[0])>>;
+    typedef int I16 __attribute__((vector_size(64)));
+    typedef long long I8 __attribute__((vector_size(64)));
+    // The predicates: _CMP_LT_OS, _CMP_LE_OS, _CMP_EQ_OQ, _CMP_NEQ_UQ for reals, and for integers
+    // _MM_CMPINT_LT, _LE, _EQ, _NE, which have the same numbers.
+    constexpr int predicate = C == Compare::less ? 1 : C == Compare::lessEqual ? 2 : C == Compare::equal ? 0 : 4;
+    if constexpr (std::is_same_v<E, float>)
+        return (unsigned short)__builtin_ia32_cmpps512_mask(a, b, predicate, (unsigned short)0xFFFF, 4);
+    else if constexpr (std::is_same_v<E, double>)
+        return (unsigned char)__builtin_ia32_cmppd512_mask(a, b, predicate, (unsigned char)0xFF, 4);
+    else if constexpr (sizeof(E) == 4 && std::is_signed_v<E>)
+        return (unsigned short)__builtin_ia32_cmpd512_mask((I16)a, (I16)b, predicate, (unsigned short)0xFFFF);
+    else if constexpr (sizeof(E) == 4)
+        return (unsigned short)__builtin_ia32_ucmpd512_mask((I16)a, (I16)b, predicate, (unsigned short)0xFFFF);
+    else
+        return (unsigned char)__builtin_ia32_cmpq512_mask((I8)a, (I8)b, predicate, (unsigned char)0xFF);
+}
+/// m ? a : b, lane by lane, for an outcome a bit a lane: AVX-512's masked blend.
+template <class M, class V, std::enable_if_t<kBitMaskOf<V>, int> = 0>
+FP_WIDE_LANE_OP V selected(M m, V a, V b) {
+    using E = std::remove_cv_t<std::remove_reference_t<decltype(a[0])>>;
+    typedef int I16 __attribute__((vector_size(64)));
+    typedef long long I8 __attribute__((vector_size(64)));
+    if constexpr (std::is_same_v<E, float>)
+        return __builtin_ia32_blendmps_512_mask(b, a, m);
+    else if constexpr (std::is_same_v<E, double>)
+        return __builtin_ia32_blendmpd_512_mask(b, a, m);
+    else if constexpr (sizeof(E) == 4)
+        return (V)__builtin_ia32_blendmd_512_mask((I16)b, (I16)a, m);
+    else
+        return (V)__builtin_ia32_blendmq_512_mask((I8)b, (I8)a, m);
+}
+#endif
 #undef FP_WIDE_LANE_OP
 }  // namespace lanes_detail
 
 /// N comparisons' outcomes, V a GCC vector of N integers as wide as the compared lanes: all bits
-/// set in a lane where true (GCC's vector comparison result).
-template <class V, int N>
+/// set in a lane where true (GCC's vector comparison result), or with AVX-512's 512-bit vectors a
+/// bit a lane (lanes_detail::kBitMaskOf).
+template <class V, int N, bool Bits = lanes_detail::kBitMaskOf<V>>
 struct LaneMaskOf {
     V v;
 
@@ -147,6 +199,22 @@ struct LaneMaskOf {
         for (int i = 0; i < N; ++i) out[i] = v[i] != 0;
     }
 };
+/// The same, a bit a lane (bit i: lane i).
+template <class V, int N>
+struct LaneMaskOf<V, N, true> {
+    using Word = std::conditional_t<(N > 8), unsigned short, unsigned char>;
+    Word v;
+
+    friend FP_LANE_OP LaneMaskOf operator!(LaneMaskOf a) { return {Word(~a.v)}; }
+    friend FP_LANE_OP LaneMaskOf operator|(LaneMaskOf a, LaneMaskOf b) { return {Word(a.v | b.v)}; }
+    friend FP_LANE_OP LaneMaskOf operator&(LaneMaskOf a, LaneMaskOf b) { return {Word(a.v & b.v)}; }
+    friend FP_LANE_OP bool anyLane(LaneMaskOf a) { return a.v != 0; }
+    friend FP_LANE_OP int countLanes(LaneMaskOf a) { return __builtin_popcount(unsigned(a.v)); }
+    friend FP_LANE_OP bool laneOf(LaneMaskOf a, int i) { return (a.v >> i) & 1u; }
+    FP_LANE_OP void store(bool* out) const {
+        for (int i = 0; i < N; ++i) out[i] = (v >> i) & 1u;
+    }
+};
 template <int N>
 using LaneMask = LaneMaskOf<typename LaneVectors<N>::I, N>;
 
@@ -161,6 +229,14 @@ struct LaneIntegers {
     /// Every lane `x` (lanes_detail::broadcast).
     FP_LANE_OP LaneIntegers(E x) : v(lanes_detail::broadcast<V, N>(x)) {}
 
+    /// N values from `p` (unaligned) and back.
+    static FP_LANE_OP LaneIntegers load(const E* p) {
+        LaneIntegers r;
+        std::memcpy(&r.v, p, sizeof r.v);
+        return r;
+    }
+    FP_LANE_OP void store(E* p) const { std::memcpy(p, &v, sizeof v); }
+
     friend FP_LANE_OP LaneIntegers operator+(LaneIntegers a, LaneIntegers b) { return a.v + b.v; }
     friend FP_LANE_OP LaneIntegers operator-(LaneIntegers a, LaneIntegers b) { return a.v - b.v; }
     friend FP_LANE_OP LaneIntegers operator*(LaneIntegers a, LaneIntegers b) { return a.v * b.v; }
@@ -169,6 +245,8 @@ struct LaneIntegers {
     friend FP_LANE_OP LaneIntegers operator^(LaneIntegers a, LaneIntegers b) { return a.v ^ b.v; }
     friend FP_LANE_OP LaneIntegers operator<<(LaneIntegers a, E bits) { return a.v << bits; }
     friend FP_LANE_OP LaneIntegers operator>>(LaneIntegers a, E bits) { return a.v >> bits; }
+    /// Each lane shifted by its own amount (0 to 31).
+    friend FP_LANE_OP LaneIntegers operator>>(LaneIntegers a, LaneIntegers bits) { return a.v >> bits.v; }
     friend FP_LANE_OP LaneMask<N> operator<(LaneIntegers a, LaneIntegers b) {
         return {lanes_detail::compared<lanes_detail::Compare::less>(a.v, b.v)};
     }
@@ -228,9 +306,9 @@ struct LaneReals {
         return map(a, [](E x) { return fp::floorOf(x); });
     }
     /// |a| and |mag| with sign's sign bit: the sign bit cleared or copied, as fabs and copysign.
-    friend FP_LANE_OP LaneReals absOf(LaneReals a) { return (V)((Bits)a.v & ~kSign); }
+    friend FP_LANE_OP LaneReals absOf(LaneReals a) { return (V)((IntBits)a.v & ~kSign); }
     friend FP_LANE_OP LaneReals copySignOf(LaneReals mag, LaneReals sign) {
-        return (V)(((Bits)mag.v & ~kSign) | ((Bits)sign.v & kSign));
+        return (V)(((IntBits)mag.v & ~kSign) | ((IntBits)sign.v & kSign));
     }
     friend FP_LANE_OP Mask isFiniteOf(LaneReals a) { return absOf(a) < LaneReals(kInfinity); }
     friend FP_LANE_OP Mask isInfOf(LaneReals a) { return absOf(a) == LaneReals(kInfinity); }
@@ -251,8 +329,9 @@ private:
         for (int i = 0; i < N; ++i) r[i] = fn(a.v[i]);
         return r;
     }
-    using Bits = decltype(Mask{}.v);  // integers as wide as E
+    using Bits = decltype(Mask{}.v);  // a comparison's outcome
     using BitsE = std::conditional_t<sizeof(E) == 4, int, long long>;
+    typedef BitsE IntBits __attribute__((vector_size(sizeof(V))));  // integers as wide as E
     static constexpr BitsE kSign = std::numeric_limits<BitsE>::min();  // the sign bit alone
     static constexpr E kInfinity = __builtin_inf();
 };
@@ -342,10 +421,22 @@ FP_LANE_OP LaneInt<N> toInt(LaneFloat<N> a) { return __builtin_convertvector(a.v
 template <int N>
 FP_LANE_OP LaneFloat<N> floatFromBits(LaneInt<N> bits) { return (typename LaneVectors<N>::F)bits.v; }
 
-/// Each lane's texel of `p` at (x, y) of that lane (PlaneView::at lane by lane). 8 lanes are the
-/// AVX2 build's width, so there the read is AVX2's gather (GCC's builtin, which the function it is
-/// inlined into enables; a load a lane made SSGI's march 3–15 % slower on AMD Zen 3); other widths
-/// read a lane at a time.
+#if defined(__x86_64__) && !defined(__clang__)
+namespace lanes_detail {
+/// AVX-512's 16-lane gather of data[index], every lane. Like compared/selected, it carries the
+/// target itself (the builtin's mask argument is a mask register) and is inlined by the flatten
+/// of the AVX-512 function that runs a kernel.
+__attribute__((target("avx512f"))) inline LaneVectors<16>::F gather16(const float* data,
+                                                                     LaneVectors<16>::I index) {
+    return __builtin_ia32_gathersiv16sf(LaneVectors<16>::F{}, data, index, (unsigned short)0xFFFF, 4);
+}
+}  // namespace lanes_detail
+#endif
+
+/// Each lane's texel of `p` at (x, y) of that lane (PlaneView::at lane by lane). 8 and 16 lanes
+/// are the AVX2 and AVX-512 builds' widths, so there the read is the hardware gather (GCC's
+/// builtins; a load a lane made SSGI's march 3–15 % slower on AMD Zen 3 with AVX2, and SSGI 1.5×
+/// slower with AVX-512); 4 lanes (SSE4, which has no gather) read a lane at a time.
 template <int N>
 FP_LANE_OP LaneFloat<N> gatherAt(const PlaneView& p, LaneInt<N> x, LaneInt<N> y) {
     const LaneInt<N> index = y * int(p.stride) + x;
@@ -353,27 +444,47 @@ FP_LANE_OP LaneFloat<N> gatherAt(const PlaneView& p, LaneInt<N> x, LaneInt<N> y)
     using F = typename LaneVectors<N>::F;
     if constexpr (N == 8)
         return __builtin_ia32_gathersiv8sf(F{}, p.data, index.v, (F)(index.v == index.v), 4);
+    if constexpr (N == 16)
+        return lanes_detail::gather16(p.data, index.v);
 #endif
     LaneFloat<N> r(0.0f);
     for (int i = 0; i < N; ++i) r.v[i] = p.data[index.v[i]];
     return r;
 }
 
-/// table[index] lane by lane.
-template <int N>
-FP_LANE_OP LaneInt<N> gatherOf(const int* table, LaneInt<N> index) {
-    LaneInt<N> r = index;
-    for (int i = 0; i < N; ++i) r.v[i] = table[index.v[i]];
-    return r;
+#if defined(__x86_64__) && !defined(__clang__)
+namespace lanes_detail {
+/// AVX-512's compress of the lanes of v where mask m holds, to the low lanes (zeros above): in
+/// a register, then stored whole by the caller (a compress straight to memory is microcoded and
+/// slow on AMD's Zen 4).
+__attribute__((target("avx512f"))) inline LaneVectors<16>::F compressed16(LaneVectors<16>::F v, unsigned short m) {
+    return __builtin_ia32_compresssf512_mask(v, LaneVectors<16>::F{}, m);
 }
-/// fn(the lane's integers) in each lane where `where` holds, 0 elsewhere: a read whose source
-/// (a plane, a mip) differs from lane to lane.
-template <int N, class Fn, class... I>
-FP_LANE_OP LaneFloat<N> laneByLane(LaneMask<N> where, Fn fn, I... a) {
-    LaneFloat<N> r(0.0f);
-    for (int i = 0; i < N; ++i)
-        if (where.v[i]) r.v[i] = fn(laneOf(a, i)...);
-    return r;
+__attribute__((target("avx512f"))) inline LaneVectors<16>::I compressed16(LaneVectors<16>::I v, unsigned short m) {
+    return __builtin_ia32_compresssi512_mask(v, LaneVectors<16>::I{}, m);
+}
+}  // namespace lanes_detail
+#endif
+
+/// The lanes of `v` (a LaneFloat or LaneInt) where `m` holds, in lane order, to out[0…]; returns
+/// how many. It writes N values (those past the count are scratch): `out` has room for N. With
+/// AVX-512 one compress; otherwise lane by lane without a branch.
+template <class Lanes, class M, class E>
+FP_LANE_OP int compressStore(Lanes v, M m, E* out) {
+    constexpr int N = int(sizeof(v.v) / sizeof(E));
+#if defined(__x86_64__) && !defined(__clang__)
+    if constexpr (N == 16 && lanes_detail::kBitMasks) {
+        const auto packed = lanes_detail::compressed16(v.v, m.v);
+        std::memcpy(out, &packed, sizeof packed);
+        return countLanes(m);
+    }
+#endif
+    int k = 0;
+    for (int i = 0; i < N; ++i) {
+        out[k] = v.v[i];
+        k += laneOf(m, i) ? 1 : 0;
+    }
+    return k;
 }
 
 /// Three planes' floats at `x`, `y`, `z` (N each) as a vector of N points.

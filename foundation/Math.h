@@ -58,11 +58,6 @@ FP_HD inline float floatFromBits(int bits) { return std::bit_cast<float>(bits); 
 FP_HD constexpr float laneOf(float v, int) { return v; }
 FP_HD constexpr bool laneOf(bool v, int) { return v; }
 FP_HD constexpr int laneOf(int v, int) { return v; }
-/// table[index] (LaneFloat.h: lane by lane).
-FP_HD constexpr int gatherOf(const int* table, int index) { return table[index]; }
-/// fn(a…) where `where` holds, else 0 (LaneFloat.h: in each lane with that lane's integers).
-template <class Fn, class... I>
-FP_HD float laneByLane(bool where, Fn fn, I... a) { return where ? fn(a...) : 0.0f; }
 /// Lane i of three components (a Vec3f of lanes: one point of the vector).
 template <class T>
 FP_HD constexpr Vec3f laneOf(const Vec3T<T>& a, int i) {

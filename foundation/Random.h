@@ -1,15 +1,34 @@
 #pragma once
 // Counter-based per-pixel random numbers (docs/design.md, Numerics and determinism): the stream of a pixel depends only on
 // (frame, x, y, pass seed), never on which thread ran it or how frames were chunked.
+#include "foundation/HostDevice.h"
+#include "foundation/Math.h"
+
 #include <cstdint>
 
 namespace fp {
 
-/// PCG output permutation used as a 32-bit integer hash (Jarzynski & Olano 2020, "pcg").
-constexpr uint32_t pcgHash(uint32_t v) {
-    uint32_t state = v * 747796405u + 2891336453u;
-    uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+/// PCG's state step and output permutation (Jarzynski & Olano 2020, "pcg"); U: uint32_t, or
+/// unsigned lanes (foundation/LaneFloat.h's LaneUInt: the same operations lane by lane, each lane
+/// shifted by its own amount).
+template <class U>
+FP_HD constexpr U pcgStep(U state) { return state * 747796405u + 2891336453u; }
+template <class U>
+FP_HD constexpr U pcgPermute(U state) {
+    const U word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
     return (word >> 22u) ^ word;
+}
+/// One step's permutation, used as a 32-bit integer hash.
+template <class U>
+FP_HD constexpr U pcgHashOf(U v) { return pcgPermute(pcgStep(v)); }
+constexpr uint32_t pcgHash(uint32_t v) { return pcgHashOf(v); }
+
+/// Rng::nextFloat of the stream whose state is `state`, which it advances: uniform in [0, 1), the
+/// top 24 bits over 2²⁴, so the result is exact. T: float, or float lanes (their UIntOf states).
+template <class T>
+FP_HD constexpr T nextFloatOf(UIntOf<T>& state) {
+    state = pcgStep(state);
+    return toFloat(pcgPermute(state) >> 8u) * (1.0f / 16777216.0f);
 }
 
 class Rng {
@@ -37,12 +56,11 @@ public:
     constexpr uint32_t state() const { return mState; }
 
     constexpr uint32_t nextUint() {
-        mState = mState * 747796405u + 2891336453u;
-        uint32_t word = ((mState >> ((mState >> 28u) + 4u)) ^ mState) * 277803737u;
-        return (word >> 22u) ^ word;
+        mState = pcgStep(mState);
+        return pcgPermute(mState);
     }
     /// Uniform in [0, 1): the top 24 bits, so the result is exactly representable.
-    constexpr float nextFloat() { return float(nextUint() >> 8) * (1.0f / 16777216.0f); }
+    constexpr float nextFloat() { return nextFloatOf<float>(mState); }
 
 private:
     uint32_t mState = 0;

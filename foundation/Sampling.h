@@ -12,11 +12,13 @@
 
 namespace fp {
 
-/// Orthonormal basis (t, b) around unit n (Duff et al. 2017, branchless; algorithms §1.9).
-FP_HD inline void orthonormalBasis(const Vec3f& n, Vec3f& t, Vec3f& b) {
-    const float s = n.z >= 0.0f ? 1.0f : -1.0f;
-    const float a = -1.0f / (s + n.z);
-    const float c = n.x * n.y * a;
+/// Orthonormal basis (t, b) around unit n (Duff et al. 2017, branchless; algorithms §1.9); T:
+/// float or float lanes (LaneFloat.h).
+template <class T>
+FP_HD inline void orthonormalBasis(const Vec3T<T>& n, Vec3T<T>& t, Vec3T<T>& b) {
+    const T s = ifThenElse(n.z >= 0.0f, T(1.0f), T(-1.0f));
+    const T a = -1.0f / (s + n.z);
+    const T c = n.x * n.y * a;
     t = {1.0f + s * a * n.x * n.x, s * c, -s * n.x};
     b = {c, s + a * n.y * n.y, -n.y};
 }

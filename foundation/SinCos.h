@@ -5,7 +5,7 @@
 // light's cone) could not give the scalar reference's bits in SIMD lanes or on the GPU. Here the
 // angle is reduced by π/2 and both functions evaluated in double with a fixed sequence of IEEE
 // operations (Taylor polynomials on [−π/4, π/4], truncation error below 3·10⁻¹⁴), then rounded to
-// float once: the scalar code, the lanes (LaneMath.h sinCosLanes) and CUDA (-fmad=false) agree,
+// float once: the scalar code, the lanes (sinCos<LaneFloat>) and CUDA (-fmad=false) agree,
 // and each result is within 1 ulp of the correctly rounded value (SinCosTests).
 #include "foundation/HostDevice.h"
 #include "foundation/Math.h"

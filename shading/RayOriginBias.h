@@ -23,13 +23,15 @@ struct RayBias {
     }
 };
 
-FP_HD inline Vec3f biasedRayOrigin(const Vec3f& p, const Vec3f& toEye, float eyeDistance,
-                                   const Vec3f& n, float NoL, float maxBias, float minBias,
-                                   bool backSide = false) {
-    const float eyeBias = 1e-4f * eyeDistance;
-    Vec3f o = p + toEye * (eyeBias < maxBias ? maxBias : eyeBias);  // std::max
-    const float nb = maxBias + (minBias - maxBias) * (NoL < 0.0f ? 0.0f : (NoL > 1.0f ? 1.0f : NoL));
-    o += n * (backSide ? -nb : nb);
+/// T: float, or float lanes (LaneFloat.h) with a mask of back sides.
+template <class T>
+FP_HD inline Vec3T<T> biasedRayOrigin(const Vec3T<T>& p, const Vec3T<T>& toEye, T eyeDistance,
+                                      const Vec3T<T>& n, T NoL, float maxBias, float minBias,
+                                      MaskOf<T> backSide = {}) {
+    const T eyeBias = 1e-4f * eyeDistance;
+    Vec3T<T> o = p + toEye * maxLike(eyeBias, T(maxBias));
+    const T nb = maxBias + (minBias - maxBias) * saturateOf(NoL);
+    o += n * ifThenElse(backSide, -nb, nb);
     return o;
 }
 

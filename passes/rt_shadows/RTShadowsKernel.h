@@ -2,8 +2,8 @@
 // rt_shadows' per-pixel work written once for both backends: a pixel's set-up, each sample's
 // shadow ray, what a blocked ray adds (transmission through the pixel's own object) and the
 // resolve. The CPU's scalar reference (RTShadowsPass.cpp, lanes=false) builds its rows from
-// setupPixel and sampleRay and traces them through Embree; its SIMD lanes (ShadowLanes.h) compute
-// the same bits in vectors. The GPU's kernel (RTShadowsPass.cu) and the CPU's `traversal: "bvh"`
+// setupPixel and sampleRay with T = float and traces them through Embree; its SIMD lanes
+// (ShadowLanes.cpp) run the same setupPixel and sampleRay over float lanes, the same bits. The GPU's kernel (RTShadowsPass.cu) and the CPU's `traversal: "bvh"`
 // run `run` below, tracing framepass's own BVH (foundation/Bvh.h) one pixel per thread: the
 // same rays, the same tree, the same bits on both.
 #include "foundation/Bvh.h"
@@ -63,14 +63,17 @@ FP_HD inline uint32_t instanceIdOf(float stored) {
 
 // algorithms §9.2: N·L ≤ 0 means "occluded" without a ray, except for hair, eye, two-sided foliage,
 // subsurface (inferred: subsurface and subsurface profile) and rect lights.
-FP_HD inline bool cullsBackFacing(int model, LightType type) {
-    if (type == LightType::Rect) return false;
-    return model != kHair && model != kEye && model != kTwoSidedFoliage && model != kSubsurface &&
-           model != kSubsurfaceProfile;
+// (T = float: one pixel's shading model; float lanes: a model a lane, LaneFloat.h.)
+template <class T = float>
+FP_HD inline MaskOf<T> cullsBackFacing(IntOf<T> model, LightType type) {
+    if (type == LightType::Rect) return MaskOf<T>{};
+    return !((model == kHair) | (model == kEye) | (model == kTwoSidedFoliage) | (model == kSubsurface) |
+             (model == kSubsurfaceProfile));
 }
 
-FP_HD inline bool hasThicknessTransmission(int model) {
-    return model == kSubsurface || model == kHair;
+template <class T = float>
+FP_HD inline MaskOf<T> hasThicknessTransmission(IntOf<T> model) {
+    return (model == kSubsurface) | (model == kHair);
 }
 
 /// Transmission through `thicknessCm` of a material of this opacity (algorithms §9.3):
@@ -92,58 +95,76 @@ FP_HD inline float encodeThickness(float thicknessCm) {
     return saturate(1.0f - thicknessCm / kMaxProfileDistanceCm);
 }
 
-/// What stays the same for every sample of one pixel.
-struct Pixel {
-    Vec3f p;             // camera-relative position
-    Vec3f n;             // bias normal (hair: towards the light)
-    Vec3f toEye;         // unit
-    float eyeDistance;
-    int32_t model;
-    uint32_t rng;        // the pixel's Rng state (Random.h), advanced per sample
+/// What stays the same for every sample of one pixel; T: float (one pixel) or float lanes
+/// (LaneFloat.h: a vector of a row's pixels, ShadowLanes.cpp).
+template <class T>
+struct PixelOf {
+    Vec3T<T> p;             // camera-relative position
+    Vec3T<T> n;             // bias normal (hair: towards the light)
+    Vec3T<T> toEye;         // unit
+    T eyeDistance;
+    IntOf<T> model;
+    UIntOf<T> rng;          // the pixel's Rng state (Random.h), advanced per sample
 };
+using Pixel = PixelOf<float>;
 
-/// Pixel (x, y)'s set-up from its depth, shading model and normal; false for unlit and sky pixels
-/// and those the light cannot reach (they trace nothing).
-FP_HD inline bool setupPixel(const RowContext& c, int x, int y, float depth, float model,
-                             const Vec3f& normal, Pixel& px) {
-    const double d = depth;
-    if (!isLitSurface(d, model)) return false;  // sky and unlit pixels: nothing to rebuild
-    const Vec3d offset = c.camera.translatedFromPixel(x, y, d);
-    const Vec3f p(c.eyeOffset + offset);
-    if (!lightReaches(c.light, p)) return false;
+/// Pixel x of row y's set-up from its depth, shading model and normal; false for unlit and sky
+/// pixels and those the light cannot reach (they trace nothing, and the rest of `px` is not
+/// meaningful there). The position is rebuilt from depth in double (double lanes for lanes).
+template <class T>
+FP_HD inline MaskOf<T> setupPixel(const RowContext& c, UIntOf<T> x, int y, T depth, T model,
+                                  const Vec3T<T>& normal, PixelOf<T>& px) {
+    using D = DoubleOf<T>;
+    // isLitSurface (ShadingModel.h): sky and unlit pixels, nothing to rebuild.
+    px.model = floorToIntOf(model, 0, 255);  // truncToInt(model, 0, 255): the same for lo = 0
+    MaskOf<T> active = (depth > 0.0f) & !isInfOf(depth) & !(px.model == kUnlit);
+    if (!anyLane(active)) return active;
+    const Vec3T<D> offset = c.camera.translatedFromPixelOf(toDouble(toFloat(x)), double(y), toDouble(depth));
+    const Vec3T<D> eyeOffset(c.eyeOffset);
+    const Vec3T<T> p{toFloat(eyeOffset.x + offset.x), toFloat(eyeOffset.y + offset.y),
+                     toFloat(eyeOffset.z + offset.z)};
+    active = active & lightReaches(c.light, p);
+    if (!anyLane(active)) return active;
     px.p = p;
-    const double eyeDistance = length(offset);
-    px.eyeDistance = float(eyeDistance);
-    px.toEye = Vec3f(-offset / eyeDistance);
-    px.model = truncToInt(model, 0, 255);
+    const D eyeDistance = length(offset);
+    px.eyeDistance = toFloat(eyeDistance);
+    px.toEye = {toFloat(-offset.x / eyeDistance), toFloat(-offset.y / eyeDistance),
+                toFloat(-offset.z / eyeDistance)};
     // Hair's GBuffer normal is its tangent: Unreal biases along the light instead.
-    px.n = px.model == kHair ? lightCentreDirection(c.light, p) : normal;
-    px.rng = Rng::fromKey(c.rngKey, x, y).state();  // per-pixel streams
-    return true;
+    const MaskOf<T> hair = px.model == kHair;
+    px.n = anyLane(hair) ? ifThenElse(hair, lightCentreDirection(c.light, p), normal) : normal;
+    // Rng::fromKey(key, x, y): per-pixel streams.
+    px.rng = pcgHashOf(x ^ UIntOf<T>(pcgHash(uint32_t(y) ^ c.rngKey)));
+    return active;
 }
 
 /// One shadow ray: from org along the unit dir up to tfar.
-struct ShadowRay {
-    Vec3f org, dir;
-    float tfar;
+template <class T>
+struct ShadowRayOf {
+    Vec3T<T> org, dir;
+    T tfar;
 };
+using ShadowRay = ShadowRayOf<float>;
 
 /// The pixel's next sample: draws its random pair (always, so every sample reads the same
 /// stream) and returns false for a back-facing pixel the light culls (occluded without a ray).
-FP_HD inline bool sampleRay(const RowContext& c, Pixel& px, ShadowRay& ray) {
-    Rng rng = Rng::resume(px.rng);
-    const float u = rng.nextFloat(), v = rng.nextFloat();
-    px.rng = rng.state();
-    const float NoL = dot(px.n, lightCentreDirection(c.light, px.p));
-    if (NoL <= 0.0f && cullsBackFacing(px.model, c.light.type)) return false;
+template <class T>
+FP_HD inline MaskOf<T> sampleRay(const RowContext& c, PixelOf<T>& px, ShadowRayOf<T>& ray) {
+    const T u = nextFloatOf<T>(px.rng);
+    const T v = nextFloatOf<T>(px.rng);
+    const T NoL = dot(px.n, lightCentreDirection(c.light, px.p));
+    const MaskOf<T> facesAway = NoL <= 0.0f;
+    const MaskOf<T> traces = !(facesAway & cullsBackFacing<T>(px.model, c.light.type));
+    if (!anyLane(traces)) return traces;
     // A transmissive pixel facing away starts on its back side.
-    const bool backSide = c.transmission && NoL <= 0.0f &&
-                          (hasThicknessTransmission(px.model) || px.model == kSubsurfaceProfile);
-    const Vec3f o = biasedRayOrigin(px.p, px.toEye, px.eyeDistance, px.n, NoL, c.maxBias,
-                                    c.minBias, backSide);
-    const ShadowDirection sd = sampleLight(c.light, o, u, v);
+    const MaskOf<T> backSide =
+        c.transmission ? facesAway & (hasThicknessTransmission<T>(px.model) | (px.model == kSubsurfaceProfile))
+                       : MaskOf<T>{};
+    const Vec3T<T> o = biasedRayOrigin(px.p, px.toEye, px.eyeDistance, px.n, NoL, c.maxBias,
+                                       c.minBias, backSide);
+    const ShadowDirectionOf<T> sd = sampleLight(c.light, o, u, v);
     ray = {o, sd.dir, sd.tfar};
-    return true;
+    return traces;
 }
 
 /// A pixel's sums over its samples.

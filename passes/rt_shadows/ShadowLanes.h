@@ -1,14 +1,15 @@
 #pragma once
-// rt_shadows' per-pixel work with a row's pixels in SIMD lanes (Google Highway, the widest
-// instruction set the CPU has, chosen at run time): the set-up of each pixel (its position rebuilt
-// from depth in double, the light's reach, the normal) and each sample's shadow ray (the random
-// pair, N·L culling, the biases, the light sample), written as structures of arrays that Embree's
-// packets take without a per-ray copy.
+// rt_shadows' per-pixel work with a row's pixels in SIMD lanes (the widest x86 instruction set
+// the CPU has, chosen at run time): each pixel's set-up (its position rebuilt from depth in double,
+// the light's reach, the normal) and each sample's shadow ray (the random pair, N·L culling, the
+// biases, the light sample) are the kernel's own setupPixel and sampleRay (RTShadowsKernel.h) over
+// float lanes, written as structures of arrays that Embree's packets take without a per-ray copy.
 //
-// The scalar reference (RTShadowsPass.cpp with lanes=false) fills the same structures one pixel at
-// a time. Every lane does its IEEE operations in the same order (no fused multiply-add: the build
-// sets -ffp-contract=off; the sample angles' sine and cosine are SinCos.h's, in double lanes), so
-// both give the same bits (ShadowTests checks it on every instruction set the CPU runs).
+// The scalar reference (RTShadowsPass.cpp with lanes=false) runs the same functions with float,
+// one pixel at a time. Every lane does its IEEE operations in the same order (no fused
+// multiply-add: the build sets -ffp-contract=off; the sample angles' sine and cosine are
+// SinCos.h's, in double lanes), so both give the same bits (RTShadowsTests checks it on every
+// instruction set the CPU runs).
 #include "foundation/Camera.h"
 #include "foundation/Tiles.h"
 #include "passes/rt_shadows/RTShadowsKernel.h"

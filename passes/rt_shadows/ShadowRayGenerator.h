@@ -15,13 +15,15 @@
 
 namespace fp {
 
-struct ShadowDirection {
-    Vec3f dir;        //!< unit direction of the shadow ray
-    float tfar = 0;   //!< where the ray stops: the light's surface, or far away for directional
+/// A shadow ray's direction and length; T: float, or float lanes (LaneFloat.h).
+template <class T>
+struct ShadowDirectionOf {
+    Vec3T<T> dir;    //!< unit direction of the shadow ray
+    T tfar = 0.0f;   //!< where the ray stops: the light's surface, or far away for directional
 };
+using ShadowDirection = ShadowDirectionOf<float>;
 
-/// The light as its shadow rays see it, in the float terms both the scalar functions below and
-/// the SIMD lanes (ShadowLanes.h) compute with.
+/// The light as its shadow rays see it, in the float terms the functions below compute with.
 struct ShadowLightShape {
     LightType type = LightType::Point;
     Vec3f position;           //!< relative to the RayScene origin
@@ -38,69 +40,79 @@ struct ShadowLightShape {
     static constexpr float kDirectionalTraceDistance = 1e27f;  // algorithms §9.2: "infinite"
 };
 
+// The functions below take T = float (one pixel: the scalar reference, the GPU) or float lanes
+// (LaneFloat.h: a vector of pixels, ShadowLanes.cpp); a lane's result is the scalar one's bits.
+
 /// False when the light sends nothing to `p`: beyond its attenuation radius, outside a spot's
 /// cone, behind a rect light (algorithms §9.2, "local lights: rays longer than the attenuation
 /// radius are skipped"). Such pixels are skipped.
-FP_HD inline bool lightReaches(const ShadowLightShape& s, const Vec3f& p) {
-    if (s.type == LightType::Directional) return true;
-    const Vec3f d = s.position - p;
-    if (length(d) > s.reachBound) return false;
-    if (s.type == LightType::Spot) return dot(normalize(-d), s.axis) > s.cosOuter;
-    if (s.type == LightType::Rect) return dot(-d, s.axis) > 0.0f;
-    return true;
+template <class T>
+FP_HD inline MaskOf<T> lightReaches(const ShadowLightShape& s, const Vec3T<T>& p) {
+    if (s.type == LightType::Directional) return !MaskOf<T>{};
+    const Vec3T<T> d = Vec3T<T>(s.position) - p;
+    const MaskOf<T> inRange = !(length(d) > s.reachBound);
+    if (s.type == LightType::Spot) return inRange & (dot(normalize(-d), Vec3T<T>(s.axis)) > s.cosOuter);
+    if (s.type == LightType::Rect) return inRange & (dot(-d, Vec3T<T>(s.axis)) > 0.0f);
+    return inRange;
 }
 
 /// Unit direction from `p` to the light's centre, the L of N·L culling and biasing.
-FP_HD inline Vec3f lightCentreDirection(const ShadowLightShape& s, const Vec3f& p) {
-    if (s.type == LightType::Directional) return s.toLight;
-    return normalize(s.position - p);
+template <class T>
+FP_HD inline Vec3T<T> lightCentreDirection(const ShadowLightShape& s, const Vec3T<T>& p) {
+    if (s.type == LightType::Directional) return Vec3T<T>(s.toLight);
+    return normalize(Vec3T<T>(s.position) - p);
 }
 
 /// Ray towards the sample (u, v) ∈ [0,1)² of the light's extent, from the biased origin `o`.
-FP_HD inline ShadowDirection sampleLight(const ShadowLightShape& l, const Vec3f& o, float u, float v) {
-    ShadowDirection s;
+template <class T>
+FP_HD inline ShadowDirectionOf<T> sampleLight(const ShadowLightShape& l, const Vec3T<T>& o, T u, T v) {
+    using V3 = Vec3T<T>;
+    ShadowDirectionOf<T> s;
     if (l.type == LightType::Directional) {
-        float dx, dy;
+        T dx, dy;
         ue::concentricDisk(u, v, dx, dy);
-        s.dir = normalize(l.toLight + (l.toLightT * dx + l.toLightB * dy) * l.sourceRadius);
+        s.dir = normalize(V3(l.toLight) + (V3(l.toLightT) * dx + V3(l.toLightB) * dy) * T(l.sourceRadius));
         s.tfar = ShadowLightShape::kDirectionalTraceDistance;
         return s;
     }
     if (l.type == LightType::Rect) {
-        const Vec3f q = l.position + l.halfU * (2.0f * u - 1.0f) + l.halfV * (2.0f * v - 1.0f);
-        const Vec3f d = q - o;
-        const float dist = length(d);
+        const V3 q = V3(l.position) + V3(l.halfU) * (2.0f * u - 1.0f) + V3(l.halfV) * (2.0f * v - 1.0f);
+        const V3 d = q - o;
+        const T dist = length(d);
         s.dir = d / dist;
         // Stop just short of the emitter: its own quad, when it is in the geometry, is no occluder.
         s.tfar = dist * (1.0f - 1e-4f);
         return s;
     }
     // Point and spot lights.
-    const Vec3f d = l.position - o;
-    const float dist = length(d);
-    const Vec3f L = d / dist;
+    const V3 d = V3(l.position) - o;
+    const T dist = length(d);
+    const V3 L = d / dist;
     const float r = l.radius;
-    if (r <= 0.0f || dist <= r) {  // a point, or a pixel inside the sphere
+    // A pixel inside the sphere: straight at the centre, nothing to trace.
+    const MaskOf<T> inside = dist <= r;
+    if (r <= 0.0f) {  // a point
         s.dir = L;
-        s.tfar = dist <= r ? 0.0f : dist;
+        s.tfar = ifThenElse(inside, T(0.0f), dist);
         return s;
     }
     // Uniform in the solid angle the sphere subtends (algorithms §9.2, inferred generator).
-    const float sinMax = r / dist, cosMaxSq = 1.0f - sinMax * sinMax;
-    const float cosMax = std::sqrt(cosMaxSq > 0.0f ? cosMaxSq : 0.0f);
-    const float cosT = 1.0f - u * (1.0f - cosMax);
-    const float sinTSq = 1.0f - cosT * cosT;
-    const float sinT = std::sqrt(sinTSq > 0.0f ? sinTSq : 0.0f);
-    float sinPhi, cosPhi;
+    const T sinMax = r / dist, cosMaxSq = 1.0f - sinMax * sinMax;
+    const T cosMax = sqrtOf(maxLike(T(0.0f), cosMaxSq));
+    const T cosT = 1.0f - u * (1.0f - cosMax);
+    const T sinTSq = 1.0f - cosT * cosT;
+    const T sinT = sqrtOf(maxLike(T(0.0f), sinTSq));
+    T sinPhi, cosPhi;
     sinCos(2.0f * kPiF * v, sinPhi, cosPhi);
-    Vec3f t, b;
+    V3 t, b;
     orthonormalBasis(L, t, b);
-    s.dir = normalize(t * (sinT * cosPhi) + b * (sinT * sinPhi) + L * cosT);
+    const V3 cone = normalize(t * (sinT * cosPhi) + b * (sinT * sinPhi) + L * cosT);
     // Distance to the near side of the sphere along the ray.
-    const float along = dist * cosT;
-    const float chordSq = r * r - dist * dist * sinT * sinT;
-    const float near = along - std::sqrt(chordSq > 0.0f ? chordSq : 0.0f);
-    s.tfar = near > 0.0f ? near : 0.0f;
+    const T along = dist * cosT;
+    const T chordSq = r * r - dist * dist * sinT * sinT;
+    const T near = along - sqrtOf(maxLike(T(0.0f), chordSq));
+    s.dir = ifThenElse(inside, L, cone);
+    s.tfar = ifThenElse(inside, T(0.0f), maxLike(T(0.0f), near));
     return s;
 }
 

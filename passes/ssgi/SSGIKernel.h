@@ -1,10 +1,9 @@
 #pragma once
 // SSGI's per-pixel work (algorithms §4.3–4.8), written once for every backend: ssgiPixel<float>
 // is the scalar reference (SSGIPass::execute's tile loop with `lanes` off, SSGIPass.cu's CUDA
-// thread per traced pixel, the hybrid), and SSGILanes.cpp's SSE4 and AVX2 builds run
-// ssgiPixel<LaneFloat<N>>, a pixel's rays N at a time, the same operations in every lane (its
-// AVX-512 build is still Highway's spelling, SSGILanes.cpp says why). Everything a pixel reads is in Frame,
-// plain views passed by value.
+// thread per traced pixel, the hybrid), and SSGILanes.cpp's builds (SSE4, AVX2, AVX-512) run
+// ssgiPixel<LaneFloat<N>>, a pixel's rays N at a time, the same operations in every lane.
+// Everything a pixel reads is in Frame, plain views passed by value.
 #include "screenspace/GBuffer.h"
 #include "screenspace/HzbMarch.h"
 #include "screenspace/Surface.h"
@@ -125,16 +124,23 @@ FP_HD inline MaskOf<T> raySteps(const TraceSetup& s, const PixelStart& p, const 
 }
 
 // Last frame's colour where a ray hit, at the level it reached (point, nearest mip; §4.7); 0
-// where `where` does not hold. Each lane reads the mip of its own level.
+// where `where` does not hold. Each lane reads the mip of its own level: one read of every lane
+// per mip some lane reached (a gather with lanes; at float, the one mip of the ray).
 template <class T>
 FP_HD inline void hitColor(const TraceSetup& s, const RayPointT<T>& hit, T level, MaskOf<T> where, T c[3]) {
     const IntOf<T> mip = nearestMipOf(level, kReducedMips);
-    const T scale = inversePowerOfTwoOf(mip);
-    const IntOf<T> rx = floorToIntOf(hit.hx * scale, 0, gatherOf(s.reducedMaxX, mip));
-    const IntOf<T> ry = floorToIntOf(hit.hy * scale, 0, gatherOf(s.reducedMaxY, mip));
     for (int ch = 0; ch < 3; ++ch)
-        c[ch] = laneByLane(where, [&](int m, int tx, int ty) { return s.reduced[m][ch].at(tx, ty); },
-                           mip, rx, ry);
+        c[ch] = T(0.0f);
+    for (int m = 0; m < kReducedMips; ++m) {
+        const MaskOf<T> onMip = where & (mip == m);
+        if (!anyLane(onMip))
+            continue;
+        const float scale = inversePowerOfTwo(m);
+        const IntOf<T> rx = floorToIntOf(hit.hx * scale, 0, s.reducedMaxX[m]);
+        const IntOf<T> ry = floorToIntOf(hit.hy * scale, 0, s.reducedMaxY[m]);
+        for (int ch = 0; ch < 3; ++ch)
+            c[ch] = ifThenElse(onMip, gatherAt(s.reduced[m][ch], rx, ry), c[ch]);
+    }
 }
 
 // §4.7's Karis weight of colour c: c / (1 + luma(c)).
@@ -321,8 +327,7 @@ FP_HD inline bool beginPixel(const Frame& f, int x, int y, unsigned long long* c
 /// One trace pixel (x, y) of the frame: skipped (unlit or sky) or traced, kLanesOf<T> rays at a
 /// time (what the screen cannot finish the fallback's), its outputs written and its work added to
 /// `counts` (indexed by Counter). T = float is the scalar reference (the GPU's thread, the CPU
-/// with `ssgi.lanes` off, the hybrid); SSGILanes.cpp's SSE4 and AVX2 builds run it with float
-/// lanes, the same bits.
+/// with `ssgi.lanes` off, the hybrid); SSGILanes.cpp runs it with float lanes, the same bits.
 template <class T = float, class Fallback = NoFallback>
 FP_HD inline void ssgiPixel(const Frame& f, int x, int y, unsigned long long* counts,
                             const Fallback& fallback = {}) {

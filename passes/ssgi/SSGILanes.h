@@ -1,8 +1,7 @@
 #pragma once
 // SSGI on the CPU with a pixel's rays in SIMD lanes (the widest x86 instruction set the CPU has,
-// chosen at run time): with SSE4 and AVX2 the kernel's own ssgiPixel over float lanes
-// (foundation/LaneFloat.h), with AVX-512 the same arithmetic in Highway's operations; either way
-// the outputs are the scalar reference's bits (SSGITests checks it on every instruction set).
+// chosen at run time): the kernel's own ssgiPixel over float lanes (foundation/LaneFloat.h),
+// whose outputs are the scalar reference's bits (SSGITests checks it on every instruction set).
 // SSGIPass::execute uses it unless `ssgi.lanes` is off.
 #include "passes/ssgi/SSGIKernel.h"
 
