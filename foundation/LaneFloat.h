@@ -176,7 +176,7 @@ struct LaneMaskOf {
     V v;
 
     friend FP_LANE_OP LaneMaskOf operator!(LaneMaskOf a) {
-        return {lanes_detail::compared<lanes_detail::Compare::equal>(a.v, V{})};
+        return {(V)lanes_detail::compared<lanes_detail::Compare::equal>(a.v, V{})};  // long → long long
     }
     friend FP_LANE_OP LaneMaskOf operator|(LaneMaskOf a, LaneMaskOf b) { return {a.v | b.v}; }
     friend FP_LANE_OP LaneMaskOf operator&(LaneMaskOf a, LaneMaskOf b) { return {a.v & b.v}; }
@@ -381,6 +381,19 @@ using LaneDoubleHalf = LaneReals<typename LaneVectors<N>::DH, double,
 /// N doubles: the double lanes of an N-float kernel (sinCos, a device Z in double).
 template <int N>
 using LaneDouble = LanePair<LaneDoubleHalf<N>>;
+
+/// The outcome of a comparison of N double lanes (two halves) as N float lanes' mask.
+template <class V, int Half, bool Bits>
+FP_LANE_OP LaneMask<2 * Half> toFloatMask(LanePair<LaneMaskOf<V, Half, Bits>> m) {
+    constexpr int N = 2 * Half;
+    if constexpr (Bits) {
+        return {typename LaneMask<N>::Word(unsigned(m.lo.v) | (unsigned(m.hi.v) << Half))};
+    } else {
+        typedef int HalfInts __attribute__((vector_size(Half * sizeof(int))));
+        return {lanes_detail::pick(__builtin_convertvector(m.lo.v, HalfInts),
+                                   __builtin_convertvector(m.hi.v, HalfInts), std::make_index_sequence<N>{})};
+    }
+}
 
 /// A float kernel's companion types and lane count for N float lanes (Math.h: float's).
 template <class V, class M, int N>

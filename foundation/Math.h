@@ -38,6 +38,8 @@ FP_HD constexpr float ifThenElse(bool m, float a, float b) { return m ? a : b; }
 FP_HD constexpr double ifThenElse(bool m, double a, double b) { return m ? a : b; }
 FP_HD constexpr bool anyLane(bool m) { return m; }
 FP_HD constexpr int countLanes(bool m) { return m ? 1 : 0; }
+/// A comparison of doubles' outcome as the float lanes' mask (LaneFloat.h: the two halves joined).
+FP_HD constexpr bool toFloatMask(bool m) { return m; }
 FP_HD inline float sqrtOf(float x) { return std::sqrt(x); }
 FP_HD inline double sqrtOf(double x) { return std::sqrt(x); }
 FP_HD inline float floorOf(float x) { return std::floor(x); }

@@ -34,25 +34,20 @@ inline double radicalInverse2(uint32_t i) {
     return double(i) / 4294967296.0;
 }
 
-/// Shirley–Chiu concentric map of the unit square onto the unit disk (area-preserving).
-FP_HD inline void concentricDisk(float u, float v, float& x, float& y) {
-    const float a = 2.0f * u - 1.0f, b = 2.0f * v - 1.0f;
-    if (a == 0.0f && b == 0.0f) {
-        x = y = 0.0f;
-        return;
-    }
-    float r, phi;
-    if (std::fabs(a) > std::fabs(b)) {
-        r = a;
-        phi = (kPiF / 4.0f) * (b / a);
-    } else {
-        r = b;
-        phi = (kPiF / 2.0f) - (kPiF / 4.0f) * (a / b);
-    }
-    float sinPhi, cosPhi;
-    sinCos(phi, sinPhi, cosPhi);  // the same bits on the CPU and the GPU
-    x = r * cosPhi;
-    y = r * sinPhi;
+/// Shirley–Chiu concentric map of the unit square onto the unit disk (area-preserving); T: float
+/// or float lanes (LaneFloat.h), each lane choosing its octant's ratio by a select.
+template <class T>
+FP_HD inline void concentricDisk(T u, T v, T& x, T& y) {
+    const T a = 2.0f * u - 1.0f, b = 2.0f * v - 1.0f;
+    const MaskOf<T> wide = absOf(a) > absOf(b);
+    const T r = ifThenElse(wide, a, b);
+    const T ratio = ifThenElse(wide, b, a) / r;
+    const T phi = ifThenElse(wide, (kPiF / 4.0f) * ratio, (kPiF / 2.0f) - (kPiF / 4.0f) * ratio);
+    T sinPhi, cosPhi;
+    sinCos(phi, sinPhi, cosPhi);  // the same bits on the CPU, in SIMD lanes and on the GPU
+    const MaskOf<T> centre = (a == 0.0f) & (b == 0.0f);
+    x = ifThenElse(centre, T(0.0f), r * cosPhi);
+    y = ifThenElse(centre, T(0.0f), r * sinPhi);
 }
 
 /// Cosine-weighted direction around unit n: a concentric-disk point lifted to the hemisphere

@@ -27,7 +27,7 @@ struct RayBias {
 template <class T>
 FP_HD inline Vec3T<T> biasedRayOrigin(const Vec3T<T>& p, const Vec3T<T>& toEye, T eyeDistance,
                                       const Vec3T<T>& n, T NoL, float maxBias, float minBias,
-                                      MaskOf<T> backSide = {}) {
+                                      MaskOf<T> backSide = MaskOf<T>()) {
     const T eyeBias = 1e-4f * eyeDistance;
     Vec3T<T> o = p + toEye * maxLike(eyeBias, T(maxBias));
     const T nb = maxBias + (minBias - maxBias) * saturateOf(NoL);

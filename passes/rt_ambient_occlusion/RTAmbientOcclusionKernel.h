@@ -2,10 +2,12 @@
 // rt_ambient_occlusion's per-pixel work (algorithms §12.1, Unreal 4.27's
 // RayTracingAmbientOcclusionRGS): a pixel's set-up — its position from depth, its geometric
 // normal from the neighbours' depths, how far its shading normal leans from it — each sample's
-// cosine-weighted ray about the geometric normal with its weight, and the resolve. Written as
-// FP_HD functions over plane views: the CPU's Embree path batches their rays into packets, and
-// run() traces them one pixel at a time through framepass's BVH (Bvh.h), on the CPU (traversal
-// "bvh") and on the GPU (RTAmbientOcclusionPass.cu), the same code.
+// cosine-weighted ray about the geometric normal with its weight, and the resolve. The set-up and
+// the rays are templates on the number type: float for one pixel, float lanes (LaneFloat.h) for
+// a row's pixels a vector (AmbientOcclusionLanes.cpp), the same bits. The CPU's Embree path
+// batches their rays into packets, and run() traces them one pixel at a time through framepass's
+// BVH (Bvh.h), on the CPU (traversal "bvh") and on the GPU (RTAmbientOcclusionPass.cu), the same
+// code.
 #include "foundation/Bvh.h"
 #include "foundation/Camera.h"
 #include "foundation/FloatToInt.h"
@@ -48,22 +50,26 @@ struct FrameSetup {
     uint32_t rngKey;        // Rng::frameKey(frame, seed)
 };
 
-/// What stays the same for every sample of one pixel.
-struct Pixel {
-    Vec3f p;              // position relative to the RayScene origin
-    Vec3f shading;        // the GBuffer normal, unit
-    Vec3f geometric;      // from the neighbours' depths, facing the camera
-    Vec3f tangent, bitangent;  // orthonormalBasis(geometric): the rays' frame
-    Vec3f toEye;          // unit
-    float eyeDistance;
-    float shadingDotGeometric;  // how much of the shading lobe the geometric hemisphere holds
-    uint32_t rng;
+/// What stays the same for every sample of one pixel; T: float (one pixel) or float lanes
+/// (LaneFloat.h: a vector of a row's pixels, RTAOLanes.cpp).
+template <class T>
+struct PixelOf {
+    Vec3T<T> p;              // position relative to the RayScene origin
+    Vec3T<T> shading;        // the GBuffer normal, unit
+    Vec3T<T> geometric;      // from the neighbours' depths, facing the camera
+    Vec3T<T> tangent, bitangent;  // orthonormalBasis(geometric): the rays' frame
+    Vec3T<T> toEye;          // unit
+    T eyeDistance;
+    T shadingDotGeometric;   // how much of the shading lobe the geometric hemisphere holds
+    UIntOf<T> rng;
 };
+using Pixel = PixelOf<float>;
 
 /// sinh(x)/x = Σ x^{2k}/(2k+1)! for 0 ≤ x ≤ 2λ (|a + b| ≤ 2), by Horner in x² over 16 terms (the
 /// last is below 10⁻¹⁵ of the sum at x = 2λ): no division and no exponential, so a pixel's lobe
-/// overlap costs a few multiplications.
-FP_HD constexpr double sinhOverX(double x) {
+/// overlap costs a few multiplications. D: double or double lanes.
+template <class D>
+FP_HD constexpr D sinhOverX(D x) {
     constexpr double kInverseOddFactorial[16] = {
         1.0,
         1.0 / 6.0,
@@ -82,8 +88,8 @@ FP_HD constexpr double sinhOverX(double x) {
         1.0 / 8841761993739701954543616000000.0,
         1.0 / 8222838654177922817725562880000000.0,
     };
-    const double y = x * x;
-    double sum = 0.0;
+    const D y = x * x;
+    D sum = 0.0;
     for (int k = 15; k >= 0; --k) sum = sum * y + kInverseOddFactorial[k];
     return sum;
 }
@@ -94,86 +100,130 @@ inline constexpr double kSelfOverlap = sinhOverX(2.0 * kCosineLobeSharpness);
 /// The overlap of two clamped cosine lobes about unit a and b as spherical Gaussians, over a
 /// lobe's overlap with itself: ∫G_a·G_b = 4π·e^{−2λ}·sinh(d)/d with d = λ|a + b|, so the ratio is
 /// (sinh(d)/d)·(2λ/sinh(2λ)), 1 for a = b, saturated.
-FP_HD inline float lobeOverlap(const Vec3f& a, const Vec3f& b) {
-    const Vec3f s = a + b;
-    const double d = kCosineLobeSharpness * std::sqrt(double(dot(s, s)));
-    const double ratio = sinhOverX(d) / kSelfOverlap;
-    return float(ratio > 1.0 ? 1.0 : ratio);
+template <class T>
+FP_HD inline T lobeOverlap(const Vec3T<T>& a, const Vec3T<T>& b) {
+    using D = DoubleOf<T>;
+    const Vec3T<T> s = a + b;
+    const D d = kCosineLobeSharpness * sqrtOf(toDouble(dot(s, s)));
+    const D ratio = sinhOverX(d) / kSelfOverlap;
+    return toFloat(ifThenElse(D(1.0) < ratio, D(1.0), ratio));
 }
+
+/// The depths of a pixel's four neighbours, as geometricNormal reads them: 0 (no surface) for a
+/// neighbour beyond the image's edge.
+template <class T>
+struct NeighbourDepths {
+    T right, left, below, above;  // x + 1, x − 1, y + 1, y − 1
+};
 
 /// The surface normal the depth buffer gives at (x, y) (algorithms §12.1): of the vectors to the
 /// left and right neighbours the shorter, the same up and down, crossed and turned towards the
 /// camera. The shading normal where a side has no surface on either hand (the screen's edge, sky)
-/// or the vectors are parallel, and for two-sided foliage (thin: its faces bound nothing).
-FP_HD FP_HOT_INLINE Vec3f geometricNormal(const FrameSetup& s, const PlaneView& depth, int x, int y,
-                                   const Vec3d& centre, const Vec3f& shading, int model,
-                                   const Vec3f& toEye) {
-    if (model == kTwoSidedFoliage) return shading;
-    auto neighbour = [&](int nx, int ny, Vec3d& q) {
-        if (nx < 0 || ny < 0 || nx >= depth.width || ny >= depth.height) return false;
-        const double d = depth.at(nx, ny);
-        if (!(d > 0.0) || std::isinf(d)) return false;
-        q = s.camera.translatedFromPixel(nx, ny, d);
-        return true;
+/// or the vectors are parallel, and for two-sided foliage (thin: its faces bound nothing). With
+/// lanes, every lane's choices are selects.
+template <class T>
+FP_HD FP_HOT_INLINE Vec3T<T> geometricNormal(const FrameSetup& s, UIntOf<T> x, int y,
+                                             const NeighbourDepths<T>& depths,
+                                             const Vec3T<DoubleOf<T>>& centre,
+                                             const Vec3T<T>& shading, IntOf<T> model,
+                                             const Vec3T<T>& toEye) {
+    using D = DoubleOf<T>;
+    using V3 = Vec3T<D>;
+    const MaskOf<T> foliage = model == kTwoSidedFoliage;
+    if (!anyLane(!foliage)) return shading;
+    const D px = toDouble(toFloat(x));
+    // A neighbour's surface where it has one (a lit depth; 0 beyond the edge has none).
+    auto neighbour = [&](D nx, double ny, T depth, V3& q) {
+        const D d = toDouble(depth);
+        q = s.camera.translatedFromPixelOf(nx, ny, d);
+        return (D(0.0) < d) & !isInfOf(d);
     };
-    // The shorter of the two one-sided differences along an axis (either, where only one exists).
-    auto along = [&](int dx, int dy, Vec3d& v) {
-        Vec3d after, before;
-        const bool a = neighbour(x + dx, y + dy, after), b = neighbour(x - dx, y - dy, before);
-        if (!a && !b) return false;
-        const Vec3d forward = after - centre, backward = centre - before;
-        v = !b ? forward : (!a ? backward : (dot(forward, forward) < dot(backward, backward) ? forward : backward));
-        return true;
+    // The shorter of the two one-sided differences along an axis (either, where only one exists);
+    // false where neither side has a surface.
+    auto along = [&](D ax, double ay, T afterDepth, D bx, double by, T beforeDepth, V3& v) {
+        V3 after, before;
+        const auto a = neighbour(ax, ay, afterDepth, after);
+        const auto b = neighbour(bx, by, beforeDepth, before);
+        const V3 forward = after - centre, backward = centre - before;
+        const auto forwardShorter = dot(forward, forward) < dot(backward, backward);
+        v = ifThenElse(!b, forward, ifThenElse(!a, backward, ifThenElse(forwardShorter, forward, backward)));
+        return a | b;
     };
-    Vec3d h, v;
-    if (!along(1, 0, h) || !along(0, 1, v)) return shading;
-    const Vec3d n = cross(h, v);
-    const double len = length(n);
-    if (!(len > 0.0)) return shading;
-    Vec3f g(n / len);
-    return dot(g, toEye) < 0.0f ? -g : g;
+    V3 h, v;
+    const auto haveH = along(px + 1.0, double(y), depths.right, px - 1.0, double(y), depths.left, h);
+    const auto haveV = along(px, double(y + 1), depths.below, px, double(y - 1), depths.above, v);
+    const V3 n = cross(h, v);
+    const D len = length(n);
+    const Vec3T<T> g{toFloat(n.x / len), toFloat(n.y / len), toFloat(n.z / len)};
+    const Vec3T<T> facing = ifThenElse(dot(g, toEye) < 0.0f, -g, g);
+    const MaskOf<T> ok = toFloatMask(haveH & haveV & (D(0.0) < len)) & !foliage;
+    return ifThenElse(ok, facing, shading);
 }
 
-/// Pixel (x, y)'s set-up; false for sky and unlit pixels (they trace nothing).
-FP_HD FP_HOT_INLINE bool setupPixel(const FrameSetup& s, const PlaneView& depth, const PlaneView& model,
-                             const PlaneView (&normal)[3], int x, int y, Pixel& px) {
-    const double d = depth.at(x, y);
-    const float m = model.at(x, y);
-    if (!isLitSurface(d, m)) return false;
-    const Vec3d offset = s.camera.translatedFromPixel(x, y, d);
-    px.p = Vec3f(s.eyeOffset + offset);
-    const double eyeDistance = length(offset);
-    px.eyeDistance = float(eyeDistance);
-    px.toEye = Vec3f(-offset / eyeDistance);
-    px.shading = Vec3f{normal[0].at(x, y), normal[1].at(x, y), normal[2].at(x, y)};
-    px.geometric = geometricNormal(s, depth, x, y, offset, px.shading, truncToInt(m, 0, 255), px.toEye);
+/// Pixel x of row y's set-up from its depth, shading model, normal and neighbours' depths; false
+/// for sky and unlit pixels (they trace nothing, and the rest of `px` is not meaningful there).
+template <class T>
+FP_HD FP_HOT_INLINE MaskOf<T> setupPixel(const FrameSetup& s, UIntOf<T> x, int y, T depth, T model,
+                                         const Vec3T<T>& normal, const NeighbourDepths<T>& around,
+                                         PixelOf<T>& px) {
+    using D = DoubleOf<T>;
+    // isLitSurface (ShadingModel.h), the shading model as truncToInt(model, 0, 255) (the same
+    // as floorToIntOf for lo = 0).
+    const IntOf<T> id = floorToIntOf(model, 0, 255);
+    const MaskOf<T> lit = (depth > 0.0f) & !isInfOf(depth) & !(id == kUnlit);
+    if (!anyLane(lit)) return lit;
+    const Vec3T<D> offset = s.camera.translatedFromPixelOf(toDouble(toFloat(x)), double(y), toDouble(depth));
+    const Vec3T<D> eyeOffset(s.eyeOffset);
+    px.p = {toFloat(eyeOffset.x + offset.x), toFloat(eyeOffset.y + offset.y), toFloat(eyeOffset.z + offset.z)};
+    const D eyeDistance = length(offset);
+    px.eyeDistance = toFloat(eyeDistance);
+    px.toEye = {toFloat(-offset.x / eyeDistance), toFloat(-offset.y / eyeDistance),
+                toFloat(-offset.z / eyeDistance)};
+    px.shading = normal;
+    px.geometric = geometricNormal(s, x, y, around, offset, px.shading, id, px.toEye);
     px.shadingDotGeometric = lobeOverlap(px.shading, px.geometric);
     orthonormalBasis(px.geometric, px.tangent, px.bitangent);
-    px.rng = Rng::fromKey(s.rngKey, x, y).state();
-    return true;
+    // Rng::fromKey(key, x, y): per-pixel streams.
+    px.rng = pcgHashOf(x ^ UIntOf<T>(pcgHash(uint32_t(y) ^ s.rngKey)));
+    return lit;
+}
+
+/// Pixel (x, y)'s set-up read from the frame's planes (one pixel: the scalar reference, the GPU).
+FP_HD FP_HOT_INLINE bool setupPixel(const FrameSetup& s, const PlaneView& depth, const PlaneView& model,
+                                    const PlaneView (&normal)[3], int x, int y, Pixel& px) {
+    if (!isLitSurface(depth.at(x, y), model.at(x, y))) return false;  // nothing more to read
+    auto depthAt = [&](int nx, int ny) {
+        return nx < 0 || ny < 0 || nx >= depth.width || ny >= depth.height ? 0.0f : depth.at(nx, ny);
+    };
+    const NeighbourDepths<float> around{depthAt(x + 1, y), depthAt(x - 1, y), depthAt(x, y + 1),
+                                        depthAt(x, y - 1)};
+    return setupPixel<float>(s, uint32_t(x), y, depth.at(x, y), model.at(x, y),
+                             {normal[0].at(x, y), normal[1].at(x, y), normal[2].at(x, y)}, around, px);
 }
 
 /// One AO ray and its weight: cosine-distributed about the geometric normal (pdf ∝ cosθ there),
 /// weighted by max(N_shading·dir, 0.05) / max(pdf, 0.05) so a shading normal that leans away
 /// counts its own cosine (on a flat surface every weight is 1).
-struct AoRay {
-    Vec3f org, dir;
-    float weight;
+template <class T>
+struct AoRayOf {
+    Vec3T<T> org, dir;
+    T weight;
 };
-FP_HD FP_HOT_INLINE AoRay sampleRay(const FrameSetup& s, Pixel& px) {
-    Rng rng = Rng::resume(px.rng);
-    const float u = rng.nextFloat(), v = rng.nextFloat();
-    px.rng = rng.state();
+using AoRay = AoRayOf<float>;
+template <class T>
+FP_HD FP_HOT_INLINE AoRayOf<T> sampleRay(const FrameSetup& s, PixelOf<T>& px) {
+    const T u = nextFloatOf<T>(px.rng);
+    const T v = nextFloatOf<T>(px.rng);
     // cosineHemisphere(px.geometric, u, v), its frame built once per pixel.
-    float x, y;
+    T x, y;
     concentricDisk(u, v, x, y);
-    const float z = std::sqrt(std::max(0.0f, 1.0f - x * x - y * y));
-    const Vec3f dir = normalize(px.tangent * x + px.bitangent * y + px.geometric * z);
-    const float NoL = dot(px.shading, dir);
-    const float pdf = dot(px.geometric, dir);
-    const float weight = (NoL > 0.05f ? NoL : 0.05f) / (pdf > 0.05f ? pdf : 0.05f);
-    const Vec3f org = biasedRayOrigin(px.p, px.toEye, px.eyeDistance, px.shading, NoL,
-                                      s.maxBias, s.minBias);
+    const T z = sqrtOf(maxLike(T(0.0f), 1.0f - x * x - y * y));
+    const Vec3T<T> dir = normalize(px.tangent * x + px.bitangent * y + px.geometric * z);
+    const T NoL = dot(px.shading, dir);
+    const T pdf = dot(px.geometric, dir);
+    const T weight = ifThenElse(NoL > 0.05f, NoL, T(0.05f)) / ifThenElse(pdf > 0.05f, pdf, T(0.05f));
+    const Vec3T<T> org = biasedRayOrigin(px.p, px.toEye, px.eyeDistance, px.shading, NoL,
+                                         s.maxBias, s.minBias);
     return {org, dir, weight};
 }
 

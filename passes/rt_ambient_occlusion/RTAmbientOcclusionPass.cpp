@@ -4,6 +4,7 @@
 #include "foundation/PerPixel.h"
 #include "foundation/Tiles.h"
 #include "framework/PassPorts.h"
+#include "passes/rt_ambient_occlusion/AmbientOcclusionLanes.h"
 #include "passes/rt_ambient_occlusion/RTAmbientOcclusionKernel.h"
 #include "screenspace/GBuffer.h"
 
@@ -21,14 +22,15 @@ constexpr uint32_t kSeed = 0x5254414Fu;    // "RTAO"
 class RayBatch {
 public:
     static constexpr int kFlushAt = 256;  // rays drawn before the full packets among them go
-    static constexpr int kCapacity = kFlushAt + 64 + kMaxPacketSize;  // + one pixel's samples
+    static constexpr int kCapacity = kFlushAt + kMaxPacketSize;  // checked after every ray
 
     int size() const { return mCount; }
-    void push(const rtao::AoRay& r, float length, int pixel) {
+    /// Entry k of a row's rays, for pixel `pixel`.
+    void push(const rtao::RowRays& r, int k, float length, int pixel) {
         const int i = mCount++;
-        mOx[i] = r.org.x, mOy[i] = r.org.y, mOz[i] = r.org.z;
-        mDx[i] = r.dir.x, mDy[i] = r.dir.y, mDz[i] = r.dir.z;
-        mTfar[i] = length, mWeight[i] = r.weight, mPixel[i] = pixel;
+        mOx[i] = r.ox[k], mOy[i] = r.oy[k], mOz[i] = r.oz[k];
+        mDx[i] = r.dx[k], mDy[i] = r.dy[k], mDz[i] = r.dz[k];
+        mTfar[i] = length, mWeight[i] = r.weight[k], mPixel[i] = pixel;
     }
     /// Traces the first `count` rays in packets of `width` (the last may be partial) and adds
     /// each to its pixel's sums in the order drawn; the rays after them move to the front.
@@ -59,6 +61,41 @@ private:
     int mPixel[kCapacity];
 };
 
+// The scalar reference of rtao::setupRow: rtao::setupPixel one pixel at a time.
+void setupRowScalar(const rtao::FrameSetup& s, const rtao::RowInputs& in, rtao::RowPixels& out) {
+    out.count = in.count;
+    for (int i = 0; i < in.count; ++i) {
+        rtao::Pixel p;
+        out.active[i] = rtao::setupPixel(s, in.depth, in.model, in.normal, in.x0 + i, in.y, p);
+        if (!out.active[i]) continue;
+        out.px[i] = p.p.x, out.py[i] = p.p.y, out.pz[i] = p.p.z;
+        out.sx[i] = p.shading.x, out.sy[i] = p.shading.y, out.sz[i] = p.shading.z;
+        out.gx[i] = p.geometric.x, out.gy[i] = p.geometric.y, out.gz[i] = p.geometric.z;
+        out.tx[i] = p.tangent.x, out.ty[i] = p.tangent.y, out.tz[i] = p.tangent.z;
+        out.bx[i] = p.bitangent.x, out.by[i] = p.bitangent.y, out.bz[i] = p.bitangent.z;
+        out.ex[i] = p.toEye.x, out.ey[i] = p.toEye.y, out.ez[i] = p.toEye.z;
+        out.eyeDistance[i] = p.eyeDistance;
+        out.overlap[i] = p.shadingDotGeometric;
+        out.rng[i] = p.rng;
+    }
+}
+
+// The scalar reference of rtao::sampleRow: rtao::sampleRay one active pixel at a time.
+void sampleRowScalar(const rtao::FrameSetup& s, rtao::RowPixels& px, rtao::RowRays& rays) {
+    for (int i = 0; i < px.count; ++i) {
+        if (!px.active[i]) continue;
+        rtao::Pixel p{{px.px[i], px.py[i], px.pz[i]}, {px.sx[i], px.sy[i], px.sz[i]},
+                      {px.gx[i], px.gy[i], px.gz[i]}, {px.tx[i], px.ty[i], px.tz[i]},
+                      {px.bx[i], px.by[i], px.bz[i]}, {px.ex[i], px.ey[i], px.ez[i]},
+                      px.eyeDistance[i], px.overlap[i], px.rng[i]};
+        const rtao::AoRay r = rtao::sampleRay(s, p);
+        px.rng[i] = p.rng;
+        rays.ox[i] = r.org.x, rays.oy[i] = r.org.y, rays.oz[i] = r.org.z;
+        rays.dx[i] = r.dir.x, rays.dy[i] = r.dir.y, rays.dz[i] = r.dir.z;
+        rays.weight[i] = r.weight;
+    }
+}
+
 }  // namespace
 
 ParamSpec<RTAmbientOcclusionParams> RTAmbientOcclusionPass::paramSpec() {
@@ -77,6 +114,9 @@ ParamSpec<RTAmbientOcclusionParams> RTAmbientOcclusionPass::paramSpec() {
     s.add("normalBias", &Params::normalBias, "largest normal/camera bias, cm (at N·L = 0)")
         .range(0.01, 1e6)
         .cvar("r.RayTracing.NormalBias");
+    s.add("lanes", &Params::lanes,
+          "Embree's path: set up pixels and draw their rays in SIMD lanes (false: the scalar "
+          "reference, one pixel at a time; same result bit for bit)");
     s.add("traversal", &Params::traversal,
           "\"embree\": Embree's packets; \"bvh\": framepass's own BVH one pixel at a time, the "
           "code the GPU runs (on the GPU the pass always traverses it)")
@@ -147,26 +187,42 @@ void RTAmbientOcclusionPass::execute(PassContext& ctx) {
 
     const int width = rs.packetWidth();
     forEachTile(size.width, size.height, [&](const Tile& t) {
-        // Each pixel set up and its rays drawn in sample order (its own stream), batched across
-        // pixels and traced in full packets; every ray adds to its pixel's sums in the order it
-        // was drawn, so the result is that of one ray at a time.
+        // A row at a time: each pixel set up and each sample's ray drawn (in SIMD lanes, or one
+        // pixel at a time as the scalar reference), the rays batched across pixels and traced in
+        // full packets; every pixel draws its own stream and its rays add to its sums in the order
+        // drawn, so the result is that of one ray at a time.
         const int w = t.x1 - t.x0, count = w * (t.y1 - t.y0);
         std::vector<float> overlap(count, -1.0f);  // the lobe overlap; −1: a skipped pixel
         std::vector<rtao::Sums> sums(count);
         RayBatch batch;
+        rtao::RowPixels row;
+        rtao::RowRays rowRays;
         uint64_t rays = 0;
-        for (int y = t.y0; y < t.y1; ++y)
-            for (int x = t.x0; x < t.x1; ++x) {
-                const int i = (y - t.y0) * w + (x - t.x0);
-                rtao::Pixel px;
-                if (!rtao::setupPixel(s, depth, model, normal, x, y, px)) continue;
-                overlap[i] = px.shadingDotGeometric;
-                for (int k = 0; k < spp; ++k) batch.push(rtao::sampleRay(s, px), s.radius, i);
-                rays += uint64_t(spp);
-                if (batch.size() >= RayBatch::kFlushAt)
-                    batch.trace(rs, batch.size() - batch.size() % width, width, wantDistance, s,
-                                sums.data());
+        for (int y = t.y0; y < t.y1; ++y) {
+            const rtao::RowInputs in{.x0 = t.x0, .y = y, .count = w, .depth = depth, .model = model,
+                                     .normal = {normal[0], normal[1], normal[2]}};
+            if (mParams.lanes)
+                rtao::setupRow(s, in, row);
+            else
+                setupRowScalar(s, in, row);
+            const int first = (y - t.y0) * w;
+            for (int i = 0; i < w; ++i)
+                if (row.active[i]) overlap[first + i] = row.overlap[i];
+            for (int k = 0; k < spp; ++k) {
+                if (mParams.lanes)
+                    rtao::sampleRow(s, row, rowRays);
+                else
+                    sampleRowScalar(s, row, rowRays);
+                for (int i = 0; i < w; ++i) {
+                    if (!row.active[i]) continue;
+                    batch.push(rowRays, i, s.radius, first + i);
+                    ++rays;
+                    if (batch.size() >= RayBatch::kFlushAt)
+                        batch.trace(rs, batch.size() - batch.size() % width, width, wantDistance, s,
+                                    sums.data());
+                }
             }
+        }
         batch.trace(rs, batch.size(), width, wantDistance, s, sums.data());
         uint64_t skipped = 0;
         for (int y = t.y0; y < t.y1; ++y)
