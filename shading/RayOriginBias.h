@@ -38,15 +38,24 @@ FP_HD inline Vec3T<T> biasedRayOrigin(const Vec3T<T>& p, const Vec3T<T>& toEye, 
 /// A pixel's surface as a ray-traced pass starts from it, rebuilt from its linear depth in double:
 /// its position relative to the ray scene's origin (`eyeOffset`: the eye relative to that
 /// origin), the unit vector to the eye and the distance to it.
-struct PixelSurface {
-    Vec3f p, toEye;
-    float eyeDistance;
+template <class T>
+struct PixelSurfaceOf {
+    Vec3T<T> p, toEye;
+    T eyeDistance;
 };
-/// The same from the surface's offset from the eye (cam.translatedFromPixel), where the caller
-/// has it already.
-FP_HD inline PixelSurface pixelSurfaceAt(const Vec3d& eyeOffset, const Vec3d& offset) {
-    const double eyeDistance = length(offset);
-    return {Vec3f(eyeOffset + offset), Vec3f(-offset / eyeDistance), float(eyeDistance)};
+using PixelSurface = PixelSurfaceOf<float>;
+/// The same from the surface's offset from the eye (cam.translatedFromPixel, or
+/// translatedFromPixelOf in double lanes: then a surface of float lanes), where the caller has it
+/// already.
+template <class D>
+FP_HD inline auto pixelSurfaceAt(const Vec3d& eyeOffset, const Vec3T<D>& offset) {
+    using T = decltype(toFloat(D{}));
+    const D eyeDistance = length(offset);
+    const Vec3T<D> at = Vec3T<D>(eyeOffset) + offset;
+    return PixelSurfaceOf<T>{{toFloat(at.x), toFloat(at.y), toFloat(at.z)},
+                             {toFloat(-offset.x / eyeDistance), toFloat(-offset.y / eyeDistance),
+                              toFloat(-offset.z / eyeDistance)},
+                             toFloat(eyeDistance)};
 }
 FP_HD inline PixelSurface pixelSurface(const CameraView& cam, const Vec3d& eyeOffset, int x, int y,
                                        double depth) {

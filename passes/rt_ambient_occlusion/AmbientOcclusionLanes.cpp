@@ -83,10 +83,7 @@ __attribute__((flatten)) void setupRowHere(const FrameSetup& s, const RowInputs&
 
 __attribute__((flatten)) void sampleRowHere(const FrameSetup& s, RowPixels& px, RowRays& rays) {
     for (int i = 0; i < px.count; i += kLanesHere) {
-        bool any = false;
-        for (int k = 0; k < kLanesHere; ++k)
-            any |= px.active[i + k] != 0;
-        if (!any)
+        if (!anyLane(!(IntOf<T>::load(px.active + i) == 0)))
             continue;
         // Lanes of inactive pixels draw their numbers too, but their streams are never read.
         PixelOf<T> p{loadLanes3<T>(px.px + i, px.py + i, px.pz + i),

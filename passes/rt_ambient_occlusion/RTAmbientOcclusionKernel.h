@@ -167,18 +167,16 @@ FP_HD FP_HOT_INLINE MaskOf<T> setupPixel(const FrameSetup& s, UIntOf<T> x, int y
                                          const Vec3T<T>& normal, const NeighbourDepths<T>& around,
                                          PixelOf<T>& px) {
     using D = DoubleOf<T>;
-    // isLitSurface (ShadingModel.h), the shading model as truncToInt(model, 0, 255) (the same
-    // as floorToIntOf for lo = 0).
+    // The shading model's id as truncToInt(model, 0, 255) gives it (floorToIntOf is the same for
+    // lo = 0).
     const IntOf<T> id = floorToIntOf(model, 0, 255);
-    const MaskOf<T> lit = (depth > 0.0f) & !isInfOf(depth) & !(id == kUnlit);
+    const MaskOf<T> lit = isLitSurfaceOf(depth, id);
     if (!anyLane(lit)) return lit;
     const Vec3T<D> offset = s.camera.translatedFromPixelOf(toDouble(toFloat(x)), double(y), toDouble(depth));
-    const Vec3T<D> eyeOffset(s.eyeOffset);
-    px.p = {toFloat(eyeOffset.x + offset.x), toFloat(eyeOffset.y + offset.y), toFloat(eyeOffset.z + offset.z)};
-    const D eyeDistance = length(offset);
-    px.eyeDistance = toFloat(eyeDistance);
-    px.toEye = {toFloat(-offset.x / eyeDistance), toFloat(-offset.y / eyeDistance),
-                toFloat(-offset.z / eyeDistance)};
+    const PixelSurfaceOf<T> surface = pixelSurfaceAt(s.eyeOffset, offset);
+    px.p = surface.p;
+    px.eyeDistance = surface.eyeDistance;
+    px.toEye = surface.toEye;
     px.shading = normal;
     px.geometric = geometricNormal(s, x, y, around, offset, px.shading, id, px.toEye);
     px.shadingDotGeometric = lobeOverlap(px.shading, px.geometric);

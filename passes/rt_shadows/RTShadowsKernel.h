@@ -115,21 +115,19 @@ template <class T>
 FP_HD inline MaskOf<T> setupPixel(const RowContext& c, UIntOf<T> x, int y, T depth, T model,
                                   const Vec3T<T>& normal, PixelOf<T>& px) {
     using D = DoubleOf<T>;
-    // isLitSurface (ShadingModel.h): sky and unlit pixels, nothing to rebuild.
-    px.model = floorToIntOf(model, 0, 255);  // truncToInt(model, 0, 255): the same for lo = 0
-    MaskOf<T> active = (depth > 0.0f) & !isInfOf(depth) & !(px.model == kUnlit);
+    // Sky and unlit pixels: nothing to rebuild. (The id as truncToInt(model, 0, 255) gives it:
+    // floorToIntOf is the same for lo = 0.)
+    px.model = floorToIntOf(model, 0, 255);
+    MaskOf<T> active = isLitSurfaceOf(depth, px.model);
     if (!anyLane(active)) return active;
     const Vec3T<D> offset = c.camera.translatedFromPixelOf(toDouble(toFloat(x)), double(y), toDouble(depth));
-    const Vec3T<D> eyeOffset(c.eyeOffset);
-    const Vec3T<T> p{toFloat(eyeOffset.x + offset.x), toFloat(eyeOffset.y + offset.y),
-                     toFloat(eyeOffset.z + offset.z)};
+    const PixelSurfaceOf<T> surface = pixelSurfaceAt(c.eyeOffset, offset);
+    const Vec3T<T>& p = surface.p;
     active = active & lightReaches(c.light, p);
     if (!anyLane(active)) return active;
     px.p = p;
-    const D eyeDistance = length(offset);
-    px.eyeDistance = toFloat(eyeDistance);
-    px.toEye = {toFloat(-offset.x / eyeDistance), toFloat(-offset.y / eyeDistance),
-                toFloat(-offset.z / eyeDistance)};
+    px.eyeDistance = surface.eyeDistance;
+    px.toEye = surface.toEye;
     // Hair's GBuffer normal is its tangent: Unreal biases along the light instead.
     const MaskOf<T> hair = px.model == kHair;
     px.n = anyLane(hair) ? ifThenElse(hair, lightCentreDirection(c.light, p), normal) : normal;
