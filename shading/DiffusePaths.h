@@ -123,62 +123,127 @@ FP_HD inline Vec3f gbufferDiffuseColor(const Vec3f& baseColor, float metallic, f
     return profile ? baseColor : baseColor * (1.0f - metallic);
 }
 
-/// The diffuse light the lights send to hit `s`: each of `nee` samples picks one light uniformly
-/// and traces its shadow ray; the sum is scaled by the light count over the sample count (the
-/// pick's pdf).
-template <class Tracer, class Count>
-FP_HD Vec3f sampleLights(const Tracer& tracer, const DiffusePathSettings& c, const SurfacePoint& s,
-                         Rng& rng, Count& shadowRays) {
-    const int n = tracer.lightCount();
-    Vec3f sum;
-    if (n == 0 || c.nee <= 0) return sum;
+/// A path in flight: the ray it traces next and what it has gathered so far. traceDiffusePath
+/// runs one to its end; a wave (DiffusePathWave.h) holds many and traces each step's rays
+/// together, through the same steps below, so each path ends with the same bits either way.
+struct PathState {
+    Vec3f org, dir;
+    float tMin = 0.0f;
+    Vec3f throughput{1, 1, 1};
+    int bounce = 0;
+    bool done = false;
+    DiffusePath out;
+};
+
+/// A path whose first ray is org + t·dir, t from tMin (none at all with no bounces).
+FP_HD inline PathState startPath(const DiffusePathSettings& c, Vec3f org, Vec3f dir, float tMin) {
+    PathState p;
+    p.org = org;
+    p.dir = dir;
+    p.tMin = tMin;
+    p.done = c.bounces <= 0;
+    return p;
+}
+
+/// The path's ray found `hit` (or nothing): a miss ends it (a bounce ray's miss, or the first's
+/// when asked, takes the sky), and so does a first hit beyond giDistance; otherwise the hit adds
+/// its emission when asked. True when the path goes on to the lights at the hit.
+template <class Tracer>
+FP_HD bool reachHit(const Tracer& tracer, const DiffusePathSettings& c, PathState& p,
+                    const PathHit& hit) {
+    if (!hit.hit) {
+        // The first ray's sky is the sky light's own diffuse term, another pass's.
+        if (tracer.hasSky() && (p.bounce > 0 || c.skyOnFirstRay))
+            p.out.radiance += p.throughput * tracer.sky(p.dir);
+        p.done = true;
+        return false;
+    }
+    if (p.bounce == 0) {
+        p.out.firstHit = hit.t;
+        if (hit.t > c.giDistance) {
+            p.done = true;
+            return false;
+        }
+    }
+    // No emission at hits unless asked: Unreal adds only the lights' light (and no lightmap).
+    if (c.emissionAtHits) p.out.radiance += p.throughput * hit.surface.emission;
+    return true;
+}
+
+/// The light samples at hit `s`: each of `nee` picks one light uniformly; `onShadowRay(ls, lit)`
+/// is called, in order, for each sample whose light reaches `s` from above, with what it adds
+/// when its shadow ray is unblocked (`lit`). Draws nothing without lights or samples.
+template <class Lights, class OnShadowRay>
+FP_HD void drawLightSamples(const Lights& lights, const DiffusePathSettings& c,
+                            const SurfacePoint& s, Rng& rng, OnShadowRay&& onShadowRay) {
+    const int n = lights.lightCount();
+    if (n == 0 || c.nee <= 0) return;
     for (int k = 0; k < c.nee; ++k) {
         const float pick = rng.nextFloat(), u = rng.nextFloat(), v = rng.nextFloat();
         const int picked = int(pick * float(n));
         const LightSample ls =
-            sampleLight(tracer.lightView(picked < n - 1 ? picked : n - 1), s, u, v);
+            sampleLight(lights.lightView(picked < n - 1 ? picked : n - 1), s, u, v);
         const float cosine = dot(s.normal, ls.L);
         if (!ls.reaches() || cosine <= 0.0f) continue;
-        ++shadowRays;
-        if (!tracer.visible(s, ls)) continue;
-        sum += s.brdf.diffuseColor * ls.irradiance * (cosine / kPiF);
+        onShadowRay(ls, s.brdf.diffuseColor * ls.irradiance * (cosine / kPiF));
     }
-    return sum * (float(n) / float(c.nee));
+}
+
+/// The light estimate from the unblocked samples' sum (in the order drawn): × the light count
+/// over the sample count, the pick's pdf.
+FP_HD inline Vec3f lightEstimate(const Vec3f& unblocked, int lights, int nee) {
+    if (lights == 0 || nee <= 0) return unblocked;
+    return unblocked * (float(lights) / float(nee));
+}
+
+/// The diffuse light the lights send to hit `s`, each sample's shadow ray traced at once.
+template <class Tracer, class Count>
+FP_HD Vec3f sampleLights(const Tracer& tracer, const DiffusePathSettings& c, const SurfacePoint& s,
+                         Rng& rng, Count& shadowRays) {
+    Vec3f sum;
+    drawLightSamples(tracer, c, s, rng, [&](const LightSample& ls, const Vec3f& lit) {
+        ++shadowRays;
+        if (tracer.visible(s, ls)) sum += lit;
+    });
+    return lightEstimate(sum, tracer.lightCount(), c.nee);
+}
+
+/// After the lights at hit `s` (`lights`, lightEstimate's): the path adds them, then ends at its
+/// last bounce or draws its next cosine bounce, the hit's diffuse colour its throughput
+/// (BxDF·cos/pdf = DiffuseColor).
+FP_HD inline void leaveHit(const DiffusePathSettings& c, PathState& p, const SurfacePoint& s,
+                           const Vec3f& lights, Rng& rng) {
+    p.out.radiance += p.throughput * lights;
+    if (p.bounce + 1 >= c.bounces) {
+        p.done = true;
+        return;
+    }
+    const float u = rng.nextFloat(), v = rng.nextFloat();
+    p.dir = cosineHemisphere(s.normal, u, v);
+    p.org = s.rayOrigin();
+    p.tMin = 0.0f;  // every ray of the path keeps c.reach, as Unreal reuses its ray description
+    p.throughput = p.throughput * s.brdf.diffuseColor;
+    ++p.bounce;
+}
+
+/// Path `p` to its end, one ray at a time; `rays` and `shadowRays` count what it traced.
+template <class Tracer, class Count>
+FP_HD DiffusePath traceDiffusePath(const Tracer& tracer, const DiffusePathSettings& c, PathState p,
+                                   Rng& rng, Count& rays, Count& shadowRays) {
+    while (!p.done) {
+        ++rays;
+        const PathHit hit = tracer.closestHit(p.org, p.dir, p.tMin, c.reach);
+        if (!reachHit(tracer, c, p, hit)) break;
+        leaveHit(c, p, hit.surface, sampleLights(tracer, c, hit.surface, rng, shadowRays), rng);
+    }
+    return p.out;
 }
 
 /// The path along org + t·dir, t from tMin; `rays` and `shadowRays` count what it traced.
 template <class Tracer, class Count>
 FP_HD DiffusePath traceDiffusePath(const Tracer& tracer, const DiffusePathSettings& c, Vec3f org,
                                    Vec3f dir, float tMin, Rng& rng, Count& rays, Count& shadowRays) {
-    DiffusePath out;
-    Vec3f throughput{1, 1, 1};
-    const float reach = c.reach;  // every ray of the path, as Unreal reuses its ray description
-    for (int bounce = 0; bounce < c.bounces; ++bounce) {
-        ++rays;
-        const PathHit hit = tracer.closestHit(org, dir, tMin, reach);
-        if (!hit.hit) {
-            // The first ray's sky is the sky light's own diffuse term, another pass's.
-            if (tracer.hasSky() && (bounce > 0 || c.skyOnFirstRay))
-                out.radiance += throughput * tracer.sky(dir);
-            return out;
-        }
-        if (bounce == 0) {
-            out.firstHit = hit.t;
-            if (hit.t > c.giDistance) return out;
-        }
-        const SurfacePoint& s = hit.surface;
-        // No emission at hits unless asked: Unreal adds only the lights' light (and no lightmap).
-        if (c.emissionAtHits) out.radiance += throughput * s.emission;
-        out.radiance += throughput * sampleLights(tracer, c, s, rng, shadowRays);
-        if (bounce + 1 == c.bounces) return out;
-        // The next diffuse bounce: BxDF·cos/pdf = DiffuseColor.
-        const float u = rng.nextFloat(), v = rng.nextFloat();
-        dir = cosineHemisphere(s.normal, u, v);
-        org = s.rayOrigin();
-        tMin = 0.0f;
-        throughput = throughput * s.brdf.diffuseColor;
-    }
-    return out;
+    return traceDiffusePath(tracer, c, startPath(c, org, dir, tMin), rng, rays, shadowRays);
 }
 
 #if !defined(__CUDACC__)

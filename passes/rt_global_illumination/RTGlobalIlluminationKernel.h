@@ -49,12 +49,19 @@ struct Frame {
 
 enum Counter { kRays, kShadowRays, kPixels, kSkipped, kCounterCount };
 
-/// Texel (x, y): the GBuffer pixel it stands for, `spp` cosine paths about its normal from the
-/// biased position (dark and unlit pixels trace nothing), their mean radiance, the share of first
-/// rays that hit within the AO radius and the mean first-hit distance.
-template <class Tracer>
-FP_HD void giTexel(const Frame& f, const Tracer& tracer, int x, int y,
-                   WorkCounts<kCounterCount>& work) {
+/// A texel's paths as they gather: what its set-up found and the sums its paths add to.
+struct Texel {
+    bool traced = false;  // false: a dark, unlit or sky pixel, which traces nothing
+    PixelSurface surface;
+    Vec3f n;
+    Rng rng;
+    Vec3f radiance;
+    int aoHits = 0, hits = 0;
+    double hitDistance = 0;
+};
+
+/// Texel (x, y)'s set-up from the GBuffer pixel it stands for.
+FP_HD inline Texel texelAt(const Frame& f, int x, int y) {
     const FrameSetup& s = f.setup;
     const PixelCoord p = fullResPixel(x, y, s.upscale, s.frame.width, s.frame.height);
     const double d = f.depth.at(p.x, p.y);
@@ -62,51 +69,78 @@ FP_HD void giTexel(const Frame& f, const Tracer& tracer, int x, int y,
     const Vec3f albedo{f.baseColor[0].at(p.x, p.y), f.baseColor[1].at(p.x, p.y),
                        f.baseColor[2].at(p.x, p.y)};
     const Vec3f diffuseColor = gbufferDiffuseColor(albedo, f.metallic.at(p.x, p.y), model);
+    Texel t;
     if (!isLitSurface(d, model) ||
-        ue::luma(diffuseColor.x, diffuseColor.y, diffuseColor.z) < s.diffuseThreshold) {
+        ue::luma(diffuseColor.x, diffuseColor.y, diffuseColor.z) < s.diffuseThreshold)
+        return t;
+    t.traced = true;
+    t.surface = pixelSurface(s.camera, s.eyeOffset, p.x, p.y, d);
+    t.n = {f.normal[0].at(p.x, p.y), f.normal[1].at(p.x, p.y), f.normal[2].at(p.x, p.y)};
+    t.rng = Rng::fromKey(s.rngKey, p.x, p.y);
+    return t;
+}
+
+/// The texel's next path: a cosine ray about the GBuffer normal from the biased position (§12.2).
+FP_HD inline PathState texelPath(const FrameSetup& s, Texel& t) {
+    const float u = t.rng.nextFloat(), v = t.rng.nextFloat();
+    const Vec3f dir = cosineHemisphere(t.n, u, v);
+    const Vec3f org = biasedRayOrigin(t.surface, t.n, dot(t.n, dir), s.bias);
+    return startPath(s.paths, org, dir, s.tMin);
+}
+
+/// A finished path's share of the texel's sums.
+FP_HD inline void addPath(const FrameSetup& s, Texel& t, const DiffusePath& path) {
+    t.radiance += path.radiance;
+    if (path.firstHit >= 0.0f) {
+        ++t.hits;
+        t.hitDistance += path.firstHit;
+        if (path.firstHit < s.aoRadius) ++t.aoHits;
+    }
+}
+
+/// Texel (x, y)'s outputs: its paths' mean radiance, the share of first rays that hit within
+/// the AO radius and the mean first-hit distance (the skipped values where it traced nothing).
+FP_HD inline void writeTexel(const Frame& f, const Texel& t, int x, int y) {
+    if (!t.traced) {
         for (int c = 0; c < 3; ++c) f.diffuse[c].at(x, y) = 0.0f;
         f.ao.at(x, y) = 0.0f;
         f.hitDistance.at(x, y) = -1.0f;
+        return;
+    }
+    const float inv = 1.0f / float(f.setup.spp);
+    f.diffuse[0].at(x, y) = t.radiance.x * inv;
+    f.diffuse[1].at(x, y) = t.radiance.y * inv;
+    f.diffuse[2].at(x, y) = t.radiance.z * inv;
+    f.ao.at(x, y) = 1.0f - float(t.aoHits) * inv;
+    f.hitDistance.at(x, y) = t.hits > 0 ? float(t.hitDistance / t.hits) : -1.0f;
+}
+
+/// Texel (x, y): its set-up, `spp` paths one after another, each to its end one ray at a time,
+/// its outputs.
+template <class Tracer>
+FP_HD void giTexel(const Frame& f, const Tracer& tracer, int x, int y,
+                   WorkCounts<kCounterCount>& work) {
+    Texel t = texelAt(f, x, y);
+    if (!t.traced) {
+        writeTexel(f, t, x, y);
         ++work.value[kSkipped];
         return;
     }
-    const PixelSurface surface = pixelSurface(s.camera, s.eyeOffset, p.x, p.y, d);
-    const Vec3f n{f.normal[0].at(p.x, p.y), f.normal[1].at(p.x, p.y), f.normal[2].at(p.x, p.y)};
-    Rng rng = Rng::fromKey(s.rngKey, p.x, p.y);
-    Vec3f radiance;
-    int aoHits = 0, hits = 0;
-    double hitDistance = 0;
     uint32_t rays = 0, shadowRays = 0;
-    for (int k = 0; k < s.spp; ++k) {
-        // A cosine ray about the GBuffer normal from the biased position (§12.2).
-        const float u = rng.nextFloat(), v = rng.nextFloat();
-        const Vec3f dir = cosineHemisphere(n, u, v);
-        const Vec3f org = biasedRayOrigin(surface, n, dot(n, dir), s.bias);
-        const DiffusePath path =
-            traceDiffusePath(tracer, s.paths, org, dir, s.tMin, rng, rays, shadowRays);
-        radiance += path.radiance;
-        if (path.firstHit >= 0.0f) {
-            ++hits;
-            hitDistance += path.firstHit;
-            if (path.firstHit < s.aoRadius) ++aoHits;
-        }
-    }
-    const float inv = 1.0f / float(s.spp);
-    f.diffuse[0].at(x, y) = radiance.x * inv;
-    f.diffuse[1].at(x, y) = radiance.y * inv;
-    f.diffuse[2].at(x, y) = radiance.z * inv;
-    f.ao.at(x, y) = 1.0f - float(aoHits) * inv;
-    f.hitDistance.at(x, y) = hits > 0 ? float(hitDistance / hits) : -1.0f;
+    for (int k = 0; k < f.setup.spp; ++k)
+        addPath(f.setup, t,
+                traceDiffusePath(tracer, f.setup.paths, texelPath(f.setup, t), t.rng, rays,
+                                 shadowRays));
+    writeTexel(f, t, x, y);
     work.value[kRays] += rays;
     work.value[kShadowRays] += shadowRays;
     ++work.value[kPixels];
 }
 
-/// The pass through `tracer` on either backend (PerPixel.h): the trace grid `trace` (the frame
-/// divided by the upscale), every output written at every texel.
-template <class Ports, class Pixels, class Tracer>
-void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const FrameSetup& setup,
-         Extent trace, const Tracer& tracer, const char* what) {
+/// The frame's planes from `ports` (HostPorts or DevicePorts), its outputs made for the trace
+/// grid `trace`.
+template <class Ports>
+Frame frameOf(const Ports& ports, const FrameSetup& setup, Extent trace) {
     Frame f{};
     f.setup = setup;
     f.depth = viewOf(ports.input(gbuffer::kDepth)->image().plane(0));
@@ -120,6 +154,15 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const Frame
     for (int c = 0; c < 3; ++c) f.diffuse[c] = spanOf(diffuse.image().plane(c));
     f.ao = spanOf(ports.overwrite(kAo, {trace}).image().plane(0));
     f.hitDistance = spanOf(ports.overwrite(kHitDistance, {trace}).image().plane(0));
+    return f;
+}
+
+/// The pass through `tracer` on either backend (PerPixel.h): the trace grid `trace` (the frame
+/// divided by the upscale), every output written at every texel.
+template <class Ports, class Pixels, class Tracer>
+void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const FrameSetup& setup,
+         Extent trace, const Tracer& tracer, const char* what) {
+    const Frame f = frameOf(ports, setup, trace);
     const auto counts = pixels.template forEach<kCounterCount>(
         trace.width, trace.height,
         [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& w) { giTexel(f, tracer, x, y, w); },

@@ -14,6 +14,7 @@
 #include "screenspace/Surface.h"
 #include "screenspace/TraceResolution.h"
 #include "passes/rt_global_illumination/RTGlobalIlluminationKernel.h"
+#include "shading/DiffusePathWave.h"
 #include "shading/DiffusePaths.h"
 #include "shading/RayOriginBias.h"
 
@@ -73,6 +74,10 @@ ParamSpec<RTGlobalIlluminationParams> RTGlobalIlluminationPass::paramSpec() {
           "the GPU the pass always traverses it; its paths read no sky, so with evalSkyLight the "
           "pass runs on the CPU and \"bvh\" is refused)")
         .choices({"embree", "bvh"});
+    s.add("waves", &Params::waves,
+          "with Embree, a tile row's paths traced together a step at a time, each step's shadow "
+          "rays in Embree's packets (false: each path to its end one ray at a time; the same "
+          "bits)");
     return s;
 }
 
@@ -160,8 +165,47 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
     paths.scene = &rs;
     paths.lighting = &lighting;
     paths.sky = sky;
-    rtgi::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, trace, EmbreeTracer{paths},
-              "rt_global_illumination");
+    if (!mParams.waves) {
+        rtgi::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, trace, EmbreeTracer{paths},
+                  "rt_global_illumination");
+        return;
+    }
+    const rtgi::Frame f = rtgi::frameOf(HostPorts{ctx}, setup, trace);
+    forEachTile(trace.width, trace.height, [&](const Tile& t) {
+        // A row at a time: every texel set up, then its k-th paths traced together as a wave,
+        // k = 0, 1, …: each texel's stream draws its paths in order, as giTexel's loop does.
+        DiffusePathWave wave;
+        std::vector<rtgi::Texel> texels(std::size_t(t.x1 - t.x0));
+        std::vector<PathState> going;
+        std::vector<Rng*> rngs;
+        std::vector<int> owner;
+        uint64_t rays = 0, shadowRays = 0, pixels = 0;
+        for (int y = t.y0; y < t.y1; ++y) {
+            rngs.clear();
+            owner.clear();
+            for (int x = t.x0; x < t.x1; ++x) {
+                rtgi::Texel& texel = texels[std::size_t(x - t.x0)];
+                texel = rtgi::texelAt(f, x, y);
+                if (!texel.traced) continue;
+                rngs.push_back(&texel.rng);
+                owner.push_back(x - t.x0);
+            }
+            pixels += owner.size();
+            going.resize(owner.size());
+            for (int k = 0; k < setup.spp; ++k) {
+                for (std::size_t i = 0; i < owner.size(); ++i)
+                    going[i] = rtgi::texelPath(setup, texels[std::size_t(owner[i])]);
+                wave.trace(paths, going.data(), rngs.data(), int(going.size()), rays, shadowRays);
+                for (std::size_t i = 0; i < owner.size(); ++i)
+                    rtgi::addPath(setup, texels[std::size_t(owner[i])], going[i].out);
+            }
+            for (int x = t.x0; x < t.x1; ++x) rtgi::writeTexel(f, texels[std::size_t(x - t.x0)], x, y);
+        }
+        ctx.addWork("rays", rays);
+        ctx.addWork("shadowRays", shadowRays);
+        ctx.addWork("pixels", pixels);
+        ctx.addWork("skippedPixels", uint64_t(t.x1 - t.x0) * uint64_t(t.y1 - t.y0) - pixels);
+    });
 }
 
 }  // namespace fp

@@ -23,6 +23,7 @@ struct RTGlobalIlluminationParams {
     float normalBias = 0.1f;    //!< cm (min 0.01), as rt_shadows
     float screenPercentage = 100.0f;  //!< 25–100: trace one pixel of each block (gi_denoise upscales)
     std::string traversal = "embree";  //!< "embree" or "bvh" (the GPU's code)
+    bool waves = true;  //!< Embree: a tile row's paths a step at a time, shadow rays in packets
 };
 
 namespace rtgi {

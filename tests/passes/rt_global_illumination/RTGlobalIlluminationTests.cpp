@@ -215,6 +215,55 @@ TEST_CASE("rt_global_illumination: 1 and 2 threads give the same bits") {
             CHECK(test::sameBits(outs[0].at(name).image().plane(c), outs[1].at(name).image().plane(c)));
 }
 
+TEST_CASE("rt_global_illumination: paths traced in waves give the bits of one path at a time") {
+    // A sphere on a floor under a sun, a soft point light and a rect light, the sky on for the
+    // bounce rays' misses: each path's closest hits, light samples (blocked by the sphere or not,
+    // behind the rect light or not) and bounces, and paths that end early (a miss, a first hit
+    // beyond maxRayDistance) beside longer ones in the same wave. 70 pixels leave a partial tile.
+    Scene scene = test::floorScene();
+    scene.sceneUnitsPerMeter = 100.0;
+    scene.meshes.push_back(test::sphere({0, 12, 0}, 10.0, 32, 0, 2));
+    scene.lights.push_back(test::sun({0.3, -1, 0.2}));
+    Light bulb;
+    bulb.type = LightType::Point;
+    bulb.position = {15, 30, 5};
+    bulb.radius = 2.0f;
+    bulb.intensity = 400.0f;
+    scene.lights.push_back(bulb);
+    Light rect;
+    rect.type = LightType::Rect;
+    rect.position = {-20, 25, 0};
+    rect.halfU = {5, 0, 0};
+    rect.halfV = {0, 0, 5};
+    rect.intensity = 50.0f;
+    scene.lights.push_back(rect);
+    scene.environment.sky.enabled = true;
+    const int n = 70;
+    auto src = test::captureToMemory(scene, test::topCamera({}, n));
+    for (const nlohmann::json& params :
+         {nlohmann::json{{"samplesPerPixel", 3}, {"maxBounces", 3},
+                         {"nextEventEstimationSamples", 3}, {"evalSkyLight", true}},
+          nlohmann::json{{"samplesPerPixel", 2}, {"maxBounces", 2}, {"maxRayDistance", 15.0}},
+          nlohmann::json{{"samplesPerPixel", 1}, {"maxBounces", 2},
+                         {"nextEventEstimationSamples", 0}}}) {
+        CAPTURE(params.dump());
+        nlohmann::json one = params;
+        one["waves"] = false;
+        const auto waves = runGi(src, params), single = runGi(src, one);
+        const Plane& diffuse = waves.at("rt_global_illumination.diffuse").image().plane(0);
+        int lit = 0;
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) lit += diffuse.at(x, y) > 0.0f;
+        if (params.value("nextEventEstimationSamples", 2) > 0)
+            CHECK(lit > 100);  // the sphere and the floor beside it gather light (not a vacuous test)
+        for (const char* name : {"rt_global_illumination.diffuse", "rt_global_illumination.ao",
+                                 "rt_global_illumination.hitDistance"})
+            for (int c = 0; c < waves.at(name).image().channelCount(); ++c)
+                CHECK(test::sameBits(waves.at(name).image().plane(c),
+                                     single.at(name).image().plane(c)));
+    }
+}
+
 TEST_CASE("rt_global_illumination: a screen percentage traces the top-left pixel of each block") {
     // Texel (x, y) at 1/k resolution is the full-resolution pass's pixel (k·x, k·y), bit for bit:
     // the same GBuffer pixel, the same random numbers (keyed by the pixel). 33 pixels leave a

@@ -1,0 +1,79 @@
+#include "shading/DiffusePathWave.h"
+
+#include <algorithm>
+
+namespace fp {
+
+void DiffusePathWave::pushShadowRay(const Vec3f& org, const LightSample& ls, const Vec3f& lit) {
+    mOrgX.push_back(org.x);
+    mOrgY.push_back(org.y);
+    mOrgZ.push_back(org.z);
+    mDirX.push_back(ls.shadowDir.x);
+    mDirY.push_back(ls.shadowDir.y);
+    mDirZ.push_back(ls.shadowDir.z);
+    mTfar.push_back(ls.shadowDistance);  // from 0, as DirectLighting::visible's ray
+    mLit.push_back(lit);
+}
+
+void DiffusePathWave::trace(const DiffusePathSetup& c, PathState* paths, Rng* const* rngs,
+                            int count, uint64_t& rays, uint64_t& shadowRays) {
+    const EmbreeTracer tracer{c};
+    const RayScene& scene = *c.scene;
+    const int width = scene.packetWidth();
+    mGoing.clear();
+    for (int i = 0; i < count; ++i)
+        if (!paths[i].done) mGoing.push_back(i);
+    mHits.resize(std::size_t(count));
+    while (!mGoing.empty()) {
+        // Each going path's closest hit, and the light samples at the hits.
+        for (auto* v : {&mOrgX, &mOrgY, &mOrgZ, &mDirX, &mDirY, &mDirZ, &mTfar}) v->clear();
+        mLit.clear();
+        mFirstShadowRay.clear();
+        std::size_t lit = 0;
+        for (const int i : mGoing) {
+            PathState& p = paths[i];
+            ++rays;
+            PathHit& hit = mHits[std::size_t(i)];
+            hit = tracer.closestHit(p.org, p.dir, p.tMin, c.reach);
+            if (!reachHit(tracer, c, p, hit)) continue;
+            mGoing[lit++] = i;
+            mFirstShadowRay.push_back(mTfar.size());
+            const SurfacePoint& s = hit.surface;
+            const Vec3f org = s.rayOrigin();
+            drawLightSamples(tracer, c, s, *rngs[i], [&](const LightSample& ls, const Vec3f& l) {
+                pushShadowRay(org, ls, l);
+            });
+        }
+        mGoing.resize(lit);
+        mFirstShadowRay.push_back(mTfar.size());
+
+        // The step's shadow rays, in packets.
+        const std::size_t n = mTfar.size();
+        shadowRays += n;
+        if (mBlockedCapacity < n) {
+            mBlockedCapacity = std::max(n, 2 * mBlockedCapacity);
+            mBlocked = std::make_unique<bool[]>(mBlockedCapacity);
+        }
+        const RayArrays arrays{mOrgX.data(), mOrgY.data(), mOrgZ.data(), mDirX.data(),
+                               mDirY.data(), mDirZ.data(), mTfar.data()};
+        for (std::size_t r = 0; r < n; r += std::size_t(width))
+            scene.occludedPacket(arrays.from(r), int(std::min(n - r, std::size_t(width))), width,
+                                 mBlocked.get() + r);
+
+        // Each path's light (its unblocked samples summed in the order drawn), then its next
+        // bounce.
+        std::size_t next = 0;
+        for (std::size_t g = 0; g < mGoing.size(); ++g) {
+            const int i = mGoing[g];
+            Vec3f unblocked;
+            for (std::size_t r = mFirstShadowRay[g]; r < mFirstShadowRay[g + 1]; ++r)
+                if (!mBlocked[r]) unblocked += mLit[r];
+            leaveHit(c, paths[i], mHits[std::size_t(i)].surface,
+                     lightEstimate(unblocked, tracer.lightCount(), c.nee), *rngs[i]);
+            if (!paths[i].done) mGoing[next++] = i;
+        }
+        mGoing.resize(next);
+    }
+}
+
+}  // namespace fp
