@@ -49,14 +49,25 @@ double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, in
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-double timeBareClosestHit(const RayScene& scene, const std::vector<Ray>& rays, uint64_t& hits) {
+double timeBareClosestHit(const RayScene& scene, const std::vector<Ray>& rays, int width,
+                          uint64_t& hits) {
+    const std::size_t step = std::size_t(width);
+    const std::size_t packetCount = (rays.size() + step - 1) / step;
     const auto start = std::chrono::steady_clock::now();
     hits = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, rays.size(), 1024), uint64_t(0),
+        tbb::blocked_range<std::size_t>(0, packetCount, width > 1 ? 64 : 1024), uint64_t(0),
         [&](const tbb::blocked_range<std::size_t>& r, uint64_t sum) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                const Ray& q = rays[i];
-                sum += scene.intersect(q.org, q.dir, q.tnear, q.tfar).hit;
+            RayHit hit[kMaxPacketSize];
+            for (std::size_t p = r.begin(); p != r.end(); ++p) {
+                const std::size_t first = p * step;
+                const int n = int(std::min(step, rays.size() - first));
+                if (width > 1) {
+                    scene.intersectPacket(rays.data() + first, n, width, hit);
+                    for (int i = 0; i < n; ++i) sum += hit[i].hit;
+                } else {
+                    const Ray& q = rays[first];
+                    sum += scene.intersect(q.org, q.dir, q.tnear, q.tfar).hit;
+                }
             }
             return sum;
         },

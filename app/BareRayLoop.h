@@ -18,8 +18,10 @@ namespace fp::app {
 double timeBareOcclusion(const RayScene& scene, const std::vector<Ray>& rays, int width,
                          bool closestHits, uint64_t& blocked);
 
-/// Seconds to find every ray's closest hit on all threads, one ray at a time (rtcIntersect1), as
-/// the ray-traced GI, reflections and the hybrid ask for them; `hits` receives how many hit.
-double timeBareClosestHit(const RayScene& scene, const std::vector<Ray>& rays, uint64_t& hits);
+/// Seconds to find every ray's closest hit on all threads, one ray at a time (`width` 1:
+/// rtcIntersect1, as reflections and the hybrid ask for them) or in packets of consecutive rays
+/// (8 or 16: rtcIntersect8/16, as the ray-traced GI's waves do); `hits` receives how many hit.
+double timeBareClosestHit(const RayScene& scene, const std::vector<Ray>& rays, int width,
+                          uint64_t& hits);
 
 }  // namespace fp::app

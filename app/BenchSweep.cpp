@@ -163,10 +163,14 @@ void addBareRayLoops(const Plan& plan,
         }
         // The closest-hit queries of the ray-traced GI, reflections and the hybrid.
         if (!rays.closestRays.empty()) {
-            uint64_t hits = 0;
-            setting.passes.push_back(
-                {"bare loop rtcIntersect1" + of, kBareLoopType, "rays", rays.closestRays.size(),
-                 timed([&] { return timeBareClosestHit(scene, rays.closestRays, hits); })});
+            for (const int width : {scene.packetWidth(), 1}) {
+                uint64_t hits = 0;
+                setting.passes.push_back(
+                    {fmt::format("bare loop rtcIntersect{}{}", width, of), kBareLoopType, "rays",
+                     rays.closestRays.size(), timed([&] {
+                         return timeBareClosestHit(scene, rays.closestRays, width, hits);
+                     })});
+            }
         }
         // Every ray of the pass, its shadow rays too, as a closest-hit query one at a time: the
         // yardstick of a pass that mixes the two kinds (docs/commands.md, bench).
@@ -176,7 +180,7 @@ void addBareRayLoops(const Plan& plan,
             uint64_t hits = 0;
             setting.passes.push_back(
                 {"bare loop rtcIntersect1, every ray" + of, kBareLoopType, "rays", every.size(),
-                 timed([&] { return timeBareClosestHit(scene, every, hits); })});
+                 timed([&] { return timeBareClosestHit(scene, every, 1, hits); })});
         }
     }
 }

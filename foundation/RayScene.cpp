@@ -207,7 +207,60 @@ void tracePacket(RTCScene scene, const RayArrays& rays, int count, bool* occlude
         if (occluded[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID)
             t[i] = rh.ray.tfar[i];
 }
+// The closest hits of rays [0, count) in one packet of width W, each as RayScene::intersect
+// reads its ray's hit.
+template <int W>
+void intersectRays(RTCScene scene, const Ray* rays, int count, RayHit* hits) {
+    alignas(4 * W) int valid[W];
+    alignas(4 * W) typename Packet<W>::RayHit rh;
+    for (int i = 0; i < W; ++i) {
+        const Ray& q = rays[i < count ? i : 0];  // lanes past `count` repeat ray 0, switched off
+        valid[i] = i < count ? -1 : 0;
+        rh.ray.org_x[i] = q.org.x;
+        rh.ray.org_y[i] = q.org.y;
+        rh.ray.org_z[i] = q.org.z;
+        rh.ray.dir_x[i] = q.dir.x;
+        rh.ray.dir_y[i] = q.dir.y;
+        rh.ray.dir_z[i] = q.dir.z;
+        rh.ray.tnear[i] = q.tnear;
+        rh.ray.tfar[i] = q.tfar;
+        rh.ray.mask[i] = 0xFFFFFFFFu;
+        rh.ray.time[i] = 0.0f;
+        rh.ray.flags[i] = 0;
+        rh.ray.id[i] = unsigned(i);
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    Packet<W>::intersect(valid, scene, &context, &rh);
+    for (int i = 0; i < count; ++i) {
+        RayHit& h = hits[i];
+        h = RayHit{};
+        if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+        h.hit = true;
+        h.t = rh.ray.tfar[i];
+        h.mesh = rh.hit.geomID[i];
+        h.triangle = rh.hit.primID[i];
+        h.u = rh.hit.u[i];
+        h.v = rh.hit.v[i];
+        h.geometricNormal = normalize(Vec3f{rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]});
+    }
+}
 }  // namespace
+
+void RayScene::intersectPacket(const Ray* rays, int count, int width, RayHit* hits) const {
+    FP_ASSERT((width == 8 || width == 16) && count >= 1 && count <= width);
+    if (mLog) {
+        std::lock_guard<std::mutex> lock(mLogMutex);
+        if (mLog) mLog->closestRays.insert(mLog->closestRays.end(), rays, rays + count);
+    }
+    const auto scene = static_cast<RTCScene>(mRtcScene);
+    if (width == 16)
+        intersectRays<16>(scene, rays, count, hits);
+    else
+        intersectRays<8>(scene, rays, count, hits);
+}
 
 void RayScene::occludedPacket(const RayArrays& rays, int count, int width, bool* occluded) const {
     occludedWithDistancePacket(rays, count, width, occluded, nullptr);

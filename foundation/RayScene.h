@@ -86,6 +86,9 @@ public:
     /// rtcOccluded8 or rtcOccluded16 (`width` 8 or 16) on rays [0, count) of `rays`, count 1 to
     /// width: occluded[i] for each.
     void occludedPacket(const RayArrays& rays, int count, int width, bool* occluded) const;
+    /// Closest hits of rays [0, count) of `rays` (count 1 to width) in one rtcIntersect8 or
+    /// rtcIntersect16 packet (`width` 8 or 16), each as intersect() gives it.
+    void intersectPacket(const Ray* rays, int count, int width, RayHit* hits) const;
     /// occludedPacket, then each blocked ray's closest hit (rtcIntersect8/16 on the blocked lanes
     /// only, as occluded() then intersect() do one ray at a time): t[i] is the closest-hit
     /// distance of blocked ray i, −1 for an unblocked ray. Unblocked rays, most of a lit frame's,
@@ -107,7 +110,7 @@ public:
         std::vector<Ray> closestRays;
     };
     /// While a log is set, every ray of occluded(), occludedPacket(),
-    /// occludedWithDistancePacket() and intersect() is appended to it, so `bench` can time bare
+    /// occludedWithDistancePacket(), intersect() and intersectPacket() is appended to it, so `bench` can time bare
     /// Embree loops over exactly the rays a pass traced, asking what the pass asked. nullptr stops.
     void setRayLog(RayLog* log) const;
 

@@ -29,12 +29,23 @@ void DiffusePathWave::trace(const DiffusePathSetup& c, PathState* paths, Rng* co
         for (auto* v : {&mOrgX, &mOrgY, &mOrgZ, &mDirX, &mDirY, &mDirZ, &mTfar}) v->clear();
         mLit.clear();
         mFirstShadowRay.clear();
+        const std::size_t going = mGoing.size();
+        mRays.resize(going);
+        mRayHits.resize(going);
+        for (std::size_t g = 0; g < going; ++g) {
+            const PathState& p = paths[mGoing[g]];
+            mRays[g] = {p.org, p.dir, p.tMin, c.reach};
+        }
+        rays += going;
+        for (std::size_t r = 0; r < going; r += std::size_t(width))
+            scene.intersectPacket(mRays.data() + r, int(std::min(going - r, std::size_t(width))),
+                                  width, mRayHits.data() + r);
         std::size_t lit = 0;
-        for (const int i : mGoing) {
+        for (std::size_t g = 0; g < going; ++g) {
+            const int i = mGoing[g];
             PathState& p = paths[i];
-            ++rays;
             PathHit& hit = mHits[std::size_t(i)];
-            hit = tracer.closestHit(p.org, p.dir, p.tMin, c.reach);
+            hit = tracer.pathHitOf(mRayHits[g], p.org, p.dir);
             if (!reachHit(tracer, c, p, hit)) continue;
             mGoing[lit++] = i;
             mFirstShadowRay.push_back(mTfar.size());

@@ -26,6 +26,8 @@ private:
     void pushShadowRay(const Vec3f& org, const LightSample& ls, const Vec3f& lit);
 
     std::vector<int> mGoing;       // the paths still going, in order
+    std::vector<Ray> mRays;        // each going path's ray this step
+    std::vector<RayHit> mRayHits;  // and what Embree found along it
     std::vector<PathHit> mHits;    // each going path's hit this step
     std::vector<std::size_t> mFirstShadowRay;  // of each going path with a hit, into the arrays
     // This step's shadow rays, in the order drawn: origin, direction, length, and what each adds

@@ -67,7 +67,10 @@ struct EmbreeTracer {
     const DiffusePathSetup& c;
 
     PathHit closestHit(const Vec3f& org, const Vec3f& dir, float tMin, float tMax) const {
-        const RayHit hit = c.scene->intersect(org, dir, tMin, tMax);
+        return pathHitOf(c.scene->intersect(org, dir, tMin, tMax), org, dir);
+    }
+    /// The path's hit from Embree's hit of the ray org + t·dir (or its miss).
+    PathHit pathHitOf(const RayHit& hit, const Vec3f& org, const Vec3f& dir) const {
         if (!hit.hit) return {};
         PathHit h{true, hit.t, surfaceAt(*c.scene, hit, org, dir)};
         h.surface.emission = c.scene->scene().emissionTowardsSurfaces(hit.mesh);

@@ -122,6 +122,51 @@ TEST_CASE("hits, misses and closest distances agree with Embree's on 200k random
                                     << "; worst relative distance " << worstRel);
 }
 
+TEST_CASE("Embree's closest-hit packets give each ray intersect()'s hit, bit for bit") {
+    // rt_global_illumination's waves trace their closest hits in packets and promise the bits of
+    // one ray at a time: every field of each lane's hit, partial packets and ray starts past 0
+    // included, on the packet widths the CPU has.
+    const Scene scene = clutteredScene();
+    const RayScene rs(scene, {5, 7, -3});
+    Rng rng(4, 5, 6, 13);
+    std::vector<Ray> rays(20000);
+    for (Ray& r : rays) {
+        r.org = {rng.nextFloat() * 240.0f - 120.0f, rng.nextFloat() * 80.0f,
+                 rng.nextFloat() * 240.0f - 120.0f};
+        r.dir = randomDirection(rng);
+        r.tnear = rng.nextFloat() < 0.5f ? 0.0f : rng.nextFloat() * 20.0f;
+        r.tfar = rng.nextFloat() * 300.0f;
+    }
+    for (const int width : {8, 16}) {
+        if (width > rs.packetWidth()) continue;  // 16 only where the CPU traces it natively
+        CAPTURE(width);
+        int hits = 0, differs = 0;
+        RayHit packet[kMaxPacketSize];
+        for (std::size_t first = 0; first < rays.size();) {
+            const int n = 1 + int(first % std::size_t(width));  // 1 … width lanes
+            const int count = int(std::min(std::size_t(n), rays.size() - first));
+            rs.intersectPacket(rays.data() + first, count, width, packet);
+            for (int i = 0; i < count; ++i) {
+                const Ray& r = rays[first + std::size_t(i)];
+                const RayHit one = rs.intersect(r.org, r.dir, r.tnear, r.tfar);
+                const RayHit& p = packet[i];
+                hits += one.hit;
+                const bool same = p.hit == one.hit &&
+                                  (!one.hit || (p.t == one.t && p.mesh == one.mesh &&
+                                                p.triangle == one.triangle && p.u == one.u &&
+                                                p.v == one.v &&
+                                                p.geometricNormal.x == one.geometricNormal.x &&
+                                                p.geometricNormal.y == one.geometricNormal.y &&
+                                                p.geometricNormal.z == one.geometricNormal.z));
+                differs += !same;
+            }
+            first += std::size_t(count);
+        }
+        CHECK(hits > 2000);  // the floor, the sphere and the soup are hit, not only missed
+        CHECK(differs == 0);
+    }
+}
+
 TEST_CASE("rays from inside a closed mesh through its vertices and edges never slip out") {
     // The watertight test decides a ray through a shared edge or vertex for one of the triangles
     // around it: a sphere's centre sees the sphere in every direction, edges included.
