@@ -45,7 +45,7 @@ void DiffusePathWave::trace(const DiffusePathSetup& c, PathState* paths, Rng* co
             const int i = mGoing[g];
             PathState& p = paths[i];
             PathHit& hit = mHits[std::size_t(i)];
-            hit = tracer.pathHitOf(mRayHits[g], p.org, p.dir);
+            tracer.fillPathHit(mRayHits[g], p.org, p.dir, hit);
             if (!reachHit(tracer, c, p, hit)) continue;
             mGoing[lit++] = i;
             mFirstShadowRay.push_back(mTfar.size());

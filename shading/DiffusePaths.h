@@ -67,14 +67,21 @@ struct EmbreeTracer {
     const DiffusePathSetup& c;
 
     PathHit closestHit(const Vec3f& org, const Vec3f& dir, float tMin, float tMax) const {
-        return pathHitOf(c.scene->intersect(org, dir, tMin, tMax), org, dir);
-    }
-    /// The path's hit from Embree's hit of the ray org + t·dir (or its miss).
-    PathHit pathHitOf(const RayHit& hit, const Vec3f& org, const Vec3f& dir) const {
-        if (!hit.hit) return {};
-        PathHit h{true, hit.t, surfaceAt(*c.scene, hit, org, dir)};
-        h.surface.emission = c.scene->scene().emissionTowardsSurfaces(hit.mesh);
+        PathHit h;
+        fillPathHit(c.scene->intersect(org, dir, tMin, tMax), org, dir, h);
         return h;
+    }
+    /// `out`, the path's hit from Embree's hit of the ray org + t·dir (or its miss), filled in
+    /// place.
+    void fillPathHit(const RayHit& hit, const Vec3f& org, const Vec3f& dir, PathHit& out) const {
+        out.hit = hit.hit;
+        if (!hit.hit) {
+            out.t = -1.0f;
+            return;
+        }
+        out.t = hit.t;
+        out.surface = surfaceAt(*c.scene, hit, org, dir);
+        out.surface.emission = c.scene->scene().emissionTowardsSurfaces(hit.mesh);
     }
     int lightCount() const { return c.lighting->lightCount(); }
     const LightView& lightView(int i) const { return c.lighting->lightView(i); }

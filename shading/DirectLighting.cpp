@@ -8,13 +8,6 @@
 
 namespace fp {
 
-SurfacePoint surfaceAt(const RayScene& scene, const RayHit& hit, const Vec3f& org, const Vec3f& dir) {
-    const Material& m = scene.material(hit);
-    return surfacePoint(hit.geometricNormal, scene.shadingNormal(hit),
-                        {m.baseColor, m.metallic, m.specular, m.roughness, m.emission}, org, dir,
-                        hit.t);
-}
-
 bool DirectLighting::hasExtent(const Light& light) {
     return light.type == LightType::Rect ||
            (light.type == LightType::Directional && light.sourceAngleDegrees > 0) ||

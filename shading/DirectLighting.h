@@ -48,7 +48,15 @@ FP_HD inline SurfacePoint surfacePoint(Vec3f ng, Vec3f n, const BvhMaterial& m, 
 }
 
 /// The shading point of a hit of the ray org + t·dir (Embree's), its emission the material's.
-SurfacePoint surfaceAt(const RayScene& scene, const RayHit& hit, const Vec3f& org, const Vec3f& dir);
+/// (Inline: a wave of paths fills its hits' records in place, where a call returned each through
+/// the stack.)
+inline SurfacePoint surfaceAt(const RayScene& scene, const RayHit& hit, const Vec3f& org,
+                              const Vec3f& dir) {
+    const Material& m = scene.material(hit);
+    return surfacePoint(hit.geometricNormal, scene.shadingNormal(hit),
+                        {m.baseColor, m.metallic, m.specular, m.roughness, m.emission}, org, dir,
+                        hit.t);
+}
 
 /// The shading point of a closest hit through framepass's BVH (Bvh.h), on either backend: the
 /// geometric normal of the triangle as stored, the vertex normals interpolated at the traversal's
