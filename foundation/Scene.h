@@ -70,10 +70,12 @@ struct Light {
     float cosOuterCone() const { return std::cos(outerConeDegrees * kPiF / 180.0f); }
     float cosInnerCone() const { return std::cos(innerConeDegrees * kPiF / 180.0f); }
 
-    /// The spot mask from the cone's cosines (for per-pixel code that has no Light).
-    FP_HD static float spotMaskOf(float cosAngle, float cosOuter, float cosInner) {
+    /// The spot mask from the cone's cosines (for per-pixel code that has no Light); T: float or
+    /// float lanes.
+    template <class T>
+    FP_HD static T spotMaskOf(T cosAngle, float cosOuter, float cosInner) {
         const float range = cosInner - cosOuter;
-        const float t = saturate((cosAngle - cosOuter) / (range < 1e-4f ? 1e-4f : range));
+        const T t = saturateOf((cosAngle - cosOuter) / (range < 1e-4f ? 1e-4f : range));
         return t * t;
     }
 };

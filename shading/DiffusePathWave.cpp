@@ -4,17 +4,6 @@
 
 namespace fp {
 
-void DiffusePathWave::pushShadowRay(const Vec3f& org, const LightSample& ls, const Vec3f& lit) {
-    mOrgX.push_back(org.x);
-    mOrgY.push_back(org.y);
-    mOrgZ.push_back(org.z);
-    mDirX.push_back(ls.shadowDir.x);
-    mDirY.push_back(ls.shadowDir.y);
-    mDirZ.push_back(ls.shadowDir.z);
-    mTfar.push_back(ls.shadowDistance);  // from 0, as DirectLighting::visible's ray
-    mLit.push_back(lit);
-}
-
 void DiffusePathWave::trace(const DiffusePathSetup& c, PathState* paths, Rng* const* rngs,
                             int count, uint64_t& rays, uint64_t& shadowRays) {
     const EmbreeTracer tracer{c};
@@ -46,16 +35,53 @@ void DiffusePathWave::trace(const DiffusePathSetup& c, PathState* paths, Rng* co
             PathState& p = paths[i];
             PathHit& hit = mHits[std::size_t(i)];
             tracer.fillPathHit(mRayHits[g], p.org, p.dir, hit);
-            if (!reachHit(tracer, c, p, hit)) continue;
-            mGoing[lit++] = i;
-            mFirstShadowRay.push_back(mTfar.size());
-            const SurfacePoint& s = hit.surface;
-            const Vec3f org = s.rayOrigin();
-            drawLightSamples(tracer, c, s, *rngs[i], [&](const LightSample& ls, const Vec3f& l) {
-                pushShadowRay(org, ls, l);
-            });
+            if (reachHit(tracer, c, p, hit)) mGoing[lit++] = i;
         }
         mGoing.resize(lit);
+
+        // The light samples at the hits, in SIMD lanes of neighbouring hits; each hit's shadow
+        // rays in the order drawn.
+        const int lights = tracer.lightCount();
+        if (lights > 0 && c.nee > 0 && lit > 0) {
+            mHitLanes.resize(int(lit));
+            for (std::size_t g = 0; g < lit; ++g) {
+                const SurfacePoint& s = mHits[std::size_t(mGoing[g])].surface;
+                const Vec3f org = s.rayOrigin();
+                mHitLanes.px[g] = s.position.x;
+                mHitLanes.py[g] = s.position.y;
+                mHitLanes.pz[g] = s.position.z;
+                mHitLanes.ox[g] = org.x;
+                mHitLanes.oy[g] = org.y;
+                mHitLanes.oz[g] = org.z;
+                mHitLanes.nx[g] = s.normal.x;
+                mHitLanes.ny[g] = s.normal.y;
+                mHitLanes.nz[g] = s.normal.z;
+                mHitLanes.dr[g] = s.brdf.diffuseColor.x;
+                mHitLanes.dg[g] = s.brdf.diffuseColor.y;
+                mHitLanes.db[g] = s.brdf.diffuseColor.z;
+                mHitLanes.rng[g] = rngs[mGoing[g]]->state();
+            }
+            drawLightSampleLanes(c.lighting->lightViews().data(), lights, c.nee, mHitLanes,
+                                 mSamples);
+            for (std::size_t g = 0; g < lit; ++g) {
+                *rngs[mGoing[g]] = Rng::resume(mHitLanes.rng[g]);
+                mFirstShadowRay.push_back(mTfar.size());
+                for (int k = 0; k < c.nee; ++k) {
+                    const std::size_t at = std::size_t(k) * std::size_t(mSamples.stride) + g;
+                    if (!mSamples.keep[at]) continue;
+                    mOrgX.push_back(mHitLanes.ox[g]);
+                    mOrgY.push_back(mHitLanes.oy[g]);
+                    mOrgZ.push_back(mHitLanes.oz[g]);
+                    mDirX.push_back(mSamples.dx[at]);
+                    mDirY.push_back(mSamples.dy[at]);
+                    mDirZ.push_back(mSamples.dz[at]);
+                    mTfar.push_back(mSamples.tfar[at]);  // from 0, as DirectLighting::visible's ray
+                    mLit.push_back({mSamples.lr[at], mSamples.lg[at], mSamples.lb[at]});
+                }
+            }
+        } else {
+            mFirstShadowRay.assign(lit, 0);
+        }
         mFirstShadowRay.push_back(mTfar.size());
 
         // The step's shadow rays, in packets.

@@ -7,6 +7,7 @@
 // reachHit, drawLightSamples, lightEstimate, leaveHit) in its order and draws from its own
 // stream, and Embree's packets answer as its single rays do, so a path ends with the bits
 // traceDiffusePath gives it (RTGlobalIlluminationTests checks it).
+#include "shading/DiffusePathLanes.h"
 #include "shading/DiffusePaths.h"
 
 #include <cstdint>
@@ -23,8 +24,6 @@ public:
                uint64_t& rays, uint64_t& shadowRays);
 
 private:
-    void pushShadowRay(const Vec3f& org, const LightSample& ls, const Vec3f& lit);
-
     std::vector<int> mGoing;       // the paths still going, in order
     std::vector<Ray> mRays;        // each going path's ray this step
     std::vector<RayHit> mRayHits;  // and what Embree found along it
@@ -34,6 +33,8 @@ private:
     // when unblocked.
     std::vector<float> mOrgX, mOrgY, mOrgZ, mDirX, mDirY, mDirZ, mTfar;
     std::vector<Vec3f> mLit;
+    HitLanes mHitLanes;       // the step's hits with a light to sample, as the lanes read them
+    SampleLanes mSamples;     // and their samples
     std::unique_ptr<bool[]> mBlocked;
     std::size_t mBlockedCapacity = 0;
 };

@@ -180,23 +180,52 @@ FP_HD bool reachHit(const Tracer& tracer, const DiffusePathSettings& c, PathStat
     return true;
 }
 
-/// The light samples at hit `s`: each of `nee` picks one light uniformly; `onShadowRay(ls, lit)`
-/// is called, in order, for each sample whose light reaches `s` from above, with what it adds
-/// when its shadow ray is unblocked (`lit`). Draws nothing without lights or samples.
+/// Which of `lights` lights a sample whose first number is `pick` takes: int(pick · lights), the
+/// last at most; T: float, or float lanes (each lane's index as a float).
+template <class T>
+FP_HD T lightIndexOf(T pick, int lights) {
+    return minLike(floorOf(pick * float(lights)), T(float(lights - 1)));
+}
+
+/// One light sample at a point of unit normal `normal` and diffuse colour `diffuseColor`, drawing
+/// its three numbers from `rng` (a stream's state, advanced): the light picked uniformly and
+/// sampled there (`sampleAt(index, u, v)`, index lightIndexOf's), `keep` where that light reaches
+/// the point from above (its shadow ray worth tracing) and `lit`, what the sample adds when its
+/// shadow ray is unblocked. T: float, or float lanes (as many points a vector).
+template <class T, class SampleAt>
+FP_HD FP_HOT_INLINE void drawLightSample(int lights, UIntOf<T>& rng, const Vec3T<T>& normal,
+                                         const Vec3T<T>& diffuseColor, SampleAt&& sampleAt,
+                                         LightSampleOf<T>& ls, MaskOf<T>& keep, Vec3T<T>& lit) {
+    const T pick = nextFloatOf<T>(rng);
+    const T u = nextFloatOf<T>(rng);
+    const T v = nextFloatOf<T>(rng);
+    ls = sampleAt(lightIndexOf(pick, lights), u, v);
+    const T cosine = dot(normal, ls.L);
+    keep = ls.reaches() & !(cosine <= 0.0f);
+    lit = diffuseColor * ls.irradiance * (cosine / kPiF);
+}
+
+/// The light samples at hit `s`: each of `nee` picks one light uniformly (drawLightSample);
+/// `onShadowRay(ls, lit)` is called, in order, for each sample whose light reaches `s` from above,
+/// with what it adds when its shadow ray is unblocked (`lit`). Draws nothing without lights or
+/// samples.
 template <class Lights, class OnShadowRay>
 FP_HD void drawLightSamples(const Lights& lights, const DiffusePathSettings& c,
                             const SurfacePoint& s, Rng& rng, OnShadowRay&& onShadowRay) {
     const int n = lights.lightCount();
     if (n == 0 || c.nee <= 0) return;
+    uint32_t state = rng.state();
+    auto sampleAt = [&](float index, float u, float v) {
+        return sampleLight(lights.lightView(int(index)), s, u, v);
+    };
     for (int k = 0; k < c.nee; ++k) {
-        const float pick = rng.nextFloat(), u = rng.nextFloat(), v = rng.nextFloat();
-        const int picked = int(pick * float(n));
-        const LightSample ls =
-            sampleLight(lights.lightView(picked < n - 1 ? picked : n - 1), s, u, v);
-        const float cosine = dot(s.normal, ls.L);
-        if (!ls.reaches() || cosine <= 0.0f) continue;
-        onShadowRay(ls, s.brdf.diffuseColor * ls.irradiance * (cosine / kPiF));
+        LightSample ls;
+        bool keep;
+        Vec3f lit;
+        drawLightSample<float>(n, state, s.normal, s.brdf.diffuseColor, sampleAt, ls, keep, lit);
+        if (keep) onShadowRay(ls, lit);
     }
+    rng = Rng::resume(state);
 }
 
 /// The light estimate from the unblocked samples' sum (in the order drawn): × the light count

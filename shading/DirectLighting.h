@@ -82,16 +82,19 @@ FP_HD inline SurfacePoint surfaceAt(const BvhView& bvh, const BvhHit& hit, const
 }
 
 /// One sample of a light as seen from a surface point.
-struct LightSample {
-    Vec3f L;                  //!< unit direction used for shading
-    Vec3f irradiance;         //!< unshadowed, at normal incidence; zero when the light misses P
-    Vec3f shadowDir;          //!< unit direction of the shadow ray (towards the sampled point)
-    float shadowDistance = 0; //!< where the shadow ray stops (infinite for directional lights)
+template <class T>
+struct LightSampleOf {
+    Vec3T<T> L;                  //!< unit direction used for shading
+    Vec3T<T> irradiance;         //!< unshadowed, at normal incidence; zero when the light misses P
+    Vec3T<T> shadowDir;          //!< unit direction of the shadow ray (towards the sampled point)
+    T shadowDistance = T(0.0f);  //!< where the shadow ray stops (infinite for directional lights)
 
     /// False when the light sends nothing to the point (behind a rect light, outside a spot's
     /// cone): no shadow ray is worth tracing.
-    FP_HD bool reaches() const { return irradiance.x + irradiance.y + irradiance.z > 0.0f; }
+    FP_HD MaskOf<T> reaches() const { return irradiance.x + irradiance.y + irradiance.z > 0.0f; }
 };
+/// A light's sample for one point (T: float lanes, for as many points).
+using LightSample = LightSampleOf<float>;
 
 /// A light as per-pixel code samples it, on either backend: a Light relative to a RayScene's
 /// origin, with what its sampling needs worked out once on the host.
@@ -110,63 +113,73 @@ struct LightView {
     FP_HD bool hasExtent() const { return type == LightType::Rect || extent > 0.0f; }
 };
 
-/// Samples `light` at (u, v) ∈ [0,1)² for the point `s` (DirectLighting::sample).
-FP_HD inline LightSample sampleLight(const LightView& light, const SurfacePoint& s, float u,
-                                     float v) {
-    const Vec3f P = s.position;
-    LightSample out;
+/// Samples `light` at (u, v) ∈ [0,1)² for the point P, whose rays leave from `origin` (its
+/// SurfacePoint::rayOrigin, which a rect light's sample aims from); T: float, or float lanes (as
+/// many points a vector, every lane the same operations in the same order).
+template <class T>
+FP_HD FP_HOT_INLINE LightSampleOf<T> sampleLightOf(const LightView& light, const Vec3T<T>& P,
+                                                   const Vec3T<T>& origin, T u, T v) {
+    using D = DoubleOf<T>;
+    using V3 = Vec3T<T>;
+    LightSampleOf<T> out;
     if (light.type == LightType::Rect) {
-        const Vec3f c = Vec3f(light.position);
         const Vec3f hu = light.halfU, hv = light.halfV;
         const Vec3f nl = normalize(cross(hu, hv));
         const float area = 4.0f * length(cross(hu, hv));
-        const Vec3f q = c + hu * (2.0f * u - 1.0f) + hv * (2.0f * v - 1.0f);
-        const Vec3f d = q - s.rayOrigin();
-        const float dist = length(d);
+        const V3 q = V3(Vec3f(light.position)) + V3(hu) * (2.0f * u - 1.0f) + V3(hv) * (2.0f * v - 1.0f);
+        const V3 d = q - origin;
+        const T dist = length(d);
         out.L = out.shadowDir = d / dist;
         // Stop just short of the emitter so its own quad does not shadow it.
         out.shadowDistance = dist * (1.0f - 1e-4f);
-        const float cosL = -dot(out.L, nl);
-        if (cosL > 0.0f) out.irradiance = light.radiance * (cosL * area / (dist * dist));
+        const T cosL = -dot(out.L, V3(nl));
+        out.irradiance = ifThenElse(cosL > 0.0f, V3(light.radiance) * (cosL * area / (dist * dist)), V3{});
         return out;
     }
-    float maxDist;
-    float irradiance;
+    T maxDist;
+    T irradiance;
     if (light.type == LightType::Directional) {
-        out.L = -light.direction;
-        irradiance = 1.0f;
-        maxDist = std::numeric_limits<float>::infinity();
+        out.L = V3(-light.direction);
+        irradiance = T(1.0f);
+        maxDist = T(std::numeric_limits<float>::infinity());
     } else {
-        const Vec3d toLight = light.position - Vec3d(P);
-        const double dist = length(toLight);
-        out.L = Vec3f(toLight / dist);
-        irradiance = float(1.0 / (dist * dist));
-        maxDist = float(dist);
+        const Vec3T<D> toLight = Vec3T<D>(light.position) - Vec3T<D>{toDouble(P.x), toDouble(P.y), toDouble(P.z)};
+        const D dist = length(toLight);
+        out.L = {toFloat(toLight.x / dist), toFloat(toLight.y / dist), toFloat(toLight.z / dist)};
+        irradiance = toFloat(D(1.0) / (dist * dist));
+        maxDist = toFloat(dist);
         if (light.type == LightType::Spot)
-            irradiance *= Light::spotMaskOf(dot(-out.L, light.direction), light.cosOuter,
-                                            light.cosInner);
+            irradiance = irradiance * Light::spotMaskOf(dot(-out.L, V3(light.direction)),
+                                                        light.cosOuter, light.cosInner);
     }
-    out.irradiance = light.radiance * irradiance;
+    out.irradiance = V3(light.radiance) * irradiance;
     out.shadowDir = out.L;
-    float tfar = maxDist;
+    T tfar = maxDist;
     if (light.extent > 0.0f) {
-        Vec3f t, b;
+        V3 t, b;
         orthonormalBasis(out.L, t, b);
-        float sinPhi, cosPhi;
-        sinCos(2.0f * kPiF * v, sinPhi, cosPhi);
-        const float r = std::sqrt(u);
-        const Vec3f disk = t * cosPhi + b * sinPhi;
+        T sinPhi, cosPhi;
+        sinCos<T>(2.0f * kPiF * v, sinPhi, cosPhi);
+        const T r = sqrtOf(u);
+        const V3 disk = t * cosPhi + b * sinPhi;
         if (light.type == LightType::Directional) {
             // A disk of the cone's tangent at unit distance approximates the cone.
             out.shadowDir = normalize(out.L + disk * (r * light.tanExtent));
         } else {
-            const Vec3f q = out.L * maxDist + disk * (r * light.extent);
+            const V3 q = out.L * maxDist + disk * (r * light.extent);
             tfar = length(q);
             out.shadowDir = q / tfar;
         }
     }
     out.shadowDistance = tfar * (1.0f - 1e-5f);
     return out;
+}
+
+/// Samples `light` at (u, v) ∈ [0,1)² for the point `s` (DirectLighting::sample).
+FP_HD inline LightSample sampleLight(const LightView& light, const SurfacePoint& s, float u,
+                                     float v) {
+    return sampleLightOf<float>(light, s.position,
+                                light.type == LightType::Rect ? s.rayOrigin() : s.position, u, v);
 }
 
 /// Jittered stratified 2D sample k of n (n rounded to a square grid; else two plain draws).

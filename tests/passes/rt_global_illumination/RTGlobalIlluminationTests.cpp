@@ -3,6 +3,7 @@
 // gathers half the floor's radiance in one bounce, and many bounces converge to
 // Truth.DiffuseIndirectFull in a closed room.
 #include "reference/TruthRenderer.h"
+#include "screenspace/Lanes.h"
 #include "tests/support/TestScenes.h"
 
 #include <doctest/doctest.h>
@@ -216,14 +217,25 @@ TEST_CASE("rt_global_illumination: 1 and 2 threads give the same bits") {
 }
 
 TEST_CASE("rt_global_illumination: paths traced in waves give the bits of one path at a time") {
-    // A sphere on a floor under a sun, a soft point light and a rect light, the sky on for the
-    // bounce rays' misses: each path's closest hits, light samples (blocked by the sphere or not,
-    // behind the rect light or not) and bounces, and paths that end early (a miss, a first hit
-    // beyond maxRayDistance) beside longer ones in the same wave. 70 pixels leave a partial tile.
+    // A sphere on a floor under a sun with a source angle, a soft point light, a spot and a rect
+    // light, the sky on for the bounce rays' misses: each path's closest hits, light samples of
+    // every kind (a vector's lanes picking different lights; blocked by the sphere or not, behind
+    // the rect light or outside the spot's cone or not) and bounces, and paths that end early (a
+    // miss, a first hit beyond maxRayDistance) beside longer ones in the same wave. 70 pixels
+    // leave a partial tile.
     Scene scene = test::floorScene();
     scene.sceneUnitsPerMeter = 100.0;
     scene.meshes.push_back(test::sphere({0, 12, 0}, 10.0, 32, 0, 2));
-    scene.lights.push_back(test::sun({0.3, -1, 0.2}));
+    scene.lights.push_back(test::sun({0.3, -1, 0.2}, 2.0f));
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.position = {10, 40, -10};
+    spot.direction = normalize(Vec3d{0, -1, 0.3});
+    spot.innerConeDegrees = 10.0f;
+    spot.outerConeDegrees = 30.0f;
+    spot.radius = 1.0f;
+    spot.intensity = 800.0f;
+    scene.lights.push_back(spot);
     Light bulb;
     bulb.type = LightType::Point;
     bulb.position = {15, 30, 5};
@@ -249,18 +261,27 @@ TEST_CASE("rt_global_illumination: paths traced in waves give the bits of one pa
         CAPTURE(params.dump());
         nlohmann::json one = params;
         one["waves"] = false;
-        const auto waves = runGi(src, params), single = runGi(src, one);
-        const Plane& diffuse = waves.at("rt_global_illumination.diffuse").image().plane(0);
-        int lit = 0;
-        for (int y = 0; y < n; ++y)
-            for (int x = 0; x < n; ++x) lit += diffuse.at(x, y) > 0.0f;
-        if (params.value("nextEventEstimationSamples", 2) > 0)
-            CHECK(lit > 100);  // the sphere and the floor beside it gather light (not a vacuous test)
-        for (const char* name : {"rt_global_illumination.diffuse", "rt_global_illumination.ao",
-                                 "rt_global_illumination.hitDistance"})
-            for (int c = 0; c < waves.at(name).image().channelCount(); ++c)
-                CHECK(test::sameBits(waves.at(name).image().plane(c),
-                                     single.at(name).image().plane(c)));
+        const auto single = runGi(src, one);
+        // The waves' light samples run in SIMD lanes: on every instruction set the CPU has.
+        const std::vector<int64_t> targets = laneTargetsHere();
+        REQUIRE(!targets.empty());
+        for (int64_t target : targets) {
+            INFO("target ", target);
+            useOnlyLaneTarget(target);
+            const auto waves = runGi(src, params);
+            useOnlyLaneTarget(0);
+            const Plane& diffuse = waves.at("rt_global_illumination.diffuse").image().plane(0);
+            int lit = 0;
+            for (int y = 0; y < n; ++y)
+                for (int x = 0; x < n; ++x) lit += diffuse.at(x, y) > 0.0f;
+            if (params.value("nextEventEstimationSamples", 2) > 0)
+                CHECK(lit > 100);  // the sphere and the floor beside it gather light (not vacuous)
+            for (const char* name : {"rt_global_illumination.diffuse", "rt_global_illumination.ao",
+                                     "rt_global_illumination.hitDistance"})
+                for (int c = 0; c < waves.at(name).image().channelCount(); ++c)
+                    CHECK(test::sameBits(waves.at(name).image().plane(c),
+                                         single.at(name).image().plane(c)));
+        }
     }
 }
 
