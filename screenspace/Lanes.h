@@ -1,6 +1,6 @@
 #pragma once
-// What the SIMD-lane passes (the *Lanes.cpp of ssgi, deferred_lighting, rt_shadows and
-// rt_ambient_occlusion) share outside Highway's per-target code: which instruction sets they can
+// What the SIMD-lane code (the *Lanes.cpp of ssgi, deferred_lighting, rt_shadows and
+// rt_ambient_occlusion, and shading/DiffusePathLanes.cpp) shares outside Highway's per-target code: which instruction sets they can
 // run on here, and a switch for the tests that check each one against the scalar reference bit
 // for bit.
 #include <cstdint>

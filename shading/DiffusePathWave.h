@@ -3,10 +3,11 @@
 // traces the closest hit of every path still going, then every light sample's shadow ray of the
 // step, each in Embree's packets of neighbouring paths (rtcIntersect16 and rtcOccluded16 with
 // AVX-512, 8 elsewhere): on the glossy room at 1080p the bare packets take 88 % and 48 % of the
-// time the same rays take one at a time. Each path takes traceDiffusePath's own steps (DiffusePaths.h:
-// reachHit, drawLightSamples, lightEstimate, leaveHit) in its order and draws from its own
+// time the same rays take one at a time. The step's light samples run with its hits in SIMD
+// lanes (DiffusePathLanes.h). Each path takes traceDiffusePath's own steps (DiffusePaths.h:
+// reachHit, drawLightSample, lightEstimate, leaveHit) in its order and draws from its own
 // stream, and Embree's packets answer as its single rays do, so a path ends with the bits
-// traceDiffusePath gives it (RTGlobalIlluminationTests checks it).
+// traceDiffusePath gives it (RTGlobalIlluminationTests checks it on every instruction set).
 #include "shading/DiffusePathLanes.h"
 #include "shading/DiffusePaths.h"
 
