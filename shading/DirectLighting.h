@@ -195,32 +195,57 @@ FP_HD inline void stratifiedSample(int k, int n, Rng& rng, float& u, float& v) {
     v = (float(k / side) + rng.nextFloat()) / float(side);
 }
 
-/// Reflected radiance towards V from every light of `lights` (DirectLighting, or a tracer of
-/// Bvh.h's on either backend: lightCount(), lightView(i), visible(s, sample)): `samples` stratified
-/// samples of a light with extent, one of a punctual light; `shadowed` false traces no shadow
-/// rays (every light unshadowed).
-template <class Lights, class Count>
-FP_HD Vec3f shadeLights(const Lights& lights, int samples, const SurfacePoint& s, Rng& rng,
-                        Count& shadowRays, bool shadowed) {
-    Vec3f total;
+/// The light samples shadeLights takes at `s`, in its order: for each light of `lights` in turn,
+/// `samples` stratified samples of a light with extent (one of a punctual light), then
+/// `onLightDone(n)` with the light's sample count; `onSample(ls, NoL)` for each sample whose
+/// light reaches `s` from above (NoL > 0; what it adds when unblocked is lightValue's). A wave
+/// of reflection hits (shading/ReflectionHitWave.h) draws its samples here and traces their
+/// shadow rays together.
+template <class Lights, class OnSample, class OnLightDone>
+FP_HD void drawLightRays(const Lights& lights, int samples, const SurfacePoint& s, Rng& rng,
+                         OnSample&& onSample, OnLightDone&& onLightDone) {
     for (int i = 0; i < lights.lightCount(); ++i) {
         const LightView& light = lights.lightView(i);
         const int n = light.hasExtent() ? samples : 1;
-        Vec3f sum;
         for (int k = 0; k < n; ++k) {
             float u = 0.5f, v = 0.5f;
             if (n > 1 || light.type == LightType::Rect) stratifiedSample(k, n, rng, u, v);
             const LightSample ls = sampleLight(light, s, u, v);
             const float NoL = dot(s.normal, ls.L);
             if (NoL <= 0.0f || !ls.reaches()) continue;
+            onSample(ls, NoL);
+        }
+        onLightDone(n);
+    }
+}
+
+/// What light sample `ls` (its cosine NoL) adds to `s`'s reflected radiance when unblocked: the
+/// BRDF × irradiance × cosine.
+FP_HD inline Vec3f lightValue(const SurfacePoint& s, const LightSample& ls, float NoL) {
+    return s.brdf.evaluate(s.normal, s.toViewer, ls.L) * ls.irradiance * NoL;
+}
+
+/// Reflected radiance towards V from every light of `lights` (DirectLighting, or a tracer of
+/// Bvh.h's on either backend: lightCount(), lightView(i), visible(s, sample)): drawLightRays'
+/// samples, each light's unblocked ones averaged over its sample count; `shadowed` false traces
+/// no shadow rays (every light unshadowed).
+template <class Lights, class Count>
+FP_HD Vec3f shadeLights(const Lights& lights, int samples, const SurfacePoint& s, Rng& rng,
+                        Count& shadowRays, bool shadowed) {
+    Vec3f total, sum;
+    drawLightRays(
+        lights, samples, s, rng,
+        [&](const LightSample& ls, float NoL) {
             if (shadowed) {
                 ++shadowRays;
-                if (!lights.visible(s, ls)) continue;
+                if (!lights.visible(s, ls)) return;
             }
-            sum += s.brdf.evaluate(s.normal, s.toViewer, ls.L) * ls.irradiance * NoL;
-        }
-        total += sum * (1.0f / float(n));
-    }
+            sum += lightValue(s, ls, NoL);
+        },
+        [&](int n) {
+            total += sum * (1.0f / float(n));
+            sum = {};
+        });
     return total;
 }
 

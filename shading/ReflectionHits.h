@@ -52,20 +52,13 @@ struct ReflectionHitWork {
     uint64_t indirectRays = 0;  //!< the indirect paths' rays
 };
 
-/// The radiance a reflection hit `s` sends back along its ray, on either backend through a tracer
-/// of DiffusePaths.h: every light of the tracer (`lightSamples` samples of a light with extent;
-/// one shadow ray each when `shadowed`), the hit's emission, and its diffuse colour × its
-/// indirect light — `indirectBounces` > 0 one traced cosine path, else the sky's SH irradiance
-/// (`skySh`, null: no sky) — clamped to ≥ 0.
+/// A reflection hit's diffuse colour × its indirect light, drawn after its light samples:
+/// `indirectBounces` > 0 one traced cosine path (with the sky and emission Unreal's RTGI leaves
+/// out), else the sky's SH irradiance (`skySh`, null: no sky).
 template <class Tracer, class Count>
-FP_HD Vec3f lightReflectionHit(const Tracer& tracer, const SurfacePoint& s, const SH3* skySh,
-                               bool shadowed, int lightSamples, int indirectBounces, Rng& rng,
-                               Count& shadowRays, Count& indirectRays) {
-    // The hit as Unreal's material hit shader lights it: the lights (the view vector the ray's),
-    // its emission, and its diffuse colour × its indirect light. A light's visible shape sends
-    // no emission here: its reflection is the light's own specular, which deferred_lighting adds
-    // (algorithms §12.4).
-    Vec3f radiance = s.emission + shadeLights(tracer, lightSamples, s, rng, shadowRays, shadowed);
+FP_HD Vec3f reflectionHitIndirect(const Tracer& tracer, const SurfacePoint& s, const SH3* skySh,
+                                  int indirectBounces, Rng& rng, Count& shadowRays,
+                                  Count& indirectRays) {
     if (indirectBounces > 0) {
         // One cosine path: its radiance is the hit's irradiance/π, as the SH's diffuse term is.
         DiffusePathSettings path;
@@ -75,15 +68,40 @@ FP_HD Vec3f lightReflectionHit(const Tracer& tracer, const SurfacePoint& s, cons
         path.nee = 1;
         const float u = rng.nextFloat(), v = rng.nextFloat();
         const Vec3f dir = cosineHemisphere(s.normal, u, v);
-        radiance += s.brdf.diffuseColor *
-                    traceDiffusePath(tracer, path, s.rayOrigin(), dir, 0.0f, rng, indirectRays,
-                                     shadowRays)
-                        .radiance;
-    } else if (skySh) {
-        radiance += s.brdf.diffuseColor * skySh->diffuse(s.normal);
+        return s.brdf.diffuseColor *
+               traceDiffusePath(tracer, path, s.rayOrigin(), dir, 0.0f, rng, indirectRays,
+                                shadowRays)
+                   .radiance;
     }
+    if (skySh) return s.brdf.diffuseColor * skySh->diffuse(s.normal);
+    return {};
+}
+
+/// What a reflection hit sends back from its emission, its lights' light and its indirect light
+/// (reflectionHitIndirect's), clamped to ≥ 0.
+FP_HD inline Vec3f reflectionHitRadiance(const Vec3f& emission, const Vec3f& lights,
+                                         const Vec3f& indirect) {
+    const Vec3f radiance = emission + lights + indirect;
     return {radiance.x < 0.0f ? 0.0f : radiance.x, radiance.y < 0.0f ? 0.0f : radiance.y,
             radiance.z < 0.0f ? 0.0f : radiance.z};  // std::max(·, 0), a NaN kept
+}
+
+/// The radiance a reflection hit `s` sends back along its ray, on either backend through a tracer
+/// of DiffusePaths.h: every light of the tracer (`lightSamples` samples of a light with extent;
+/// one shadow ray each when `shadowed`), the hit's emission, and its diffuse colour × its
+/// indirect light (reflectionHitIndirect), clamped to ≥ 0.
+template <class Tracer, class Count>
+FP_HD Vec3f lightReflectionHit(const Tracer& tracer, const SurfacePoint& s, const SH3* skySh,
+                               bool shadowed, int lightSamples, int indirectBounces, Rng& rng,
+                               Count& shadowRays, Count& indirectRays) {
+    // The hit as Unreal's material hit shader lights it: the lights (the view vector the ray's),
+    // its emission, and its diffuse colour × its indirect light. A light's visible shape sends
+    // no emission here: its reflection is the light's own specular, which deferred_lighting adds
+    // (algorithms §12.4).
+    const Vec3f lights = shadeLights(tracer, lightSamples, s, rng, shadowRays, shadowed);
+    return reflectionHitRadiance(
+        s.emission, lights,
+        reflectionHitIndirect(tracer, s, skySh, indirectBounces, rng, shadowRays, indirectRays));
 }
 
 /// The radiance a reflection ray along L from `org` brings from its closest hit `hit`: every light

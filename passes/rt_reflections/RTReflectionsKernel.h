@@ -22,6 +22,7 @@
 #include "shading/ReflectionHits.h"
 #include "shading/SphericalHarmonics.h"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -98,105 +99,155 @@ enum Counter {
     kCounterCount
 };
 
-/// Texel (x, y): the GBuffer pixel it stands for (unlit, hair and too rough pixels trace
-/// nothing), `spp` reflection rays of its GGX lobe, what each brings back, the faded mean with its
-/// coverage and the mean hit distance.
-template <class Tracer>
-FP_HD void reflectionTexel(const Frame& f, const Tracer& tracer, int x, int y,
-                           WorkCounts<kCounterCount>& work) {
+/// A texel's rays as they gather: what its set-up found and the sums its rays add to.
+struct Texel {
+    bool traced = false;  // false: an unlit, hair or too rough pixel, which traces nothing
+    PixelSurface surface;
+    Vec3f N;
+    float roughness = 0, fade = 0;
+    Rng rng;
+    Vec3f sum;
+    double distanceSum = 0;
+    int hits = 0, sawSky = 0;
+    uint32_t shadowRays = 0, indirectRays = 0, screenHits = 0;
+};
+
+/// Texel (x, y)'s set-up from the GBuffer pixel it stands for.
+FP_HD inline Texel texelAt(const Frame& f, int x, int y) {
     const FrameSetup& s = f.setup;
     const PixelCoord p = fullResPixel(x, y, s.upscale, s.frame.width, s.frame.height);
     const double d = f.depth.at(p.x, p.y);
     const float model = f.model.at(p.x, p.y);
-    const float roughness = f.roughness.at(p.x, p.y);
-    const float fade = roughnessFade(roughness, s.maxRoughness);
-    if (!isLitSurface(d, model) || truncToInt(model, 0, 255) == kHair || fade <= 0.0f) {
+    Texel t;
+    t.roughness = f.roughness.at(p.x, p.y);
+    t.fade = roughnessFade(t.roughness, s.maxRoughness);
+    if (!isLitSurface(d, model) || truncToInt(model, 0, 255) == kHair || t.fade <= 0.0f) return t;
+    t.traced = true;
+    t.surface = pixelSurface(s.camera, s.eyeOffset, p.x, p.y, d);
+    t.N = {f.normal[0].at(p.x, p.y), f.normal[1].at(p.x, p.y), f.normal[2].at(p.x, p.y)};
+    t.rng = Rng::fromKey(s.rngKey, p.x, p.y);
+    return t;
+}
+
+/// A reflection ray: org + t·L, t from 0.
+struct ReflectionRay {
+    Vec3f org, L;
+};
+
+/// The texel's next ray: the mirror direction below kMirrorRoughness, else drawn from its GGX
+/// lobe, mirrored back above the surface where it points below.
+FP_HD inline ReflectionRay texelRay(const FrameSetup& s, Texel& t) {
+    const Vec3f& V = t.surface.toEye;
+    const float e1 = t.rng.nextFloat(), e2 = t.rng.nextFloat();
+    Vec3f L;
+    if (t.roughness < kMirrorRoughness) {
+        L = reflect(V, t.N);
+    } else {
+        // GGX visible normals with a² = roughness⁴; the disk's radius coordinate scaled by 0.9
+        // leaves out the lobe's tail.
+        const Vec3f H = sampleGgxVisibleNormal(t.N, V, t.roughness * t.roughness,
+                                               e2 * (1.0f - kImportantSampleBias), e1);
+        L = reflect(V, H);
+    }
+    const float NoL = dot(t.N, L);
+    if (NoL < 0.0f) L = normalize(L - t.N * (2.0f * NoL));  // mirrored back above
+    return {biasedRayOrigin(t.surface, t.N, dot(t.N, L), s.bias), L};
+}
+
+/// The ray found `hit` (or nothing): a miss takes the sky's cubemap, a hybrid's hit on screen the
+/// lit colour there. True when the hit is left to be lit (seenFrom, then lightReflectionHit).
+FP_HD inline bool reachHit(const Frame& f, Texel& t, const ReflectionRay& r, const PathHit& hit) {
+    if (!hit.hit) {
+        if (f.sky.on) {
+            t.sum += f.sky.cube.sample(r.L, f.sky.cube.mipForRoughness(t.roughness));
+            ++t.sawSky;
+        }
+        return false;
+    }
+    ++t.hits;
+    t.distanceSum += hit.t;
+    if (!f.sceneColor[0].data) return true;
+    // Unreal's hybrid: on screen, in front of the camera, and at most 5 cm behind the depth
+    // buffer there: the lit colour of that pixel, point sampled, no shading.
+    const FrameSetup& s = f.setup;
+    const Vec3f hitPoint = r.org + r.L * hit.t;  // relative to the scene's origin
+    const CameraView::Projection pr = s.camera.projectOffset(Vec3d(hitPoint), s.origin);
+    if (pr.depth > 0.0 && pr.px >= 0.0 && pr.py >= 0.0 && pr.px < s.frame.width &&
+        pr.py < s.frame.height) {
+        const int hx = int(pr.px), hy = int(pr.py);
+        const double there = f.depth.at(hx, hy);
+        if (std::isfinite(there) && pr.depth - there < s.hybridDepth) {
+            t.sum += Vec3f{f.sceneColor[0].at(hx, hy), f.sceneColor[1].at(hx, hy),
+                           f.sceneColor[2].at(hx, hy)};
+            ++t.screenHits;
+            return false;
+        }
+    }
+    return true;
+}
+
+/// A hit's shading point made the point it is lit at: the hybrid's seen from the camera, so
+/// both kinds of hit match (knowingly wrong for the specular term, as in Unreal).
+FP_HD inline void seenFrom(const Frame& f, const ReflectionRay& r, PathHit& hit) {
+    if (f.sceneColor[0].data)
+        hit.surface.toViewer = normalize(Vec3f(f.setup.eyeOffset) - (r.org + r.L * hit.t));
+}
+
+/// Texel (x, y)'s outputs — the faded mean with its coverage and the mean hit distance (the
+/// skipped values where it traced nothing) — and its counts.
+FP_HD inline void writeTexel(const Frame& f, const Texel& t, int x, int y,
+                             WorkCounts<kCounterCount>& work) {
+    if (!t.traced) {
         for (int c = 0; c < 4; ++c) f.reflection[c].at(x, y) = 0.0f;
         f.hitDistance.at(x, y) = -2.0f;
         ++work.value[kSkipped];
         return;
     }
-    const PixelSurface surface = pixelSurface(s.camera, s.eyeOffset, p.x, p.y, d);
-    const Vec3f& V = surface.toEye;
-    const Vec3f N{f.normal[0].at(p.x, p.y), f.normal[1].at(p.x, p.y), f.normal[2].at(p.x, p.y)};
-    Rng rng = Rng::fromKey(s.rngKey, p.x, p.y);
-    Vec3f sum;
-    double distanceSum = 0;
-    int hits = 0, sawSky = 0;
-    uint32_t shadowRays = 0, indirectRays = 0, screenHits = 0;
-    for (int k = 0; k < s.spp; ++k) {
-        const float e1 = rng.nextFloat(), e2 = rng.nextFloat();
-        Vec3f L;
-        if (roughness < kMirrorRoughness) {
-            L = reflect(V, N);
-        } else {
-            // GGX visible normals with a² = roughness⁴; the disk's radius coordinate scaled by
-            // 0.9 leaves out the lobe's tail.
-            const Vec3f H = sampleGgxVisibleNormal(N, V, roughness * roughness,
-                                                   e2 * (1.0f - kImportantSampleBias), e1);
-            L = reflect(V, H);
-        }
-        const float NoL = dot(N, L);
-        if (NoL < 0.0f) L = normalize(L - N * (2.0f * NoL));  // mirrored back above
-        const Vec3f org = biasedRayOrigin(surface, N, dot(N, L), s.bias);
-        const PathHit hit =
-            tracer.closestHit(org, L, 0.0f, std::numeric_limits<float>::infinity());
-        if (!hit.hit) {
-            if (f.sky.on) {
-                sum += f.sky.cube.sample(L, f.sky.cube.mipForRoughness(roughness));
-                ++sawSky;
-            }
-            continue;
-        }
-        ++hits;
-        distanceSum += hit.t;
-        const Vec3f hitPoint = org + L * hit.t;  // relative to the scene's origin
-        if (f.sceneColor[0].data) {
-            // Unreal's hybrid: on screen, in front of the camera, and at most 5 cm behind the
-            // depth buffer there: the lit colour of that pixel, point sampled, no shading.
-            const CameraView::Projection pr = s.camera.projectOffset(Vec3d(hitPoint), s.origin);
-            if (pr.depth > 0.0 && pr.px >= 0.0 && pr.py >= 0.0 && pr.px < s.frame.width &&
-                pr.py < s.frame.height) {
-                const int hx = int(pr.px), hy = int(pr.py);
-                const double there = f.depth.at(hx, hy);
-                if (std::isfinite(there) && pr.depth - there < s.hybridDepth) {
-                    sum += Vec3f{f.sceneColor[0].at(hx, hy), f.sceneColor[1].at(hx, hy),
-                                 f.sceneColor[2].at(hx, hy)};
-                    ++screenHits;
-                    continue;
-                }
-            }
-        }
-        SurfacePoint lit = hit.surface;
-        // Hybrid: shaded hits look from the camera, so both kinds match (knowingly wrong for the
-        // specular term, as in Unreal).
-        if (f.sceneColor[0].data) lit.toViewer = normalize(Vec3f(s.eyeOffset) - hitPoint);
-        sum += lightReflectionHit(tracer, lit, f.sky.on ? &f.sky.sh : nullptr, s.shadowed,
-                                  s.lightSamples, s.indirectBounces, rng, shadowRays,
-                                  indirectRays);
-    }
-    const float scale = fade / float(s.spp);
-    f.reflection[0].at(x, y) = sum.x * scale;
-    f.reflection[1].at(x, y) = sum.y * scale;
-    f.reflection[2].at(x, y) = sum.z * scale;
+    const int spp = f.setup.spp;
+    const float scale = t.fade / float(spp);
+    f.reflection[0].at(x, y) = t.sum.x * scale;
+    f.reflection[1].at(x, y) = t.sum.y * scale;
+    f.reflection[2].at(x, y) = t.sum.z * scale;
     // Coverage: the samples that found something (a surface, or the sky); a miss with no sky
     // light leaves its share to the reflection captures.
-    f.reflection[3].at(x, y) = fade * float(hits + sawSky) / float(s.spp);
+    f.reflection[3].at(x, y) = t.fade * float(t.hits + t.sawSky) / float(spp);
     f.hitDistance.at(x, y) =
-        hits > 0 ? float(distanceSum / hits) : (sawSky > 0 ? kSkyHitDistance : -1.0f);
-    work.value[kRays] += uint32_t(s.spp);
-    work.value[kShadowRays] += shadowRays;
-    work.value[kIndirectRays] += indirectRays;
-    work.value[kSkyRays] += uint32_t(sawSky);
-    work.value[kScreenHits] += screenHits;
+        t.hits > 0 ? float(t.distanceSum / t.hits) : (t.sawSky > 0 ? kSkyHitDistance : -1.0f);
+    work.value[kRays] += uint32_t(spp);
+    work.value[kShadowRays] += t.shadowRays;
+    work.value[kIndirectRays] += t.indirectRays;
+    work.value[kSkyRays] += uint32_t(t.sawSky);
+    work.value[kScreenHits] += t.screenHits;
     ++work.value[kPixels];
 }
 
-/// The pass through `tracer` on either backend (PerPixel.h) over the trace grid `trace`; `sky`
-/// as the pixels read it (its cubemap's texels where they run).
-template <class Ports, class Pixels, class Tracer>
-void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const FrameSetup& setup,
-         const Sky& sky, Extent trace, const Tracer& tracer, bool hybrid, const char* what) {
+/// Texel (x, y): its set-up, `spp` reflection rays one after another, each hit lit with its
+/// shadow rays traced one at a time, its outputs.
+template <class Tracer>
+FP_HD void reflectionTexel(const Frame& f, const Tracer& tracer, int x, int y,
+                           WorkCounts<kCounterCount>& work) {
+    const FrameSetup& s = f.setup;
+    Texel t = texelAt(f, x, y);
+    if (t.traced) {
+        for (int k = 0; k < s.spp; ++k) {
+            const ReflectionRay r = texelRay(s, t);
+            PathHit hit =
+                tracer.closestHit(r.org, r.L, 0.0f, std::numeric_limits<float>::infinity());
+            if (!reachHit(f, t, r, hit)) continue;
+            seenFrom(f, r, hit);
+            t.sum += lightReflectionHit(tracer, hit.surface, f.sky.on ? &f.sky.sh : nullptr,
+                                        s.shadowed, s.lightSamples, s.indirectBounces, t.rng,
+                                        t.shadowRays, t.indirectRays);
+        }
+    }
+    writeTexel(f, t, x, y, work);
+}
+
+/// The frame's planes from `ports` (HostPorts or DevicePorts), its outputs made for the trace
+/// grid `trace`; the hybrid's reads `sceneColor`.
+template <class Ports>
+Frame frameOf(const Ports& ports, const FrameSetup& setup, const Sky& sky, Extent trace,
+              bool hybrid) {
     Frame f{};
     f.setup = setup;
     f.sky = sky;
@@ -210,10 +261,12 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const Frame
     auto& reflection = ports.overwrite(kReflection, {trace});
     for (int c = 0; c < 4; ++c) f.reflection[c] = spanOf(reflection.image().plane(c));
     f.hitDistance = spanOf(ports.overwrite(kHitDistance, {trace}).image().plane(0));
-    const auto counts = pixels.template forEach<kCounterCount>(
-        trace.width, trace.height,
-        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& w) { reflectionTexel(f, tracer, x, y, w); },
-        what);
+    return f;
+}
+
+/// The run report's counts.
+inline void addWork(PassContext& ctx, const std::array<uint64_t, kCounterCount>& counts,
+                    const FrameSetup& setup, bool hybrid) {
     ctx.addWork("rays", counts[kRays]);
     ctx.addWork("shadowRays", counts[kShadowRays]);
     if (setup.indirectBounces > 0) ctx.addWork("indirectRays", counts[kIndirectRays]);
@@ -221,6 +274,19 @@ void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const Frame
     if (hybrid) ctx.addWork("screenHits", counts[kScreenHits]);
     ctx.addWork("pixels", counts[kPixels]);
     ctx.addWork("skippedPixels", counts[kSkipped]);
+}
+
+/// The pass through `tracer` on either backend (PerPixel.h) over the trace grid `trace`; `sky`
+/// as the pixels read it (its cubemap's texels where they run).
+template <class Ports, class Pixels, class Tracer>
+void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const FrameSetup& setup,
+         const Sky& sky, Extent trace, const Tracer& tracer, bool hybrid, const char* what) {
+    const Frame f = frameOf(ports, setup, sky, trace, hybrid);
+    const auto counts = pixels.template forEach<kCounterCount>(
+        trace.width, trace.height,
+        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& w) { reflectionTexel(f, tracer, x, y, w); },
+        what);
+    addWork(ctx, counts, setup, hybrid);
 }
 
 }  // namespace fp::rtr

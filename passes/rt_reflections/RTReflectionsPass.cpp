@@ -15,10 +15,14 @@
 #include "shading/DirectLighting.h"
 #include "shading/RayOriginBias.h"
 #include "passes/rt_reflections/RTReflectionsKernel.h"
+#include "shading/ReflectionHitWave.h"
 #include "shading/ReflectionHits.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 namespace fp {
 
@@ -28,6 +32,21 @@ using rtr::kHitDistance;
 using rtr::kReflection;
 using rtr::kSceneColor;
 constexpr uint32_t kSeed = 0x52545246u;  // "RTRF"
+
+/// What a wave of a tile's texels holds (RTReflectionsPass::traceWaves).
+struct WaveArrays {
+    std::vector<rtr::Texel> texels;  // the tile's texels that trace
+    std::vector<int> at;             // and where each is in the tile
+    std::vector<rtr::ReflectionRay> rays;
+    std::vector<Ray> packet;
+    std::vector<RayHit> rayHits;
+    std::vector<PathHit> hits;
+    std::vector<const SurfacePoint*> lit;  // the hits left to be lit
+    std::vector<Rng*> rngs;
+    std::vector<std::size_t> litOwner;
+    std::vector<Vec3f> radiance;
+    ReflectionHitWave wave;
+};
 
 }  // namespace
 
@@ -71,6 +90,10 @@ ParamSpec<RTReflectionsParams> RTReflectionsPass::paramSpec() {
           "hitIndirectBounces > 0, keeps the pass on the CPU under a sky light, and \"bvh\" is "
           "refused there)")
         .choices({"embree", "bvh"});
+    s.add("waves", &Params::waves,
+          "with Embree, a tile row's reflection rays traced together, their closest hits and "
+          "then their hits' shadow rays in Embree's packets (false: each ray and its shadow rays "
+          "one at a time; the same bits)");
     return s;
 }
 
@@ -148,12 +171,89 @@ void RTReflectionsPass::execute(PassContext& ctx) {
                  bvhTracerFor(HostPorts{ctx}, lighting, lights), mParams.hybrid, "rt_reflections");
         return;
     }
+    if (!mParams.waves) {
+        DiffusePathSetup paths;
+        paths.scene = &rs;
+        paths.lighting = &lighting;
+        paths.sky = mSky ? mSky->source : nullptr;
+        rtr::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, sky, trace, EmbreeTracer{paths},
+                 mParams.hybrid, "rt_reflections");
+        return;
+    }
+    traceWaves(ctx, setup, rtr::frameOf(HostPorts{ctx}, setup, sky, trace, mParams.hybrid), trace,
+               lighting);
+}
+
+void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setup,
+                                   const rtr::Frame& f, Extent trace,
+                                   const DirectLighting& lighting) {
+    const RayScene& rs = ctx.scene();
+    const ReflectionHitLighting how{&rs, &lighting, mSky.get(), setup.shadowed,
+                                    setup.indirectBounces};
     DiffusePathSetup paths;
     paths.scene = &rs;
     paths.lighting = &lighting;
-    paths.sky = mSky ? mSky->source : nullptr;
-    rtr::run(ctx, HostPorts{ctx}, CpuPixels{}, setup, sky, trace, EmbreeTracer{paths},
-             mParams.hybrid, "rt_reflections");
+    const EmbreeTracer tracer{paths};  // fills the hits' shading points
+    const int width = rs.packetWidth();
+    forEachTile(trace.width, trace.height, [&](const Tile& t) {
+        // A tile at a time: every texel set up, then the k-th rays of those that trace traced
+        // together, k = 0, 1, …: each texel's stream draws its rays (and their hits' samples)
+        // in order, as reflectionTexel's loop does.
+        WorkCounts<rtr::kCounterCount> counts{};
+        // Each worker's arrays, kept from tile to tile: a tile's are some 2 MB, which fresh
+        // allocations would take from the kernel page by page every tile.
+        thread_local WaveArrays a;
+        auto& [texels, at, rays, packet, rayHits, hits, lit, rngs, litOwner, radiance, wave] = a;
+        texels.clear();
+        at.clear();
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) {
+                rtr::Texel texel = rtr::texelAt(f, x, y);
+                if (!texel.traced) {
+                    rtr::writeTexel(f, texel, x, y, counts);
+                    continue;
+                }
+                texels.push_back(texel);
+                at.push_back((y - t.y0) * kTileSize + (x - t.x0));
+            }
+        const std::size_t going = texels.size();
+        rays.resize(going);
+        packet.resize(going);
+        rayHits.resize(going);
+        hits.resize(going);
+        ReflectionHitWork work;
+        for (int k = 0; k < setup.spp; ++k) {
+            for (std::size_t i = 0; i < going; ++i) {
+                rays[i] = rtr::texelRay(setup, texels[i]);
+                packet[i] = {rays[i].org, rays[i].L, 0.0f, std::numeric_limits<float>::infinity()};
+            }
+            for (std::size_t r = 0; r < going; r += std::size_t(width))
+                rs.intersectPacket(packet.data() + r, int(std::min(going - r, std::size_t(width))),
+                                   width, rayHits.data() + r);
+            lit.clear();
+            rngs.clear();
+            litOwner.clear();
+            for (std::size_t i = 0; i < going; ++i) {
+                tracer.fillPathHit(rayHits[i], rays[i].org, rays[i].L, hits[i]);
+                if (!rtr::reachHit(f, texels[i], rays[i], hits[i])) continue;
+                rtr::seenFrom(f, rays[i], hits[i]);
+                lit.push_back(&hits[i].surface);
+                rngs.push_back(&texels[i].rng);
+                litOwner.push_back(i);
+            }
+            radiance.resize(lit.size());
+            wave.light(how, lit.data(), rngs.data(), int(lit.size()), radiance.data(), work);
+            for (std::size_t j = 0; j < lit.size(); ++j) texels[litOwner[j]].sum += radiance[j];
+        }
+        for (std::size_t i = 0; i < going; ++i)
+            rtr::writeTexel(f, texels[i], t.x0 + at[i] % kTileSize, t.y0 + at[i] / kTileSize,
+                            counts);
+        counts.value[rtr::kShadowRays] += work.shadowRays;
+        counts.value[rtr::kIndirectRays] += work.indirectRays;
+        std::array<uint64_t, rtr::kCounterCount> totals{};
+        for (int i = 0; i < rtr::kCounterCount; ++i) totals[std::size_t(i)] = counts.value[i];
+        rtr::addWork(ctx, totals, setup, mParams.hybrid);
+    });
 }
 
 }  // namespace fp

@@ -28,11 +28,14 @@ struct RTReflectionsParams {
     /// cosine path of n bounces (framepass's; ReflectionHitLighting::indirectBounces).
     int hitIndirectBounces = 0;
     std::string traversal = "embree";  //!< "embree" or "bvh" (the GPU's code)
+    bool waves = true;  //!< Embree: a tile row's rays a step at a time, in packets
 };
 
 namespace rtr {
 struct FrameSetup;
-}
+struct Frame;
+}  // namespace rtr
+class DirectLighting;
 
 class RTReflectionsPass final : public PassWithParams<RTReflectionsParams> {
 public:
@@ -53,6 +56,10 @@ public:
 private:
     /// What every texel of the frame shares (either backend); makes the sky's cubemap first.
     rtr::FrameSetup frameSetup(PassContext& ctx);
+    /// The texels of `f` through Embree a tile row at a time, each step's rays in packets
+    /// (reflectionTexel's steps, the same bits).
+    void traceWaves(PassContext& ctx, const rtr::FrameSetup& setup, const rtr::Frame& f,
+                    Extent trace, const DirectLighting& lighting);
     std::shared_ptr<const ReflectedSky> mSky;  // made once per sky light
 };
 

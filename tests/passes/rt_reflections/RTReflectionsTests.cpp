@@ -294,6 +294,87 @@ TEST_CASE("rt_reflections: the hybrid takes the lit colour where a hit lands on 
     CHECK(foundHybrid >= floorHybrid / 2);
 }
 
+TEST_CASE("rt_reflections: rays traced in waves give the bits of one ray at a time") {
+    // A glossy floor under a mirror sphere and a rough glowing one, a sun with a source angle, a
+    // soft point light, a spot and a rect light, the sky on: mirror and GGX rays, hits lit by
+    // every kind of light sample (blocked by the spheres or not, behind the rect light or outside
+    // the spot's cone or not), misses that see the sky, beside each other in the same packets.
+    // 70 pixels leave a partial tile.
+    Scene scene;
+    Material glossy;
+    glossy.baseColor = {0.6f, 0.5f, 0.4f};
+    glossy.metallic = 0.5f;
+    glossy.roughness = 0.3f;
+    scene.materials.push_back(glossy);
+    scene.materials.push_back(test::mirror());
+    Material rough = test::lambert(0.5f, 0.2f);
+    rough.specular = 0.5f;
+    rough.roughness = 0.5f;
+    scene.materials.push_back(rough);
+    scene.sceneUnitsPerMeter = 100.0;
+    scene.meshes.push_back(test::quad({0, 0, 0}, {1, 0, 0}, {0, 0, -1}, 100.0, 0, 1));
+    scene.meshes.push_back(test::sphere({-12, 10, 0}, 9.0, 32, 1, 2));
+    scene.meshes.push_back(test::sphere({12, 10, 5}, 9.0, 32, 2, 3));
+    scene.lights.push_back(test::sun({0.3, -1, 0.2}, 2.0f));
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.position = {10, 40, -10};
+    spot.direction = normalize(Vec3d{0, -1, 0.3});
+    spot.innerConeDegrees = 10.0f;
+    spot.outerConeDegrees = 30.0f;
+    spot.radius = 1.0f;
+    spot.intensity = 800.0f;
+    scene.lights.push_back(spot);
+    Light bulb;
+    bulb.type = LightType::Point;
+    bulb.position = {15, 30, -15};
+    bulb.radius = 2.0f;
+    bulb.intensity = 400.0f;
+    scene.lights.push_back(bulb);
+    Light rect;
+    rect.type = LightType::Rect;
+    rect.position = {-20, 25, -10};
+    rect.halfU = {5, 0, 0};
+    rect.halfV = {0, 0, 5};
+    rect.intensity = 50.0f;
+    scene.lights.push_back(rect);
+    scene.environment.sky.enabled = true;
+    const int n = 70;
+    auto src = test::captureToMemory(scene, camera({0, 25, -50}, {0, 5, 10}, n, n, 60.0));
+    const std::vector<std::string> outputs = {"rt_reflections.reflection",
+                                              "rt_reflections.hitDistance"};
+    for (const nlohmann::json& params :
+         {nlohmann::json{{"samplesPerPixel", 3}, {"maxRoughness", 1.0}},
+          nlohmann::json{{"samplesPerPixel", 2}, {"shadows", 0}},
+          nlohmann::json{{"hitIndirectBounces", 2}},
+          nlohmann::json{{"hybrid", true}, {"samplesPerPixel", 2}},
+          nlohmann::json{{"screenPercentage", 50.0}}}) {
+        CAPTURE(params.dump());
+        nlohmann::json one = params;
+        one["waves"] = false;
+        const auto single = test::runChain(src, {test::node("rt_reflections", one)}, outputs);
+        const auto waves = test::runChain(src, {test::node("rt_reflections", params)}, outputs);
+        // Not vacuous: hits lit and misses that saw the sky, in the same frame.
+        const Plane& distance = waves.at("rt_reflections.hitDistance").image().plane(0);
+        const Plane& red = waves.at("rt_reflections.reflection").image().plane(0);
+        int hits = 0, sky = 0, lit = 0;
+        for (int y = 0; y < distance.height(); ++y)
+            for (int x = 0; x < distance.width(); ++x) {
+                hits += distance.at(x, y) > 0.0f && distance.at(x, y) < 1e19f;
+                sky += distance.at(x, y) == 1e20f;
+                lit += red.at(x, y) > 0.0f;
+            }
+        const int texels = distance.width() * distance.height();
+        CHECK(hits > texels / 10);
+        CHECK(sky > texels / 20);
+        CHECK(lit > texels / 2);
+        for (const std::string& name : outputs)
+            for (int c = 0; c < waves.at(name).image().channelCount(); ++c)
+                CHECK(test::sameBits(waves.at(name).image().plane(c),
+                                     single.at(name).image().plane(c)));
+    }
+}
+
 TEST_CASE("rt_reflections: on the hard capture the BVH path lights its hits as Embree's") {
     // The hard scene (a grazing floor, a mirror and a rough sphere, a 1 cm pole, 10⁷ units from
     // the origin) at its own camera: where both traversals find the same hit (the same distance

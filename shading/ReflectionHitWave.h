@@ -1,0 +1,39 @@
+#pragma once
+// Reflection hits lit together through Embree's scene (CPU only): each hit's light samples drawn
+// in shadeLights' order (drawLightRays), then its indirect light, then every hit's shadow rays in
+// Embree's packets (rtcOccluded16 with AVX-512, 8 elsewhere) before each hit sums its unblocked
+// samples light by light as shadeLights does. Each hit draws from its own stream in the order
+// lightReflectionHit draws, and Embree's packets answer as its single rays do, so each hit ends
+// with lightReflectionHit's bits (RTReflectionsTests checks it).
+#include "foundation/Random.h"
+#include "foundation/Math.h"
+#include "shading/DirectLighting.h"
+#include "shading/ReflectionHits.h"
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace fp {
+
+class ReflectionHitWave {
+public:
+    /// radiance[i]: what hit *hits[i] sends back along its ray, lit as `how` says (its light
+    /// samples how.lighting's), drawing from *rngs[i]; `work` counts the rays traced.
+    void light(const ReflectionHitLighting& how, const SurfacePoint* const* hits,
+               Rng* const* rngs, int count, Vec3f* radiance, ReflectionHitWork& work);
+
+private:
+    // The hits' shadow rays, in the order drawn: origin, direction, length, the light each
+    // samples and what it adds when unblocked.
+    std::vector<float> mOrgX, mOrgY, mOrgZ, mDirX, mDirY, mDirZ, mTfar;
+    std::vector<int> mLight;
+    std::vector<Vec3f> mValue;
+    std::vector<std::size_t> mFirstRay;  // of each hit, into the arrays
+    std::vector<Vec3f> mIndirect;        // each hit's indirect light
+    std::vector<float> mLightScale;      // 1 / a light's sample count
+    std::unique_ptr<bool[]> mBlocked;
+    std::size_t mBlockedCapacity = 0;
+};
+
+}  // namespace fp
