@@ -68,29 +68,41 @@ FP_HD inline float smithG1(float a2, float NoX) {
 
 /// A GGX half vector distributed as the normals visible from V (Heitz 2018), for unit n and
 /// unit V above it, roughness α. The pdf of the reflected direction is D·G1(V)/(4·NoV). The angle
-/// goes through sinCos, so SSR's rays are the same bits on the CPU and the GPU.
-FP_HD inline Vec3f sampleGgxVisibleNormal(const Vec3f& n, const Vec3f& V, float alpha, float u, float v) {
-    Vec3f t, b;
+/// goes through sinCos, so SSR's rays are the same bits on the CPU and the GPU; T: float or float
+/// lanes (LaneFloat.h), each lane the same operations in the same order.
+template <class T>
+FP_HD inline Vec3T<T> sampleGgxVisibleNormalOf(const Vec3T<T>& n, const Vec3T<T>& V, T alpha, T u,
+                                               T v) {
+    using V3 = Vec3T<T>;
+    V3 t, b;
     orthonormalBasis(n, t, b);
     // V in the tangent frame, stretched to the hemisphere configuration.
-    const Vec3f vl{dot(V, t), dot(V, b), dot(V, n)};
-    const Vec3f vh = normalize(Vec3f{alpha * vl.x, alpha * vl.y, vl.z});
-    const float lensq = vh.x * vh.x + vh.y * vh.y;
-    const Vec3f t1 = lensq > 0.0f ? Vec3f{-vh.y, vh.x, 0.0f} / std::sqrt(lensq) : Vec3f{1, 0, 0};
-    const Vec3f t2 = cross(vh, t1);
-    const float r = std::sqrt(u), phi = 2.0f * kPiF * v;
-    float sinPhi, cosPhi;
-    sinCos(phi, sinPhi, cosPhi);
-    const float p1 = r * cosPhi;
-    const float s = 0.5f * (1.0f + vh.z);
-    const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * r * sinPhi;
-    const Vec3f nh = t1 * p1 + t2 * p2 + vh * std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2));
+    const V3 vl{dot(V, t), dot(V, b), dot(V, n)};
+    const V3 vh = normalize(V3{alpha * vl.x, alpha * vl.y, vl.z});
+    const T lensq = vh.x * vh.x + vh.y * vh.y;
+    const V3 t1 = ifThenElse(lensq > 0.0f, V3{-vh.y, vh.x, T(0.0f)} / sqrtOf(lensq),
+                             V3{T(1.0f), T(0.0f), T(0.0f)});
+    const V3 t2 = cross(vh, t1);
+    const T r = sqrtOf(u), phi = 2.0f * kPiF * v;
+    T sinPhi, cosPhi;
+    sinCos<T>(phi, sinPhi, cosPhi);
+    const T p1 = r * cosPhi;
+    const T s = 0.5f * (1.0f + vh.z);
+    const T p2 = (1.0f - s) * sqrtOf(maxLike(T(0.0f), 1.0f - p1 * p1)) + s * r * sinPhi;
+    const V3 nh = t1 * p1 + t2 * p2 + vh * sqrtOf(maxLike(T(0.0f), 1.0f - p1 * p1 - p2 * p2));
     // Unstretch back to the ellipsoid configuration, then to world space.
-    const Vec3f hl = normalize(Vec3f{alpha * nh.x, alpha * nh.y, std::max(0.0f, nh.z)});
+    const V3 hl = normalize(V3{alpha * nh.x, alpha * nh.y, maxLike(T(0.0f), nh.z)});
     return normalize(t * hl.x + b * hl.y + n * hl.z);
 }
+FP_HD inline Vec3f sampleGgxVisibleNormal(const Vec3f& n, const Vec3f& V, float alpha, float u, float v) {
+    return sampleGgxVisibleNormalOf<float>(n, V, alpha, u, v);
+}
 
-FP_HD inline Vec3f reflect(const Vec3f& v, const Vec3f& n) { return n * (2.0f * dot(v, n)) - v; }
+/// v mirrored about unit n; T: float or float lanes.
+template <class T>
+FP_HD inline Vec3T<T> reflect(const Vec3T<T>& v, const Vec3T<T>& n) {
+    return n * (2.0f * dot(v, n)) - v;
+}
 
 FP_HD inline float luminance(const Vec3f& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 

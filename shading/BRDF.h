@@ -55,6 +55,21 @@ FP_HD Vec3T<T> schlickF(const Vec3T<T>& F0, T VoH) {
     return Vec3T<T>{cutFc, cutFc, cutFc} + F0 * (1.0f - fc);
 }
 
+/// The default-lit BRDF f(V, L) of a surface of diffuse colour `diffuse`, F0 `specular` and
+/// `roughness`, for unit N, V, L with N·L > 0 (SurfaceBRDF::evaluate); T: float or float lanes.
+template <class T>
+FP_HD Vec3T<T> brdfOf(const Vec3T<T>& diffuse, const Vec3T<T>& specular, T roughness,
+                      const Vec3T<T>& N, const Vec3T<T>& V, const Vec3T<T>& L) {
+    const T NoL = dot(N, L), NoV = maxLike(dot(N, V), T(1e-4f));
+    const Vec3T<T> H = normalize(V + L);
+    const T NoH = saturateOf(dot(N, H));  // std::clamp(·, 0, 1)
+    const T VoH = dot(V, H);
+    const T r = ifThenElse(roughness < kMinLightRoughness, T(kMinLightRoughness), roughness);
+    const T a2 = r * r * r * r;  // α = roughness², a2 = α²
+    const Vec3T<T> spec = schlickF(specular, VoH) * (ggxD(a2, NoH) * smithJointApproxVis(a2, NoV, NoL));
+    return diffuse * (1.0f / kPiF) + spec;
+}
+
 struct SurfaceBRDF {
     Vec3f diffuseColor;   //!< BaseColor·(1 − Metallic)
     Vec3f specularColor;  //!< F0 = lerp(0.08·Specular, BaseColor, Metallic)
@@ -70,15 +85,9 @@ struct SurfaceBRDF {
 
     /// f(V, L) for unit N, V, L on the same side (NoL, NoV > 0), per steradian.
     FP_HD Vec3f evaluate(const Vec3f& N, const Vec3f& V, const Vec3f& L) const {
-        const float NoL = dot(N, L), NoV = std::max(dot(N, V), 1e-4f);
+        const float NoL = dot(N, L);
         if (NoL <= 0.0f) return {};
-        const Vec3f H = normalize(V + L);
-        const float NoH = std::clamp(dot(N, H), 0.0f, 1.0f), VoH = dot(V, H);
-        const float r = roughness < kMinLightRoughness ? kMinLightRoughness : roughness;  // std::max
-        const float a2 = r * r * r * r;  // α = roughness², a2 = α²
-        const Vec3f spec = schlickF(specularColor, VoH) * (ggxD(a2, NoH) *
-                                                           smithJointApproxVis(a2, NoV, NoL));
-        return diffuseColor * (1.0f / kPiF) + spec;
+        return brdfOf<float>(diffuseColor, specularColor, roughness, N, V, L);
     }
 };
 

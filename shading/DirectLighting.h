@@ -182,34 +182,63 @@ FP_HD inline LightSample sampleLight(const LightView& light, const SurfacePoint&
                                 light.type == LightType::Rect ? s.rayOrigin() : s.position, u, v);
 }
 
-/// Jittered stratified 2D sample k of n (n rounded to a square grid; else two plain draws).
-FP_HD inline void stratifiedSample(int k, int n, Rng& rng, float& u, float& v) {
+/// Jittered stratified 2D sample k of n (n rounded to a square grid; else two plain draws),
+/// drawn from `rng` (a stream's state, advanced); T: float, or float lanes (one stream a lane).
+template <class T>
+FP_HD inline void stratifiedSampleOf(int k, int n, UIntOf<T>& rng, T& u, T& v) {
     const int rounded = int(std::sqrt(float(n)) + 0.5f);  // lround: n > 0
     const int side = rounded > 1 ? rounded : 1;
     if (side * side != n) {
-        u = rng.nextFloat();
-        v = rng.nextFloat();
+        u = nextFloatOf<T>(rng);
+        v = nextFloatOf<T>(rng);
         return;
     }
-    u = (float(k % side) + rng.nextFloat()) / float(side);
-    v = (float(k / side) + rng.nextFloat()) / float(side);
+    u = (float(k % side) + nextFloatOf<T>(rng)) / float(side);
+    v = (float(k / side) + nextFloatOf<T>(rng)) / float(side);
+}
+FP_HD inline void stratifiedSample(int k, int n, Rng& rng, float& u, float& v) {
+    uint32_t state = rng.state();
+    stratifiedSampleOf<float>(k, n, state, u, v);
+    rng = Rng::resume(state);
+}
+
+/// Whether a light is sampled at all (n > 1 samples, or a rect light) or once at its centre
+/// (u = v = 0.5).
+FP_HD inline bool sampledAcross(const LightView& light, int n) {
+    return n > 1 || light.type == LightType::Rect;
+}
+
+/// The samples of `light` a shading point takes: `samples` of a light with extent, one of a
+/// punctual light.
+FP_HD inline int samplesOf(const LightView& light, int samples) {
+    return light.hasExtent() ? samples : 1;
+}
+
+/// What light sample `ls` (its cosine NoL > 0) adds to the reflected radiance of a point of
+/// normal N, view vector V and BRDF (diffuse, specular, roughness) when unblocked: the BRDF ×
+/// irradiance × cosine; T: float or float lanes.
+template <class T>
+FP_HD Vec3T<T> lightValueOf(const Vec3T<T>& diffuse, const Vec3T<T>& specular, T roughness,
+                            const Vec3T<T>& N, const Vec3T<T>& V, const LightSampleOf<T>& ls,
+                            T NoL) {
+    return brdfOf<T>(diffuse, specular, roughness, N, V, ls.L) * ls.irradiance * NoL;
 }
 
 /// The light samples shadeLights takes at `s`, in its order: for each light of `lights` in turn,
 /// `samples` stratified samples of a light with extent (one of a punctual light), then
 /// `onLightDone(n)` with the light's sample count; `onSample(ls, NoL)` for each sample whose
 /// light reaches `s` from above (NoL > 0; what it adds when unblocked is lightValue's). A wave
-/// of reflection hits (shading/ReflectionHitWave.h) draws its samples here and traces their
-/// shadow rays together.
+/// of reflection hits draws the same samples in SIMD lanes (shading/ReflectionHitLanes.h: these
+/// functions over float lanes, every hit a lane).
 template <class Lights, class OnSample, class OnLightDone>
 FP_HD void drawLightRays(const Lights& lights, int samples, const SurfacePoint& s, Rng& rng,
                          OnSample&& onSample, OnLightDone&& onLightDone) {
     for (int i = 0; i < lights.lightCount(); ++i) {
         const LightView& light = lights.lightView(i);
-        const int n = light.hasExtent() ? samples : 1;
+        const int n = samplesOf(light, samples);
         for (int k = 0; k < n; ++k) {
             float u = 0.5f, v = 0.5f;
-            if (n > 1 || light.type == LightType::Rect) stratifiedSample(k, n, rng, u, v);
+            if (sampledAcross(light, n)) stratifiedSample(k, n, rng, u, v);
             const LightSample ls = sampleLight(light, s, u, v);
             const float NoL = dot(s.normal, ls.L);
             if (NoL <= 0.0f || !ls.reaches()) continue;
@@ -219,10 +248,10 @@ FP_HD void drawLightRays(const Lights& lights, int samples, const SurfacePoint& 
     }
 }
 
-/// What light sample `ls` (its cosine NoL) adds to `s`'s reflected radiance when unblocked: the
-/// BRDF × irradiance × cosine.
+/// lightValueOf at shading point `s`.
 FP_HD inline Vec3f lightValue(const SurfacePoint& s, const LightSample& ls, float NoL) {
-    return s.brdf.evaluate(s.normal, s.toViewer, ls.L) * ls.irradiance * NoL;
+    return lightValueOf<float>(s.brdf.diffuseColor, s.brdf.specularColor, s.brdf.roughness,
+                               s.normal, s.toViewer, ls, NoL);
 }
 
 /// Reflected radiance towards V from every light of `lights` (DirectLighting, or a tracer of

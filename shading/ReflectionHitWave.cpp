@@ -15,40 +15,75 @@ void ReflectionHitWave::light(const ReflectionHitLighting& how, const SurfacePoi
     const DirectLighting& lighting = *how.lighting;
     const SH3* skySh = how.sky ? &how.sky->sh : nullptr;
     const int lights = lighting.lightCount();
+    // Each light's samples: slots [mLightSlots[l], mLightSlots[l + 1]) of a hit's.
     mLightScale.resize(std::size_t(lights));
-    for (int l = 0; l < lights; ++l)
-        mLightScale[std::size_t(l)] =
-            1.0f / float(lighting.lightView(l).hasExtent() ? lighting.samples() : 1);
+    mLightSlots.assign(1, 0);
+    for (int l = 0; l < lights; ++l) {
+        const int n = samplesOf(lighting.lightView(l), lighting.samples());
+        mLightScale[std::size_t(l)] = 1.0f / float(n);
+        mLightSlots.push_back(mLightSlots.back() + n);
+    }
+    mSlots = mLightSlots.back();
 
-    // Each hit's light samples, then its indirect light, from its own stream in
-    // lightReflectionHit's order.
+    // Every hit's light samples in SIMD lanes of neighbouring hits, then each hit's indirect
+    // light, from its own stream in lightReflectionHit's order; each hit's shadow rays in the
+    // order drawn.
     for (auto* v : {&mOrgX, &mOrgY, &mOrgZ, &mDirX, &mDirY, &mDirZ, &mTfar}) v->clear();
-    mLight.clear();
     mValue.clear();
+    mSlot.clear();
     mFirstRay.clear();
     mIndirect.resize(std::size_t(count));
+    if (lights > 0) {
+        mHitLanes.resize(count);
+        for (int i = 0; i < count; ++i) {
+            const SurfacePoint& s = *hits[i];
+            const Vec3f org = s.rayOrigin();
+            const std::size_t g = std::size_t(i);
+            mHitLanes.px[g] = s.position.x;
+            mHitLanes.py[g] = s.position.y;
+            mHitLanes.pz[g] = s.position.z;
+            mHitLanes.ox[g] = org.x;
+            mHitLanes.oy[g] = org.y;
+            mHitLanes.oz[g] = org.z;
+            mHitLanes.nx[g] = s.normal.x;
+            mHitLanes.ny[g] = s.normal.y;
+            mHitLanes.nz[g] = s.normal.z;
+            mHitLanes.vx[g] = s.toViewer.x;
+            mHitLanes.vy[g] = s.toViewer.y;
+            mHitLanes.vz[g] = s.toViewer.z;
+            mHitLanes.dr[g] = s.brdf.diffuseColor.x;
+            mHitLanes.dg[g] = s.brdf.diffuseColor.y;
+            mHitLanes.db[g] = s.brdf.diffuseColor.z;
+            mHitLanes.sr[g] = s.brdf.specularColor.x;
+            mHitLanes.sg[g] = s.brdf.specularColor.y;
+            mHitLanes.sb[g] = s.brdf.specularColor.z;
+            mHitLanes.roughness[g] = s.brdf.roughness;
+            mHitLanes.rng[g] = rngs[i]->state();
+        }
+        drawLightRayLanes(lighting.lightViews().data(), lights, lighting.samples(), mHitLanes,
+                          mSamples);
+    }
     for (int i = 0; i < count; ++i) {
-        const SurfacePoint& s = *hits[i];
-        const Vec3f org = s.rayOrigin();
-        int light = 0;
+        const std::size_t g = std::size_t(i);
         mFirstRay.push_back(mTfar.size());
-        drawLightRays(
-            tracer, lighting.samples(), s, *rngs[i],
-            [&](const LightSample& ls, float NoL) {
-                mOrgX.push_back(org.x);
-                mOrgY.push_back(org.y);
-                mOrgZ.push_back(org.z);
-                mDirX.push_back(ls.shadowDir.x);
-                mDirY.push_back(ls.shadowDir.y);
-                mDirZ.push_back(ls.shadowDir.z);
-                mTfar.push_back(ls.shadowDistance);  // from 0, as DirectLighting::visible's ray
-                mLight.push_back(light);
-                mValue.push_back(lightValue(s, ls, NoL));
-            },
-            [&](int) { ++light; });
-        mIndirect[std::size_t(i)] = reflectionHitIndirect(tracer, s, skySh, how.indirectBounces,
-                                                          *rngs[i], work.shadowRays,
-                                                          work.indirectRays);
+        if (lights > 0) {
+            *rngs[i] = Rng::resume(mHitLanes.rng[g]);
+            for (int slot = 0; slot < mSlots; ++slot) {
+                const std::size_t at = std::size_t(slot) * std::size_t(mSamples.stride) + g;
+                if (!mSamples.keep[at]) continue;
+                mOrgX.push_back(mHitLanes.ox[g]);
+                mOrgY.push_back(mHitLanes.oy[g]);
+                mOrgZ.push_back(mHitLanes.oz[g]);
+                mDirX.push_back(mSamples.dx[at]);
+                mDirY.push_back(mSamples.dy[at]);
+                mDirZ.push_back(mSamples.dz[at]);
+                mTfar.push_back(mSamples.tfar[at]);  // from 0, as DirectLighting::visible's ray
+                mSlot.push_back(slot);
+                mValue.push_back({mSamples.lr[at], mSamples.lg[at], mSamples.lb[at]});
+            }
+        }
+        mIndirect[g] = reflectionHitIndirect(tracer, *hits[i], skySh, how.indirectBounces,
+                                             *rngs[i], work.shadowRays, work.indirectRays);
     }
     mFirstRay.push_back(mTfar.size());
 
@@ -79,7 +114,7 @@ void ReflectionHitWave::light(const ReflectionHitLighting& how, const SurfacePoi
         const std::size_t end = mFirstRay[std::size_t(i) + 1];
         for (int l = 0; l < lights; ++l) {
             Vec3f sum;
-            for (; r < end && mLight[r] == l; ++r)
+            for (; r < end && mSlot[r] < mLightSlots[std::size_t(l) + 1]; ++r)
                 if (!mBlocked[r]) sum += mValue[r];
             total += sum * mLightScale[std::size_t(l)];
         }

@@ -134,24 +134,40 @@ struct ReflectionRay {
     Vec3f org, L;
 };
 
-/// The texel's next ray: the mirror direction below kMirrorRoughness, else drawn from its GGX
-/// lobe, mirrored back above the surface where it points below.
-FP_HD inline ReflectionRay texelRay(const FrameSetup& s, Texel& t) {
-    const Vec3f& V = t.surface.toEye;
-    const float e1 = t.rng.nextFloat(), e2 = t.rng.nextFloat();
-    Vec3f L;
-    if (t.roughness < kMirrorRoughness) {
-        L = reflect(V, t.N);
-    } else {
+/// A texel's next ray from its surface, normal N and roughness, drawing from `rng` (a stream's
+/// state, advanced): the mirror direction below kMirrorRoughness, else drawn from its GGX lobe,
+/// mirrored back above the surface where it points below. T: float, or float lanes (a wave's
+/// texels a vector, RTReflectionsLanes.cpp), every lane the same operations in the same order.
+template <class T>
+FP_HD FP_HOT_INLINE void texelRayOf(const RayBias& bias, const PixelSurfaceOf<T>& surface,
+                                    const Vec3T<T>& N, T roughness, UIntOf<T>& rng,
+                                    Vec3T<T>& org, Vec3T<T>& L) {
+    const Vec3T<T>& V = surface.toEye;
+    const T e1 = nextFloatOf<T>(rng), e2 = nextFloatOf<T>(rng);
+    const MaskOf<T> mirror = roughness < kMirrorRoughness;
+    L = reflect(V, N);
+    // (Each select's other side is worked out only where some lane takes it: for float, a branch.)
+    if (anyLane(!mirror)) {
         // GGX visible normals with a² = roughness⁴; the disk's radius coordinate scaled by 0.9
         // leaves out the lobe's tail.
-        const Vec3f H = sampleGgxVisibleNormal(t.N, V, t.roughness * t.roughness,
-                                               e2 * (1.0f - kImportantSampleBias), e1);
-        L = reflect(V, H);
+        const Vec3T<T> H = sampleGgxVisibleNormalOf<T>(N, V, roughness * roughness,
+                                                       e2 * (1.0f - kImportantSampleBias), e1);
+        L = ifThenElse(mirror, L, reflect(V, H));
     }
-    const float NoL = dot(t.N, L);
-    if (NoL < 0.0f) L = normalize(L - t.N * (2.0f * NoL));  // mirrored back above
-    return {biasedRayOrigin(t.surface, t.N, dot(t.N, L), s.bias), L};
+    const T NoL = dot(N, L);
+    const MaskOf<T> below = NoL < 0.0f;
+    if (anyLane(below)) L = ifThenElse(below, normalize(L - N * (2.0f * NoL)), L);  // mirrored back above
+    org = biasedRayOrigin(surface.p, surface.toEye, surface.eyeDistance, N, dot(N, L), bias.max,
+                          bias.min);
+}
+
+/// The texel's next ray (texelRayOf).
+FP_HD inline ReflectionRay texelRay(const FrameSetup& s, Texel& t) {
+    ReflectionRay r;
+    uint32_t state = t.rng.state();
+    texelRayOf<float>(s.bias, t.surface, t.N, t.roughness, state, r.org, r.L);
+    t.rng = Rng::resume(state);
+    return r;
 }
 
 /// The ray found `hit` (or nothing): a miss takes the sky's cubemap, a hybrid's hit on screen the

@@ -15,6 +15,7 @@
 #include "shading/DirectLighting.h"
 #include "shading/RayOriginBias.h"
 #include "passes/rt_reflections/RTReflectionsKernel.h"
+#include "passes/rt_reflections/RTReflectionsLanes.h"
 #include "shading/ReflectionHitWave.h"
 #include "shading/ReflectionHits.h"
 
@@ -45,6 +46,7 @@ struct WaveArrays {
     std::vector<Rng*> rngs;
     std::vector<std::size_t> litOwner;
     std::vector<Vec3f> radiance;
+    rtr::TexelLanes lanes;  // the texels as the lanes that draw their rays read them
     ReflectionHitWave wave;
 };
 
@@ -91,9 +93,9 @@ ParamSpec<RTReflectionsParams> RTReflectionsPass::paramSpec() {
           "refused there)")
         .choices({"embree", "bvh"});
     s.add("waves", &Params::waves,
-          "with Embree, a tile row's reflection rays traced together, their closest hits and "
-          "then their hits' shadow rays in Embree's packets (false: each ray and its shadow rays "
-          "one at a time; the same bits)");
+          "with Embree, a tile's reflection rays traced together: drawn in SIMD lanes, their "
+          "closest hits in Embree's packets, their hits' light samples in lanes and their shadow "
+          "rays in packets (false: each ray and its shadow rays one at a time; the same bits)");
     return s;
 }
 
@@ -203,7 +205,8 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
         // Each worker's arrays, kept from tile to tile: a tile's are some 2 MB, which fresh
         // allocations would take from the kernel page by page every tile.
         thread_local WaveArrays a;
-        auto& [texels, at, rays, packet, rayHits, hits, lit, rngs, litOwner, radiance, wave] = a;
+        auto& [texels, at, rays, packet, rayHits, hits, lit, rngs, litOwner, radiance, lanes,
+               wave] = a;
         texels.clear();
         at.clear();
         for (int y = t.y0; y < t.y1; ++y)
@@ -222,9 +225,28 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
         rayHits.resize(going);
         hits.resize(going);
         ReflectionHitWork work;
+        lanes.resize(int(going));
+        for (std::size_t i = 0; i < going; ++i) {
+            const rtr::Texel& texel = texels[i];
+            lanes.px[i] = texel.surface.p.x;
+            lanes.py[i] = texel.surface.p.y;
+            lanes.pz[i] = texel.surface.p.z;
+            lanes.ex[i] = texel.surface.toEye.x;
+            lanes.ey[i] = texel.surface.toEye.y;
+            lanes.ez[i] = texel.surface.toEye.z;
+            lanes.distance[i] = texel.surface.eyeDistance;
+            lanes.nx[i] = texel.N.x;
+            lanes.ny[i] = texel.N.y;
+            lanes.nz[i] = texel.N.z;
+            lanes.roughness[i] = texel.roughness;
+        }
         for (int k = 0; k < setup.spp; ++k) {
+            // The texels' rays in SIMD lanes, each from its own stream.
+            for (std::size_t i = 0; i < going; ++i) lanes.rng[i] = texels[i].rng.state();
+            rtr::drawTexelRayLanes(setup.bias, lanes);
             for (std::size_t i = 0; i < going; ++i) {
-                rays[i] = rtr::texelRay(setup, texels[i]);
+                texels[i].rng = Rng::resume(lanes.rng[i]);
+                rays[i] = {{lanes.ox[i], lanes.oy[i], lanes.oz[i]}, {lanes.lx[i], lanes.ly[i], lanes.lz[i]}};
                 packet[i] = {rays[i].org, rays[i].L, 0.0f, std::numeric_limits<float>::infinity()};
             }
             for (std::size_t r = 0; r < going; r += std::size_t(width))

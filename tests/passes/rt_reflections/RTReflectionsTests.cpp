@@ -3,6 +3,7 @@
 // coverage; a light's visible shape is not reflected as emission (the light's specular is).
 // Each case runs the BVH path (traversal "bvh", the GPU's code) too and checks it against Embree's.
 #include "io/scene/SceneLoader.h"
+#include "screenspace/Lanes.h"
 #include "tests/support/TestScenes.h"
 
 #include <doctest/doctest.h>
@@ -298,7 +299,8 @@ TEST_CASE("rt_reflections: rays traced in waves give the bits of one ray at a ti
     // A glossy floor under a mirror sphere and a rough glowing one, a sun with a source angle, a
     // soft point light, a spot and a rect light, the sky on: mirror and GGX rays, hits lit by
     // every kind of light sample (blocked by the spheres or not, behind the rect light or outside
-    // the spot's cone or not), misses that see the sky, beside each other in the same packets.
+    // the spot's cone or not), misses that see the sky, beside each other in the same packets and
+    // lanes (ShadingTests checks the lanes' samples of a light with extent, several a light).
     // 70 pixels leave a partial tile.
     Scene scene;
     Material glossy;
@@ -353,25 +355,33 @@ TEST_CASE("rt_reflections: rays traced in waves give the bits of one ray at a ti
         nlohmann::json one = params;
         one["waves"] = false;
         const auto single = test::runChain(src, {test::node("rt_reflections", one)}, outputs);
-        const auto waves = test::runChain(src, {test::node("rt_reflections", params)}, outputs);
-        // Not vacuous: hits lit and misses that saw the sky, in the same frame.
-        const Plane& distance = waves.at("rt_reflections.hitDistance").image().plane(0);
-        const Plane& red = waves.at("rt_reflections.reflection").image().plane(0);
-        int hits = 0, sky = 0, lit = 0;
-        for (int y = 0; y < distance.height(); ++y)
-            for (int x = 0; x < distance.width(); ++x) {
-                hits += distance.at(x, y) > 0.0f && distance.at(x, y) < 1e19f;
-                sky += distance.at(x, y) == 1e20f;
-                lit += red.at(x, y) > 0.0f;
-            }
-        const int texels = distance.width() * distance.height();
-        CHECK(hits > texels / 10);
-        CHECK(sky > texels / 20);
-        CHECK(lit > texels / 2);
-        for (const std::string& name : outputs)
-            for (int c = 0; c < waves.at(name).image().channelCount(); ++c)
-                CHECK(test::sameBits(waves.at(name).image().plane(c),
-                                     single.at(name).image().plane(c)));
+        // The waves' light samples run in SIMD lanes: on every instruction set the CPU has.
+        const std::vector<int64_t> targets = laneTargetsHere();
+        REQUIRE(!targets.empty());
+        for (int64_t target : targets) {
+            INFO("target ", target);
+            useOnlyLaneTarget(target);
+            const auto waves = test::runChain(src, {test::node("rt_reflections", params)}, outputs);
+            useOnlyLaneTarget(0);
+            // Not vacuous: hits lit and misses that saw the sky, in the same frame.
+            const Plane& distance = waves.at("rt_reflections.hitDistance").image().plane(0);
+            const Plane& red = waves.at("rt_reflections.reflection").image().plane(0);
+            int hits = 0, sky = 0, lit = 0;
+            for (int y = 0; y < distance.height(); ++y)
+                for (int x = 0; x < distance.width(); ++x) {
+                    hits += distance.at(x, y) > 0.0f && distance.at(x, y) < 1e19f;
+                    sky += distance.at(x, y) == 1e20f;
+                    lit += red.at(x, y) > 0.0f;
+                }
+            const int texels = distance.width() * distance.height();
+            CHECK(hits > texels / 10);
+            CHECK(sky > texels / 20);
+            CHECK(lit > texels / 2);
+            for (const std::string& name : outputs)
+                for (int c = 0; c < waves.at(name).image().channelCount(); ++c)
+                    CHECK(test::sameBits(waves.at(name).image().plane(c),
+                                         single.at(name).image().plane(c)));
+        }
     }
 }
 
