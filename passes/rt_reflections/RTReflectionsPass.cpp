@@ -209,7 +209,23 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
                wave] = a;
         texels.clear();
         at.clear();
-        for (int y = t.y0; y < t.y1; ++y)
+        for (int y = t.y0; y < t.y1; ++y) {
+            // The GBuffer reads of two rows ahead started now: a tile's rows lie a frame's width
+            // apart, in pages where the hardware's prefetcher starts afresh, and a row of pixels
+            // that trace nothing is only these reads and the writes of its skipped values.
+            if (y + 2 < t.y1) {
+                const PixelCoord p0 = fullResPixel(t.x0, y + 2, setup.upscale, setup.frame.width,
+                                                   setup.frame.height);
+                const PixelCoord p1 = fullResPixel(t.x1 - 1, y + 2, setup.upscale,
+                                                   setup.frame.width, setup.frame.height);
+                for (const PlaneView* plane : {&f.depth, &f.model, &f.roughness})
+                    for (int x = p0.x; x <= p1.x; x += 16)
+                        __builtin_prefetch(plane->data + planeIndex(x, p0.y, plane->stride));
+                for (const PlaneSpan* plane : {&f.reflection[0], &f.reflection[1], &f.reflection[2],
+                                               &f.reflection[3], &f.hitDistance})
+                    for (int x = t.x0; x < t.x1; x += 16)
+                        __builtin_prefetch(plane->data + planeIndex(x, y + 2, plane->stride), 1);
+            }
             for (int x = t.x0; x < t.x1; ++x) {
                 rtr::Texel texel = rtr::texelAt(f, x, y);
                 if (!texel.traced) {
@@ -219,6 +235,7 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
                 texels.push_back(texel);
                 at.push_back((y - t.y0) * kTileSize + (x - t.x0));
             }
+        }
         const std::size_t going = texels.size();
         rays.resize(going);
         packet.resize(going);
