@@ -59,42 +59,73 @@ struct GiFallback {
     }
     FP_HD bool continuesHits() const { return continuing; }
 
+    /// Where an on-screen hit's path continues from: the hit pixel's GBuffer surface (`valid`
+    /// false where that pixel is unlit or sky: no path).
+    struct Continuation {
+        bool valid = false;
+        Vec3f diffuseColor, n;
+        PixelSurface surface;
+    };
+
+    /// The GBuffer pixel an on-screen hit continues from: the hit's half-resolution position,
+    /// on the full-resolution GBuffer.
+    FP_HD PixelCoord continuationPixel(const RayPoint& hit) const {
+        const int W = depth.width, H = depth.height;
+        const int hx = int(hit.hx * 2.0f), hy = int(hit.hy * 2.0f);
+        return {hx < 0 ? 0 : (hx > W - 1 ? W - 1 : hx), hy < 0 ? 0 : (hy > H - 1 ? H - 1 : hy)};
+    }
+
+    FP_HD Continuation continuation(const RayPoint& hit) const {
+        const PixelCoord q = continuationPixel(hit);
+        const int px = q.x, py = q.y;
+        const double d = depth.at(px, py);
+        Continuation k;
+        if (!isLitSurface(d, shadingModel.at(px, py))) return k;
+        k.valid = true;
+        k.diffuseColor = gbufferDiffuseColor(
+            {baseColor[0].at(px, py), baseColor[1].at(px, py), baseColor[2].at(px, py)},
+            metallic.at(px, py), shadingModel.at(px, py));
+        k.n = normalize(Vec3f{normal[0].at(px, py), normal[1].at(px, py), normal[2].at(px, py)});
+        k.surface = pixelSurface(cam, eyeOffset, px, py, d);
+        return k;
+    }
+
+    /// A continuation's path: one cosine ray about the hit pixel's normal, drawn from `rng` (the
+    /// pixel's onward stream).
+    FP_HD PathState continuationPath(const Continuation& k, Rng& rng) const {
+        const float u = rng.nextFloat(), v = rng.nextFloat();
+        const Vec3f dir = cosineHemisphere(k.n, u, v);
+        const Vec3f org = biasedRayOrigin(k.surface, k.n, dot(k.n, dir), bias);
+        return startPath(onward, org, dir, 0.0f);
+    }
+
     // Last frame's colour at an on-screen hit `c`, plus the hit surface's diffuse colour × one
     // cosine path of the bounces after it.
     FP_HD void onScreenHit(Pixel& p, const RayPoint& hit, float c[3]) const {
-        // The hit's half-resolution position, on the full-resolution GBuffer.
-        const int W = depth.width, H = depth.height;
-        const int hx = int(hit.hx * 2.0f), hy = int(hit.hy * 2.0f);
-        const int px = hx < 0 ? 0 : (hx > W - 1 ? W - 1 : hx);
-        const int py = hy < 0 ? 0 : (hy > H - 1 ? H - 1 : hy);
-        const double d = depth.at(px, py);
-        if (!isLitSurface(d, shadingModel.at(px, py))) return;
-        const Vec3f diffuseColor = gbufferDiffuseColor(
-            {baseColor[0].at(px, py), baseColor[1].at(px, py), baseColor[2].at(px, py)},
-            metallic.at(px, py), shadingModel.at(px, py));
-        const Vec3f hn = normalize(Vec3f{normal[0].at(px, py), normal[1].at(px, py), normal[2].at(px, py)});
-        const float u = p.onwardRng.nextFloat(), v = p.onwardRng.nextFloat();
-        const Vec3f dir = cosineHemisphere(hn, u, v);
-        const Vec3f org = biasedRayOrigin(pixelSurface(cam, eyeOffset, px, py, d), hn, dot(hn, dir), bias);
+        const Continuation k = continuation(hit);
+        if (!k.valid) return;
         ++p.count[kContinued];
-        const DiffusePath path = traceDiffusePath(tracer, onward, org, dir, 0.0f, p.onwardRng,
-                                                  p.count[kSceneRays], p.count[kShadowRays]);
-        const Vec3f more = diffuseColor * path.radiance;
+        const DiffusePath path = traceDiffusePath(tracer, onward, continuationPath(k, p.onwardRng),
+                                                  p.onwardRng, p.count[kSceneRays],
+                                                  p.count[kShadowRays]);
+        const Vec3f more = k.diffuseColor * path.radiance;
         c[0] += more.x, c[1] += more.y, c[2] += more.z;
     }
 
-    // The march found nothing: the same direction through the scene, from the pixel (a march
-    // that saw nothing may still have passed behind a surface).
-    FP_HD ssgi::RayTrace miss(Pixel& p, int, int, const Vec3f& L) const {
-        ++p.count[kFallbackRays];
+    /// The path of the pixel's ray `L` (view space) that the march could not finish: the same
+    /// direction through the scene, from the pixel (a march that saw nothing may still have passed
+    /// behind a surface).
+    FP_HD PathState missPath(const Pixel& p, const Vec3f& L) const {
         const Vec3f dir = normalize(Vec3f(cam.right) * L.x + Vec3f(cam.up) * L.y + Vec3f(cam.forward) * L.z);
         const Vec3f org = biasedRayOrigin(p.surface, p.n, dot(p.n, dir), bias);
-        const DiffusePath path = traceDiffusePath(tracer, paths, org, dir, 0.0f, p.rng,
-                                                  p.count[kSceneRays], p.count[kShadowRays]);
-        if (path.firstHit < 0.0f) return {};  // left the scene: no light, as a miss
-        ++p.count[kFallbackHits];
-        // Weighted as SSGI weighs an on-screen hit, so the pixel's resolve undoes one weighting
-        // over all its hits (algorithms §4.7–4.8).
+        return startPath(paths, org, dir, 0.0f);
+    }
+
+    /// What that path brings, weighted as SSGI weighs an on-screen hit, so the pixel's resolve
+    /// undoes one weighting over all its hits (algorithms §4.7–4.8); nothing where it left the
+    /// scene, as a miss.
+    FP_HD ssgi::RayTrace missTrace(const DiffusePath& path) const {
+        if (path.firstHit < 0.0f) return {};
         ssgi::RayTrace hit;
         const Vec3f c = path.radiance;
         const float karis = 1.0f / (1.0f + ue::luma(c.x, c.y, c.z));
@@ -105,6 +136,19 @@ struct GiFallback {
         hit.measured = wantDistance;
         hit.distance = path.firstHit;
         return hit;
+    }
+
+    FP_HD ssgi::RayTrace miss(Pixel& p, int, int, const Vec3f& L) const {
+        ++p.count[kFallbackRays];
+        const ssgi::RayTrace hit = missTrace(traceDiffusePath(
+            tracer, paths, missPath(p, L), p.rng, p.count[kSceneRays], p.count[kShadowRays]));
+        if (hit.hit) ++p.count[kFallbackHits];
+        return hit;
+    }
+
+    template <class Trace>
+    FP_HD void addHit(Pixel&, Trace& trace, const ssgi::RayTrace& r) const {
+        trace.add(r);
     }
 
     FP_HD void end(Pixel& p) const {

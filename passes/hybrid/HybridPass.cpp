@@ -1,16 +1,20 @@
 #include "passes/hybrid/HybridPass.h"
 
 #include "foundation/PerPixel.h"
+#include "foundation/Tiles.h"
 #include "framework/PassPorts.h"
 #include "passes/hybrid/HybridKernel.h"
 #include "passes/ssgi/SSGIKernel.h"
 #include "passes/ssgi/SSGIPass.h"
 #include "screenspace/GBuffer.h"
+#include "shading/DiffusePathWave.h"
 #include "shading/DiffusePaths.h"
 #include "shading/RayOriginBias.h"
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <vector>
 
 namespace fp {
 
@@ -18,6 +22,91 @@ namespace {
 
 constexpr uint32_t kSeed = 0x48594252u;        // "HYBR"
 constexpr uint32_t kOnwardSeed = 0x4F4E5744u;  // "ONWD"
+
+using EmbreeFallback = hybrid::GiFallback<EmbreeTracer>;
+
+/// A tile's march, as SSGI's kernel ran it: each traced pixel's rays in order — an on-screen
+/// hit's light, a fallback path, or an on-screen hit continued by a path — and the scene paths
+/// those ask for, each pixel's fallback paths drawing from its stream and its continuations
+/// from its onward stream; then what each path brought.
+struct TileMarch {
+    enum Kind : uint8_t { kScreen, kMiss, kContinued };
+    struct Ray {
+        Kind kind;
+        std::size_t path;        // kMiss, kContinued: into misses or continuations
+        ssgi::RayTrace screen;   // kScreen: its light, final
+        RayPoint hit;            // kContinued: where it hit, and last frame's colour there
+        float color[3];
+    };
+    struct Pixel {
+        int x, y;
+        std::size_t firstRay, firstMiss, firstContinuation;
+        Rng rng, onwardRng;  // its two streams
+        bool continuing = false;  // its last ray asked for a continuation
+    };
+    std::vector<Pixel> pixels;  // the tile's traced pixels, in the order they ran
+    std::vector<Ray> rays;
+    std::vector<PathState> misses;
+    std::vector<RayPoint> continuationHits;  // the on-screen hits to continue, as asked
+    std::vector<EmbreeFallback::Continuation> continuations;  // and where from (valid or not)
+    std::vector<ssgi::RayTrace> missResults;
+    std::vector<Vec3f> continuationResults;  // what each adds to its hit's colour
+    // A wave's paths and streams.
+    std::vector<PathState> going;
+    std::vector<Rng*> rngs;
+    std::vector<std::size_t> owner;
+    DiffusePathWave wave;
+};
+
+/// SSGI's fallback (ssgi::NoFallback's shape) that records the march — each ray's light in
+/// order, and what it asks of the scene — bringing nothing back from the scene yet.
+struct RecordingFallback {
+    const EmbreeFallback& of;
+    TileMarch* march;
+    struct Pixel {
+        EmbreeFallback::Pixel of;
+        TileMarch::Pixel* record;
+    };
+
+    Pixel begin(const ssgi::Frame& f, int x, int y) const {
+        const EmbreeFallback::Pixel p = of.begin(f, x, y);
+        march->pixels.push_back({x, y, march->rays.size(), march->misses.size(),
+                                 march->continuationHits.size(), p.rng, p.onwardRng});
+        return {p, nullptr};
+    }
+    bool continuesHits() const { return of.continuesHits(); }
+    void onScreenHit(Pixel&, const RayPoint& hit, float c[3]) const {
+        TileMarch::Ray r{};
+        r.kind = TileMarch::kContinued;
+        r.path = march->continuationHits.size();
+        r.hit = hit;
+        for (int ch = 0; ch < 3; ++ch) r.color[ch] = c[ch];
+        march->rays.push_back(r);
+        march->continuationHits.push_back(hit);
+        march->pixels.back().continuing = true;  // addHit follows, with this ray's light
+    }
+    ssgi::RayTrace miss(Pixel& p, int, int, const Vec3f& L) const {
+        TileMarch::Ray r{};
+        r.kind = TileMarch::kMiss;
+        r.path = march->misses.size();
+        march->rays.push_back(r);
+        march->misses.push_back(of.missPath(p.of, L));
+        return {};
+    }
+    template <class Trace>
+    void addHit(Pixel&, Trace&, const ssgi::RayTrace& light) const {
+        TileMarch::Pixel& pixel = march->pixels.back();
+        if (pixel.continuing) {  // its light waits for its path (onScreenHit recorded it)
+            pixel.continuing = false;
+            return;
+        }
+        TileMarch::Ray r{};
+        r.kind = TileMarch::kScreen;
+        r.screen = light;
+        march->rays.push_back(r);
+    }
+    void end(Pixel&) const {}
+};
 
 }  // namespace
 
@@ -49,6 +138,12 @@ ParamSpec<HybridParams> HybridPass::paramSpec() {
           "the scene paths' \"embree\": Embree's scene; \"bvh\": framepass's own BVH, the "
           "code the GPU runs (on the GPU the pass always traverses it)")
         .choices({"embree", "bvh"});
+    s.add("waves", &Params::waves,
+          "with Embree, a tile's scene paths traced together a step at a time, each step's rays "
+          "in Embree's packets and its light samples in SIMD lanes, after SSGI's march has "
+          "found which rays fall back, and the march then resolved with what they brought "
+          "(false: each path traced when the march falls back, one ray at a time; the same "
+          "bits)");
     return s;
 }
 
@@ -125,6 +220,140 @@ void HybridPass::addFallbackWork(PassContext& ctx, uint64_t rays,
     ctx.addWork("shadowRays", counts[kShadowRays]);
 }
 
+uint64_t HybridPass::traceWaves(
+    PassContext& ctx, const HostPorts& ports, int rays, int steps, const EmbreeFallback& fallback,
+    const DiffusePathSetup& missSetup, const DiffusePathSetup& onwardSetup) const {
+    const ssgi::Frame f = ssgi::bindFrame(ports, ctx.frame(), rays, steps, false, 1.0f);
+    std::array<std::atomic<uint64_t>, ssgi::kCounterCount> totals{};
+    std::atomic<uint64_t> sceneRays{0}, shadowRays{0};
+    const bool wantDistance = bool(f.hitDistance);
+    forEachTile(f.ao.width, f.ao.height, [&](const Tile& t) {
+        // Each worker's arrays, kept from tile to tile (a tile's are some megabytes).
+        thread_local TileMarch m;
+        m.pixels.clear();
+        m.rays.clear();
+        m.misses.clear();
+        m.continuationHits.clear();
+        // 1. The march over the tile, recorded, with its work (the skipped pixels' outputs
+        //    written as ssgi::run writes them).
+        const RecordingFallback record{fallback, &m};
+        WorkCounts<ssgi::kCounterCount> counts{};
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) ssgi::ssgiPixel(f, x, y, counts.value, record);
+        // 2. Its scene paths as waves: the k-th path of each pixel's stream together, k = 0, 1,
+        //    …, so each stream draws its paths in the order the march asked for them.
+        uint64_t scene = 0, shadow = 0;
+        uint32_t fallbackHits = 0, continued = 0;
+        m.missResults.resize(m.misses.size());
+        // Where each on-screen hit continues from, read from the GBuffer at the hit: a tight loop
+        // whose reads overlap, each hit's started some hits ahead (the march would wait on each).
+        const std::size_t hits = m.continuationHits.size();
+        m.continuations.resize(hits);
+        constexpr std::size_t kAhead = 8;
+        for (std::size_t i = 0; i < hits; ++i) {
+            if (i + kAhead < hits) {
+                const PixelCoord q = fallback.continuationPixel(m.continuationHits[i + kAhead]);
+                for (const PlaneView* plane :
+                     {&fallback.depth, &fallback.shadingModel, &fallback.normal[0],
+                      &fallback.normal[1], &fallback.normal[2], &fallback.baseColor[0],
+                      &fallback.baseColor[1], &fallback.baseColor[2], &fallback.metallic})
+                    __builtin_prefetch(plane->data + planeIndex(q.x, q.y, plane->stride));
+            }
+            m.continuations[i] = fallback.continuation(m.continuationHits[i]);
+        }
+        m.continuationResults.assign(hits, Vec3f{});
+        const std::size_t pixels = m.pixels.size();
+        for (std::size_t k = 0;; ++k) {
+            m.going.clear();
+            m.rngs.clear();
+            m.owner.clear();
+            for (std::size_t p = 0; p < pixels; ++p) {
+                const std::size_t end = p + 1 < pixels ? m.pixels[p + 1].firstMiss : m.misses.size();
+                const std::size_t i = m.pixels[p].firstMiss + k;
+                if (i >= end) continue;
+                m.going.push_back(m.misses[i]);
+                m.rngs.push_back(&m.pixels[p].rng);
+                m.owner.push_back(i);
+            }
+            if (m.going.empty()) break;
+            m.wave.trace(missSetup, m.going.data(), m.rngs.data(), int(m.going.size()), scene,
+                         shadow);
+            for (std::size_t g = 0; g < m.going.size(); ++g) {
+                const ssgi::RayTrace hit = fallback.missTrace(m.going[g].out);
+                fallbackHits += hit.hit;
+                m.missResults[m.owner[g]] = hit;
+            }
+        }
+        for (std::size_t k = 0;; ++k) {
+            m.going.clear();
+            m.rngs.clear();
+            m.owner.clear();
+            bool asked = false;
+            for (std::size_t p = 0; p < pixels; ++p) {
+                const std::size_t end = p + 1 < pixels ? m.pixels[p + 1].firstContinuation
+                                                       : m.continuations.size();
+                const std::size_t i = m.pixels[p].firstContinuation + k;
+                if (i >= end) continue;
+                asked = true;
+                const EmbreeFallback::Continuation& c = m.continuations[i];
+                if (!c.valid) continue;  // nothing drawn, nothing added
+                m.going.push_back(fallback.continuationPath(c, m.pixels[p].onwardRng));
+                m.rngs.push_back(&m.pixels[p].onwardRng);
+                m.owner.push_back(i);
+            }
+            if (!asked) break;
+            continued += uint32_t(m.going.size());
+            m.wave.trace(onwardSetup, m.going.data(), m.rngs.data(), int(m.going.size()), scene,
+                         shadow);
+            for (std::size_t g = 0; g < m.going.size(); ++g)
+                m.continuationResults[m.owner[g]] =
+                    m.continuations[m.owner[g]].diffuseColor * m.going[g].out.radiance;
+        }
+        // 3. Each traced pixel resolved from its rays' light in ray order, as the march would
+        //    have summed it with each path traced where it asked (HybridKernel.h's miss and
+        //    onScreenHit).
+        for (std::size_t p = 0; p < pixels; ++p) {
+            const TileMarch::Pixel& pixel = m.pixels[p];
+            const std::size_t end = p + 1 < pixels ? m.pixels[p + 1].firstRay : m.rays.size();
+            ssgi::PixelStart start{};
+            if (wantDistance) {  // an on-screen hit's distance, from the pixel (beginPixel's)
+                const PixelCoord q = fullResPixel(pixel.x, pixel.y, f.toFull, f.width, f.height);
+                start = ssgi::pixelStart(f, pixel.x, pixel.y, q.x, q.y, f.depth.at(q.x, q.y));
+            }
+            ssgi::PixelTrace trace;
+            for (std::size_t i = pixel.firstRay; i < end; ++i) {
+                const TileMarch::Ray& r = m.rays[i];
+                if (r.kind == TileMarch::kScreen) {
+                    trace.add(r.screen);
+                } else if (r.kind == TileMarch::kMiss) {
+                    trace.add(m.missResults[r.path]);
+                } else {
+                    float c[3] = {r.color[0], r.color[1], r.color[2]};
+                    if (m.continuations[r.path].valid) {
+                        const Vec3f& more = m.continuationResults[r.path];
+                        c[0] += more.x, c[1] += more.y, c[2] += more.z;
+                    }
+                    trace.add(ssgi::weighHit(f.setup, start, r.hit, c, wantDistance));
+                }
+            }
+            ssgi::finishPixel(f, pixel.x, pixel.y, trace);
+        }
+        for (int i = 0; i < ssgi::kCounterCount; ++i) totals[std::size_t(i)] += counts.value[i];
+        sceneRays += scene;
+        shadowRays += shadow;
+        unsigned long long* shared = fallback.counts;
+        addSharedCount(shared + hybrid::kFallbackRays, m.misses.size());
+        addSharedCount(shared + hybrid::kFallbackHits, fallbackHits);
+        addSharedCount(shared + hybrid::kContinued, continued);
+    });
+    addSharedCount(fallback.counts + hybrid::kSceneRays, sceneRays.load());
+    addSharedCount(fallback.counts + hybrid::kShadowRays, shadowRays.load());
+    std::array<uint64_t, ssgi::kCounterCount> result{};
+    for (int i = 0; i < ssgi::kCounterCount; ++i) result[std::size_t(i)] = totals[std::size_t(i)];
+    ssgi::reportWork(ctx, result);
+    return result[ssgi::kRays];
+}
+
 void HybridPass::execute(PassContext& ctx) {
     const SSGIQuality q = SSGIPass::traced(mParams.quality, mParams.rays);
     const RayScene& rs = ctx.scene();
@@ -134,9 +363,10 @@ void HybridPass::execute(PassContext& ctx) {
     std::shared_ptr<const LightView> lights;
     hybrid::GiFallback<BvhTracer> bvh = bvhFallback(ctx, bvhTracerFor(ports, lighting, lights), counts);
     hybrid::bindPlanes(ports, bvh);
-    std::array<uint64_t, ssgi::kCounterCount> ssgiCounts;
+    uint64_t rays = 0;  // SSGI's, on screen and not
     if (mParams.traversal == "bvh") {
-        ssgiCounts = ssgi::run(ctx, ports, CpuPixels{}, q.rays, q.steps, false, 1.0f, bvh, "hybrid");
+        rays = ssgi::run(ctx, ports, CpuPixels{}, q.rays, q.steps, false, 1.0f, bvh,
+                         "hybrid")[ssgi::kRays];
     } else {
         DiffusePathSetup paths;
         paths.scene = &rs;
@@ -146,9 +376,17 @@ void HybridPass::execute(PassContext& ctx) {
             bvh.bias, bvh.rngKey, bvh.onwardKey, bvh.wantDistance, bvh.depth,
             {bvh.normal[0], bvh.normal[1], bvh.normal[2]}, bvh.shadingModel,
             {bvh.baseColor[0], bvh.baseColor[1], bvh.baseColor[2]}, bvh.metallic, counts};
-        ssgiCounts = ssgi::run(ctx, ports, CpuPixels{}, q.rays, q.steps, false, 1.0f, embree, "hybrid");
+        if (mParams.waves) {
+            DiffusePathSetup missSetup = paths, onwardSetup = paths;
+            static_cast<DiffusePathSettings&>(missSetup) = embree.paths;
+            static_cast<DiffusePathSettings&>(onwardSetup) = embree.onward;
+            rays = traceWaves(ctx, ports, q.rays, q.steps, embree, missSetup, onwardSetup);
+        } else {
+            rays = ssgi::run(ctx, ports, CpuPixels{}, q.rays, q.steps, false, 1.0f, embree,
+                             "hybrid")[ssgi::kRays];
+        }
     }
-    addFallbackWork(ctx, ssgiCounts[ssgi::kRays], counts);
+    addFallbackWork(ctx, rays, counts);
 }
 
 }  // namespace fp

@@ -26,9 +26,13 @@ struct HybridParams {
     float normalBias = 0.1f;  //!< cm (min 0.01): the fallback ray's origin, as the RT passes
     bool continueOnScreen = false;  //!< on-screen hits continue as paths of maxBounces − 1
     std::string traversal = "embree";  //!< the scene paths': "embree" or "bvh" (the GPU's code)
+    bool waves = true;  //!< Embree: a tile's scene paths a step at a time, in packets
 };
 
 struct BvhTracer;
+struct EmbreeTracer;
+struct DiffusePathSetup;
+struct HostPorts;
 namespace hybrid {
 template <class Tracer>
 struct GiFallback;
@@ -50,6 +54,16 @@ private:
     /// bound.
     hybrid::GiFallback<BvhTracer> bvhFallback(PassContext& ctx, const BvhTracer& tracer,
                                               unsigned long long* counts) const;
+    /// SSGI's kernel over each tile twice, the tile's scene paths traced in waves between: its
+    /// march records what it asks of the scene (`fallback`'s paths: `missSetup`'s for a ray the
+    /// screen cannot finish, `onwardSetup`'s for an on-screen hit's continuation), the paths run a
+    /// step at a time in Embree's packets (DiffusePathWave), and the march again resolves each
+    /// pixel with what they brought: ssgi::run's outputs and work, the same bits; SSGI's ray
+    /// count.
+    uint64_t traceWaves(PassContext& ctx, const HostPorts& ports, int rays,
+                                       int steps, const hybrid::GiFallback<EmbreeTracer>& fallback,
+                                       const DiffusePathSetup& missSetup,
+                                       const DiffusePathSetup& onwardSetup) const;
     /// The fallback's counts, with `rays` (SSGI's count, on screen and not) for the on-screen ones.
     void addFallbackWork(PassContext& ctx, uint64_t rays, const unsigned long long* counts) const;
 };

@@ -204,6 +204,11 @@ struct NoFallback {
     FP_HD void onScreenHit(Pixel&, const RayPoint&, float[3]) const {}
     /// What ray `L` (view space) of pixel (x, y), which the screen could not finish, brings.
     FP_HD RayTrace miss(Pixel&, int, int, const Vec3f&) const { return {}; }
+    /// Adds an on-screen hit's light `r` to the pixel's sum `trace` (a fallback may note it).
+    template <class Trace>
+    FP_HD void addHit(Pixel&, Trace& trace, const RayTrace& r) const {
+        trace.add(r);
+    }
     /// After the pixel's last ray (the fallback's own counts).
     FP_HD void end(Pixel&) const {}
 };
@@ -274,7 +279,7 @@ FP_HD inline void traceRays(const TraceSetup& s,
             t.hit = true;
             for (int ch = 0; ch < 3; ++ch)
                 t.weighted[ch] = laneOf(weighted[ch], i);
-            trace.add(t);
+            fallback.addHit(pixel, trace, t);
         }
         return;
     }
@@ -289,7 +294,7 @@ FP_HD inline void traceRays(const TraceSetup& s,
         hitColor(s, h, laneOf(level, i), true, c);
         if (fallback.continuesHits())
             fallback.onScreenHit(pixel, h, c);  // adds what the path after the hit brings
-        trace.add(weighHit(s, p, h, c, wantDistance));
+        fallback.addHit(pixel, trace, weighHit(s, p, h, c, wantDistance));
     }
 }
 

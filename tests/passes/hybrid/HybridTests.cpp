@@ -1,6 +1,7 @@
 // hybrid: rays that hit on screen are SSGI's, bit for bit; rays the screen cannot finish are
 // traced through the scene, gathering (on a wall whose sunlit floor is off screen) the floor's
 // analytic radiance, through SSGI's Karis weighting.
+#include "screenspace/Lanes.h"
 #include "tests/support/TestScenes.h"
 
 #include <doctest/doctest.h>
@@ -20,9 +21,11 @@ std::vector<NodeDesc> chain(const std::string& type, nlohmann::json params) {
 }
 
 std::map<std::string, Texture> run(test::MemorySource& src, const std::string& type,
-                                   nlohmann::json params, std::map<std::string, uint64_t>* work = nullptr) {
+                                   nlohmann::json params, std::map<std::string, uint64_t>* work = nullptr,
+                                   bool hitDistance = false) {
     test::MemorySink sink;
-    const std::vector<std::string> outputs = {type + ".diffuse", type + ".ao", type + ".hitMask"};
+    std::vector<std::string> outputs = {type + ".diffuse", type + ".ao", type + ".hitMask"};
+    if (hitDistance) outputs.push_back(type + ".hitDistance");
     const FrameReport rep = executePlan(test::planFor(chain(type, std::move(params)), outputs), src, sink);
     if (work) *work = rep.passes.back().work;
     return sink.layers;
@@ -159,6 +162,69 @@ TEST_CASE("hybrid: continueOnScreen adds the hit's diffuse colour × the bounces
     CHECK(work.at("continuedHits") == 0);
     CHECK(test::sameBits(one.at("hybrid.diffuse").image().plane(0),
                          oneBounce.at("hybrid.diffuse").image().plane(0)));
+}
+
+TEST_CASE("hybrid: scene paths traced in waves give the bits of each path where the march asks") {
+    // A grey sphere on a grey floor under a sun with a source angle, a soft point light and a
+    // rect light, seen from low down: rays that leave the screen or pass behind the sphere fall
+    // back (some find the sky: nothing), on-screen hits continue; pixels with several paths of
+    // each stream, beside pixels with none, in the same waves. 70 pixels leave a partial tile.
+    Scene scene = test::floorScene();
+    scene.sceneUnitsPerMeter = 100.0;
+    scene.meshes.push_back(test::sphere({0, 12, 0}, 10.0, 32, 0, 2));
+    scene.lights.push_back(test::sun({0.3, -1, 0.2}, 2.0f));
+    Light bulb;
+    bulb.type = LightType::Point;
+    bulb.position = {15, 30, 5};
+    bulb.radius = 2.0f;
+    bulb.intensity = 400.0f;
+    scene.lights.push_back(bulb);
+    Light rect;
+    rect.type = LightType::Rect;
+    rect.position = {-20, 25, 0};
+    rect.halfU = {5, 0, 0};
+    rect.halfV = {0, 0, 5};
+    rect.intensity = 50.0f;
+    scene.lights.push_back(rect);
+    const int n = 70;
+    FrameCamera cam;
+    cam.current = CameraView::lookAt({0, 15, -45}, {0, 8, 10}, {0, 1, 0}, 60.0, n, n, 0.1);
+    cam.previous = cam.current;
+    auto src = test::captureToMemory(scene, cam);
+    for (const auto& setting :
+         {std::pair{nlohmann::json{{"quality", 1}, {"maxBounces", 3}, {"continueOnScreen", true}},
+                    false},
+          std::pair{nlohmann::json{{"quality", 2}, {"maxBounces", 2}, {"continueOnScreen", true},
+                                   {"nextEventEstimationSamples", 3}},
+                    true},
+          std::pair{nlohmann::json{{"quality", 1}, {"maxBounces", 1}}, true}}) {
+        const nlohmann::json& params = setting.first;
+        const bool distance = setting.second;  // hitDistance requested too
+        CAPTURE(params.dump());
+        nlohmann::json one = params;
+        one["waves"] = false;
+        std::map<std::string, uint64_t> singleWork, wavesWork;
+        const auto single = run(src, "hybrid", one, &singleWork, distance);
+        // Not vacuous: paths of both kinds, that hit and that miss.
+        CHECK(singleWork.at("fallbackRays") > uint64_t(n * n / 4));
+        CHECK(singleWork.at("fallbackHits") > 0);
+        CHECK(singleWork.at("fallbackHits") < singleWork.at("fallbackRays"));
+        if (params.value("continueOnScreen", false))
+            CHECK(singleWork.at("continuedHits") > uint64_t(n * n / 10));
+        // The waves' light samples run in SIMD lanes: on every instruction set the CPU has.
+        const std::vector<int64_t> targets = laneTargetsHere();
+        REQUIRE(!targets.empty());
+        for (int64_t target : targets) {
+            INFO("target ", target);
+            useOnlyLaneTarget(target);
+            const auto waves = run(src, "hybrid", params, &wavesWork, distance);
+            useOnlyLaneTarget(0);
+            CHECK(wavesWork == singleWork);
+            for (const auto& [name, texture] : single)
+                for (int c = 0; c < texture.image().channelCount(); ++c)
+                    CHECK(test::sameBits(waves.at(name).image().plane(c), texture.image().plane(c)));
+        }
+    }
 }
 
 }  // namespace fp
