@@ -4,6 +4,7 @@
 #include "foundation/Tiles.h"
 #include "framework/PassPorts.h"
 #include "passes/hybrid/HybridKernel.h"
+#include "passes/hybrid/HybridMarch.h"
 #include "passes/ssgi/SSGIKernel.h"
 #include "passes/ssgi/SSGIPass.h"
 #include "screenspace/GBuffer.h"
@@ -22,91 +23,6 @@ namespace {
 
 constexpr uint32_t kSeed = 0x48594252u;        // "HYBR"
 constexpr uint32_t kOnwardSeed = 0x4F4E5744u;  // "ONWD"
-
-using EmbreeFallback = hybrid::GiFallback<EmbreeTracer>;
-
-/// A tile's march, as SSGI's kernel ran it: each traced pixel's rays in order — an on-screen
-/// hit's light, a fallback path, or an on-screen hit continued by a path — and the scene paths
-/// those ask for, each pixel's fallback paths drawing from its stream and its continuations
-/// from its onward stream; then what each path brought.
-struct TileMarch {
-    enum Kind : uint8_t { kScreen, kMiss, kContinued };
-    struct Ray {
-        Kind kind;
-        std::size_t path;        // kMiss, kContinued: into misses or continuations
-        ssgi::RayTrace screen;   // kScreen: its light, final
-        RayPoint hit;            // kContinued: where it hit, and last frame's colour there
-        float color[3];
-    };
-    struct Pixel {
-        int x, y;
-        std::size_t firstRay, firstMiss, firstContinuation;
-        Rng rng, onwardRng;  // its two streams
-        bool continuing = false;  // its last ray asked for a continuation
-    };
-    std::vector<Pixel> pixels;  // the tile's traced pixels, in the order they ran
-    std::vector<Ray> rays;
-    std::vector<PathState> misses;
-    std::vector<RayPoint> continuationHits;  // the on-screen hits to continue, as asked
-    std::vector<EmbreeFallback::Continuation> continuations;  // and where from (valid or not)
-    std::vector<ssgi::RayTrace> missResults;
-    std::vector<Vec3f> continuationResults;  // what each adds to its hit's colour
-    // A wave's paths and streams.
-    std::vector<PathState> going;
-    std::vector<Rng*> rngs;
-    std::vector<std::size_t> owner;
-    DiffusePathWave wave;
-};
-
-/// SSGI's fallback (ssgi::NoFallback's shape) that records the march — each ray's light in
-/// order, and what it asks of the scene — bringing nothing back from the scene yet.
-struct RecordingFallback {
-    const EmbreeFallback& of;
-    TileMarch* march;
-    struct Pixel {
-        EmbreeFallback::Pixel of;
-        TileMarch::Pixel* record;
-    };
-
-    Pixel begin(const ssgi::Frame& f, int x, int y) const {
-        const EmbreeFallback::Pixel p = of.begin(f, x, y);
-        march->pixels.push_back({x, y, march->rays.size(), march->misses.size(),
-                                 march->continuationHits.size(), p.rng, p.onwardRng});
-        return {p, nullptr};
-    }
-    bool continuesHits() const { return of.continuesHits(); }
-    void onScreenHit(Pixel&, const RayPoint& hit, float c[3]) const {
-        TileMarch::Ray r{};
-        r.kind = TileMarch::kContinued;
-        r.path = march->continuationHits.size();
-        r.hit = hit;
-        for (int ch = 0; ch < 3; ++ch) r.color[ch] = c[ch];
-        march->rays.push_back(r);
-        march->continuationHits.push_back(hit);
-        march->pixels.back().continuing = true;  // addHit follows, with this ray's light
-    }
-    ssgi::RayTrace miss(Pixel& p, int, int, const Vec3f& L) const {
-        TileMarch::Ray r{};
-        r.kind = TileMarch::kMiss;
-        r.path = march->misses.size();
-        march->rays.push_back(r);
-        march->misses.push_back(of.missPath(p.of, L));
-        return {};
-    }
-    template <class Trace>
-    void addHit(Pixel&, Trace&, const ssgi::RayTrace& light) const {
-        TileMarch::Pixel& pixel = march->pixels.back();
-        if (pixel.continuing) {  // its light waits for its path (onScreenHit recorded it)
-            pixel.continuing = false;
-            return;
-        }
-        TileMarch::Ray r{};
-        r.kind = TileMarch::kScreen;
-        r.screen = light;
-        march->rays.push_back(r);
-    }
-    void end(Pixel&) const {}
-};
 
 }  // namespace
 
@@ -220,26 +136,21 @@ void HybridPass::addFallbackWork(PassContext& ctx, uint64_t rays,
     ctx.addWork("shadowRays", counts[kShadowRays]);
 }
 
-uint64_t HybridPass::traceWaves(
-    PassContext& ctx, const HostPorts& ports, int rays, int steps, const EmbreeFallback& fallback,
-    const DiffusePathSetup& missSetup, const DiffusePathSetup& onwardSetup) const {
+uint64_t HybridPass::traceWaves(PassContext& ctx, const HostPorts& ports, int rays, int steps,
+                                const hybrid::EmbreeFallback& fallback,
+                                const DiffusePathSetup& missSetup,
+                                const DiffusePathSetup& onwardSetup) const {
     const ssgi::Frame f = ssgi::bindFrame(ports, ctx.frame(), rays, steps, false, 1.0f);
     std::array<std::atomic<uint64_t>, ssgi::kCounterCount> totals{};
     std::atomic<uint64_t> sceneRays{0}, shadowRays{0};
     const bool wantDistance = bool(f.hitDistance);
     forEachTile(f.ao.width, f.ao.height, [&](const Tile& t) {
         // Each worker's arrays, kept from tile to tile (a tile's are some megabytes).
-        thread_local TileMarch m;
-        m.pixels.clear();
-        m.rays.clear();
-        m.misses.clear();
-        m.continuationHits.clear();
-        // 1. The march over the tile, recorded, with its work (the skipped pixels' outputs
-        //    written as ssgi::run writes them).
-        const RecordingFallback record{fallback, &m};
+        thread_local hybrid::TileMarch m;
+        // 1. The march over the tile, a pixel's rays in SIMD lanes, recorded, with its work (the
+        //    skipped pixels' outputs written as ssgi::run writes them).
         WorkCounts<ssgi::kCounterCount> counts{};
-        for (int y = t.y0; y < t.y1; ++y)
-            for (int x = t.x0; x < t.x1; ++x) ssgi::ssgiPixel(f, x, y, counts.value, record);
+        hybrid::recordTileMarch(f, t, fallback, m, counts.value);
         // 2. Its scene paths as waves: the k-th path of each pixel's stream together, k = 0, 1,
         //    …, so each stream draws its paths in the order the march asked for them.
         uint64_t scene = 0, shadow = 0;
@@ -295,7 +206,7 @@ uint64_t HybridPass::traceWaves(
                 const std::size_t i = m.pixels[p].firstContinuation + k;
                 if (i >= end) continue;
                 asked = true;
-                const EmbreeFallback::Continuation& c = m.continuations[i];
+                const hybrid::EmbreeFallback::Continuation& c = m.continuations[i];
                 if (!c.valid) continue;  // nothing drawn, nothing added
                 m.going.push_back(fallback.continuationPath(c, m.pixels[p].onwardRng));
                 m.rngs.push_back(&m.pixels[p].onwardRng);
@@ -313,7 +224,7 @@ uint64_t HybridPass::traceWaves(
         //    have summed it with each path traced where it asked (HybridKernel.h's miss and
         //    onScreenHit).
         for (std::size_t p = 0; p < pixels; ++p) {
-            const TileMarch::Pixel& pixel = m.pixels[p];
+            const hybrid::TileMarch::Pixel& pixel = m.pixels[p];
             const std::size_t end = p + 1 < pixels ? m.pixels[p + 1].firstRay : m.rays.size();
             ssgi::PixelStart start{};
             if (wantDistance) {  // an on-screen hit's distance, from the pixel (beginPixel's)
@@ -322,10 +233,10 @@ uint64_t HybridPass::traceWaves(
             }
             ssgi::PixelTrace trace;
             for (std::size_t i = pixel.firstRay; i < end; ++i) {
-                const TileMarch::Ray& r = m.rays[i];
-                if (r.kind == TileMarch::kScreen) {
+                const hybrid::TileMarch::Ray& r = m.rays[i];
+                if (r.kind == hybrid::TileMarch::kScreen) {
                     trace.add(r.screen);
-                } else if (r.kind == TileMarch::kMiss) {
+                } else if (r.kind == hybrid::TileMarch::kMiss) {
                     trace.add(m.missResults[r.path]);
                 } else {
                     float c[3] = {r.color[0], r.color[1], r.color[2]};
