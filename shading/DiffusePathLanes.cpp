@@ -84,6 +84,15 @@ void HitLanes::resize(int n) {
     rng.resize(padded);
 }
 
+void HitLanes::set(std::size_t i, const SurfacePoint& s, uint32_t state) {
+    const Vec3f org = s.rayOrigin();
+    px[i] = s.position.x, py[i] = s.position.y, pz[i] = s.position.z;
+    ox[i] = org.x, oy[i] = org.y, oz[i] = org.z;
+    nx[i] = s.normal.x, ny[i] = s.normal.y, nz[i] = s.normal.z;
+    dr[i] = s.brdf.diffuseColor.x, dg[i] = s.brdf.diffuseColor.y, db[i] = s.brdf.diffuseColor.z;
+    rng[i] = state;
+}
+
 void drawLightSampleLanes(const LightView* lights, int lightCount, int nee, HitLanes& hits,
                           SampleLanes& out) {
     HWY_DYNAMIC_DISPATCH(paths::drawHere)(lights, lightCount, nee, hits, out);

@@ -22,6 +22,8 @@ struct HitLanes {
     std::vector<uint32_t> rng;      // each hit's path's stream, advanced by the samples
     /// Room for `n` hits, whole vectors of the widest lanes.
     void resize(int n);
+    /// Entry i: hit `s`, its stream at `state`.
+    void set(std::size_t i, const SurfacePoint& s, uint32_t state);
 };
 
 /// What each sample of each hit found: entry k · stride + i is hit i's sample k.

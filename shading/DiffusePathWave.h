@@ -10,6 +10,7 @@
 // traceDiffusePath gives it (RTGlobalIlluminationTests checks it on every instruction set).
 #include "shading/DiffusePathLanes.h"
 #include "shading/DiffusePaths.h"
+#include "shading/ShadowRayBatch.h"
 
 #include <cstdint>
 #include <memory>
@@ -30,14 +31,11 @@ private:
     std::vector<RayHit> mRayHits;  // and what Embree found along it
     std::vector<PathHit> mHits;    // each going path's hit this step
     std::vector<std::size_t> mFirstShadowRay;  // of each going path with a hit, into the arrays
-    // This step's shadow rays, in the order drawn: origin, direction, length, and what each adds
-    // when unblocked.
-    std::vector<float> mOrgX, mOrgY, mOrgZ, mDirX, mDirY, mDirZ, mTfar;
+    // This step's shadow rays, in the order drawn, and what each adds when unblocked.
+    ShadowRayBatch mShadowRays;
     std::vector<Vec3f> mLit;
     HitLanes mHitLanes;       // the step's hits with a light to sample, as the lanes read them
     SampleLanes mSamples;     // and their samples
-    std::unique_ptr<bool[]> mBlocked;
-    std::size_t mBlockedCapacity = 0;
 };
 
 }  // namespace fp

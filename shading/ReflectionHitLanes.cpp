@@ -80,6 +80,13 @@ void ReflectionHitLanes::resize(int n) {
     for (auto* v : {&vx, &vy, &vz, &sr, &sg, &sb, &roughness}) v->resize(padded);
 }
 
+void ReflectionHitLanes::set(std::size_t i, const SurfacePoint& s, uint32_t state) {
+    HitLanes::set(i, s, state);
+    vx[i] = s.toViewer.x, vy[i] = s.toViewer.y, vz[i] = s.toViewer.z;
+    sr[i] = s.brdf.specularColor.x, sg[i] = s.brdf.specularColor.y, sb[i] = s.brdf.specularColor.z;
+    roughness[i] = s.brdf.roughness;
+}
+
 void drawLightRayLanes(const LightView* lights, int lightCount, int samples,
                        ReflectionHitLanes& hits, SampleLanes& out) {
     HWY_DYNAMIC_DISPATCH(reflection_hits::drawHere)(lights, lightCount, samples, hits, out);

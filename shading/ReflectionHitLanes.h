@@ -22,6 +22,8 @@ struct ReflectionHitLanes : HitLanes {
     std::vector<float> roughness;
     /// Room for `n` hits, whole vectors of the widest lanes.
     void resize(int n);
+    /// Entry i: hit `s`, its stream at `state`.
+    void set(std::size_t i, const SurfacePoint& s, uint32_t state);
 };
 
 /// Every light sample of every hit of `hits` (shadeLights' samples: `samples` of a light with

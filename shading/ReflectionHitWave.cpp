@@ -28,56 +28,26 @@ void ReflectionHitWave::light(const ReflectionHitLighting& how, const SurfacePoi
     // Every hit's light samples in SIMD lanes of neighbouring hits, then each hit's indirect
     // light, from its own stream in lightReflectionHit's order; each hit's shadow rays in the
     // order drawn.
-    for (auto* v : {&mOrgX, &mOrgY, &mOrgZ, &mDirX, &mDirY, &mDirZ, &mTfar}) v->clear();
+    mShadowRays.clear();
     mValue.clear();
     mSlot.clear();
     mFirstRay.clear();
     mIndirect.resize(std::size_t(count));
     if (lights > 0) {
         mHitLanes.resize(count);
-        for (int i = 0; i < count; ++i) {
-            const SurfacePoint& s = *hits[i];
-            const Vec3f org = s.rayOrigin();
-            const std::size_t g = std::size_t(i);
-            mHitLanes.px[g] = s.position.x;
-            mHitLanes.py[g] = s.position.y;
-            mHitLanes.pz[g] = s.position.z;
-            mHitLanes.ox[g] = org.x;
-            mHitLanes.oy[g] = org.y;
-            mHitLanes.oz[g] = org.z;
-            mHitLanes.nx[g] = s.normal.x;
-            mHitLanes.ny[g] = s.normal.y;
-            mHitLanes.nz[g] = s.normal.z;
-            mHitLanes.vx[g] = s.toViewer.x;
-            mHitLanes.vy[g] = s.toViewer.y;
-            mHitLanes.vz[g] = s.toViewer.z;
-            mHitLanes.dr[g] = s.brdf.diffuseColor.x;
-            mHitLanes.dg[g] = s.brdf.diffuseColor.y;
-            mHitLanes.db[g] = s.brdf.diffuseColor.z;
-            mHitLanes.sr[g] = s.brdf.specularColor.x;
-            mHitLanes.sg[g] = s.brdf.specularColor.y;
-            mHitLanes.sb[g] = s.brdf.specularColor.z;
-            mHitLanes.roughness[g] = s.brdf.roughness;
-            mHitLanes.rng[g] = rngs[i]->state();
-        }
+        for (int i = 0; i < count; ++i) mHitLanes.set(std::size_t(i), *hits[i], rngs[i]->state());
         drawLightRayLanes(lighting.lightViews().data(), lights, lighting.samples(), mHitLanes,
                           mSamples);
     }
     for (int i = 0; i < count; ++i) {
         const std::size_t g = std::size_t(i);
-        mFirstRay.push_back(mTfar.size());
+        mFirstRay.push_back(mShadowRays.size());
         if (lights > 0) {
             *rngs[i] = Rng::resume(mHitLanes.rng[g]);
             for (int slot = 0; slot < mSlots; ++slot) {
                 const std::size_t at = std::size_t(slot) * std::size_t(mSamples.stride) + g;
                 if (!mSamples.keep[at]) continue;
-                mOrgX.push_back(mHitLanes.ox[g]);
-                mOrgY.push_back(mHitLanes.oy[g]);
-                mOrgZ.push_back(mHitLanes.oz[g]);
-                mDirX.push_back(mSamples.dx[at]);
-                mDirY.push_back(mSamples.dy[at]);
-                mDirZ.push_back(mSamples.dz[at]);
-                mTfar.push_back(mSamples.tfar[at]);  // from 0, as DirectLighting::visible's ray
+                mShadowRays.push(mHitLanes, g, mSamples, at);
                 mSlot.push_back(slot);
                 mValue.push_back({mSamples.lr[at], mSamples.lg[at], mSamples.lb[at]});
             }
@@ -85,26 +55,11 @@ void ReflectionHitWave::light(const ReflectionHitLighting& how, const SurfacePoi
         mIndirect[g] = reflectionHitIndirect(tracer, *hits[i], skySh, how.indirectBounces,
                                              *rngs[i], work.shadowRays, work.indirectRays);
     }
-    mFirstRay.push_back(mTfar.size());
+    mFirstRay.push_back(mShadowRays.size());
 
     // Their shadow rays, in packets (none traced unshadowed: every sample counts).
-    const std::size_t n = mTfar.size();
-    if (mBlockedCapacity < n) {
-        mBlockedCapacity = std::max(n, 2 * mBlockedCapacity);
-        mBlocked = std::make_unique<bool[]>(mBlockedCapacity);
-    }
-    if (how.shadowed) {
-        work.shadowRays += n;
-        const RayScene& scene = *how.scene;
-        const int width = scene.packetWidth();
-        const RayArrays arrays{mOrgX.data(), mOrgY.data(), mOrgZ.data(), mDirX.data(),
-                               mDirY.data(), mDirZ.data(), mTfar.data()};
-        for (std::size_t r = 0; r < n; r += std::size_t(width))
-            scene.occludedPacket(arrays.from(r), int(std::min(n - r, std::size_t(width))), width,
-                                 mBlocked.get() + r);
-    } else {
-        std::fill_n(mBlocked.get(), n, false);
-    }
+    if (how.shadowed) work.shadowRays += mShadowRays.size();
+    mShadowRays.trace(*how.scene, how.shadowed);
 
     // Each hit's lights as shadeLights sums them: a light's unblocked samples in the order
     // drawn, over its sample count.
@@ -115,7 +70,7 @@ void ReflectionHitWave::light(const ReflectionHitLighting& how, const SurfacePoi
         for (int l = 0; l < lights; ++l) {
             Vec3f sum;
             for (; r < end && mSlot[r] < mLightSlots[std::size_t(l) + 1]; ++r)
-                if (!mBlocked[r]) sum += mValue[r];
+                if (!mShadowRays.blocked(r)) sum += mValue[r];
             total += sum * mLightScale[std::size_t(l)];
         }
         radiance[i] = reflectionHitRadiance(hits[i]->emission, total, mIndirect[std::size_t(i)]);

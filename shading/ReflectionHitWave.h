@@ -11,6 +11,7 @@
 #include "shading/DirectLighting.h"
 #include "shading/ReflectionHitLanes.h"
 #include "shading/ReflectionHits.h"
+#include "shading/ShadowRayBatch.h"
 
 #include <cstdint>
 #include <memory>
@@ -26,9 +27,9 @@ public:
                Rng* const* rngs, int count, Vec3f* radiance, ReflectionHitWork& work);
 
 private:
-    // The hits' shadow rays, in the order drawn: origin, direction, length, the sample each is
-    // (its slot among a hit's samples) and what it adds when unblocked.
-    std::vector<float> mOrgX, mOrgY, mOrgZ, mDirX, mDirY, mDirZ, mTfar;
+    // The hits' shadow rays, in the order drawn, the sample each is (its slot among a hit's
+    // samples) and what it adds when unblocked.
+    ShadowRayBatch mShadowRays;
     std::vector<int> mSlot;
     std::vector<Vec3f> mValue;
     std::vector<std::size_t> mFirstRay;  // of each hit, into the arrays
@@ -38,8 +39,6 @@ private:
     int mSlots = 0;                      // the samples of a hit
     ReflectionHitLanes mHitLanes;        // the hits as the lanes read them
     SampleLanes mSamples;                // and their samples
-    std::unique_ptr<bool[]> mBlocked;
-    std::size_t mBlockedCapacity = 0;
 };
 
 }  // namespace fp

@@ -83,21 +83,8 @@ TEST_CASE("light samples in SIMD lanes give the scalar path's samples, bit for b
             INFO("target ", target);
             ReflectionHitLanes lanes;
             lanes.resize(n);
-            for (int i = 0; i < n; ++i) {
-                const SurfacePoint& s = hits[std::size_t(i)];
-                const Vec3f o = s.rayOrigin();
-                const std::size_t g = std::size_t(i);
-                lanes.px[g] = s.position.x, lanes.py[g] = s.position.y, lanes.pz[g] = s.position.z;
-                lanes.ox[g] = o.x, lanes.oy[g] = o.y, lanes.oz[g] = o.z;
-                lanes.nx[g] = s.normal.x, lanes.ny[g] = s.normal.y, lanes.nz[g] = s.normal.z;
-                lanes.vx[g] = s.toViewer.x, lanes.vy[g] = s.toViewer.y, lanes.vz[g] = s.toViewer.z;
-                lanes.dr[g] = s.brdf.diffuseColor.x, lanes.dg[g] = s.brdf.diffuseColor.y;
-                lanes.db[g] = s.brdf.diffuseColor.z;
-                lanes.sr[g] = s.brdf.specularColor.x, lanes.sg[g] = s.brdf.specularColor.y;
-                lanes.sb[g] = s.brdf.specularColor.z;
-                lanes.roughness[g] = s.brdf.roughness;
-                lanes.rng[g] = Rng::fromKey(11, i, 3).state();
-            }
+            for (int i = 0; i < n; ++i)
+                lanes.set(std::size_t(i), hits[std::size_t(i)], Rng::fromKey(11, i, 3).state());
             SampleLanes out;
             useOnlyLaneTarget(target);
             drawLightRayLanes(scalar.views.data(), scalar.lightCount(), samples, lanes, out);

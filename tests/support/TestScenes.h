@@ -222,6 +222,40 @@ inline Light sun(const Vec3d& direction, float angleDegrees = 0.0f) {
     l.sourceAngleDegrees = angleDegrees;
     return l;
 }
+/// A point light of `radius` (a sphere: soft shadows) and radiant intensity `intensity`.
+inline Light pointLight(const Vec3d& position, float radius, float intensity) {
+    Light l;
+    l.type = LightType::Point;
+    l.position = position;
+    l.radius = radius;
+    l.intensity = intensity;
+    return l;
+}
+
+/// A spot light at `position` along `direction`, its cone's half angles in degrees.
+inline Light spotLight(const Vec3d& position, const Vec3d& direction, float innerDegrees,
+                       float outerDegrees, float radius, float intensity) {
+    Light l = pointLight(position, radius, intensity);
+    l.type = LightType::Spot;
+    l.direction = normalize(direction);
+    l.innerConeDegrees = innerDegrees;
+    l.outerConeDegrees = outerDegrees;
+    return l;
+}
+
+/// A rect light centred at `position`, its half-extent axes `halfU`, `halfV` (emitting along
+/// halfU × halfV), of radiance `intensity`.
+inline Light rectLight(const Vec3d& position, const Vec3d& halfU, const Vec3d& halfV,
+                       float intensity) {
+    Light l;
+    l.type = LightType::Rect;
+    l.position = position;
+    l.halfU = halfU;
+    l.halfV = halfV;
+    l.intensity = intensity;
+    return l;
+}
+
 /// True when two planes hold the same bits in every pixel.
 inline bool sameBits(const Plane& a, const Plane& b) {
     if (a.width() != b.width() || a.height() != b.height()) return false;

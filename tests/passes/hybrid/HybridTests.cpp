@@ -1,7 +1,7 @@
 // hybrid: rays that hit on screen are SSGI's, bit for bit; rays the screen cannot finish are
 // traced through the scene, gathering (on a wall whose sunlit floor is off screen) the floor's
 // analytic radiance, through SSGI's Karis weighting.
-#include "screenspace/Lanes.h"
+#include "tests/support/LaneTargets.h"
 #include "tests/support/TestScenes.h"
 
 #include <doctest/doctest.h>
@@ -173,19 +173,8 @@ TEST_CASE("hybrid: scene paths traced in waves give the bits of each path where 
     scene.sceneUnitsPerMeter = 100.0;
     scene.meshes.push_back(test::sphere({0, 12, 0}, 10.0, 32, 0, 2));
     scene.lights.push_back(test::sun({0.3, -1, 0.2}, 2.0f));
-    Light bulb;
-    bulb.type = LightType::Point;
-    bulb.position = {15, 30, 5};
-    bulb.radius = 2.0f;
-    bulb.intensity = 400.0f;
-    scene.lights.push_back(bulb);
-    Light rect;
-    rect.type = LightType::Rect;
-    rect.position = {-20, 25, 0};
-    rect.halfU = {5, 0, 0};
-    rect.halfV = {0, 0, 5};
-    rect.intensity = 50.0f;
-    scene.lights.push_back(rect);
+    scene.lights.push_back(test::pointLight({15, 30, 5}, 2.0f, 400.0f));
+    scene.lights.push_back(test::rectLight({-20, 25, 0}, {5, 0, 0}, {0, 0, 5}, 50.0f));
     const int n = 70;
     FrameCamera cam;
     cam.current = CameraView::lookAt({0, 15, -45}, {0, 8, 10}, {0, 1, 0}, 60.0, n, n, 0.1);
@@ -211,19 +200,15 @@ TEST_CASE("hybrid: scene paths traced in waves give the bits of each path where 
         CHECK(singleWork.at("fallbackHits") < singleWork.at("fallbackRays"));
         if (params.value("continueOnScreen", false))
             CHECK(singleWork.at("continuedHits") > uint64_t(n * n / 10));
-        // The waves' light samples run in SIMD lanes: on every instruction set the CPU has.
-        const std::vector<int64_t> targets = laneTargetsHere();
-        REQUIRE(!targets.empty());
-        for (int64_t target : targets) {
-            INFO("target ", target);
-            useOnlyLaneTarget(target);
+        // The march and the waves' light samples run in SIMD lanes: on every instruction set
+        // the CPU has.
+        test::onEveryLaneTarget([&] {
             const auto waves = run(src, "hybrid", params, &wavesWork, distance);
-            useOnlyLaneTarget(0);
             CHECK(wavesWork == singleWork);
             for (const auto& [name, texture] : single)
                 for (int c = 0; c < texture.image().channelCount(); ++c)
                     CHECK(test::sameBits(waves.at(name).image().plane(c), texture.image().plane(c)));
-        }
+        });
     }
 }
 

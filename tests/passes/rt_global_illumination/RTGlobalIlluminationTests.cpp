@@ -3,7 +3,7 @@
 // gathers half the floor's radiance in one bounce, and many bounces converge to
 // Truth.DiffuseIndirectFull in a closed room.
 #include "reference/TruthRenderer.h"
-#include "screenspace/Lanes.h"
+#include "tests/support/LaneTargets.h"
 #include "tests/support/TestScenes.h"
 
 #include <doctest/doctest.h>
@@ -227,28 +227,9 @@ TEST_CASE("rt_global_illumination: paths traced in waves give the bits of one pa
     scene.sceneUnitsPerMeter = 100.0;
     scene.meshes.push_back(test::sphere({0, 12, 0}, 10.0, 32, 0, 2));
     scene.lights.push_back(test::sun({0.3, -1, 0.2}, 2.0f));
-    Light spot;
-    spot.type = LightType::Spot;
-    spot.position = {10, 40, -10};
-    spot.direction = normalize(Vec3d{0, -1, 0.3});
-    spot.innerConeDegrees = 10.0f;
-    spot.outerConeDegrees = 30.0f;
-    spot.radius = 1.0f;
-    spot.intensity = 800.0f;
-    scene.lights.push_back(spot);
-    Light bulb;
-    bulb.type = LightType::Point;
-    bulb.position = {15, 30, 5};
-    bulb.radius = 2.0f;
-    bulb.intensity = 400.0f;
-    scene.lights.push_back(bulb);
-    Light rect;
-    rect.type = LightType::Rect;
-    rect.position = {-20, 25, 0};
-    rect.halfU = {5, 0, 0};
-    rect.halfV = {0, 0, 5};
-    rect.intensity = 50.0f;
-    scene.lights.push_back(rect);
+    scene.lights.push_back(test::spotLight({10, 40, -10}, {0, -1, 0.3}, 10.0f, 30.0f, 1.0f, 800.0f));
+    scene.lights.push_back(test::pointLight({15, 30, 5}, 2.0f, 400.0f));
+    scene.lights.push_back(test::rectLight({-20, 25, 0}, {5, 0, 0}, {0, 0, 5}, 50.0f));
     scene.environment.sky.enabled = true;
     const int n = 70;
     auto src = test::captureToMemory(scene, test::topCamera({}, n));
@@ -263,13 +244,8 @@ TEST_CASE("rt_global_illumination: paths traced in waves give the bits of one pa
         one["waves"] = false;
         const auto single = runGi(src, one);
         // The waves' light samples run in SIMD lanes: on every instruction set the CPU has.
-        const std::vector<int64_t> targets = laneTargetsHere();
-        REQUIRE(!targets.empty());
-        for (int64_t target : targets) {
-            INFO("target ", target);
-            useOnlyLaneTarget(target);
+        test::onEveryLaneTarget([&] {
             const auto waves = runGi(src, params);
-            useOnlyLaneTarget(0);
             const Plane& diffuse = waves.at("rt_global_illumination.diffuse").image().plane(0);
             int lit = 0;
             for (int y = 0; y < n; ++y)
@@ -281,7 +257,7 @@ TEST_CASE("rt_global_illumination: paths traced in waves give the bits of one pa
                 for (int c = 0; c < waves.at(name).image().channelCount(); ++c)
                     CHECK(test::sameBits(waves.at(name).image().plane(c),
                                          single.at(name).image().plane(c)));
-        }
+        });
     }
 }
 

@@ -3,7 +3,7 @@
 // coverage; a light's visible shape is not reflected as emission (the light's specular is).
 // Each case runs the BVH path (traversal "bvh", the GPU's code) too and checks it against Embree's.
 #include "io/scene/SceneLoader.h"
-#include "screenspace/Lanes.h"
+#include "tests/support/LaneTargets.h"
 #include "tests/support/TestScenes.h"
 
 #include <doctest/doctest.h>
@@ -318,28 +318,9 @@ TEST_CASE("rt_reflections: rays traced in waves give the bits of one ray at a ti
     scene.meshes.push_back(test::sphere({-12, 10, 0}, 9.0, 32, 1, 2));
     scene.meshes.push_back(test::sphere({12, 10, 5}, 9.0, 32, 2, 3));
     scene.lights.push_back(test::sun({0.3, -1, 0.2}, 2.0f));
-    Light spot;
-    spot.type = LightType::Spot;
-    spot.position = {10, 40, -10};
-    spot.direction = normalize(Vec3d{0, -1, 0.3});
-    spot.innerConeDegrees = 10.0f;
-    spot.outerConeDegrees = 30.0f;
-    spot.radius = 1.0f;
-    spot.intensity = 800.0f;
-    scene.lights.push_back(spot);
-    Light bulb;
-    bulb.type = LightType::Point;
-    bulb.position = {15, 30, -15};
-    bulb.radius = 2.0f;
-    bulb.intensity = 400.0f;
-    scene.lights.push_back(bulb);
-    Light rect;
-    rect.type = LightType::Rect;
-    rect.position = {-20, 25, -10};
-    rect.halfU = {5, 0, 0};
-    rect.halfV = {0, 0, 5};
-    rect.intensity = 50.0f;
-    scene.lights.push_back(rect);
+    scene.lights.push_back(test::spotLight({10, 40, -10}, {0, -1, 0.3}, 10.0f, 30.0f, 1.0f, 800.0f));
+    scene.lights.push_back(test::pointLight({15, 30, -15}, 2.0f, 400.0f));
+    scene.lights.push_back(test::rectLight({-20, 25, -10}, {5, 0, 0}, {0, 0, 5}, 50.0f));
     scene.environment.sky.enabled = true;
     const int n = 70;
     auto src = test::captureToMemory(scene, camera({0, 25, -50}, {0, 5, 10}, n, n, 60.0));
@@ -355,14 +336,10 @@ TEST_CASE("rt_reflections: rays traced in waves give the bits of one ray at a ti
         nlohmann::json one = params;
         one["waves"] = false;
         const auto single = test::runChain(src, {test::node("rt_reflections", one)}, outputs);
-        // The waves' light samples run in SIMD lanes: on every instruction set the CPU has.
-        const std::vector<int64_t> targets = laneTargetsHere();
-        REQUIRE(!targets.empty());
-        for (int64_t target : targets) {
-            INFO("target ", target);
-            useOnlyLaneTarget(target);
+        // The waves' rays and light samples run in SIMD lanes: on every instruction set the
+        // CPU has.
+        test::onEveryLaneTarget([&] {
             const auto waves = test::runChain(src, {test::node("rt_reflections", params)}, outputs);
-            useOnlyLaneTarget(0);
             // Not vacuous: hits lit and misses that saw the sky, in the same frame.
             const Plane& distance = waves.at("rt_reflections.hitDistance").image().plane(0);
             const Plane& red = waves.at("rt_reflections.reflection").image().plane(0);
@@ -381,7 +358,7 @@ TEST_CASE("rt_reflections: rays traced in waves give the bits of one ray at a ti
                 for (int c = 0; c < waves.at(name).image().channelCount(); ++c)
                     CHECK(test::sameBits(waves.at(name).image().plane(c),
                                          single.at(name).image().plane(c)));
-        }
+        });
     }
 }
 
