@@ -37,6 +37,14 @@
 
 namespace fp {
 
+/// The floats a vector of a per-target build holds, from Highway's HWY_LANES(float) there: 16
+/// with AVX-512, 8 with AVX2, 4 with SSE4, and 4 for Highway's scalar fallback too (its build
+/// runs 4-wide GCC vectors on the baseline SSE2). Every lanes file takes its LaneFloat's width
+/// from here.
+constexpr int lanesForTarget(int hwyLanes) {
+    return hwyLanes < 4 ? 4 : hwyLanes;
+}
+
 template <int N>
 struct LaneVectors;  // GCC vector types of N lanes (vector_size takes no template value)
 template <>

@@ -15,9 +15,8 @@
 HWY_BEFORE_NAMESPACE();
 namespace fp::paths::HWY_NAMESPACE {
 
-// One lane type per target: 16 floats with AVX-512, 8 with AVX2, 4 with SSE (and the scalar
-// fallback, which runs 4-wide GCC vectors on the baseline SSE2).
-constexpr int kLanesHere = HWY_LANES(float) < 4 ? 4 : int(HWY_LANES(float));
+// One lane type per target (lanesForTarget).
+constexpr int kLanesHere = lanesForTarget(int(HWY_LANES(float)));
 using T = LaneFloat<kLanesHere>;
 using U = UIntOf<T>;
 

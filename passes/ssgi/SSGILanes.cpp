@@ -16,9 +16,8 @@
 HWY_BEFORE_NAMESPACE();
 namespace fp::ssgi::HWY_NAMESPACE {
 
-// One lane type per target: the target's float lanes, at least 4 (the scalar fallback runs
-// 4-wide GCC vectors on the baseline SSE2).
-constexpr int kLanesHere = HWY_LANES(float) < 4 ? 4 : int(HWY_LANES(float));
+// One lane type per target (lanesForTarget).
+constexpr int kLanesHere = lanesForTarget(int(HWY_LANES(float)));
 using T = LaneFloat<kLanesHere>;
 
 __attribute__((flatten)) void tracePixel(const Frame& f, int x, int y, unsigned long long* counts) {
