@@ -16,7 +16,8 @@
 HWY_BEFORE_NAMESPACE();
 namespace fp::hybrid::HWY_NAMESPACE {
 
-constexpr int kLanesHere = HWY_LANES(float) < 4 ? 4 : int(HWY_LANES(float));
+// One lane type per target (lanesForTarget).
+constexpr int kLanesHere = lanesForTarget(int(HWY_LANES(float)));
 using T = LaneFloat<kLanesHere>;
 
 __attribute__((flatten)) void recordPixel(const ssgi::Frame& f, int x, int y,
@@ -47,6 +48,8 @@ void recordTileMarch(const ssgi::Frame& f, const Tile& t, const EmbreeFallback& 
     march.misses.clear();
     march.continuationHits.clear();
     HWY_DYNAMIC_DISPATCH(recordHere)(f, t, fallback, march, counts);
+    march.pixels.push_back({0, 0, march.rays.size(), march.misses.size(),
+                            march.continuationHits.size(), {}, {}});
 }
 
 }  // namespace fp::hybrid

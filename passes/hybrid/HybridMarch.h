@@ -36,7 +36,11 @@ struct TileMarch {
         Rng rng, onwardRng;  // its two streams
         bool continuing = false;  // its last ray asked for a continuation
     };
-    std::vector<Pixel> pixels;  // the tile's traced pixels, in the order they ran
+    // The tile's traced pixels, in the order they ran, then one past the last (recordTileMarch
+    // closes the record with it): pixel p's rays, misses and continuations run up to pixel
+    // p + 1's first.
+    std::vector<Pixel> pixels;
+    std::size_t tracedPixels() const { return pixels.size() - 1; }
     std::vector<Ray> rays;
     std::vector<PathState> misses;
     std::vector<RayPoint> continuationHits;  // the on-screen hits to continue, as asked

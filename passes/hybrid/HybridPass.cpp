@@ -173,15 +173,14 @@ uint64_t HybridPass::traceWaves(PassContext& ctx, const HostPorts& ports, int ra
             m.continuations[i] = fallback.continuation(m.continuationHits[i]);
         }
         m.continuationResults.assign(hits, Vec3f{});
-        const std::size_t pixels = m.pixels.size();
+        const std::size_t pixels = m.tracedPixels();
         for (std::size_t k = 0;; ++k) {
             m.going.clear();
             m.rngs.clear();
             m.owner.clear();
             for (std::size_t p = 0; p < pixels; ++p) {
-                const std::size_t end = p + 1 < pixels ? m.pixels[p + 1].firstMiss : m.misses.size();
                 const std::size_t i = m.pixels[p].firstMiss + k;
-                if (i >= end) continue;
+                if (i >= m.pixels[p + 1].firstMiss) continue;
                 m.going.push_back(m.misses[i]);
                 m.rngs.push_back(&m.pixels[p].rng);
                 m.owner.push_back(i);
@@ -201,10 +200,8 @@ uint64_t HybridPass::traceWaves(PassContext& ctx, const HostPorts& ports, int ra
             m.owner.clear();
             bool asked = false;
             for (std::size_t p = 0; p < pixels; ++p) {
-                const std::size_t end = p + 1 < pixels ? m.pixels[p + 1].firstContinuation
-                                                       : m.continuations.size();
                 const std::size_t i = m.pixels[p].firstContinuation + k;
-                if (i >= end) continue;
+                if (i >= m.pixels[p + 1].firstContinuation) continue;
                 asked = true;
                 const hybrid::EmbreeFallback::Continuation& c = m.continuations[i];
                 if (!c.valid) continue;  // nothing drawn, nothing added
@@ -225,14 +222,13 @@ uint64_t HybridPass::traceWaves(PassContext& ctx, const HostPorts& ports, int ra
         //    onScreenHit).
         for (std::size_t p = 0; p < pixels; ++p) {
             const hybrid::TileMarch::Pixel& pixel = m.pixels[p];
-            const std::size_t end = p + 1 < pixels ? m.pixels[p + 1].firstRay : m.rays.size();
             ssgi::PixelStart start{};
             if (wantDistance) {  // an on-screen hit's distance, from the pixel (beginPixel's)
                 const PixelCoord q = fullResPixel(pixel.x, pixel.y, f.toFull, f.width, f.height);
                 start = ssgi::pixelStart(f, pixel.x, pixel.y, q.x, q.y, f.depth.at(q.x, q.y));
             }
             ssgi::PixelTrace trace;
-            for (std::size_t i = pixel.firstRay; i < end; ++i) {
+            for (std::size_t i = pixel.firstRay; i < m.pixels[p + 1].firstRay; ++i) {
                 const hybrid::TileMarch::Ray& r = m.rays[i];
                 if (r.kind == hybrid::TileMarch::kScreen) {
                     trace.add(r.screen);

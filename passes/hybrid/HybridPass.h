@@ -54,16 +54,16 @@ private:
     /// bound.
     hybrid::GiFallback<BvhTracer> bvhFallback(PassContext& ctx, const BvhTracer& tracer,
                                               unsigned long long* counts) const;
-    /// SSGI's kernel over each tile twice, the tile's scene paths traced in waves between: its
-    /// march records what it asks of the scene (`fallback`'s paths: `missSetup`'s for a ray the
-    /// screen cannot finish, `onwardSetup`'s for an on-screen hit's continuation), the paths run a
-    /// step at a time in Embree's packets (DiffusePathWave), and the march again resolves each
-    /// pixel with what they brought: ssgi::run's outputs and work, the same bits; SSGI's ray
+    /// SSGI's kernel over each tile, recording its march (HybridMarch.h): each ray's light in
+    /// order and what it asks of the scene (`fallback`'s paths: `missSetup`'s for a ray the
+    /// screen cannot finish, `onwardSetup`'s for an on-screen hit's continuation); the paths run
+    /// a step at a time in Embree's packets (DiffusePathWave), then each pixel is summed from the
+    /// record with what they brought: ssgi::run's outputs and work, the same bits; SSGI's ray
     /// count.
-    uint64_t traceWaves(PassContext& ctx, const HostPorts& ports, int rays,
-                                       int steps, const hybrid::GiFallback<EmbreeTracer>& fallback,
-                                       const DiffusePathSetup& missSetup,
-                                       const DiffusePathSetup& onwardSetup) const;
+    uint64_t traceWaves(PassContext& ctx, const HostPorts& ports, int rays, int steps,
+                        const hybrid::GiFallback<EmbreeTracer>& fallback,
+                        const DiffusePathSetup& missSetup,
+                        const DiffusePathSetup& onwardSetup) const;
     /// The fallback's counts, with `rays` (SSGI's count, on screen and not) for the on-screen ones.
     void addFallbackWork(PassContext& ctx, uint64_t rays, const unsigned long long* counts) const;
 };

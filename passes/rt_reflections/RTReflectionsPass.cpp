@@ -38,8 +38,7 @@ constexpr uint32_t kSeed = 0x52545246u;  // "RTRF"
 struct WaveArrays {
     std::vector<rtr::Texel> texels;  // the tile's texels that trace
     std::vector<int> at;             // and where each is in the tile
-    std::vector<rtr::ReflectionRay> rays;
-    std::vector<Ray> packet;
+    std::vector<Ray> packet;  // the texels' rays this step
     std::vector<RayHit> rayHits;
     std::vector<PathHit> hits;
     std::vector<const SurfacePoint*> lit;  // the hits left to be lit
@@ -205,8 +204,7 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
         // Each worker's arrays, kept from tile to tile: a tile's are some 2 MB, which fresh
         // allocations would take from the kernel page by page every tile.
         thread_local WaveArrays a;
-        auto& [texels, at, rays, packet, rayHits, hits, lit, rngs, litOwner, radiance, lanes,
-               wave] = a;
+        auto& [texels, at, packet, rayHits, hits, lit, rngs, litOwner, radiance, lanes, wave] = a;
         texels.clear();
         at.clear();
         for (int y = t.y0; y < t.y1; ++y) {
@@ -237,7 +235,6 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
             }
         }
         const std::size_t going = texels.size();
-        rays.resize(going);
         packet.resize(going);
         rayHits.resize(going);
         hits.resize(going);
@@ -263,8 +260,10 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
             rtr::drawTexelRayLanes(setup.bias, lanes);
             for (std::size_t i = 0; i < going; ++i) {
                 texels[i].rng = Rng::resume(lanes.rng[i]);
-                rays[i] = {{lanes.ox[i], lanes.oy[i], lanes.oz[i]}, {lanes.lx[i], lanes.ly[i], lanes.lz[i]}};
-                packet[i] = {rays[i].org, rays[i].L, 0.0f, std::numeric_limits<float>::infinity()};
+                packet[i] = {{lanes.ox[i], lanes.oy[i], lanes.oz[i]},
+                             {lanes.lx[i], lanes.ly[i], lanes.lz[i]},
+                             0.0f,
+                             std::numeric_limits<float>::infinity()};
             }
             for (std::size_t r = 0; r < going; r += std::size_t(width))
                 rs.intersectPacket(packet.data() + r, int(std::min(going - r, std::size_t(width))),
@@ -273,9 +272,10 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
             rngs.clear();
             litOwner.clear();
             for (std::size_t i = 0; i < going; ++i) {
-                tracer.fillPathHit(rayHits[i], rays[i].org, rays[i].L, hits[i]);
-                if (!rtr::reachHit(f, texels[i], rays[i], hits[i])) continue;
-                rtr::seenFrom(f, rays[i], hits[i]);
+                const rtr::ReflectionRay ray{packet[i].org, packet[i].dir};
+                tracer.fillPathHit(rayHits[i], ray.org, ray.L, hits[i]);
+                if (!rtr::reachHit(f, texels[i], ray, hits[i])) continue;
+                rtr::seenFrom(f, ray, hits[i]);
                 lit.push_back(&hits[i].surface);
                 rngs.push_back(&texels[i].rng);
                 litOwner.push_back(i);
