@@ -293,6 +293,16 @@ FP_HD inline float traceBvh(const BvhView bvh, const Vec3f org, const Vec3f dir,
     return traceBvhHit(bvh, org, dir, tnear, tfar, q).t;
 }
 
+/// A shadow or occlusion ray's blocker: its distance, −1 when nothing blocks the ray — the closest
+/// blocker's where `closest` is asked, else the first found (an any-hit query). A ray has a
+/// closest hit exactly when it has any, so where the occluder's distance is read this one query
+/// answers whether the ray is blocked too, where an any-hit query and then a closest-hit one would
+/// traverse a blocked ray twice.
+FP_HD inline float traceBlocker(const BvhView bvh, const Vec3f org, const Vec3f dir, float tnear,
+                                float tfar, bool closest) {
+    return traceBvh(bvh, org, dir, tnear, tfar, closest ? BvhQuery{} : BvhQuery{true, false, 0});
+}
+
 /// Where a closest hit lies on its triangle: the barycentric weights (u, v) of v1 and v2 (v0's is
 /// 1 − u − v), as the traversal's own triangle test computes them.
 FP_HD inline void hitBarycentrics(const BvhView& bvh, const BvhHit& hit, const Vec3f& org,

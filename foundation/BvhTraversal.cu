@@ -18,12 +18,10 @@ __global__ void __launch_bounds__(128, 8)
     const int i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= count) return;
     const Ray r = rays[i];
-    const bool hit = traceBvh(bvh, r.org, r.dir, r.tnear, r.tfar, BvhQuery{true, false, 0}) >= 0.0f;
-    float t = -1.0f;
-    if (hit && closestHits) t = traceBvh(bvh, r.org, r.dir, r.tnear, r.tfar, BvhQuery{});
-    // A blocked ray counts once its closest hit is found where that is asked; one atomic per
-    // warp keeps the count from costing what it measures.
-    const unsigned votes = __ballot_sync(__activemask(), closestHits ? t >= 0.0f : hit);
+    // The pass's query (traceBlocker): the closest blocker where its distance is asked.
+    const bool hit = traceBlocker(bvh, r.org, r.dir, r.tnear, r.tfar, closestHits) >= 0.0f;
+    // One atomic per warp keeps the count from costing what it measures.
+    const unsigned votes = __ballot_sync(__activemask(), hit);
     if ((threadIdx.x & 31) == __ffs(__activemask()) - 1 && votes)
         atomicAdd(blocked, (unsigned long long)__popc(votes));
 }

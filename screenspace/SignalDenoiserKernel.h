@@ -2,7 +2,7 @@
 // The signal denoiser's per-pixel work (SignalDenoiser.h says what it computes), written once for
 // both backends: ao_denoise, gi_denoise and reflection_denoise run ssd::run with CpuPixels from
 // execute() and with CudaPixels from the .cu file beside each. Sweeps: the surfaces (and, for a
-// signal traced at 1/k, the texels' own), each pixel's kernel radius, the reconstruction, the
+// signal traced at 1/k, the texels' own) with each pixel's kernel radius, the reconstruction, the
 // pre-convolutions ping-ponging between two scratch images, the temporal accumulation, the
 // history convolution — each reading only what the sweeps before it wrote.
 #include "foundation/Error.h"
@@ -94,7 +94,7 @@ struct Frame {
 
     FP_HD bool carriesSignal(int x, int y) const { return radius.at(x, y) >= 0.0f; }
     FP_HD bool hasHistory() const { return history[0].data != nullptr; }
-    FP_HD const Surface& texelSurface(int tx, int ty) const {
+    FP_HD Surface texelSurface(int tx, int ty) const {
         return upscale > 1 ? traceSurfaces.at(tx, ty) : surfaces.at(tx, ty);
     }
     // A texel whose ray was traced (a surface, and a hit distance above −1.5).
@@ -128,11 +128,10 @@ FP_HD inline void turnOf(const Frame& f, int x, int y, int stage, float radius, 
     s = radius * sn;
 }
 
-// §12.5: the pixel's kernel radius from its hit distance — the distance itself for diffuse
+// §12.5: pixel (x, y)'s kernel radius (its surface s) from its hit distance — the distance itself for diffuse
 // signals, × α for reflections — in pixels of its own world size, clamped to [0, 8]; a miss
 // (nothing near) takes the widest kernel, a mirror (α → 0) none; upscaling, at least k − 1.
-FP_HD inline float kernelRadius(const Frame& f, int x, int y) {
-    const Surface& s = f.surfaces.at(x, y);
+FP_HD inline float kernelRadius(const Frame& f, const Surface& s, int x, int y) {
     if (!s.valid)
         return kNoRay;
     const PixelCoord t = f.coveringTexel(x, y);
@@ -471,12 +470,17 @@ void run(PassContext& ctx,
             f.state[c] = spanOf(state.image().plane(c));
     }
 
-    pixels.template forEach<0>(
+    // Each pixel's surface and, from it, its kernel radius in one sweep (a second would read
+    // every surface back).
+    const auto carried = pixels.template forEach<2>(
         W, H,
-        [=] FP_HD(int x, int y, WorkCounts<0>&) {
-            f.surfaces.build(f.camera, gbuffer, NormalRead::Normalised, x, y);
+        [=] FP_HD(int x, int y, WorkCounts<2>& n) {
+            const Surface s = f.surfaces.build(f.camera, gbuffer, NormalRead::Normalised, x, y);
+            const float r = kernelRadius(f, s, x, y);
+            f.radius.at(x, y) = r;
+            ++n.value[r >= 0.0f ? 0 : 1];
         },
-        "signal denoiser surfaces");
+        "signal denoiser surfaces and radii");
     if (upscale > 1)
         pixels.template forEach<0>(
             traced.width, traced.height,
@@ -484,14 +488,6 @@ void run(PassContext& ctx,
                 f.traceSurfaces.build(f.camera, gbuffer, NormalRead::Normalised, x, y);
             },
             "signal denoiser texel surfaces");
-    const auto carried = pixels.template forEach<2>(
-        W, H,
-        [=] FP_HD(int x, int y, WorkCounts<2>& n) {
-            const float r = kernelRadius(f, x, y);
-            f.radius.at(x, y) = r;
-            ++n.value[r >= 0.0f ? 0 : 1];
-        },
-        "signal denoiser radii");
 
     // Reconstruction, then the pre-convolutions, ping-ponging between two scratch images.
     const std::vector<std::string> names(channels, "S");

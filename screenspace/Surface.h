@@ -17,12 +17,17 @@
 
 namespace fp {
 
-struct Surface {
+/// 16-byte aligned, so the GPU reads a surface in two 16-byte fetches (SurfaceGridView::at).
+struct alignas(16) Surface {
     bool valid = false;  //!< a lit surface (not sky, not unlit): the only pixels compared
     Vec3f position;      //!< camera-relative, scene units
     Vec3f normal;        //!< world (unit when built with NormalRead::Normalised)
     float radius = 0;    //!< pixel world radius at the grid's resolution, scene units
 };
+
+static_assert(sizeof(Surface) == 32 && offsetof(Surface, position) == 4 &&
+                  offsetof(Surface, normal) == 16 && offsetof(Surface, radius) == 28,
+              "SurfaceGridView::at reads a surface as two 16-byte fetches in this layout");
 
 /// Whether the stored world normal is normalised on read. Each denoiser keeps the reading it has
 /// always had (SSGI's normalises; the shadow filter's uses the GBuffer's value as stored).
@@ -95,12 +100,29 @@ struct SurfaceGridView {
     Surface* data = nullptr;
     int width = 0, height = 0, step = 1;
 
-    FP_HD const Surface& at(int x, int y) const { return data[y * width + x]; }
-    /// Builds texel (x, y) from the GBuffer (every texel once, before any is read).
-    FP_HD void build(const CameraView& cam, const SurfaceInputsView& in, NormalRead read, int x,
-                     int y) const {
+    /// Texel (x, y). On the GPU as two 16-byte read-only fetches: the denoisers' gathers read a
+    /// neighbour's surface at every tap, and field by field each took eight 4-byte loads.
+    FP_HD Surface at(int x, int y) const {
+#if defined(__CUDA_ARCH__)
+        const float4* p = reinterpret_cast<const float4*>(data + (y * width + x));
+        const float4 a = __ldg(p), b = __ldg(p + 1);
+        Surface s;
+        s.valid = (__float_as_uint(a.x) & 0xffu) != 0;
+        s.position = {a.y, a.z, a.w};
+        s.normal = {b.x, b.y, b.z};
+        s.radius = b.w;
+        return s;
+#else
+        return data[y * width + x];
+#endif
+    }
+    /// Builds texel (x, y) from the GBuffer (every texel once, before any is read) and returns it.
+    FP_HD Surface build(const CameraView& cam, const SurfaceInputsView& in, NormalRead read, int x,
+                        int y) const {
         const PixelCoord p = fullResPixel(x, y, step, in.depth.width, in.depth.height);
-        data[y * width + x] = pixelSurface(cam, in, p.x, p.y, float(step), read);
+        const Surface s = pixelSurface(cam, in, p.x, p.y, float(step), read);
+        data[y * width + x] = s;
+        return s;
     }
 };
 

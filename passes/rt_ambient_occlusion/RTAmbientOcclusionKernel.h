@@ -257,8 +257,8 @@ struct Frame {
 
 enum Counter { kRays, kPixels, kSkipped, kCounterCount };
 
-/// Pixel (x, y) through the BVH: its set-up, each sample's ray (an any-hit query; where the hit
-/// distance is read, a blocked ray's closest hit after it, as Embree's path asks), its resolve.
+/// Pixel (x, y) through the BVH: its set-up, each sample's ray (an any-hit query, or where the
+/// hit distance is read a closest-hit one: traceBlocker), its resolve.
 FP_HD inline void aoPixel(const Frame& f, int x, int y, WorkCounts<kCounterCount>& work) {
     Pixel px;
     if (f.setup.intensity <= 0.0f || !setupPixel(f.setup, f.depth, f.model, f.normal, x, y, px)) {
@@ -270,12 +270,8 @@ FP_HD inline void aoPixel(const Frame& f, int x, int y, WorkCounts<kCounterCount
     Sums sums;
     for (int k = 0; k < f.setup.spp; ++k) {
         const AoRay r = sampleRay(f.setup, px);
-        const bool blocked =
-            traceBvh(f.bvh, r.org, r.dir, 0.0f, f.setup.radius, BvhQuery{true, false, 0}) >= 0.0f;
-        const float t = blocked && f.wantDistance
-                            ? traceBvh(f.bvh, r.org, r.dir, 0.0f, f.setup.radius, BvhQuery{})
-                            : -1.0f;
-        sums.add(f.setup, r.weight, blocked, t);
+        const float t = traceBlocker(f.bvh, r.org, r.dir, 0.0f, f.setup.radius, f.wantDistance);
+        sums.add(f.setup, r.weight, t >= 0.0f, f.wantDistance ? t : -1.0f);
     }
     const Resolved res = resolve(f.setup, px.shadingDotGeometric, sums);
     f.ao.at(x, y) = res.ao;

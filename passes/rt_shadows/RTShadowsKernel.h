@@ -293,12 +293,9 @@ FP_HD inline bool setupFramePixel(const Frame& f, int x, int y, Pixel& px) {
 
 /// Whether a shadow ray is blocked, and where asked its closest occluder (−1: none or unasked).
 FP_HD inline bool traceShadowRay(const Frame& f, const ShadowRay& ray, float& hitT) {
-    const bool blocked =
-        traceBvh(f.scene.bvh, ray.org, ray.dir, 0.0f, ray.tfar, BvhQuery{true, false, 0}) >= 0.0f;
-    hitT = blocked && f.wantDistance
-               ? traceBvh(f.scene.bvh, ray.org, ray.dir, 0.0f, ray.tfar, BvhQuery{})
-               : -1.0f;
-    return blocked;
+    const float t = traceBlocker(f.scene.bvh, ray.org, ray.dir, 0.0f, ray.tfar, f.wantDistance);
+    hitT = f.wantDistance ? t : -1.0f;
+    return t >= 0.0f;
 }
 
 /// What a traced sample of pixel (x, y) adds to its sums; returns the transmission rays.

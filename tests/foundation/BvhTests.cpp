@@ -9,6 +9,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <set>
 
@@ -120,6 +121,31 @@ TEST_CASE("hits, misses and closest distances agree with Embree's on 200k random
     MESSAGE("mismatches: occluded " << occlusionMismatch << ", closest " << closestMismatch
                                     << ", one instance " << instanceMismatch
                                     << "; worst relative distance " << worstRel);
+}
+
+TEST_CASE("traceBlocker: one closest-hit query answers the any-hit query's blocked and the closest distance") {
+    // The passes read the occluder's distance from one query (rt_shadows, rt_ambient_occlusion):
+    // the same answers as an any-hit query followed, for a blocked ray, by a closest-hit one.
+    const Scene scene = clutteredScene();
+    const RayScene rs(scene, {5, 7, -3});
+    const BvhView bvh = rs.bvh();
+    Rng rng(4, 5, 6, 7);
+    int blocked = 0, differing = 0;
+    for (int i = 0; i < 50000; ++i) {
+        const Vec3f org{rng.nextFloat() * 240.0f - 120.0f, rng.nextFloat() * 80.0f,
+                        rng.nextFloat() * 240.0f - 120.0f};
+        const Vec3f dir = randomDirection(rng);
+        const float tfar = rng.nextFloat() * 300.0f;
+        const bool anyHit = traceBvh(bvh, org, dir, 0.0f, tfar, {true, false, 0}) >= 0.0f;
+        const float closest = traceBvh(bvh, org, dir, 0.0f, tfar, {});
+        const float first = traceBlocker(bvh, org, dir, 0.0f, tfar, false);
+        const float t = traceBlocker(bvh, org, dir, 0.0f, tfar, true);
+        blocked += anyHit;
+        differing += (t >= 0.0f) != anyHit || (first >= 0.0f) != anyHit ||
+                     (anyHit && std::bit_cast<uint32_t>(t) != std::bit_cast<uint32_t>(closest));
+    }
+    CHECK(blocked > 5000);  // not vacuous: a tenth of the rays are blocked
+    CHECK(differing == 0);
 }
 
 TEST_CASE("Embree's closest-hit packets give each ray intersect()'s hit, bit for bit") {

@@ -450,9 +450,21 @@ double median(std::vector<double> v) {
     return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
-// --bench: medians of `runs` frames of the demo chain with reflections on the GPU and on the CPU,
-// per pass.
-int bench(const std::string& scene, Extent extent, int runs, const std::string& jsonPath) {
+// The chain a config file names (`--bench --config F`), its light templates expanded over the
+// scene's lights; its capture is not read: the bench's own capture of the scene stands for it.
+Plan configPlan(const std::string& path, const std::string& device, const Scene& scene) {
+    const io::RunConfig rc = io::loadRunConfig(path);
+    PlanInputs inputs;
+    inputs.overrides.device = device;
+    if (!rc.graph.lightTemplates.empty())
+        inputs.lightNames = lightsOf(scene);
+    return makePlan(rc.graph, builtinPasses(), inputs);
+}
+
+// --bench: medians of `runs` frames of the demo chain with reflections (or of a config's chain)
+// on the GPU and on the CPU, per pass.
+int bench(const std::string& scene, Extent extent, int runs, const std::string& jsonPath,
+          const std::string& config) {
     if (const std::string why = cuda::unavailableReason(); !why.empty()) {
         std::cerr << "framepass_gpu_check --bench: " << why << "\n";
         return 2;
@@ -474,14 +486,18 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
     double passRaySeconds = 0;
     for (const std::string device : {"cuda", "cpu"}) {
         const Plan plan =
-            chainPlan({.device = device, .reflections = true, .lights = lightsOf(cap->scene.scene)});
+            config.empty() ? chainPlan({.device = device, .reflections = true,
+                                        .lights = lightsOf(cap->scene.scene)})
+                           : configPlan(config, device, cap->scene.scene);
         std::map<std::string, std::vector<double>> wall, gpu;
         std::map<std::string, uint64_t> rays;
         std::vector<double> frames, transfers, uploads, downloads;
         double upBytes = 0, downBytes = 0;
         for (int r = 0; r < runs + 1; ++r) {  // the first run warms up (allocations, module load)
             test::MemorySink sink;
-            const bool logRays = device == "cpu" && r == 0;
+            // Of the demo chain only: a config's other passes (AO, GI, reflections) trace
+            // through the same scene, and their rays would join the log.
+            const bool logRays = device == "cpu" && r == 0 && config.empty();
             if (logRays)
                 cap->source.scene().setRayLog(&rayLog);
             const FrameReport rep = executePlan(plan, cap->source, sink);
@@ -537,7 +553,7 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
                                  downBytes / 1e6);
         result[device] = dj;
     }
-    if (passRays > 0) {
+    if (passRays > 0 && !rayLog.rays.empty()) {
         // rays/s of the pass (its rays over its kernel time: set-up, ray generation, traversal,
         // transmission and resolve) against the bare kernel tracing the same rays alone.
         uint64_t blocked = 0;
@@ -550,7 +566,7 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
             "traversal of the same {} rays{} {:.3f} G rays/s ({:.3f} ms, {} blocked): the pass "
             "keeps {:.0f}%\n",
             passRate / 1e9, passRays, passRaySeconds * 1e3, rayLog.rays.size(),
-            rayLog.closestHits ? " (closest hit of the blocked ones too)" : "", bareRate / 1e9,
+            rayLog.closestHits ? " (closest-hit queries, as the pass asks)" : "", bareRate / 1e9,
             bare * 1e3, blocked, 100.0 * passRate / bareRate);
         result["cuda"]["shadowRays"] = {{"passRaysPerSecond", passRate},
                                         {"bareRaysPerSecond", bareRate},
@@ -558,12 +574,15 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
                                         {"bareRays", rayLog.rays.size()},
                                         {"closestHits", rayLog.closestHits}};
     }
-    // The workbench's re-run (framepass serve, docs/results/serve.md): r.SSGI.Quality moved
+    // The workbench's re-run (framepass serve, docs/results/serve.md), of the demo chain only:
+    // r.SSGI.Quality moved
     // between 4 and 2 with the session's step cache, planned as the workbench plans it (every
     // pass runs, only the shown output comes back to the host: the page's default A, the
     // measured GI). Also with every pass output brought back, as the workbench did before.
-    for (const auto& [device, everyOutput] :
-         {std::pair<std::string, bool>{"cuda", false}, {"cuda", true}, {"cpu", false}}) {
+    const std::vector<std::pair<std::string, bool>> rerunDevices =
+        config.empty() ? std::vector<std::pair<std::string, bool>>{{"cuda", false}, {"cuda", true}, {"cpu", false}}
+                       : std::vector<std::pair<std::string, bool>>{};
+    for (const auto& [device, everyOutput] : rerunDevices) {
         ChainOptions o{.device = device, .errors = true, .workbench = true};
         o.dumps = {everyOutput ? "all" : "ssgi_denoise.diffuse"};
         o.quality = 4;
@@ -706,7 +725,7 @@ TEST_CASE("gpu: the ray-traced preset on the GPU matches the CPU on the Cornell,
 int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i)
         if (std::strcmp(argv[i], "--bench") == 0) {
-            std::string scene = "cornell", json;
+            std::string scene = "cornell", json, config;
             Extent extent{1920, 1080};
             int runs = 10;
             for (int j = 1; j < argc; ++j) {
@@ -720,9 +739,11 @@ int main(int argc, char** argv) {
                     runs = std::max(1, std::atoi(v));
                 else if (a == "--json")
                     json = v;
+                else if (a == "--config")
+                    config = v;
             }
             try {
-                return bench(scene, extent, runs, json);
+                return bench(scene, extent, runs, json, config);
             } catch (const std::exception& e) {
                 std::cerr << "framepass_gpu_check: " << e.what() << "\n";
                 return 1;
