@@ -479,8 +479,9 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
                              {"height", size.height},
                              {"gpu", cuda::deviceName()},
                              {"runs", runs}};
-    // The CPU's run records its shadow rays (the same rays as the GPU's: one ray generation)
-    // for the bare traversal kernel below.
+    // The CPU's run records its rays (the same rays as the GPU's: one ray generation; for a
+    // config's closest hits, the same within the two traversals' rounding) for the bare
+    // traversal kernel below: the demo chain's shadow rays, or every ray of a config's passes.
     RayScene::RayLog rayLog;
     uint64_t passRays = 0;
     double passRaySeconds = 0;
@@ -495,9 +496,7 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
         double upBytes = 0, downBytes = 0;
         for (int r = 0; r < runs + 1; ++r) {  // the first run warms up (allocations, module load)
             test::MemorySink sink;
-            // Of the demo chain only: a config's other passes (AO, GI, reflections) trace
-            // through the same scene, and their rays would join the log.
-            const bool logRays = device == "cpu" && r == 0 && config.empty();
+            const bool logRays = device == "cpu" && r == 0;
             if (logRays)
                 cap->source.scene().setRayLog(&rayLog);
             const FrameReport rep = executePlan(plan, cap->source, sink);
@@ -512,7 +511,7 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
             uploads.push_back(rep.uploadSeconds);
             downloads.push_back(rep.downloadSeconds);
             for (const auto& p : rep.passes) {
-                if (p.type == "rt_shadows" && p.work.count("rays"))
+                if ((p.type == "rt_shadows" || !config.empty()) && p.work.count("rays"))
                     rays[p.name] = p.work.at("rays");
                 wall[p.name].push_back(p.seconds);
                 if (p.gpuSeconds)
@@ -553,7 +552,32 @@ int bench(const std::string& scene, Extent extent, int runs, const std::string& 
                                  downBytes / 1e6);
         result[device] = dj;
     }
-    if (passRays > 0 && !rayLog.rays.empty()) {
+    if (!config.empty() && passRays > 0) {
+        // A config's ray-tracing passes against the bare kernel tracing their rays alone: the
+        // closest-hit rays each a closest-hit query, the shadow rays as the passes asked them.
+        uint64_t hits = 0, blocked = 0;
+        const BvhView bvh = cap->source.scene().deviceBvh();
+        const double closest = cuda::timeBareTraversal(bvh, rayLog.closestRays, true, runs, hits);
+        const double shadow =
+            cuda::timeBareTraversal(bvh, rayLog.rays, rayLog.closestHits, runs, blocked);
+        std::cout << fmt::format(
+            "rays on the GPU: the passes that trace take {:.3f} ms for {} rays ({:.3f} G rays/s); "
+            "bare traversal of the CPU run's rays: {} closest-hit rays {:.3f} ms ({:.3f} G "
+            "rays/s, {} hit), {} shadow rays {:.3f} ms ({} blocked); together {:.3f} ms: the "
+            "passes keep {:.0f}%\n",
+            passRaySeconds * 1e3, passRays, double(passRays) / passRaySeconds / 1e9,
+            rayLog.closestRays.size(), closest * 1e3,
+            closest > 0 ? double(rayLog.closestRays.size()) / closest / 1e9 : 0.0, hits,
+            rayLog.rays.size(), shadow * 1e3, blocked, (closest + shadow) * 1e3,
+            100.0 * (closest + shadow) / passRaySeconds);
+        result["cuda"]["bareRays"] = {{"passSeconds", passRaySeconds},
+                                      {"passRays", passRays},
+                                      {"closestRays", rayLog.closestRays.size()},
+                                      {"closestSeconds", closest},
+                                      {"shadowRays", rayLog.rays.size()},
+                                      {"shadowSeconds", shadow}};
+    }
+    if (config.empty() && passRays > 0 && !rayLog.rays.empty()) {
         // rays/s of the pass (its rays over its kernel time: set-up, ray generation, traversal,
         // transmission and resolve) against the bare kernel tracing the same rays alone.
         uint64_t blocked = 0;
