@@ -7,11 +7,9 @@
 #include "foundation/Cuda.h"
 #include "foundation/PerPixel.h"
 
-#include <cooperative_groups.h>
 #include <cuda_runtime.h>
 
 #include <array>
-#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -85,21 +83,6 @@ std::array<uint64_t, N> forEachPixel(int width, int height, const F& f, const ch
     for (int i = 0; i < N; ++i)
         result[i] = host[i];
     return result;
-}
-
-/// Appends `value` to a list every thread of a launch may append to (`list`, its length
-/// `*length`), in no particular order: the threads of a warp that append together take
-/// consecutive places with one atomic add (one a thread would queue them up on one address).
-/// (The host's branch only lets an FP_HD kernel function call it.)
-FP_HD inline void appendToList(unsigned* length, int* list, int value) {
-#if defined(__CUDA_ARCH__)
-    const cooperative_groups::coalesced_group together = cooperative_groups::coalesced_threads();
-    unsigned first = 0;
-    if (together.thread_rank() == 0) first = atomicAdd(length, together.size());
-    list[together.shfl(first, 0) + together.thread_rank()] = value;
-#else
-    list[std::atomic_ref<unsigned>(*length).fetch_add(1u, std::memory_order_relaxed)] = value;
-#endif
 }
 
 /// Counters every pixel of a launch adds to (addSharedCount, PerPixel.h), in device memory of

@@ -265,31 +265,16 @@ FP_HD inline void leaveHit(const DiffusePathSettings& c, PathState& p, const Sur
     ++p.bounce;
 }
 
-/// Path `p`'s ray (not done): its closest hit into `hit`; true where the path goes on to the
-/// lights there (reachHit), else it has ended. `rays` counts the ray.
-template <class Tracer, class Count>
-FP_HD bool pathRayStep(const Tracer& tracer, const DiffusePathSettings& c, PathState& p,
-                       PathHit& hit, Count& rays) {
-    ++rays;
-    hit = tracer.closestHit(p.org, p.dir, p.tMin, c.reach);
-    return reachHit(tracer, c, p, hit);
-}
-
-/// Path `p` at hit `s`: the light samples there, their shadow rays traced, then leaveHit.
-/// `shadowRays` counts what it traced.
-template <class Tracer, class Count>
-FP_HD void pathLightStep(const Tracer& tracer, const DiffusePathSettings& c, PathState& p,
-                         const SurfacePoint& s, Rng& rng, Count& shadowRays) {
-    leaveHit(c, p, s, sampleLights(tracer, c, s, rng, shadowRays), rng);
-}
-
 /// Path `p` to its end, one ray at a time; `rays` and `shadowRays` count what it traced.
 template <class Tracer, class Count>
 FP_HD DiffusePath traceDiffusePath(const Tracer& tracer, const DiffusePathSettings& c, PathState p,
                                    Rng& rng, Count& rays, Count& shadowRays) {
-    PathHit hit;
-    while (!p.done && pathRayStep(tracer, c, p, hit, rays))
-        pathLightStep(tracer, c, p, hit.surface, rng, shadowRays);
+    while (!p.done) {
+        ++rays;
+        const PathHit hit = tracer.closestHit(p.org, p.dir, p.tMin, c.reach);
+        if (!reachHit(tracer, c, p, hit)) break;
+        leaveHit(c, p, hit.surface, sampleLights(tracer, c, hit.surface, rng, shadowRays), rng);
+    }
     return p.out;
 }
 

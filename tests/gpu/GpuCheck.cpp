@@ -373,7 +373,7 @@ Comparison runBoth(const std::string& scene, Extent extent, int quality = 4, boo
 // the passes without a CUDA kernel run on the CPU in both plans, so each kernel (the ray tracers'
 // against the CPU's traversal "bvh", the signal denoisers') is compared on the same inputs.
 Plan raytracedPlan(const std::string& device, const std::string& traversal,
-                   const std::vector<std::string>& lights, const nlohmann::json& giParams = {}) {
+                   const std::vector<std::string>& lights) {
     std::ifstream file(sourceDir() + "/configs/ue4.27-raytracing.json");
     REQUIRE_MESSAGE(file, "cannot read configs/ue4.27-raytracing.json under " << sourceDir());
     nlohmann::json config = nlohmann::json::parse(file, nullptr, true, /*ignore_comments=*/true);
@@ -387,9 +387,6 @@ Plan raytracedPlan(const std::string& device, const std::string& traversal,
         else if (pass.value("type", "").rfind("rt_", 0) == 0)  // the ray tracers
             pass["params"]["traversal"] = traversal;
     }
-    for (nlohmann::json& pass : config["passes"])
-        if (pass.value("type", "") == "rt_global_illumination")
-            for (const auto& [key, value] : giParams.items()) pass["params"][key] = value;
     io::RunConfig rc = io::parseRunConfig(config, "gpu check", sourceDir());
     PlanInputs inputs;
     inputs.overrides.device = device;
@@ -398,11 +395,10 @@ Plan raytracedPlan(const std::string& device, const std::string& traversal,
     return makePlan(rc.graph, builtinPasses(), inputs);
 }
 
-Comparison runRaytraced(const std::string& scene, Extent extent,
-                        const nlohmann::json& giParams = {}) {
+Comparison runRaytraced(const std::string& scene, Extent extent) {
     const std::vector<std::string> lights = lightsOf(io::loadScene(scenePath(scene)).scene);
     return runPlans(scene, extent, [&](const std::string& device, const std::string& traversal) {
-        return raytracedPlan(device, traversal, lights, giParams);
+        return raytracedPlan(device, traversal, lights);
     });
 }
 
@@ -747,30 +743,6 @@ TEST_CASE("gpu: the ray-traced preset on the GPU matches the CPU on the Cornell,
         for (const auto& d : diffs.layers)
             denoised |= d.layer.find("gi_denoise.diffuse") != std::string::npos;
         CHECK(denoised);
-    }
-}
-
-// rt_global_illumination's wavefront past its first bounce and path: 4 paths of 3 bounces a
-// texel (each later path starts from what the texel's last one left; bounces 2 and 3 run in the
-// launches over the list of paths still going), on the three captures.
-TEST_CASE("gpu: rt_global_illumination's paths of 3 bounces, 4 a texel, match the CPU") {
-    if (skipWithoutGpu())
-        return;
-    for (const auto& [scene, extent] :
-         std::vector<std::pair<std::string, Extent>>{{"cornell", {256, 256}},
-                                                     {"glossy", {256, 192}},
-                                                     {"hard", {256, 192}}}) {
-        const auto diffs = runRaytraced(
-            scene, extent,
-            {{"samplesPerPixel", 4}, {"maxBounces", 3}});
-        printDifferences(fmt::format("4 GI paths of 3 bounces, {} {}×{}, frames 1–3", scene,
-                                     extent.width, extent.height),
-                         diffs);
-        checkAgreement(diffs, 0);
-        int gi = 0;
-        for (const auto& d : diffs.layers)
-            gi += d.layer.find("rt_global_illumination.diffuse") != std::string::npos;
-        CHECK(gi >= 3);  // compared in every frame
     }
 }
 
