@@ -91,8 +91,9 @@ private:
 /// The yardstick for rt_shadows' GPU speed, as app::timeBareOcclusion is on the CPU: the same
 /// rays (RayScene.h's, from host memory, copied to the GPU first) traced by a bare kernel, one
 /// thread a ray, through `bvh` (a RayScene::deviceBvh()): occlusion, and with `closestHits` the
-/// closest blocker (Bvh.h's traceBlocker), as the pass asks. Returns the median GPU seconds of `runs` launches
-/// (CUDA events); `blocked` receives the occluded rays, so the work is checked and kept.
+/// closest blocker (Bvh.h's traceBlocker), as the pass asks. Returns the median GPU seconds of
+/// `runs` launches (CUDA events); `blocked` receives the occluded rays, so the work is checked and
+/// kept.
 double timeBareTraversal(const BvhView& bvh, const std::vector<Ray>& rays, bool closestHits,
                          int runs, uint64_t& blocked);
 

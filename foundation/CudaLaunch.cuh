@@ -119,5 +119,12 @@ struct CudaPixels {
     std::array<uint64_t, N> forEach(int width, int height, const F& fn, const char* what) const {
         return cuda::forEachPixel<N>(width, height, fn, what, shape);
     }
+    /// One thread a pixel, running its steps in order.
+    template <int N, class State, class Begin, class Step>
+    std::array<uint64_t, N> forEachInSteps(int width, int height, const Begin& begin,
+                                           const Step& step, const char* what) const {
+        return cuda::forEachPixel<N>(width, height, StepsInOrder<N, State, Begin, Step>{begin, step},
+                                     what, shape);
+    }
 };
 }  // namespace fp

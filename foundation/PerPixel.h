@@ -3,7 +3,8 @@
 // template over a Ports type (PassPorts.h) and a Pixels type — CpuPixels here, CudaPixels in
 // CudaLaunch.cuh — calling `pixels.forEach<N>(w, h, fn)` with fn an FP_HD lambda
 // (int x, int y, WorkCounts<N>& counts); N = 0 when the loop counts nothing (the GPU then need
-// not wait for it). execute() instantiates it with (HostPorts, CpuPixels),
+// not wait for it); or `pixels.forEachInSteps<N, State>(w, h, begin, step)` where a pixel's work
+// is a loop of uneven length. execute() instantiates it with (HostPorts, CpuPixels),
 // the pass's .cu file with (DevicePorts, CudaPixels): the same code, the same arithmetic.
 #include "foundation/HostDevice.h"
 #include "foundation/Tiles.h"
@@ -34,6 +35,19 @@ struct WorkCounts {
     unsigned long long value[N > 0 ? N : 1];
 };
 
+/// forEachInSteps' pixel in one call: set up, then its steps one after another to the last.
+template <int N, class State, class Begin, class Step>
+struct StepsInOrder {
+    Begin begin;
+    Step step;
+    FP_HD void operator()(int x, int y, WorkCounts<N>& counts) const {
+        State state{};
+        if (begin(x, y, state, counts))
+            while (step(state, counts)) {
+            }
+    }
+};
+
 /// The CPU: tiles on the shared oneTBB pool (Tiles.h), counters summed per tile.
 struct CpuPixels {
     template <int N, class F>
@@ -51,6 +65,17 @@ struct CpuPixels {
         for (int i = 0; i < N; ++i)
             result[i] = totals[i];
         return result;
+    }
+
+    /// Work a pixel does in a number of steps that differs from pixel to pixel (a ray-traced
+    /// pass's paths, one ray a step): begin(x, y, State&, counts) sets pixel (x, y) up in a
+    /// default-made State and says whether it has a step to take; step(State&, counts) takes one
+    /// and says whether another follows. A pixel's steps run in order (StepsInOrder), so its bits
+    /// do not depend on the backend or on how the backend interleaves pixels.
+    template <int N, class State, class Begin, class Step>
+    std::array<uint64_t, N> forEachInSteps(int width, int height, Begin begin, Step step,
+                                           const char* what) const {
+        return forEach<N>(width, height, StepsInOrder<N, State, Begin, Step>{begin, step}, what);
     }
 };
 

@@ -128,9 +128,9 @@ FP_HD inline void turnOf(const Frame& f, int x, int y, int stage, float radius, 
     s = radius * sn;
 }
 
-// §12.5: pixel (x, y)'s kernel radius (its surface s) from its hit distance — the distance itself for diffuse
-// signals, × α for reflections — in pixels of its own world size, clamped to [0, 8]; a miss
-// (nothing near) takes the widest kernel, a mirror (α → 0) none; upscaling, at least k − 1.
+// §12.5: pixel (x, y)'s kernel radius (its surface s) from its hit distance — the distance itself
+// for diffuse signals, × α for reflections — in pixels of its own world size, clamped to [0, 8]; a
+// miss (nothing near) takes the widest kernel, a mirror (α → 0) none; upscaling, at least k − 1.
 FP_HD inline float kernelRadius(const Frame& f, const Surface& s, int x, int y) {
     if (!s.valid)
         return kNoRay;

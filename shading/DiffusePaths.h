@@ -265,16 +265,22 @@ FP_HD inline void leaveHit(const DiffusePathSettings& c, PathState& p, const Sur
     ++p.bounce;
 }
 
+/// One step of path `p` (not done): its next ray, and at a hit the lights there and the ray after;
+/// `rays` and `shadowRays` count what it traced.
+template <class Tracer, class Count>
+FP_HD void tracePathStep(const Tracer& tracer, const DiffusePathSettings& c, PathState& p,
+                         Rng& rng, Count& rays, Count& shadowRays) {
+    ++rays;
+    const PathHit hit = tracer.closestHit(p.org, p.dir, p.tMin, c.reach);
+    if (reachHit(tracer, c, p, hit))
+        leaveHit(c, p, hit.surface, sampleLights(tracer, c, hit.surface, rng, shadowRays), rng);
+}
+
 /// Path `p` to its end, one ray at a time; `rays` and `shadowRays` count what it traced.
 template <class Tracer, class Count>
 FP_HD DiffusePath traceDiffusePath(const Tracer& tracer, const DiffusePathSettings& c, PathState p,
                                    Rng& rng, Count& rays, Count& shadowRays) {
-    while (!p.done) {
-        ++rays;
-        const PathHit hit = tracer.closestHit(p.org, p.dir, p.tMin, c.reach);
-        if (!reachHit(tracer, c, p, hit)) break;
-        leaveHit(c, p, hit.surface, sampleLights(tracer, c, hit.surface, rng, shadowRays), rng);
-    }
+    while (!p.done) tracePathStep(tracer, c, p, rng, rays, shadowRays);
     return p.out;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // rt_global_illumination's per-texel work (algorithms §12.2), written once for every tracer and
-// backend: a texel's set-up from the GBuffer pixel it stands for, its cosine paths
-// (traceDiffusePath), the resolve. execute() runs it with CpuPixels through Embree's scene
+// backend: a texel's set-up from the GBuffer pixel it stands for, its cosine paths one ray a step
+// (tracePathStep), the resolve. execute() runs it with CpuPixels through Embree's scene
 // (EmbreeTracer) or, with traversal "bvh", through framepass's BVH (BvhTracer) — the code the
 // GPU runs with CudaPixels (RTGlobalIlluminationPass.cu).
 #include "foundation/Camera.h"
@@ -115,26 +115,53 @@ FP_HD inline void writeTexel(const Frame& f, const Texel& t, int x, int y) {
     f.hitDistance.at(x, y) = t.hits > 0 ? float(t.hitDistance / t.hits) : -1.0f;
 }
 
-/// Texel (x, y): its set-up, `spp` paths one after another, each to its end one ray at a time,
-/// its outputs.
-template <class Tracer>
-FP_HD void giTexel(const Frame& f, const Tracer& tracer, int x, int y,
-                   WorkCounts<kCounterCount>& work) {
-    Texel t = texelAt(f, x, y);
-    if (!t.traced) {
-        writeTexel(f, t, x, y);
-        ++work.value[kSkipped];
-        return;
+/// A traced texel's work in flight: its sums, the path it traces now and how many it has begun.
+struct TexelWork {
+    Texel texel;
+    PathState path;
+    int x = 0, y = 0, paths = 0;
+};
+
+/// The texel's next path when it has one to trace; otherwise its outputs written. False when the
+/// texel is done.
+FP_HD inline bool nextPath(const Frame& f, TexelWork& w) {
+    if (w.paths == f.setup.spp) {
+        writeTexel(f, w.texel, w.x, w.y);
+        return false;
     }
-    uint32_t rays = 0, shadowRays = 0;
-    for (int k = 0; k < f.setup.spp; ++k)
-        addPath(f.setup, t,
-                traceDiffusePath(tracer, f.setup.paths, texelPath(f.setup, t), t.rng, rays,
-                                 shadowRays));
-    writeTexel(f, t, x, y);
-    work.value[kRays] += rays;
-    work.value[kShadowRays] += shadowRays;
+    w.path = texelPath(f.setup, w.texel);
+    ++w.paths;
+    return true;
+}
+
+/// Texel (x, y)'s set-up and its first path (forEachInSteps' begin); a texel that traces nothing
+/// writes its outputs here. False when the texel is done.
+FP_HD inline bool beginTexel(const Frame& f, int x, int y, TexelWork& w,
+                             WorkCounts<kCounterCount>& work) {
+    w.texel = texelAt(f, x, y);
+    w.x = x;
+    w.y = y;
+    if (!w.texel.traced) {
+        writeTexel(f, w.texel, x, y);
+        ++work.value[kSkipped];
+        return false;
+    }
     ++work.value[kPixels];
+    return nextPath(f, w);
+}
+
+/// One ray of the texel's path (forEachInSteps' step); a path that ends adds itself to the texel,
+/// which then begins its next path or, its `spp` paths traced one after another, writes its
+/// outputs. False when the texel is done.
+template <class Tracer>
+FP_HD bool texelStep(const Frame& f, const Tracer& tracer, TexelWork& w,
+                     WorkCounts<kCounterCount>& work) {
+    if (!w.path.done)
+        tracePathStep(tracer, f.setup.paths, w.path, w.texel.rng, work.value[kRays],
+                      work.value[kShadowRays]);
+    if (!w.path.done) return true;
+    addPath(f.setup, w.texel, w.path.out);
+    return nextPath(f, w);
 }
 
 /// The frame's planes from `ports` (HostPorts or DevicePorts), its outputs made for the trace
@@ -163,9 +190,12 @@ template <class Ports, class Pixels, class Tracer>
 void run(PassContext& ctx, const Ports& ports, const Pixels& pixels, const FrameSetup& setup,
          Extent trace, const Tracer& tracer, const char* what) {
     const Frame f = frameOf(ports, setup, trace);
-    const auto counts = pixels.template forEach<kCounterCount>(
+    const auto counts = pixels.template forEachInSteps<kCounterCount, TexelWork>(
         trace.width, trace.height,
-        [=] FP_HD(int x, int y, WorkCounts<kCounterCount>& w) { giTexel(f, tracer, x, y, w); },
+        [=] FP_HD(int x, int y, TexelWork& w, WorkCounts<kCounterCount>& c) {
+            return beginTexel(f, x, y, w, c);
+        },
+        [=] FP_HD(TexelWork& w, WorkCounts<kCounterCount>& c) { return texelStep(f, tracer, w, c); },
         what);
     ctx.addWork("rays", counts[kRays]);
     ctx.addWork("shadowRays", counts[kShadowRays]);

@@ -173,7 +173,7 @@ void RTGlobalIlluminationPass::execute(PassContext& ctx) {
     const rtgi::Frame f = rtgi::frameOf(HostPorts{ctx}, setup, trace);
     forEachTile(trace.width, trace.height, [&](const Tile& t) {
         // A row at a time: every texel set up, then its k-th paths traced together as a wave,
-        // k = 0, 1, …: each texel's stream draws its paths in order, as giTexel's loop does.
+        // k = 0, 1, …: each texel's stream draws its paths in order, as texelStep does.
         DiffusePathWave wave;
         std::vector<rtgi::Texel> texels(std::size_t(t.x1 - t.x0));
         std::vector<PathState> going;
