@@ -726,6 +726,10 @@ TEST_CASE("gpu: quality 1 at half resolution on the GPU matches the CPU (8 pixel
     checkAgreement(diffs);
 }
 
+// The captures the ray-traced cases compare on, each at a size whose texels a 50 % trace covers.
+const std::vector<std::pair<std::string, Extent>> kRaytracedCaptures = {
+    {"cornell", {256, 256}}, {"glossy", {256, 192}}, {"hard", {256, 192}}};
+
 // The ray-traced preset: rt_global_illumination (at the preset's 50 % screen percentage),
 // rt_ambient_occlusion and rt_reflections, the signal denoisers (gi_denoise's upscaling
 // reconstruction too) and every other kernel of the chain, frames 1–3 with their histories, on
@@ -733,10 +737,7 @@ TEST_CASE("gpu: quality 1 at half resolution on the GPU matches the CPU (8 pixel
 TEST_CASE("gpu: the ray-traced preset on the GPU matches the CPU on the Cornell, glossy and hard captures") {
     if (skipWithoutGpu())
         return;
-    for (const auto& [scene, extent] :
-         std::vector<std::pair<std::string, Extent>>{{"cornell", {256, 256}},
-                                                     {"glossy", {256, 192}},
-                                                     {"hard", {256, 192}}}) {
+    for (const auto& [scene, extent] : kRaytracedCaptures) {
         const auto diffs = runRaytraced(scene, extent);
         printDifferences(fmt::format("ray-traced preset, {} {}×{}, frames 1–3", scene, extent.width,
                                      extent.height),
@@ -749,19 +750,15 @@ TEST_CASE("gpu: the ray-traced preset on the GPU matches the CPU on the Cornell,
     }
 }
 
-// rt_global_illumination past its first bounce and path: 4 paths of 3 bounces a texel, where a
-// GPU thread takes one ray a step and, its texel done, the next texel (forEachInSteps), so each
-// path's rays interleave with other texels' in a warp; on the three captures.
+// rt_global_illumination past its first bounce: 4 paths of 3 bounces a texel (the preset traces
+// 4 of 1), each texel's paths drawn from its stream one after another as forEachInSteps'
+// steps; on the three captures.
 TEST_CASE("gpu: rt_global_illumination's paths of 3 bounces, 4 a texel, match the CPU") {
     if (skipWithoutGpu())
         return;
-    for (const auto& [scene, extent] :
-         std::vector<std::pair<std::string, Extent>>{{"cornell", {256, 256}},
-                                                     {"glossy", {256, 192}},
-                                                     {"hard", {256, 192}}}) {
-        const auto diffs = runRaytraced(
-            scene, extent,
-            {{"samplesPerPixel", 4}, {"maxBounces", 3}});
+    for (const auto& [scene, extent] : kRaytracedCaptures) {
+        const auto diffs =
+            runRaytraced(scene, extent, {{"samplesPerPixel", 4}, {"maxBounces", 3}});
         printDifferences(fmt::format("4 GI paths of 3 bounces, {} {}×{}, frames 1–3", scene,
                                      extent.width, extent.height),
                          diffs);
