@@ -112,18 +112,25 @@ struct Texel {
     uint32_t shadowRays = 0, indirectRays = 0, screenHits = 0;
 };
 
+/// Whether the GBuffer pixel p traces: a lit surface, not hair, smooth enough for its roughness
+/// fade to leave something.
+FP_HD inline bool tracesAt(const Frame& f, PixelCoord p) {
+    const double d = f.depth.at(p.x, p.y);
+    const float model = f.model.at(p.x, p.y);
+    return isLitSurface(d, model) && truncToInt(model, 0, 255) != kHair &&
+           roughnessFade(f.roughness.at(p.x, p.y), f.setup.maxRoughness) > 0.0f;
+}
+
 /// Texel (x, y)'s set-up from the GBuffer pixel it stands for.
 FP_HD inline Texel texelAt(const Frame& f, int x, int y) {
     const FrameSetup& s = f.setup;
     const PixelCoord p = fullResPixel(x, y, s.upscale, s.frame.width, s.frame.height);
-    const double d = f.depth.at(p.x, p.y);
-    const float model = f.model.at(p.x, p.y);
     Texel t;
     t.roughness = f.roughness.at(p.x, p.y);
     t.fade = roughnessFade(t.roughness, s.maxRoughness);
-    if (!isLitSurface(d, model) || truncToInt(model, 0, 255) == kHair || t.fade <= 0.0f) return t;
+    if (!tracesAt(f, p)) return t;
     t.traced = true;
-    t.surface = pixelSurface(s.camera, s.eyeOffset, p.x, p.y, d);
+    t.surface = pixelSurface(s.camera, s.eyeOffset, p.x, p.y, f.depth.at(p.x, p.y));
     t.N = {f.normal[0].at(p.x, p.y), f.normal[1].at(p.x, p.y), f.normal[2].at(p.x, p.y)};
     t.rng = Rng::fromKey(s.rngKey, p.x, p.y);
     return t;
@@ -211,11 +218,15 @@ FP_HD inline void seenFrom(const Frame& f, const ReflectionRay& r, PathHit& hit)
 
 /// Texel (x, y)'s outputs — the faded mean with its coverage and the mean hit distance (the
 /// skipped values where it traced nothing) — and its counts.
+FP_HD inline void writeSkipped(const Frame& f, int x, int y) {
+    for (int c = 0; c < 4; ++c) f.reflection[c].at(x, y) = 0.0f;
+    f.hitDistance.at(x, y) = -2.0f;
+}
+
 FP_HD inline void writeTexel(const Frame& f, const Texel& t, int x, int y,
                              WorkCounts<kCounterCount>& work) {
     if (!t.traced) {
-        for (int c = 0; c < 4; ++c) f.reflection[c].at(x, y) = 0.0f;
-        f.hitDistance.at(x, y) = -2.0f;
+        writeSkipped(f, x, y);
         ++work.value[kSkipped];
         return;
     }

@@ -224,16 +224,19 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
                     for (int x = t.x0; x < t.x1; x += 16)
                         __builtin_prefetch(plane->data + planeIndex(x, y + 2, plane->stride), 1);
             }
+            // Most texels trace nothing (too rough, or sky): the row is written as skipped in
+            // one sweep and told apart by the predicate alone, the texels that trace are set up
+            // (and their values written over the skipped ones at the tile's end).
+            for (int x = t.x0; x < t.x1; ++x) rtr::writeSkipped(f, x, y);
             for (int x = t.x0; x < t.x1; ++x) {
-                rtr::Texel texel = rtr::texelAt(f, x, y);
-                if (!texel.traced) {
-                    rtr::writeTexel(f, texel, x, y, counts);
+                if (!rtr::tracesAt(f, fullResPixel(x, y, setup.upscale, setup.frame.width,
+                                                   setup.frame.height)))
                     continue;
-                }
-                texels.push_back(texel);
+                texels.push_back(rtr::texelAt(f, x, y));
                 at.push_back((y - t.y0) * kTileSize + (x - t.x0));
             }
         }
+        counts.value[rtr::kSkipped] += uint64_t((t.x1 - t.x0) * (t.y1 - t.y0)) - texels.size();
         const std::size_t going = texels.size();
         packet.resize(going);
         rayHits.resize(going);
