@@ -25,8 +25,8 @@ std::ptrdiff_t paddedStride(int width) {
 // Freed memory goes back to a pool by size instead of to the driver: cudaMalloc, cudaFree and
 // their page-locked host twins synchronise the GPU and cost tens of microseconds (the host ones
 // milliseconds for a frame's plane), and a sequence allocates the same sizes every frame. A pool
-// holds at most what one frame held at its peak, and gives back to the driver what would take it
-// over kMaxFreeBytes.
+// keeps the blocks freed while they come to at most kMaxFreeBytes, and gives back to the driver
+// what would take it over.
 class MemoryPool {
 public:
     using Allocate = cudaError_t (*)(void**, std::size_t);
