@@ -48,15 +48,14 @@ HostMemory hostMemory() {
 // The mapped blocks of images recycled: a block freed is kept for the next image of its size (a
 // sequence's frames ask for the same sizes frame after frame), so a frame's images neither fault
 // their pages in afresh (the kernel zeroing each page on first touch) nor unmap them again (each
-// unmap interrupting every core the process runs on to flush its TLB). Blocks are counted by size:
-// a block is kept while its size's blocks alive and kept stay under the most of that size ever
-// alive at once, so a steady sequence holds exactly the blocks its frames need. (A bound on all
-// sizes together, under the most image memory ever alive at once, made a chain of ray-traced
-// passes fault 40 MB in every frame: a frame's first images are made while the last frame's
-// outputs are still alive, and the block kept for a later pass's output was given back to make
-// room, and made again when that pass ran.) Where the sizes change (another resolution), a new
-// block first gives back kept ones of other sizes while everything held would pass twice the most
-// image memory ever alive at once.
+// unmap interrupting every core the process runs on to flush its TLB). A block is kept only while
+// the blocks kept and the images alive stay under the most image memory ever alive at once plus
+// one block of the largest size made: the process holds at most that one block more than it would
+// without recycling, and the memory forecast stands. (Without the one block, a chain of ray-traced
+// passes faulted 40 MB in every frame: a frame's first images are made while the last frame's
+// outputs are still held, until this frame's replace them, so a frame needs one more plane than
+// its peak; to make it, the block kept for a later pass's 33 MB output was given back, and made
+// again when that pass ran.)
 class BlockPool {
 public:
     static constexpr std::size_t kMinBytes = std::size_t(4) << 20;  // the mapped ones
@@ -64,23 +63,23 @@ public:
         std::vector<std::pair<void*, std::size_t>> released;
         {
             std::lock_guard<std::mutex> lock(mMutex);
-            SizeClass& size = mSizes[bytes];
-            size.mostLive = std::max(size.mostLive, ++size.live);
             mLive += bytes;
             mMostLive = std::max(mMostLive, mLive);
-            if (!size.kept.empty()) {
-                void* p = size.kept.back();
-                size.kept.pop_back();
+            mLargest = std::max(mLargest, bytes);
+            if (auto it = mFree.find(bytes); it != mFree.end()) {
+                void* p = it->second;
+                mFree.erase(it);
                 mKept -= bytes;
                 return p;
             }
-            for (auto it = mSizes.rbegin(); it != mSizes.rend() && mLive + mKept > 2 * mMostLive;
-                 ++it)
-                for (; !it->second.kept.empty() && mLive + mKept > 2 * mMostLive;
-                     it->second.kept.pop_back()) {
-                    released.emplace_back(it->second.kept.back(), it->first);
-                    mKept -= it->first;
-                }
+            // A new block: the kept ones of other sizes go back where they would lift the memory
+            // held above the bound.
+            while (mLive + mKept > bound() && !mFree.empty()) {
+                auto largest = std::prev(mFree.end());
+                released.emplace_back(largest->second, largest->first);
+                mKept -= largest->first;
+                mFree.erase(largest);
+            }
         }
         for (const auto& block : released) ::operator delete[](block.first, std::align_val_t{64});
         return ::operator new[](bytes, std::align_val_t{64});
@@ -88,11 +87,9 @@ public:
     void give(void* p, std::size_t bytes) {
         {
             std::lock_guard<std::mutex> lock(mMutex);
-            SizeClass& size = mSizes[bytes];
-            --size.live;
             mLive -= bytes;
-            if (size.live + size.kept.size() < size.mostLive) {
-                size.kept.push_back(p);
+            if (mLive + mKept + bytes <= bound()) {
+                mFree.emplace(bytes, p);
                 mKept += bytes;
                 return;
             }
@@ -101,13 +98,10 @@ public:
     }
 
 private:
-    struct SizeClass {
-        std::size_t live = 0, mostLive = 0;  // blocks
-        std::vector<void*> kept;
-    };
+    std::size_t bound() const { return mMostLive + mLargest; }
     std::mutex mMutex;
-    std::map<std::size_t, SizeClass> mSizes;
-    std::size_t mLive = 0, mKept = 0, mMostLive = 0;  // bytes
+    std::multimap<std::size_t, void*> mFree;
+    std::size_t mLive = 0, mKept = 0, mMostLive = 0, mLargest = 0;
 };
 
 BlockPool& blockPool() {
