@@ -216,13 +216,14 @@ FP_HD inline void seenFrom(const Frame& f, const ReflectionRay& r, PathHit& hit)
         hit.surface.toViewer = normalize(Vec3f(f.setup.eyeOffset) - (r.org + r.L * hit.t));
 }
 
-/// Texel (x, y)'s outputs — the faded mean with its coverage and the mean hit distance (the
-/// skipped values where it traced nothing) — and its counts.
+/// Texel (x, y)'s outputs where it traced nothing: no reflection, no coverage, hit distance −2.
 FP_HD inline void writeSkipped(const Frame& f, int x, int y) {
     for (int c = 0; c < 4; ++c) f.reflection[c].at(x, y) = 0.0f;
     f.hitDistance.at(x, y) = -2.0f;
 }
 
+/// Texel (x, y)'s outputs — the faded mean with its coverage and the mean hit distance (the
+/// skipped values where it traced nothing) — and its counts.
 FP_HD inline void writeTexel(const Frame& f, const Texel& t, int x, int y,
                              WorkCounts<kCounterCount>& work) {
     if (!t.traced) {

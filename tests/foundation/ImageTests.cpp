@@ -51,10 +51,10 @@ TEST_SUITE("foundation") {
         // makes its first images, so the frame needs one more block of b's size than it has alive
         // at its peak. A block made afresh faults its pages in when first written (the cost the
         // pool is there to save); a recycled one does not. Sizes of this test's own (the pool
-        // keys its blocks by size), c past the C library's largest heap block (32 MB), which it
-        // maps and unmaps from the kernel each time.
-        constexpr std::size_t plane = std::size_t(1920 + 64) * 1080 * 4 + 4096 * 7;
-        const std::size_t a = 3 * plane, b = plane, c = 4 * plane;
+        // keys its blocks by size): a 1080p plane and a few pages, and c past 32 MiB, the C
+        // library's largest heap block, so that it maps and unmaps c from the kernel each time.
+        constexpr std::size_t plane = std::size_t(1920) * 1080 * 4 + 4096 * 7;
+        const std::size_t a = 3 * plane, b = plane, c = (std::size_t(32) << 20) + plane;
         const std::shared_ptr<void> capture = hostScratch(10 * plane);  // alive throughout
         std::shared_ptr<void> held = hostScratch(b);
         auto take = [](std::size_t bytes) {
