@@ -121,19 +121,25 @@ FP_HD inline bool tracesAt(const Frame& f, PixelCoord p) {
            roughnessFade(f.roughness.at(p.x, p.y), f.setup.maxRoughness) > 0.0f;
 }
 
-/// Texel (x, y)'s set-up from the GBuffer pixel it stands for.
-FP_HD inline Texel texelAt(const Frame& f, int x, int y) {
+/// The set-up of a texel whose GBuffer pixel p traces (tracesAt).
+FP_HD inline Texel tracedTexelAt(const Frame& f, PixelCoord p) {
     const FrameSetup& s = f.setup;
-    const PixelCoord p = fullResPixel(x, y, s.upscale, s.frame.width, s.frame.height);
     Texel t;
+    t.traced = true;
     t.roughness = f.roughness.at(p.x, p.y);
     t.fade = roughnessFade(t.roughness, s.maxRoughness);
-    if (!tracesAt(f, p)) return t;
-    t.traced = true;
     t.surface = pixelSurface(s.camera, s.eyeOffset, p.x, p.y, f.depth.at(p.x, p.y));
     t.N = {f.normal[0].at(p.x, p.y), f.normal[1].at(p.x, p.y), f.normal[2].at(p.x, p.y)};
     t.rng = Rng::fromKey(s.rngKey, p.x, p.y);
     return t;
+}
+
+/// Texel (x, y)'s set-up from the GBuffer pixel it stands for (untraced: nothing set up, since
+/// writeTexel writes the skipped values for it).
+FP_HD inline Texel texelAt(const Frame& f, int x, int y) {
+    const FrameSetup& s = f.setup;
+    const PixelCoord p = fullResPixel(x, y, s.upscale, s.frame.width, s.frame.height);
+    return tracesAt(f, p) ? tracedTexelAt(f, p) : Texel{};
 }
 
 /// A reflection ray: org + t·L, t from 0.

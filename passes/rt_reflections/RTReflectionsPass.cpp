@@ -229,10 +229,10 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
             // (and their values written over the skipped ones at the tile's end).
             for (int x = t.x0; x < t.x1; ++x) rtr::writeSkipped(f, x, y);
             for (int x = t.x0; x < t.x1; ++x) {
-                if (!rtr::tracesAt(f, fullResPixel(x, y, setup.upscale, setup.frame.width,
-                                                   setup.frame.height)))
-                    continue;
-                texels.push_back(rtr::texelAt(f, x, y));
+                const PixelCoord p =
+                    fullResPixel(x, y, setup.upscale, setup.frame.width, setup.frame.height);
+                if (!rtr::tracesAt(f, p)) continue;
+                texels.push_back(rtr::tracedTexelAt(f, p));
                 at.push_back((y - t.y0) * kTileSize + (x - t.x0));
             }
         }
