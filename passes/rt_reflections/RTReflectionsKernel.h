@@ -38,10 +38,15 @@ constexpr float kImportantSampleBias = 0.1f;  // GGX_IMPORTANT_SAMPLE_BIAS: the 
 constexpr float kSkyHitDistance = 1e20f;      // Unreal's hit distance for a ray that saw the sky
 constexpr float kHybridDepthCm = 5.0f;  // hybrid: a hit this close behind the depth buffer is the pixel's
 
-/// Unreal's RoughnessFade: 1 up to half the cutoff, 0 at it.
+/// Unreal's RoughnessFade: 1 up to half the cutoff, 0 at it. T: float, or float lanes (each lane
+/// the same operations in the same order).
+template <class T>
+FP_HD inline T roughnessFadeOf(T roughness, float maxRoughness) {
+    const T f = T(2.0f) - T(2.0f) * roughness / T(maxRoughness);
+    return ifThenElse(f < 0.0f, T(0.0f), ifThenElse(f > 1.0f, T(1.0f), f));
+}
 FP_HD inline float roughnessFade(float roughness, float maxRoughness) {
-    const float f = 2.0f - 2.0f * roughness / maxRoughness;
-    return f < 0.0f ? 0.0f : (f > 1.0f ? 1.0f : f);
+    return roughnessFadeOf(roughness, maxRoughness);
 }
 
 /// What every texel of a frame shares.
@@ -112,13 +117,20 @@ struct Texel {
     uint32_t shadowRays = 0, indirectRays = 0, screenHits = 0;
 };
 
-/// Whether the GBuffer pixel p traces: a lit surface, not hair, smooth enough for its roughness
-/// fade to leave something.
+/// Whether a GBuffer pixel of this depth, shading model and roughness traces: a lit surface, not
+/// hair, smooth enough for its roughness fade to leave something. T: float, or float lanes (a
+/// row's pixels, RTReflectionsLanes.cpp).
+template <class T>
+FP_HD inline MaskOf<T> tracesOf(T depth, T model, T roughness, float maxRoughness) {
+    const IntOf<T> id = floorToIntOf(model, 0, 255);  // the buffer's value truncated, as an id
+    return isLitSurfaceOf(depth, id) & !(id == kHair) &
+           (roughnessFadeOf(roughness, maxRoughness) > 0.0f);
+}
+
+/// Whether the GBuffer pixel p traces (tracesOf).
 FP_HD inline bool tracesAt(const Frame& f, PixelCoord p) {
-    const double d = f.depth.at(p.x, p.y);
-    const float model = f.model.at(p.x, p.y);
-    return isLitSurface(d, model) && truncToInt(model, 0, 255) != kHair &&
-           roughnessFade(f.roughness.at(p.x, p.y), f.setup.maxRoughness) > 0.0f;
+    return tracesOf(f.depth.at(p.x, p.y), f.model.at(p.x, p.y), f.roughness.at(p.x, p.y),
+                    f.setup.maxRoughness);
 }
 
 /// The set-up of a texel whose GBuffer pixel p traces (tracesAt).

@@ -36,6 +36,23 @@ __attribute__((flatten)) void drawHere(const RayBias& bias, TexelLanes& t) {
     }
 }
 
+__attribute__((flatten)) int tracingHere(const Frame& f, int y, int x0, int x1, int* xs) {
+    using I = IntOf<T>;
+    static constexpr int kLane[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+    const float* depth = f.depth.data + planeIndex(0, y, f.depth.stride);
+    const float* model = f.model.data + planeIndex(0, y, f.model.stride);
+    const float* roughness = f.roughness.data + planeIndex(0, y, f.roughness.stride);
+    int n = 0, x = x0;
+    for (; x + kLanesHere <= x1; x += kLanesHere)
+        n += compressStore(I::load(kLane) + I(x),
+                           tracesOf(T::load(depth + x), T::load(model + x), T::load(roughness + x),
+                                    f.setup.maxRoughness),
+                           xs + n);
+    for (; x < x1; ++x)  // the row's tail, a texel at a time
+        if (tracesOf(depth[x], model[x], roughness[x], f.setup.maxRoughness)) xs[n++] = x;
+    return n;
+}
+
 }  // namespace fp::rtr::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
@@ -43,6 +60,7 @@ HWY_AFTER_NAMESPACE();
 namespace fp::rtr {
 
 HWY_EXPORT(drawHere);
+HWY_EXPORT(tracingHere);
 
 void TexelLanes::resize(int n) {
     count = n;
@@ -56,6 +74,10 @@ void TexelLanes::resize(int n) {
 
 void drawTexelRayLanes(const RayBias& bias, TexelLanes& texels) {
     HWY_DYNAMIC_DISPATCH(drawHere)(bias, texels);
+}
+
+int tracingTexelsOfRow(const Frame& f, int y, int x0, int x1, int* xs) {
+    return HWY_DYNAMIC_DISPATCH(tracingHere)(f, y, x0, x1, xs);
 }
 
 }  // namespace fp::rtr

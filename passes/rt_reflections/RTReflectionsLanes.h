@@ -26,4 +26,11 @@ struct TexelLanes {
 /// Each texel's next ray (texelRayOf with `bias`), drawn from its stream.
 void drawTexelRayLanes(const RayBias& bias, TexelLanes& texels);
 
+struct Frame;
+
+/// The texels x0 ≤ x < x1 of row y that trace (tracesOf, a vector of the row's pixels at a
+/// time), for a trace at full resolution (texel (x, y) is GBuffer pixel (x, y)): their x, in
+/// order, to `xs` (room for x1 − x0 + 16 values); returns how many.
+int tracingTexelsOfRow(const Frame& f, int y, int x0, int x1, int* xs);
+
 }  // namespace fp::rtr

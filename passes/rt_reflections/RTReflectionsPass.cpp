@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <array>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -38,6 +39,7 @@ constexpr uint32_t kSeed = 0x52545246u;  // "RTRF"
 struct WaveArrays {
     std::vector<rtr::Texel> texels;  // the tile's texels that trace
     std::vector<int> at;             // and where each is in the tile
+    std::array<int, kTileSize + 16> tracing;  // a row's texels that trace (room for a vector more)
     std::vector<Ray> packet;  // the texels' rays this step
     std::vector<RayHit> rayHits;
     std::vector<PathHit> hits;
@@ -204,7 +206,7 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
         // Each worker's arrays, kept from tile to tile: a tile's are some 2 MB, which fresh
         // allocations would take from the kernel page by page every tile.
         thread_local WaveArrays a;
-        auto& [texels, at, packet, rayHits, hits, lit, rngs, litOwner, radiance, lanes, wave] = a;
+        auto& [texels, at, tracing, packet, rayHits, hits, lit, rngs, litOwner, radiance, lanes, wave] = a;
         texels.clear();
         at.clear();
         for (int y = t.y0; y < t.y1; ++y) {
@@ -228,11 +230,19 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
             // one sweep and told apart by the predicate alone, the texels that trace are set up
             // (and their values written over the skipped ones at the tile's end).
             for (int x = t.x0; x < t.x1; ++x) rtr::writeSkipped(f, x, y);
-            for (int x = t.x0; x < t.x1; ++x) {
-                const PixelCoord p =
-                    fullResPixel(x, y, setup.upscale, setup.frame.width, setup.frame.height);
-                if (!rtr::tracesAt(f, p)) continue;
-                texels.push_back(rtr::tracedTexelAt(f, p));
+            int n = 0;
+            if (setup.upscale == 1) {
+                n = rtr::tracingTexelsOfRow(f, y, t.x0, t.x1, tracing.data());
+            } else {
+                for (int x = t.x0; x < t.x1; ++x)
+                    if (rtr::tracesAt(f, fullResPixel(x, y, setup.upscale, setup.frame.width,
+                                                      setup.frame.height)))
+                        tracing[std::size_t(n++)] = x;
+            }
+            for (int i = 0; i < n; ++i) {
+                const int x = tracing[std::size_t(i)];
+                texels.push_back(rtr::tracedTexelAt(
+                    f, fullResPixel(x, y, setup.upscale, setup.frame.width, setup.frame.height)));
                 at.push_back((y - t.y0) * kTileSize + (x - t.x0));
             }
         }
