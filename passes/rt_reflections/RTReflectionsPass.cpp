@@ -21,7 +21,6 @@
 
 #include <algorithm>
 #include <array>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -206,7 +205,8 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
         // Each worker's arrays, kept from tile to tile: a tile's are some 2 MB, which fresh
         // allocations would take from the kernel page by page every tile.
         thread_local WaveArrays a;
-        auto& [texels, at, tracing, packet, rayHits, hits, lit, rngs, litOwner, radiance, lanes, wave] = a;
+        auto& [texels, at, tracing, packet, rayHits, hits, lit, rngs, litOwner, radiance, lanes,
+               wave] = a;
         texels.clear();
         at.clear();
         for (int y = t.y0; y < t.y1; ++y) {
@@ -227,8 +227,9 @@ void RTReflectionsPass::traceWaves(PassContext& ctx, const rtr::FrameSetup& setu
                         __builtin_prefetch(plane->data + planeIndex(x, y + 2, plane->stride), 1);
             }
             // Most texels trace nothing (too rough, or sky): the row is written as skipped in
-            // one sweep and told apart by the predicate alone, the texels that trace are set up
-            // (and their values written over the skipped ones at the tile's end).
+            // one sweep, the texels that trace are told apart by the predicate alone (a vector
+            // of the row's pixels at a time where texel and pixel are one) and set up, their
+            // values written over the skipped ones at the tile's end.
             for (int x = t.x0; x < t.x1; ++x) rtr::writeSkipped(f, x, y);
             int n = 0;
             if (setup.upscale == 1) {
