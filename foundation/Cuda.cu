@@ -4,6 +4,7 @@
 
 #include <cuda_runtime.h>
 
+#include <algorithm>
 #include <chrono>
 #include <map>
 #include <mutex>
@@ -280,6 +281,23 @@ DeviceImage copyOnDevice(const DeviceImage& image) {
     check(cudaDeviceSynchronize(), "copying an image on the GPU");
     return copy;
 }
+
+namespace detail {
+int residentBlocks(const void* kernel, int threadsPerBlock) {
+    static int multiprocessors = 0;
+    if (multiprocessors == 0) {
+        int device = 0;
+        check(cudaGetDevice(&device), "reading the GPU's multiprocessor count");
+        check(cudaDeviceGetAttribute(&multiprocessors, cudaDevAttrMultiProcessorCount, device),
+              "reading the GPU's multiprocessor count");
+    }
+    int perMultiprocessor = 0;
+    check(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&perMultiprocessor, kernel,
+                                                        threadsPerBlock, 0),
+          "reading a kernel's occupancy");
+    return std::max(1, multiprocessors * perMultiprocessor);
+}
+}  // namespace detail
 
 unsigned long long* counterBuffer(int count) {
     static unsigned long long* buffer = nullptr;

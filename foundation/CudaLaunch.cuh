@@ -1,14 +1,16 @@
 #pragma once
-// CudaPixels, the GPU's side of PerPixel.h: one thread per pixel in 16×8 blocks calling the same
-// FP_HD function the CPU tile loop calls, with the work counters summed per block in shared
-// memory (a warp's first reduced by shuffles) and added once per block to the totals. The function object is a __grid_constant__
-// kernel parameter, so a pass's frame description is read from constant memory, not copied
-// per thread.
+// CudaPixels, the GPU's side of PerPixel.h. forEach: one thread per pixel in 16×8 blocks calling
+// the same FP_HD function the CPU tile loop calls. forEachInSteps: as many threads as the GPU
+// holds at once, each taking the next pixel when its own is done. Either sums the work counters
+// per block in shared memory (a warp's first reduced by shuffles) and adds them once per block to
+// the totals. The function objects are __grid_constant__ kernel parameters, so a pass's frame
+// description is read from constant memory, not copied per thread.
 #include "foundation/Cuda.h"
 #include "foundation/PerPixel.h"
 
 #include <cuda_runtime.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -17,6 +19,25 @@
 namespace fp::cuda {
 
 namespace detail {
+// Each counter summed across the warp by shuffles, then one shared atomic a warp, then one global
+// atomic a block: 128 threads adding to one 64-bit counter each would wait on each other in turn.
+// Every thread of the block calls it; blockSums was zeroed before a __syncthreads.
+template <int N>
+__device__ void addBlockCounts(const WorkCounts<N>& local, unsigned long long* blockSums,
+                               unsigned long long* totals) {
+    const int lane = threadIdx.y * blockDim.x + threadIdx.x;
+    for (int i = 0; i < N; ++i) {
+        unsigned long long v = local.value[i];
+        for (int offset = 16; offset > 0; offset /= 2)
+            v += __shfl_down_sync(0xffffffffu, v, offset);
+        if ((lane & 31) == 0 && v)
+            atomicAdd(&blockSums[i], v);
+    }
+    __syncthreads();
+    if (lane < N && blockSums[lane])
+        atomicAdd(&totals[lane], blockSums[lane]);
+}
+
 // 128 threads per block and at least 8 blocks per SM: registers are capped at 64 per thread,
 // which doubled SSGI's occupancy (92 registers before) and cut its time by a fifth on the H100.
 template <int N, class F>
@@ -33,21 +54,72 @@ __global__ void __launch_bounds__(128, 8)
     WorkCounts<N> local{};
     if (x < width && y < height)
         f(x, y, local);
-    if constexpr (N > 0) {
-        // Each counter summed across the warp by shuffles, then one shared atomic a warp: 128
-        // threads adding to one shared 64-bit counter each would wait on each other in turn.
-        for (int i = 0; i < N; ++i) {
-            unsigned long long v = local.value[i];
-            for (int offset = 16; offset > 0; offset /= 2)
-                v += __shfl_down_sync(0xffffffffu, v, offset);
-            if ((lane & 31) == 0 && v)
-                atomicAdd(&blockSums[i], v);
-        }
-        __syncthreads();
-        if (lane < N && blockSums[lane])
-            atomicAdd(&totals[lane], blockSums[lane]);
-    }
+    if constexpr (N > 0)
+        addBlockCounts<N>(local, blockSums, totals);
 }
+
+// forEachInSteps' kernel: as many threads as the GPU holds at once, each looping until no pixel
+// is left. At the top of each round the warp's idle threads (pixel done, or none yet) take the
+// next pixels, one atomic on the queue head `next` a warp; then every thread with a pixel takes
+// one step. Pixels are handed out in 8×4 squares, 32 at a time to a full warp at the start, so a
+// warp's first rays start close together, as PixelBlock::Squares's do. (One thread a pixel left
+// a warp waiting for its longest pixel: on a terrain, whose paths run one to three rays, 5 of a
+// warp's 32 threads were busy.)
+template <int N, class State, class Begin, class Step>
+__global__ void __launch_bounds__(128, 8)
+    inSteps(int width, int height, const __grid_constant__ Begin begin,
+            const __grid_constant__ Step step, unsigned long long* next,
+            unsigned long long* totals) {
+    __shared__ unsigned long long blockSums[N > 0 ? N : 1];
+    if (threadIdx.x < N)
+        blockSums[threadIdx.x] = 0;
+    if (N > 0)
+        __syncthreads();
+    constexpr unsigned kWarp = 0xffffffffu;
+    const unsigned lane = threadIdx.x & 31u;
+    const unsigned squaresX = unsigned(width + 7) / 8;
+    const unsigned long long count = 32ull * squaresX * (unsigned(height + 3) / 4);
+    WorkCounts<N> local{};
+    State state{};
+    bool busy = false;
+    bool more = true;  // the same in every thread of the warp: pixels may be left to hand out
+    for (;;) {
+        if (more) {
+            const unsigned idle = __ballot_sync(kWarp, !busy);
+            if (idle) {
+                const int leader = __ffs(int(idle)) - 1;
+                unsigned long long first = 0;
+                if (int(lane) == leader)
+                    first = atomicAdd(next, (unsigned long long)__popc(int(idle)));
+                first = __shfl_sync(kWarp, first, leader);
+                more = first + unsigned(__popc(int(idle))) < count;
+                if (!busy) {
+                    const unsigned long long i =
+                        first + unsigned(__popc(int(idle & ((1u << lane) - 1u))));
+                    const unsigned square = unsigned(i / 32), in = unsigned(i % 32);
+                    const int x = int((square % squaresX) * 8 + (in & 7u));
+                    const int y = int((square / squaresX) * 4 + (in >> 3));
+                    if (i < count && x < width && y < height) {
+                        state = State{};  // each pixel begins in a default-made State (PerPixel.h)
+                        busy = begin(x, y, state, local);
+                    }
+                }
+            }
+        }
+        if (!__any_sync(kWarp, busy)) {
+            if (!more)
+                break;
+            continue;
+        }
+        if (busy)
+            busy = step(state, local);
+    }
+    if constexpr (N > 0)
+        addBlockCounts<N>(local, blockSums, totals);
+}
+
+/// How many blocks of `kernel` (threadsPerBlock threads each) the GPU holds at once.
+int residentBlocks(const void* kernel, int threadsPerBlock);
 }  // namespace detail
 
 /// How a block's 128 threads lie on the pixels. Rows: 16×8 (a warp reads 16 neighbours of two
@@ -79,6 +151,35 @@ std::array<uint64_t, N> forEachPixel(int width, int height, const F& f, const ch
     unsigned long long* host = hostCounterBuffer(N);
     // The copy waits for the kernel; a failure inside it surfaces here.
     checkStatus(cudaMemcpy(host, totals, sizeof(unsigned long long) * N, cudaMemcpyDeviceToHost),
+                what);
+    for (int i = 0; i < N; ++i)
+        result[i] = host[i];
+    return result;
+}
+
+/// forEachInSteps (PerPixel.h) on the GPU: one launch of as many threads as the GPU holds at once
+/// (fewer for a small grid), each taking pixels until none is left (detail::inSteps); waits for
+/// the kernel and returns the summed counters. `what` names the pass in errors.
+template <int N, class State, class Begin, class Step>
+std::array<uint64_t, N> forEachPixelInSteps(int width, int height, const Begin& begin,
+                                            const Step& step, const char* what) {
+    std::array<uint64_t, N> result{};
+    if (width <= 0 || height <= 0)
+        return result;
+    // The counters, then the queue's head.
+    unsigned long long* counters = counterBuffer(N + 1);
+    checkStatus(cudaMemsetAsync(counters, 0, sizeof(unsigned long long) * (N + 1)), what);
+    constexpr int kThreads = 128;
+    auto kernel = detail::inSteps<N, State, Begin, Step>;
+    const long long pixels = 32ll * ((width + 7) / 8) * ((height + 3) / 4);
+    const int blocks = int(std::min<long long>(
+        detail::residentBlocks(reinterpret_cast<const void*>(kernel), kThreads),
+        (pixels + kThreads - 1) / kThreads));
+    kernel<<<blocks, kThreads>>>(width, height, begin, step, counters + N, counters);
+    checkStatus(cudaGetLastError(), what);
+    unsigned long long* host = hostCounterBuffer(N + 1);
+    // The copy waits for the kernel; a failure inside it surfaces here.
+    checkStatus(cudaMemcpy(host, counters, sizeof(unsigned long long) * N, cudaMemcpyDeviceToHost),
                 what);
     for (int i = 0; i < N; ++i)
         result[i] = host[i];
@@ -119,12 +220,12 @@ struct CudaPixels {
     std::array<uint64_t, N> forEach(int width, int height, const F& fn, const char* what) const {
         return cuda::forEachPixel<N>(width, height, fn, what, shape);
     }
-    /// One thread a pixel, running its steps in order.
+    /// A thread takes the next pixel when its own is done (forEachPixelInSteps); each pixel's
+    /// steps run in order, so its bits are the CPU's.
     template <int N, class State, class Begin, class Step>
     std::array<uint64_t, N> forEachInSteps(int width, int height, const Begin& begin,
                                            const Step& step, const char* what) const {
-        return cuda::forEachPixel<N>(width, height, StepsInOrder<N, State, Begin, Step>{begin, step},
-                                     what, shape);
+        return cuda::forEachPixelInSteps<N, State>(width, height, begin, step, what);
     }
 };
 }  // namespace fp

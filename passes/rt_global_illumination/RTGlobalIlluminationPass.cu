@@ -1,5 +1,5 @@
 // RTGlobalIlluminationPass on the GPU: rtgi::run through framepass's BVH in device memory, the
-// scene's lights copied with the frame, one thread per traced texel.
+// scene's lights copied with the frame, each thread taking texels until none is left.
 #include "foundation/CudaLaunch.cuh"
 #include "framework/PassPorts.h"
 #include "passes/rt_global_illumination/RTGlobalIlluminationKernel.h"
@@ -12,8 +12,9 @@ void RTGlobalIlluminationPass::executeCuda(PassContext& ctx) {
     const DirectLighting lighting(ctx.scene(), 1);
     std::shared_ptr<const LightView> lights;
     const BvhTracer tracer = bvhTracerFor(ports, lighting, lights);
-    // A warp traces 8×4 neighbouring texels' paths (CudaLaunch.cuh's PixelBlock), as rt_shadows.
-    rtgi::run(ctx, ports, CudaPixels{cuda::PixelBlock::Squares}, frameSetup(ctx),
+    // forEachInSteps: a thread whose texel is done takes the next (a warp's first 32 texels an
+    // 8×4 square, as rt_shadows' PixelBlock::Squares), so a warp does not wait for its longest.
+    rtgi::run(ctx, ports, CudaPixels{}, frameSetup(ctx),
               outputExtents(rtgi::kDiffuse, ctx.frame().extent).front(), tracer,
               "rt_global_illumination");
 }
