@@ -61,13 +61,14 @@ __global__ void __launch_bounds__(128, 8)
 // forEachInSteps' kernel: as many threads as the GPU holds at once, each looping until no pixel
 // is left. At the top of each round the warp's idle threads (pixel done, or none yet) take the
 // next pixels, one atomic on the queue head `next` a warp; then every thread with a pixel takes
-// one step. Pixels are handed out in 8×4 squares, 32 at a time to a full warp at the start, so a
+// one step. Pixels are handed out in 8×4 squares (`count` places: 32 a square, the squares
+// covering the grid), 32 at a time to a full warp at the start, so a
 // warp's first rays start close together, as PixelBlock::Squares's do. (One thread a pixel left
 // a warp waiting for its longest pixel: on a terrain, whose paths run one to three rays, 5 of a
 // warp's 32 threads were busy.)
 template <int N, class State, class Begin, class Step>
 __global__ void __launch_bounds__(128, 8)
-    inSteps(int width, int height, const __grid_constant__ Begin begin,
+    inSteps(int width, int height, unsigned long long count, const __grid_constant__ Begin begin,
             const __grid_constant__ Step step, unsigned long long* next,
             unsigned long long* totals) {
     __shared__ unsigned long long blockSums[N > 0 ? N : 1];
@@ -78,7 +79,6 @@ __global__ void __launch_bounds__(128, 8)
     constexpr unsigned kWarp = 0xffffffffu;
     const unsigned lane = threadIdx.x & 31u;
     const unsigned squaresX = unsigned(width + 7) / 8;
-    const unsigned long long count = 32ull * squaresX * (unsigned(height + 3) / 4);
     WorkCounts<N> local{};
     State state{};
     bool busy = false;
@@ -122,6 +122,23 @@ __global__ void __launch_bounds__(128, 8)
 int residentBlocks(const void* kernel, int threadsPerBlock);
 }  // namespace detail
 
+/// The N counters at `device` once the kernels before have finished (the copy waits for them, so
+/// a failure inside one surfaces here, named by `what`).
+template <int N>
+std::array<uint64_t, N> readCounters(const unsigned long long* device, const char* what) {
+    std::array<uint64_t, N> result{};
+    if constexpr (N == 0) {
+        synchronize(what);  // nothing to copy, but the caller still waits for its kernel
+    } else {
+        unsigned long long* host = hostCounterBuffer(N);
+        checkStatus(
+            cudaMemcpy(host, device, sizeof(unsigned long long) * N, cudaMemcpyDeviceToHost), what);
+        for (int i = 0; i < N; ++i)
+            result[i] = host[i];
+    }
+    return result;
+}
+
 /// How a block's 128 threads lie on the pixels. Rows: 16×8 (a warp reads 16 neighbours of two
 /// rows: the widest memory transactions, for passes that stream their images). Squares: 8×16 (a
 /// warp covers 8×4 pixels, so a ray-tracing pass's rays start closer together and take more of
@@ -148,13 +165,8 @@ std::array<uint64_t, N> forEachPixel(int width, int height, const F& f, const ch
     checkStatus(cudaGetLastError(), what);
     if constexpr (N == 0)
         return result;
-    unsigned long long* host = hostCounterBuffer(N);
-    // The copy waits for the kernel; a failure inside it surfaces here.
-    checkStatus(cudaMemcpy(host, totals, sizeof(unsigned long long) * N, cudaMemcpyDeviceToHost),
-                what);
-    for (int i = 0; i < N; ++i)
-        result[i] = host[i];
-    return result;
+    else
+        return readCounters<N>(totals, what);
 }
 
 /// forEachInSteps (PerPixel.h) on the GPU: one launch of as many threads as the GPU holds at once
@@ -163,27 +175,21 @@ std::array<uint64_t, N> forEachPixel(int width, int height, const F& f, const ch
 template <int N, class State, class Begin, class Step>
 std::array<uint64_t, N> forEachPixelInSteps(int width, int height, const Begin& begin,
                                             const Step& step, const char* what) {
-    std::array<uint64_t, N> result{};
     if (width <= 0 || height <= 0)
-        return result;
+        return {};
     // The counters, then the queue's head.
     unsigned long long* counters = counterBuffer(N + 1);
     checkStatus(cudaMemsetAsync(counters, 0, sizeof(unsigned long long) * (N + 1)), what);
     constexpr int kThreads = 128;
     auto kernel = detail::inSteps<N, State, Begin, Step>;
-    const long long pixels = 32ll * ((width + 7) / 8) * ((height + 3) / 4);
+    // Places in the queue: 32 an 8×4 square, the squares covering the grid.
+    const unsigned long long pixels = 32ull * unsigned((width + 7) / 8) * unsigned((height + 3) / 4);
     const int blocks = int(std::min<long long>(
         detail::residentBlocks(reinterpret_cast<const void*>(kernel), kThreads),
         (pixels + kThreads - 1) / kThreads));
-    kernel<<<blocks, kThreads>>>(width, height, begin, step, counters + N, counters);
+    kernel<<<blocks, kThreads>>>(width, height, pixels, begin, step, counters + N, counters);
     checkStatus(cudaGetLastError(), what);
-    unsigned long long* host = hostCounterBuffer(N + 1);
-    // The copy waits for the kernel; a failure inside it surfaces here.
-    checkStatus(cudaMemcpy(host, counters, sizeof(unsigned long long) * N, cudaMemcpyDeviceToHost),
-                what);
-    for (int i = 0; i < N; ++i)
-        result[i] = host[i];
-    return result;
+    return readCounters<N>(counters, what);
 }
 
 /// Counters every pixel of a launch adds to (addSharedCount, PerPixel.h), in device memory of
@@ -215,6 +221,7 @@ private:
 namespace fp {
 /// The GPU backend for a pass's run template (PerPixel.h).
 struct CudaPixels {
+    /// How forEach's blocks lie on the pixels (forEachInSteps hands out 8×4 squares itself).
     cuda::PixelBlock shape = cuda::PixelBlock::Rows;
     template <int N, class F>
     std::array<uint64_t, N> forEach(int width, int height, const F& fn, const char* what) const {

@@ -484,10 +484,13 @@ __attribute__((target("avx512f"))) inline LaneVectors<16>::F compressed16(LaneVe
 __attribute__((target("avx512f"))) inline LaneVectors<16>::I compressed16(LaneVectors<16>::I v, unsigned short m) {
     return __builtin_ia32_compresssi512_mask(v, LaneVectors<16>::I{}, m);
 }
+__attribute__((target("avx512f"))) inline LaneVectors<16>::U compressed16(LaneVectors<16>::U v, unsigned short m) {
+    return LaneVectors<16>::U(compressed16(LaneVectors<16>::I(v), m));
+}
 }  // namespace lanes_detail
 #endif
 
-/// The lanes of `v` (a LaneFloat or LaneInt) where `m` holds, in lane order, to out[0…]; returns
+/// The lanes of `v` (a LaneFloat, LaneInt or LaneUInt) where `m` holds, in lane order, to out[0…]; returns
 /// how many. It writes N values (those past the count are scratch): `out` has room for N. With
 /// AVX-512 one compress; otherwise lane by lane without a branch.
 template <class Lanes, class M, class E>

@@ -37,14 +37,12 @@ __attribute__((flatten)) void drawHere(const RayBias& bias, TexelLanes& t) {
 }
 
 __attribute__((flatten)) int tracingHere(const Frame& f, int y, int x0, int x1, int* xs) {
-    using I = IntOf<T>;
-    static constexpr int kLane[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
     const float* depth = f.depth.data + planeIndex(0, y, f.depth.stride);
     const float* model = f.model.data + planeIndex(0, y, f.model.stride);
     const float* roughness = f.roughness.data + planeIndex(0, y, f.roughness.stride);
     int n = 0, x = x0;
     for (; x + kLanesHere <= x1; x += kLanesHere)
-        n += compressStore(I::load(kLane) + I(x),
+        n += compressStore(LaneTypes<T>::indices() + uint32_t(x),
                            tracesOf(T::load(depth + x), T::load(model + x), T::load(roughness + x),
                                     f.setup.maxRoughness),
                            xs + n);
