@@ -4,6 +4,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <new>
@@ -34,9 +36,6 @@ std::ptrdiff_t rowStride(int width) {
     return (std::ptrdiff_t(width) + kRowAlignFloats - 1) / kRowAlignFloats * kRowAlignFloats;
 }
 
-// `count` floats, 64-byte aligned, set to `fill` by row blocks on all threads: a frame's plane is
-// megabytes, and the first write of each fresh page also faults it in, which one thread would do
-// serially.
 std::mutex gHostMemoryMutex;
 HostMemory gHostMemory;
 
@@ -109,9 +108,9 @@ BlockPool& blockPool() {
     return *pool;
 }
 
-std::shared_ptr<float> allocateFilled(std::size_t count, float fill) {
-    count = std::max<std::size_t>(1, count);
-    const std::size_t bytes = count * sizeof(float);
+// `count` floats (one at least), 64-byte aligned, as the memory held them.
+std::shared_ptr<float> allocateBlock(std::size_t count) {
+    const std::size_t bytes = std::max<std::size_t>(1, count) * sizeof(float);
     const HostMemory memory = hostMemory();
     const std::shared_ptr<void> block =
         memory.allocate ? std::shared_ptr<void>(memory.allocate(bytes),
@@ -119,12 +118,30 @@ std::shared_ptr<float> allocateFilled(std::size_t count, float fill) {
                                                     release(q, bytes);
                                                 })
                         : hostScratch(bytes);
-    float* p = static_cast<float*>(block.get());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, std::size_t(1) << 16),
+    return std::shared_ptr<float>(block, static_cast<float*>(block.get()));
+}
+
+// `count` floats set to `fill`, by blocks on all threads: a frame's plane is megabytes, and the
+// first write of each fresh page also faults it in, which one thread would do serially.
+std::shared_ptr<float> allocateFilled(std::size_t count, float fill) {
+    std::shared_ptr<float> block = allocateBlock(count);
+    float* p = block.get();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, std::max<std::size_t>(1, count),
+                                                      std::size_t(1) << 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           std::fill(p + r.begin(), p + r.end(), fill);
                       });
-    return std::shared_ptr<float>(block, p);
+    return block;
+}
+
+// With FRAMEPASS_POISON_UNCLEARED set (the test suite sets it for every test), an uncleared image
+// starts as NaN instead: a pass that leaves a pixel of an output it promised to overwrite shows
+// it in that output, which the tests compare.
+const bool kPoisonUncleared = std::getenv("FRAMEPASS_POISON_UNCLEARED") != nullptr;
+
+std::shared_ptr<float> allocateUncleared(std::size_t count) {
+    return kPoisonUncleared ? allocateFilled(count, std::numeric_limits<float>::quiet_NaN())
+                            : allocateBlock(count);
 }
 }  // namespace
 
@@ -156,12 +173,23 @@ float Plane::clampedAt(int x, int y) const {
 
 Image::Image(int width, int height, std::vector<std::string> channels, float fill)
     : mWidth(width), mHeight(height), mChannels(std::move(channels)) {
-    const std::ptrdiff_t stride = rowStride(width);
-    const std::size_t planeFloats = std::size_t(stride) * std::size_t(std::max(height, 0));
-    if (mChannels.empty()) return;
-    const std::shared_ptr<float> block = allocateFilled(planeFloats * mChannels.size(), fill);
+    if (!mChannels.empty()) layPlanes(allocateFilled(planesFloats(), fill));
+}
+
+Image::Image(int width, int height, std::vector<std::string> channels, Uncleared)
+    : mWidth(width), mHeight(height), mChannels(std::move(channels)) {
+    if (!mChannels.empty()) layPlanes(allocateUncleared(planesFloats()));
+}
+
+std::size_t Image::planesFloats() const {
+    return std::size_t(rowStride(mWidth)) * std::size_t(std::max(mHeight, 0)) * mChannels.size();
+}
+
+void Image::layPlanes(const std::shared_ptr<float>& block) {
+    const std::ptrdiff_t stride = rowStride(mWidth);
+    const std::size_t planeFloats = std::size_t(stride) * std::size_t(std::max(mHeight, 0));
     for (std::size_t c = 0; c < mChannels.size(); ++c)
-        mPlanes.push_back(Plane(block, block.get() + c * planeFloats, width, height, stride));
+        mPlanes.push_back(Plane(block, block.get() + c * planeFloats, mWidth, mHeight, stride));
 }
 
 const float* Image::planarData() const {

@@ -60,6 +60,10 @@ class Image {
 public:
     Image() = default;
     Image(int width, int height, std::vector<std::string> channels, float fill = 0.0f);
+    /// The pixels left as the memory held them (whatever a recycled block last held): for an
+    /// image its maker writes in full before anyone reads it.
+    struct Uncleared {};
+    Image(int width, int height, std::vector<std::string> channels, Uncleared);
 
     int width() const { return mWidth; }
     int height() const { return mHeight; }
@@ -74,6 +78,8 @@ public:
     const float* planarData() const;
 
 private:
+    std::size_t planesFloats() const;  // every plane's floats, rows padded
+    void layPlanes(const std::shared_ptr<float>& block);  // the planes, one after another
     int mWidth = 0, mHeight = 0;
     std::vector<std::string> mChannels;
     std::vector<Plane> mPlanes;

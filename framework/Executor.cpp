@@ -201,11 +201,13 @@ public:
     bool isRequested(std::string_view port) const override {
         return mStep.requestedOutputs.count(std::string(port)) > 0;
     }
-    Texture& output(std::string_view port, const std::vector<Extent>& mips) override {
+    Texture& output(std::string_view port, const std::vector<Extent>& mips,
+                    bool zeroed) override {
         const PortSpec& spec = checkDeclared(mStep.io.outputs, port, "output");
         std::vector<Image> levels;
         for (const Extent& e : mips)
-            levels.emplace_back(e.width, e.height, spec.channels);
+            levels.push_back(zeroed ? Image(e.width, e.height, spec.channels)
+                                    : Image(e.width, e.height, spec.channels, Image::Uncleared{}));
         return mStore.put(mStep.name + "." + std::string(port), Texture(std::move(levels)));
     }
     DeviceTexture& deviceOutput(std::string_view port, const std::vector<Extent>& mips,

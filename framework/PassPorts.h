@@ -25,12 +25,12 @@ struct HostPorts {
     Texture* outputIfRequested(std::string_view port, const std::vector<Extent>& mips) const {
         return ctx.isRequested(port) ? &ctx.output(port, mips) : nullptr;
     }
-    /// An output the pass writes at every pixel of every level (the GPU's then skips clearing).
+    /// An output the pass writes at every pixel of every level: allocated without clearing.
     Texture& overwrite(std::string_view port, const std::vector<Extent>& mips) const {
-        return output(port, mips);
+        return ctx.output(port, mips, false);
     }
     Texture* overwriteIfRequested(std::string_view port, const std::vector<Extent>& mips) const {
-        return outputIfRequested(port, mips);
+        return ctx.isRequested(port) ? &overwrite(port, mips) : nullptr;
     }
     /// Zero-filled working images of the pass's own, freed with it.
     Texture scratch(const std::vector<Extent>& mips, const std::vector<std::string>& channels) const {
