@@ -62,10 +62,9 @@ __global__ void __launch_bounds__(128, 8)
 // is left. At the top of each round the warp's idle threads (pixel done, or none yet) take the
 // next pixels, one atomic on the queue head `next` a warp; then every thread with a pixel takes
 // one step. Pixels are handed out in 8×4 squares (`count` places: 32 a square, the squares
-// covering the grid), 32 at a time to a full warp at the start, so a
-// warp's first rays start close together, as PixelBlock::Squares's do. (One thread a pixel left
-// a warp waiting for its longest pixel: on a terrain, whose paths run one to three rays, 5 of a
-// warp's 32 threads were busy.)
+// covering the grid), 32 at a time to a full warp at the start, so a warp's first rays start close
+// together, as PixelBlock::Squares's do. (One thread a pixel left a warp waiting for its longest
+// pixel: on a terrain, whose paths run one to three rays, 5 of a warp's 32 threads were busy.)
 template <int N, class State, class Begin, class Step>
 __global__ void __launch_bounds__(128, 8)
     inSteps(int width, int height, unsigned long long count, const __grid_constant__ Begin begin,
@@ -184,8 +183,8 @@ std::array<uint64_t, N> forEachPixelInSteps(int width, int height, const Begin& 
     auto kernel = detail::inSteps<N, State, Begin, Step>;
     // Places in the queue: 32 an 8×4 square, the squares covering the grid.
     const unsigned long long pixels = 32ull * unsigned((width + 7) / 8) * unsigned((height + 3) / 4);
-    const int blocks = int(std::min<long long>(
-        detail::residentBlocks(reinterpret_cast<const void*>(kernel), kThreads),
+    const int blocks = int(std::min<unsigned long long>(
+        unsigned(detail::residentBlocks(reinterpret_cast<const void*>(kernel), kThreads)),
         (pixels + kThreads - 1) / kThreads));
     kernel<<<blocks, kThreads>>>(width, height, pixels, begin, step, counters + N, counters);
     checkStatus(cudaGetLastError(), what);
