@@ -284,13 +284,15 @@ DeviceImage copyOnDevice(const DeviceImage& image) {
 
 namespace detail {
 int residentBlocks(const void* kernel, int threadsPerBlock) {
-    static int multiprocessors = 0;
-    if (multiprocessors == 0) {
-        int device = 0;
+    // Read once, however many sessions (threads) launch first: C++ initialises a function's
+    // static exactly once.
+    static const int multiprocessors = [] {
+        int device = 0, count = 0;
         check(cudaGetDevice(&device), "reading the GPU's multiprocessor count");
-        check(cudaDeviceGetAttribute(&multiprocessors, cudaDevAttrMultiProcessorCount, device),
+        check(cudaDeviceGetAttribute(&count, cudaDevAttrMultiProcessorCount, device),
               "reading the GPU's multiprocessor count");
-    }
+        return count;
+    }();
     int perMultiprocessor = 0;
     check(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&perMultiprocessor, kernel,
                                                         threadsPerBlock, 0),

@@ -152,9 +152,8 @@ enum class PixelBlock { Rows, Squares };
 template <int N, class F>
 std::array<uint64_t, N> forEachPixel(int width, int height, const F& f, const char* what,
                                      PixelBlock shape = PixelBlock::Rows) {
-    std::array<uint64_t, N> result{};
     if (width <= 0 || height <= 0)
-        return result;
+        return {};
     unsigned long long* totals = N > 0 ? counterBuffer(N) : nullptr;
     if (N > 0)
         checkStatus(cudaMemsetAsync(totals, 0, sizeof(unsigned long long) * N), what);
@@ -163,7 +162,7 @@ std::array<uint64_t, N> forEachPixel(int width, int height, const F& f, const ch
     detail::perPixel<N><<<grid, block>>>(width, height, f, totals);
     checkStatus(cudaGetLastError(), what);
     if constexpr (N == 0)
-        return result;
+        return {};
     else
         return readCounters<N>(totals, what);
 }

@@ -181,15 +181,16 @@ Image::Image(int width, int height, std::vector<std::string> channels, Uncleared
     if (!mChannels.empty()) layPlanes(allocateUncleared(planesFloats()));
 }
 
-std::size_t Image::planesFloats() const {
-    return std::size_t(rowStride(mWidth)) * std::size_t(std::max(mHeight, 0)) * mChannels.size();
+std::size_t Image::planeFloats() const {
+    return std::size_t(rowStride(mWidth)) * std::size_t(std::max(mHeight, 0));
 }
 
+std::size_t Image::planesFloats() const { return planeFloats() * mChannels.size(); }
+
 void Image::layPlanes(const std::shared_ptr<float>& block) {
-    const std::ptrdiff_t stride = rowStride(mWidth);
-    const std::size_t planeFloats = std::size_t(stride) * std::size_t(std::max(mHeight, 0));
     for (std::size_t c = 0; c < mChannels.size(); ++c)
-        mPlanes.push_back(Plane(block, block.get() + c * planeFloats, mWidth, mHeight, stride));
+        mPlanes.push_back(
+            Plane(block, block.get() + c * planeFloats(), mWidth, mHeight, rowStride(mWidth)));
 }
 
 const float* Image::planarData() const {

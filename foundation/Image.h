@@ -78,7 +78,8 @@ public:
     const float* planarData() const;
 
 private:
-    std::size_t planesFloats() const;  // every plane's floats, rows padded
+    std::size_t planeFloats() const;   // one plane's floats, rows padded
+    std::size_t planesFloats() const;  // every plane's
     void layPlanes(const std::shared_ptr<float>& block);  // the planes, one after another
     int mWidth = 0, mHeight = 0;
     std::vector<std::string> mChannels;
