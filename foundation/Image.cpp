@@ -36,6 +36,11 @@ std::ptrdiff_t rowStride(int width) {
     return (std::ptrdiff_t(width) + kRowAlignFloats - 1) / kRowAlignFloats * kRowAlignFloats;
 }
 
+/// The floats of a plane of `height` rows of `width`, each row padded to rowStride(width).
+std::size_t paddedPlaneFloats(int width, int height) {
+    return std::size_t(rowStride(width)) * std::size_t(height);
+}
+
 std::mutex gHostMemoryMutex;
 HostMemory gHostMemory;
 
@@ -160,7 +165,7 @@ void setHostMemory(HostMemory memory) {
 }
 
 Plane::Plane(int width, int height, float fill)
-    : mData(allocateFilled(std::size_t(rowStride(width)) * std::size_t(height), fill)),
+    : mData(allocateFilled(paddedPlaneFloats(width, height), fill)),
       mWidth(width),
       mHeight(height),
       mStride(rowStride(width)) {}
@@ -182,7 +187,7 @@ Image::Image(int width, int height, std::vector<std::string> channels, Uncleared
 }
 
 std::size_t Image::planeFloats() const {
-    return std::size_t(rowStride(mWidth)) * std::size_t(std::max(mHeight, 0));
+    return paddedPlaneFloats(mWidth, std::max(mHeight, 0));
 }
 
 std::size_t Image::planesFloats() const { return planeFloats() * mChannels.size(); }
