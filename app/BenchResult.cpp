@@ -99,6 +99,10 @@ nlohmann::json BenchResult::toJson() const {
                 sj["passes"].back()["gpuSeconds"] = {{"median", p.gpuSeconds->median},
                                                      {"min", p.gpuSeconds->min},
                                                      {"max", p.gpuSeconds->max}};
+            if (p.bareSeconds) {
+                sj["passes"].back()["bareSeconds"] = *p.bareSeconds;
+                sj["passes"].back()["bareRatio"] = p.bareRatio();
+            }
         }
         sj["errors"] = nlohmann::json::array();
         for (const auto& e : s.errors) {

@@ -27,7 +27,15 @@ struct PassTiming {
     TimingStats seconds;
     std::optional<TimingStats> gpuSeconds{};  //!< passes run on the GPU: kernel time (CUDA events)
     bool measuresError = false;  //!< an error measure (PassRoles): not part of the chain's time
+    /// A pass that traced rays on the CPU: the median times of its own rays' bare Embree loops
+    /// one ray at a time (its closest-hit rays through rtcIntersect1, its occlusion rays through
+    /// rtcOccluded1) added up — the yardstick of its speed (docs/commands.md, bench).
+    std::optional<double> bareSeconds{};
     double throughput() const { return seconds.median > 0 ? double(work) / seconds.median : 0; }
+    /// Its bare loops' time over its own: 1 is Embree's speed on its rays with nothing else done.
+    double bareRatio() const {
+        return bareSeconds && seconds.median > 0 ? *bareSeconds / seconds.median : 0;
+    }
 };
 
 struct ErrorImages {

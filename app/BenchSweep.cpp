@@ -105,7 +105,8 @@ ErrorImages errorImages(const std::string& heat,
 // occlusion rays in packets of 8 (the yardstick), of 16 where the pass traces them so (AVX-512),
 // and single rays; where the chain reads a shadow pass's hit distance, also the pass's packets
 // with their closest-hit queries (the same work); closest-hit rays one at a time. With more than
-// one tracing pass each loop is named after its pass.
+// one tracing pass each loop is named after its pass. Each pass that ran on the CPU gets its loops
+// one ray at a time added up (PassTiming::bareSeconds): how near Embree's speed it traces.
 void addBareRayLoops(const Plan& plan,
                      FrameDriver& frames,
                      int frame,
@@ -150,6 +151,7 @@ void addBareRayLoops(const Plan& plan,
             if (rays.closestHits)
                 loops.push_back({scene.packetWidth(), true});
         }
+        double oneAtATime = 0;  // its bare loops one ray at a time, added up: its yardstick
         for (const Loop& loop : loops) {
             uint64_t blocked = 0;
             setting.passes.push_back(
@@ -160,6 +162,7 @@ void addBareRayLoops(const Plan& plan,
                      return timeBareOcclusion(scene, rays.rays, loop.width, loop.closestHits,
                                               blocked);
                  })});
+            if (loop.width == 1) oneAtATime += setting.passes.back().seconds.median;
         }
         // The closest-hit queries of the ray-traced GI, reflections and the hybrid.
         if (!rays.closestRays.empty()) {
@@ -170,6 +173,7 @@ void addBareRayLoops(const Plan& plan,
                      rays.closestRays.size(), timed([&] {
                          return timeBareClosestHit(scene, rays.closestRays, width, hits);
                      })});
+                if (width == 1) oneAtATime += setting.passes.back().seconds.median;
             }
         }
         // Every ray of the pass, its shadow rays too, as a closest-hit query one at a time: the
@@ -182,6 +186,10 @@ void addBareRayLoops(const Plan& plan,
                 {"bare loop rtcIntersect1, every ray" + of, kBareLoopType, "rays", every.size(),
                  timed([&] { return timeBareClosestHit(scene, every, 1, hits); })});
         }
+        // Set on the pass when it ran on the CPU (a GPU pass's kernel is not Embree's match).
+        for (PassTiming& p : setting.passes)
+            if (p.name == traced.first && p.type != kBareLoopType && !p.gpuSeconds)
+                p.bareSeconds = oneAtATime;
     }
 }
 

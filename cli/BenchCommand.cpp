@@ -54,6 +54,10 @@ void printBench(const BenchResult& result) {
             if (p.gpuSeconds)
                 std::cout << fmt::format("  [gpu {:.3f} ms by CUDA events]",
                                          p.gpuSeconds->median * 1e3);
+            if (p.bareSeconds)
+                std::cout << fmt::format("  {:.0f} % of Embree's speed (its bare loops one ray "
+                                         "at a time: {:.2f} ms)",
+                                         p.bareRatio() * 100, *p.bareSeconds * 1e3);
             std::cout << "\n";
         }
         for (const auto& e : s.errors) {

@@ -47,6 +47,26 @@ check "the ray-traced preset composites RTGI, RTAO and RTR through their denoise
 # behind the frame-sized one, whose size is the file's.
 check "a layer traced at a lower screen percentage gets an EXR part of its size" bash -c "'$FP' inspect '$DIR/rt_out/raytraced.0001.exr' > '$DIR/rt_parts.txt' && grep -q '^[^ ]*raytraced.0001.exr: 64×64, 1 file(s), 2 part(s)' '$DIR/rt_parts.txt' && grep -q '^  rgba/rt_ambient_occlusion.ao.Y' '$DIR/rt_parts.txt' && grep -q '^  rt_global_illumination.diffuse/rt_global_illumination.diffuse.R' '$DIR/rt_parts.txt' && '$FP' run '$DIR/rt.json' -o '$DIR/rt_full' --cvar r.RayTracing.GlobalIllumination.ScreenPercentage=100 >/dev/null && '$FP' inspect '$DIR/rt_full/raytraced.0001.exr' | grep -q '64×64, 1 file(s), 1 part(s)'"
 check "bench replays each ray-traced pass's rays through its own bare loops (the Cornell box's rough walls give rt_reflections none)" bash -c "'$FP' bench '$DIR/rt.json' --runs 1 --warmup 0 > '$DIR/rt_bench.txt' && grep -q 'bare loop rtcIntersect1 (rt_global_illumination)' '$DIR/rt_bench.txt' && grep -q 'bare loop rtcOccluded8 (rt_ambient_occlusion)' '$DIR/rt_bench.txt' && grep -q 'bare loop rtcOccluded8 (rt_shadows_ceiling)' '$DIR/rt_bench.txt'"
+# Each tracing pass's yardstick: its loops one ray at a time added up, over its own median.
+check "bench --json gives each ray-traced pass its bare loops one ray at a time and its share of Embree's speed" bash -c "'$FP' bench '$DIR/rt.json' --runs 1 --warmup 0 --json > '$DIR/rt_bench.json' && python3 - '$DIR/rt_bench.json' <<'PY'
+import json, sys
+passes = json.load(open(sys.argv[1]))['settings'][0]['passes']
+median = {p['name']: p['median'] for p in passes}
+checked = 0
+for p in passes:
+    if p['type'] == 'embree':
+        assert 'bareSeconds' not in p, p
+        continue
+    loops = [median.get(f'bare loop {q} ({p[\"name\"]})', 0.0) for q in ('rtcIntersect1', 'rtcOccluded1')]
+    if not any(loops):
+        assert 'bareSeconds' not in p, p  # traces nothing through the scene
+        continue
+    assert abs(p['bareSeconds'] - sum(loops)) <= 1e-12 * sum(loops), (p, loops)
+    assert abs(p['bareRatio'] - sum(loops) / p['median']) <= 1e-9 * p['bareRatio'], p
+    checked += 1
+# RTGI, RTAO and the ceiling light's shadows trace on the Cornell box (its rough walls give RTR none).
+assert checked >= 3, checked
+PY"
 cat > "$DIR/methods.json" <<JSON
 { "version": 1, "capture": "cornell.exr", "scene": "$SRC/examples/cornell/scene.json",
   "passes": [
